@@ -1,0 +1,15 @@
+"""The component library: translational mechanics for impact test rigs."""
+from .contact import HertzContact, HuntCrossleyDamper, ImpactContact
+from .friction import SealFriction
+from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,
+                         PartialOneFlange, PartialTwoFlanges)
+from .laws import (DAMPING_LAWS, damping_flores, damping_hunt_crossley,
+                   damping_lankarani_nikravesh, hertz_stiffness, impact_velocity,
+                   restitution_from_force)
+from .mass import Fixed, Mass
+from .oil import OilColumn
+from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
+from .sources import Force, Gravity
+from .springs import Damper, Spring
+
+__all__ = [n for n in dir() if not n.startswith("_")]

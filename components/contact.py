@@ -1,0 +1,112 @@
+"""Impact contact: Hertz elasticity plus Hunt-Crossley hysteresis damping."""
+import casadi as ca
+
+from pdbfs.errors import ParameterError
+from pdbfs.symbols import Parameter, Variable, eq
+
+from .interfaces import PartialCompression, PartialCompliantWithVelocity
+from .laws import DAMPING_LAWS
+
+
+def _positive_part(d):
+    return ca.fmax(d, 0.0)
+
+
+class HertzContact(PartialCompression):
+    """Hertz contact ``fc = k*d^n`` for indentation ``d = -s_rel - gap > 0``,
+    zero otherwise. flange_a is the striking (upper) body."""
+
+    k = Parameter(5.958e10, "N/m^1.5", "Contact stiffness (unit N/m^n)", positive=True)
+    n = Parameter(1.5, "1", "Hertz exponent (1.5 for spheres)", min=1.0)
+    gap = Parameter(0.0, "m", "Clearance: contact starts when flange_a passes flange_b by gap")
+
+    def equations(self):
+        return super().equations() + [
+            eq(self.d, -self.s_rel - self.gap),
+            eq(self.fc, self.k * _positive_part(self.d) ** self.n)]
+
+    def events(self):
+        return [(self.d, "indentation")]
+
+
+class HuntCrossleyDamper(PartialCompliantWithVelocity):
+    """The dissipative part of an impact, ``fc = D*d^n*der(d)`` while in
+    contact. Beside a HertzContact of stiffness ``k`` it is clamped at
+    ``-k*d^n`` so that the combined force never pulls.
+
+    Give ``D`` directly, or ``law=`` one of 'lankarani-nikravesh',
+    'hunt-crossley', 'flores' with parameters ``e`` (restitution) and
+    ``v_impact``: ``D`` is then computed from them and ``k``.
+    """
+
+    D = Parameter(1.595e6, "N.s/m^2.5", "Hysteresis damping factor (unit N.s/m^(n+1))", min=0.0)
+    k = Parameter(0.0, "N/m^1.5", "Stiffness of the elastic part beside it, for the "
+                  "no-pull clamp (0: the damper alone never pulls)", min=0.0)
+    n = Parameter(1.5, "1", "Indentation exponent", min=1.0)
+    gap = Parameter(0.0, "m", "Clearance, as in HertzContact")
+
+    def __init__(self, law: str | None = None, **params):
+        if law is not None and law not in DAMPING_LAWS:
+            raise ParameterError(f"HuntCrossleyDamper: unknown damping law {law!r}; "
+                                 f"choose one of {', '.join(DAMPING_LAWS)}")
+        self._law = law
+        super().__init__(**params)
+
+    def declare(self):
+        super().declare()
+        self.d = Variable("m", "Indentation")
+        self.fc = Variable("N", "Compressive damping force", output=True)
+        if self._law is not None:
+            self.e = Parameter(0.95, "1", "Coefficient of restitution", min=0.0, max=1.0,
+                               positive=True)
+            self.v_impact = Parameter(2.73, "m/s", "Impact velocity the law is tuned for",
+                                      positive=True)
+            self.bind("D", DAMPING_LAWS[self._law](self.k, self.e, self.v_impact))
+
+    def equations(self):
+        dn = _positive_part(self.d) ** self.n
+        return super().equations() + [
+            eq(self.d, -self.s_rel - self.gap),
+            eq(self.fc, ca.fmax(self.D * dn * (-self.v_rel), -self.k * dn)),
+            eq(self.fc, -self.f)]
+
+    def events(self):
+        return [(self.k - self.D * self.v_rel, "force_sign")]
+
+
+class ImpactContact(PartialCompression):
+    """Contact = HertzContact + HuntCrossleyDamper in parallel; the combined
+    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper."""
+
+    k = HertzContact.k
+    n = HertzContact.n
+    gap = HertzContact.gap
+    D = HuntCrossleyDamper.D
+
+    def __init__(self, law: str | None = None, **params):
+        self._law = law
+        super().__init__(**params)
+
+    def declare(self):
+        super().declare()
+        self.hertz = HertzContact(k=self.k, n=self.n, gap=self.gap)
+        self.damping = HuntCrossleyDamper(law=self._law, k=self.k, n=self.n, gap=self.gap,
+                                          D=self.D)
+        if self._law is not None:
+            # expose e and v_impact here; D becomes a calculated parameter
+            self.e = Parameter(0.95, "1", "Coefficient of restitution", min=0.0, max=1.0,
+                               positive=True)
+            self.v_impact = Parameter(2.73, "m/s", "Impact velocity the law is tuned for",
+                                      positive=True)
+            self.damping.bind("e", self.e)
+            self.damping.bind("v_impact", self.v_impact)
+            self.bind("D", self.damping.D)
+        self.connect(self.flange_a, self.hertz.flange_a, self.damping.flange_a)
+        self.connect(self.flange_b, self.hertz.flange_b, self.damping.flange_b)
+
+    def equations(self):
+        # the composite's own flange forces come from the connections
+        return [eq(self.s_rel, self.flange_b.s - self.flange_a.s),
+                eq(self.f, self.hertz.f + self.damping.f),
+                eq(self.fc, -self.f),
+                eq(self.d, self.hertz.d)]

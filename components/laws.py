@@ -1,0 +1,79 @@
+"""Contact laws of the paper, as plain functions (numbers or CasADi expressions).
+
+References: Hertz stiffness of two spheres (paper eq. 2-3), damping factors
+of Lankarani & Nikravesh (paper eq. 6), Hunt & Crossley, Flores et al.;
+restitution estimated from a force history after Guo & Batzer (paper eq. 8).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+STANDARD_GRAVITY = 9.80665   # m/s^2
+
+
+def hertz_stiffness(E1: float, nu1: float, R1: float, E2: float, nu2: float, R2: float) -> float:
+    """Hertz contact stiffness of two spheres, N/m^1.5:
+    ``k = 4/3 * E* * sqrt(R*)``, ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2``,
+    ``1/R* = 1/R1 + 1/R2`` (a flat face has R = inf)."""
+    for name, v in (("E1", E1), ("E2", E2), ("R1", R1), ("R2", R2)):
+        if not v > 0:
+            raise ValueError(f"hertz_stiffness: {name} = {v} must be > 0")
+    for name, v in (("nu1", nu1), ("nu2", nu2)):
+        if not 0 <= v < 0.5:
+            raise ValueError(f"hertz_stiffness: Poisson ratio {name} = {v} must be in [0, 0.5)")
+    e_star = 1.0 / ((1 - nu1 ** 2) / E1 + (1 - nu2 ** 2) / E2)
+    r_star = 1.0 / (1.0 / R1 + 1.0 / R2)
+    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
+
+
+def damping_lankarani_nikravesh(k, e, v_impact):
+    """Hysteresis damping factor ``D = 3 k (1 - e^2) / (4 v)``, N.s/m^(n+1)."""
+    return 3.0 * k * (1.0 - e ** 2) / (4.0 * v_impact)
+
+
+def damping_hunt_crossley(k, e, v_impact):
+    """Hunt & Crossley: ``D = 3 k (1 - e) / (2 v)``."""
+    return 3.0 * k * (1.0 - e) / (2.0 * v_impact)
+
+
+def damping_flores(k, e, v_impact):
+    """Flores et al.: ``D = 8 k (1 - e) / (5 e v)``."""
+    return 8.0 * k * (1.0 - e) / (5.0 * e * v_impact)
+
+
+DAMPING_LAWS = {
+    "lankarani-nikravesh": damping_lankarani_nikravesh,
+    "hunt-crossley": damping_hunt_crossley,
+    "flores": damping_flores,
+}
+
+
+def impact_velocity(h: float, g: float = STANDARD_GRAVITY) -> float:
+    """Speed after a free fall from height ``h``: ``sqrt(2 g h)``, m/s."""
+    if not h >= 0:
+        raise ValueError(f"impact_velocity: drop height h = {h} must be >= 0")
+    return math.sqrt(2.0 * g * h)
+
+
+def restitution_from_force(t, force) -> float:
+    """Coefficient of restitution from a contact-force history (Guo & Batzer,
+    paper eq. 8): the impulse after the force peak divided by the impulse
+    before it, for a body initially at rest. Uses the first contact only (the
+    first run of positive force), since the hammer may strike again."""
+    t = np.asarray(t, float)
+    f = np.asarray(force, float)
+    if t.shape != f.shape or t.size < 3:
+        raise ValueError("restitution_from_force: t and force must be equal-length arrays")
+    on = np.flatnonzero(f > 0)
+    if on.size == 0:
+        raise ValueError("restitution_from_force: the force is never positive: no contact")
+    start = max(on[0] - 1, 0)
+    gaps = np.flatnonzero(f[on[0]:] <= 0)
+    stop = on[0] + gaps[0] if gaps.size else f.size - 1
+    tt, ff = t[start:stop + 1], np.clip(f[start:stop + 1], 0.0, None)
+    k = int(np.argmax(ff))
+    before = np.trapezoid(ff[:k + 1], tt[:k + 1])
+    after = np.trapezoid(ff[k:], tt[k:])
+    return float(after / before)

@@ -1,0 +1,37 @@
+import casadi as ca
+
+from pdbfs.symbols import Parameter, Variable, eq, time
+
+from .interfaces import PartialOneFlange
+from .laws import STANDARD_GRAVITY
+
+
+class Force(PartialOneFlange):
+    """A prescribed force ``F`` pushing the attached body in +x (down): the
+    parameter ``F``, or ``function(t)`` returning a CasADi expression of time
+    (which may use the component's parameters)."""
+
+    F = Parameter(0.0, "N", "Constant force, positive down")
+
+    def __init__(self, function=None, **params):
+        self._function = function
+        super().__init__(**params)
+
+    def declare(self):
+        super().declare()
+        self.force = Variable("N", "Applied force, positive down", output=True)
+
+    def equations(self):
+        value = self.F if self._function is None else self._function(time)
+        return [eq(self.force, value), eq(self.flange.f, -self.force)]
+
+
+class Gravity(PartialOneFlange):
+    """Weight ``m*g`` of a body, pushing down (+x). Bind ``m`` to the body's
+    mass: ``Gravity(m=rig.hammer.m)``."""
+
+    m = Parameter(1.0, "kg", "Mass the weight acts on", positive=True)
+    g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration", min=0.0)
+
+    def equations(self):
+        return [eq(self.flange.f, -self.m * self.g)]

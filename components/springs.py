@@ -1,0 +1,36 @@
+import casadi as ca
+
+from pdbfs.symbols import Parameter, eq
+
+from .interfaces import PartialCompliant, PartialCompliantWithVelocity
+
+
+class Spring(PartialCompliant):
+    """Spring ``f = k*|e|^n*sign(e)`` on the stretch ``e = s_rel - s_rel0``;
+    linear for ``n = 1``. ``compression_only=True`` makes it push, never pull."""
+
+    k = Parameter(1.0, "N/m", "Stiffness (unit N/m^n for an exponent n other than 1)", positive=True)
+    n = Parameter(1.0, "1", "Force-law exponent (1: linear)", min=1.0)
+    s_rel0 = Parameter(0.0, "m", "Unstretched relative position")
+
+    def __init__(self, compression_only: bool = False, **params):
+        self._compression_only = compression_only
+        super().__init__(**params)
+
+    def equations(self):
+        e = self.s_rel - self.s_rel0
+        if self._compression_only:
+            e = ca.fmin(e, 0.0)
+        return super().equations() + [eq(self.f, self.k * ca.sign(e) * ca.fabs(e) ** self.n)]
+
+    def events(self):
+        return [(self.s_rel - self.s_rel0, "stretch")] if self._compression_only else []
+
+
+class Damper(PartialCompliantWithVelocity):
+    """Linear viscous damper ``f = c*v_rel``."""
+
+    c = Parameter(1.0, "N.s/m", "Damping coefficient", min=0.0)
+
+    def equations(self):
+        return super().equations() + [eq(self.f, self.c * self.v_rel)]

@@ -1,0 +1,187 @@
+"""Component: parameters, variables, connectors, children and equations.
+
+A component class declares ``Parameter`` class attributes, and in
+``declare()`` its connectors, variables and sub-components (by assigning them
+to attributes); ``equations()`` returns residual expressions. A rig is a
+component whose children are connected with ``connect()``; it may itself be
+used inside a bigger rig.
+"""
+from __future__ import annotations
+
+import casadi as ca
+
+from .connectors import Connector
+from .errors import ConnectError, ParameterError
+from .symbols import Parameter, Variable
+
+
+class ParamSlot:
+    """A parameter of one component instance: declaration, symbol and value
+    (a number, or a CasADi expression of other parameters' symbols)."""
+
+    def __init__(self, decl: Parameter, name: str, value):
+        self.decl = decl
+        self.name = name
+        self.sym = ca.SX.sym(name)
+        self.value = value
+
+
+class VarSlot:
+    def __init__(self, decl: Variable, name: str):
+        self.decl = decl
+        self.name = name
+        self.sym = ca.SX.sym(name)
+
+
+class Component:
+    """Base class of every component and rig."""
+
+    def __init__(self, **values):
+        set_ = object.__setattr__
+        set_(self, "_name", "")
+        set_(self, "_parent", None)
+        set_(self, "_params", {})
+        set_(self, "_vars", {})
+        set_(self, "_connectors", {})
+        set_(self, "_children", {})
+        set_(self, "_connections", [])
+        set_(self, "_compiled", None)
+        decls = {}
+        for cls in reversed(type(self).__mro__):
+            for n, d in vars(cls).items():
+                if isinstance(d, Parameter):
+                    decls[n] = d
+        for n, d in decls.items():
+            self._add_param(n, d, values.pop(n, d.default))
+        if values:
+            raise ParameterError(
+                f"{type(self).__name__}: unknown parameter(s) {', '.join(sorted(values))}; "
+                f"it has: {', '.join(decls) or 'none'}")
+        self.declare()
+
+    # -- what subclasses write ------------------------------------------------
+    def declare(self):
+        """Declare connectors, variables and sub-components as attributes."""
+
+    def equations(self) -> list:
+        """Residual expressions (``eq(lhs, rhs)``) of this component alone."""
+        return []
+
+    def events(self) -> list:
+        """(expression, label) pairs whose sign changes mark non-smooth points."""
+        return []
+
+    # -- declaration plumbing -------------------------------------------------
+    def _add_param(self, name, decl, value):
+        if isinstance(value, Parameter):
+            raise ParameterError(f"{type(self).__name__}.{name}: pass a value, not a Parameter")
+        if not isinstance(value, ca.SX):
+            decl.check(value, f"{type(self).__name__}.{name}")
+            value = float(value)
+        slot = ParamSlot(decl, name, value)
+        self._params[name] = slot
+        object.__setattr__(self, name, slot.sym)
+
+    def bind(self, name: str, expr):
+        """Make parameter ``name`` computed from others (``expr`` of their symbols)."""
+        self._params[name].value = expr
+
+    def __setattr__(self, name, value):
+        if name.startswith("_"):
+            object.__setattr__(self, name, value)
+            return
+        if isinstance(value, Parameter):   # a parameter declared in declare()
+            value.name = name
+            self._add_param(name, value, value.default)
+            return
+        if isinstance(value, Variable):
+            slot = VarSlot(value, name)
+            self._vars[name] = slot
+            value = slot.sym
+        elif isinstance(value, Connector):
+            value._attach(self, name)
+            self._connectors[name] = value
+        elif isinstance(value, Component):
+            if value._parent is not None:
+                raise ConnectError(f"component {value.path()} is already part of a rig")
+            object.__setattr__(value, "_name", name)
+            object.__setattr__(value, "_parent", self)
+            self._children[name] = value
+        object.__setattr__(self, name, value)
+
+    # -- names ----------------------------------------------------------------
+    def path(self) -> str:
+        if self._parent is None:
+            return ""
+        up = self._parent.path()
+        return f"{up}.{self._name}" if up else self._name
+
+    def label(self) -> str:
+        return f"{self.path() or 'the rig'} ({type(self).__name__})"
+
+    def walk(self):
+        """This component and every descendant, parents first."""
+        yield self
+        for child in self._children.values():
+            yield from child.walk()
+
+    # -- connections ----------------------------------------------------------
+    def connect(self, *connectors: Connector):
+        """Connect two or more connectors: equal across variables, and for
+        flanges a zero sum of forces."""
+        if len(connectors) < 2:
+            raise ConnectError(f"connect() in {self.label()} needs at least two connectors")
+        for c in connectors:
+            if not isinstance(c, Connector):
+                raise ConnectError(
+                    f"connect() in {self.label()}: {c!r} is not a connector "
+                    "(connect flanges, e.g. hammer.flange_b, not components or variables)")
+            if not self._owns(c):
+                raise ConnectError(f"connect() in {self.label()}: {c.path()} belongs to another rig")
+        seen = set()
+        for c in connectors:
+            if id(c) in seen:
+                raise ConnectError(f"connect(): {c.path()} is connected to itself")
+            seen.add(id(c))
+        kinds = {c.kind for c in connectors}
+        if len(kinds) > 1:
+            desc = ", ".join(f"{c.path()} ({type(c).__name__})" for c in connectors)
+            raise ConnectError(f"connect(): incompatible connectors: {desc}")
+        self._connections.append(tuple(connectors))
+        object.__setattr__(self, "_compiled", None)
+
+    def _owns(self, c: Connector) -> bool:
+        comp = c.owner
+        while comp is not None:
+            if comp is self:
+                return True
+            comp = comp._parent
+        return False
+
+    # -- compile and run --------------------------------------------------------
+    def compile(self):
+        """The simplified CasADi DAE of this rig (built once, then cached)."""
+        if self._compiled is None:
+            from .flatten import flatten
+            from .structure import simplify
+            dae = simplify(flatten(self), name=self.rig_name())
+            dae.signals = dict(getattr(self, "summary_signals", {}) or {})
+            object.__setattr__(self, "_compiled", dae)
+        return self._compiled
+
+    def rig_name(self) -> str:
+        return getattr(self, "name", None) or type(self).__name__
+
+    def simulate(self, t_end: float = 0.02, **kwargs):
+        """Simulate this rig; see ``pdbfs.simulate`` for the arguments."""
+        from .simulate import simulate
+        return simulate(self, t_end, **kwargs)
+
+    def export_fmu(self, path="pdbfs.fmu", **kwargs):
+        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""
+        from pdbfs.fmu import export_fmu
+        return export_fmu(self.compile(), path, **kwargs)
+
+    def parameters(self):
+        """The rig's free parameters (ParamInfo), in the DAE's order."""
+        return self.compile().params

@@ -1,0 +1,105 @@
+"""The simplified rig as one CasADi DAE: what every back end consumes.
+
+    der(x) = ode(t, x, z, p)        x: states
+         0 = alg(t, x, z, p)        z: algebraic variables left after BLT
+         y = out(t, x, z, p)        every named variable of the rig
+        x0 = start(p)               start values may depend on parameters
+         e = events(t, x, z, p)     event indicators (contact onset, slack oil)
+
+Parameters stay symbolic: changing one never rebuilds anything.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+
+@dataclass(frozen=True)
+class ParamInfo:
+    """One free parameter of the rig (an entry of ``p``)."""
+
+    name: str            # dotted name, e.g. "hammer.m"
+    value: float         # default value
+    unit: str            # SI unit, e.g. "kg", "N/m^1.5", "1" for none
+    description: str
+    min: float | None = None       # inclusive lower bound, None if unbounded
+    max: float | None = None       # inclusive upper bound
+    positive: bool = False         # value must be > 0 (strictly)
+    tunable: bool = True           # meaningful to change during a run
+
+
+@dataclass(frozen=True)
+class VarInfo:
+    """One named variable (an entry of ``y``, or a state, or an algebraic)."""
+
+    name: str
+    unit: str
+    description: str
+    output: bool = False   # offered as an FMU output / shown in summaries
+
+
+@dataclass
+class DAE:
+    name: str
+    t: ca.SX
+    x: ca.SX                 # column, states
+    z: ca.SX                 # column, algebraic variables (empty for ODE rigs)
+    p: ca.SX                 # column, free parameters
+    ode: ca.SX               # der(x)
+    alg: ca.SX               # residuals, 0 = alg
+    x0: ca.SX                # start values, function of p only
+    y: ca.SX                 # outputs, every named variable
+    events: ca.SX            # event indicators; sign changes mark non-smooth points
+    x_info: list[VarInfo]
+    z_info: list[VarInfo]
+    params: list[ParamInfo]
+    y_info: list[VarInfo]
+    event_names: list[str]
+    # parameters computed from others (FMI calculatedParameter): name -> expr(p)
+    calculated: dict[str, tuple[ca.SX, VarInfo]] = field(default_factory=dict)
+
+    # -- names ---------------------------------------------------------------
+    @property
+    def x_names(self) -> list[str]:
+        return [v.name for v in self.x_info]
+
+    @property
+    def z_names(self) -> list[str]:
+        return [v.name for v in self.z_info]
+
+    @property
+    def p_names(self) -> list[str]:
+        return [p.name for p in self.params]
+
+    @property
+    def y_names(self) -> list[str]:
+        return [v.name for v in self.y_info]
+
+    @property
+    def is_ode(self) -> bool:
+        return self.z.numel() == 0
+
+    def p_default(self) -> np.ndarray:
+        return np.array([p.value for p in self.params], dtype=float)
+
+    # -- CasADi functions (cheap to build, cached) ----------------------------
+    def function(self, which: str) -> ca.Function:
+        """``ode``, ``alg``, ``out``, ``start``, ``events``, ``jac_ode``
+        (d ode / d x) as CasADi Functions of (t, x, z, p), or (p) for start."""
+        cache = self.__dict__.setdefault("_functions", {})
+        if which not in cache:
+            args = [self.t, self.x, self.z, self.p]
+            names = ["t", "x", "z", "p"]
+            if which == "start":
+                f = ca.Function("start", [self.p], [self.x0], ["p"], ["x0"])
+            elif which == "jac_ode":
+                f = ca.Function("jac_ode", args, [ca.jacobian(self.ode, self.x)],
+                                names, ["jac"])
+            else:
+                expr = {"ode": self.ode, "alg": self.alg, "out": self.y,
+                        "events": self.events}[which]
+                f = ca.Function(which, args, [expr], names, [which])
+            cache[which] = f
+        return cache[which]

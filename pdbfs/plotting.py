@@ -1,0 +1,38 @@
+"""Plots of results (matplotlib, headless)."""
+from __future__ import annotations
+
+SCALE = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm"), "m/s": (1.0, "m/s")}
+
+
+def plot_result(res, names=None, path=None, title=None):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if names is None:
+        roles = getattr(res._sim.dae, "signals", {}) or {}
+        names = [n for n in (roles.get("pressure"), roles.get("contact_force")) if n]
+        names += [n for n in res.names if n.endswith(".s") and n.count(".") == 1
+                  and res.units.get(n) == "m" and n in res._sim.dae.x_names]
+        if not names:
+            names = res._sim.dae.x_names
+    by_unit = {}
+    for n in names:
+        by_unit.setdefault(res.units[n], []).append(n)
+    fig, axes = plt.subplots(len(by_unit), 1, figsize=(8, 2.6 * len(by_unit)), sharex=True,
+                             squeeze=False)
+    t_ms = res.t * 1e3
+    for ax, (unit, group) in zip(axes[:, 0], by_unit.items()):
+        k, label = SCALE.get(unit, (1.0, unit))
+        for n in group:
+            ax.plot(t_ms, res[n] * k, label=n)
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize=8)
+    axes[-1, 0].set_xlabel("time [ms]")
+    fig.suptitle(title or f"{res.rig}")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=120)
+        plt.close(fig)
+    return fig

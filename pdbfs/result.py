@@ -1,0 +1,129 @@
+"""Result of one simulation: time and every named variable as numpy arrays.
+
+Values between output points, peaks and level crossings are computed from
+the solution itself (a short integration from the nearest output point), so
+they do not depend on the output grid.
+"""
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from .errors import PdbfsError
+
+
+class Result:
+    def __init__(self, sim, t, Y, p, X, Z, settings):
+        self._sim = sim
+        self.t = t
+        self._Y = Y
+        self._X = X
+        self._Z = Z
+        self.p = p
+        self.settings = settings
+        dae = sim.dae
+        self.names = dae.y_names
+        self._index = {n: i for i, n in enumerate(self.names)}
+        self.units = {v.name: v.unit for v in dae.y_info}
+        self.descriptions = {v.name: v.description for v in dae.y_info}
+        self.params = dict(zip(dae.p_names, p.tolist()))
+
+    @property
+    def rig(self) -> str:
+        return self._sim.dae.name
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == "time":
+            return self.t
+        try:
+            return self._Y[self._index[name]]
+        except KeyError:
+            import difflib
+            close = difflib.get_close_matches(name, self.names, n=3)
+            raise KeyError(f"{name!r} is not a variable of rig {self.rig}"
+                           + (f"; did you mean {', '.join(close)}?" if close else "")) from None
+
+    def __contains__(self, name):
+        return name == "time" or name in self._index
+
+    # -- values off the grid ----------------------------------------------------
+    def _state_at(self, t: float):
+        k = int(np.searchsorted(self.t, t, side="right") - 1)
+        k = min(max(k, 0), len(self.t) - 1)
+        t0 = self.t[k]
+        if t - t0 <= 0:
+            return self._X[:, k], self._Z[:, k]
+        s = self.settings
+        return self._sim.step(self._X[:, k], self.p, t0, t - t0, s["rtol"], s["atol"],
+                              s["method"], s["max_step"])
+
+    def value_at(self, name: str, t: float) -> float:
+        """Variable ``name`` at time ``t``, exact to the solver tolerance."""
+        i = self._index[name]
+        x, z = self._state_at(t)
+        out = self._sim.dae.function("out")
+        return float(out(t, x, z, self.p)[i])
+
+    def peak(self, name: str, sign: float = 1.0) -> tuple[float, float]:
+        """(time, value) of the maximum (``sign=-1``: minimum) of ``name``."""
+        y = sign * self[name]
+        k = int(np.argmax(y))
+        a, b = self.t[max(k - 1, 0)], self.t[min(k + 1, len(self.t) - 1)]
+        if b <= a:
+            return float(self.t[k]), float(self[name][k])
+        f = lambda tt: -sign * self.value_at(name, tt)
+        r = minimize_scalar(f, bounds=(a, b), method="bounded",
+                            options={"xatol": 1e-12 * max(1.0, self.t[-1])})
+        if -r.fun >= y[k]:
+            return float(r.x), float(-r.fun * sign)
+        return float(self.t[k]), float(self[name][k])
+
+    def crossings(self, name: str, level: float = 0.0) -> np.ndarray:
+        """Times at which ``name`` crosses ``level``, located by root finding."""
+        y = self[name] - level
+        s = np.sign(y)
+        idx = np.flatnonzero(s[:-1] * s[1:] < 0)
+        g = lambda tt: self.value_at(name, tt) - level
+        out = [brentq(g, self.t[k], self.t[k + 1], xtol=1e-14, rtol=1e-12) for k in idx]
+        return np.array(out)
+
+    # -- export -------------------------------------------------------------------
+    def as_dict(self, names=None) -> dict:
+        names = self.names if names is None else names
+        return {"time": self.t, **{n: self[n] for n in names}}
+
+    def to_csv(self, path, names=None):
+        """Write time and the variables (all by default) as CSV, SI units in
+        the header (``name [unit]``)."""
+        names = self.names if names is None else list(names)
+        data = np.vstack([self.t] + [self[n] for n in names]).T
+        if not np.all(np.isfinite(data)):
+            raise PdbfsError("refusing to write NaN or infinite values to " + str(path))
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
+            w.writerows(data.tolist())
+        return path
+
+    def to_pandas(self, names=None):
+        """A pandas DataFrame indexed by time (needs pandas installed)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise PdbfsError("to_pandas() needs pandas: pip install pandas") from None
+        d = self.as_dict(names)
+        t = d.pop("time")
+        return pd.DataFrame(d, index=pd.Index(t, name="time"))
+
+    def plot(self, names=None, path=None, title=None):
+        """Plot variables against time in ms (one panel per unit); save to
+        ``path`` if given. Returns the matplotlib Figure."""
+        from .plotting import plot_result
+        return plot_result(self, names, path, title)
+
+    def summary(self) -> dict:
+        """Peak pressure, pulse duration, ... (see pdbfs.summary)."""
+        from .summary import summarize
+        return summarize(self)

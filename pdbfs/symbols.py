@@ -1,0 +1,117 @@
+"""Declarations a component makes: parameters, variables, and der().
+
+A component declares ``Parameter`` objects as class attributes and
+``State``/``Variable`` objects in ``declare()``; the component turns each into
+a CasADi SX symbol, so equations are plain CasADi expressions.
+"""
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+
+from .errors import ModelError
+
+#: The independent variable, shared by every component.
+time = ca.SX.sym("time")
+
+
+class Parameter:
+    """A parameter declaration: default value, SI unit, meaning and bounds.
+
+    ``positive`` means strictly greater than zero; ``min``/``max`` are
+    inclusive. ``tunable`` is False where a change during a run means nothing
+    (start values), which the FMU marks as a fixed parameter.
+    """
+
+    def __init__(self, default, unit: str, description: str, *, min=None, max=None,
+                 positive=False, tunable=True):
+        self.default = default
+        self.unit = unit
+        self.description = description
+        self.min = min
+        self.max = max
+        self.positive = positive
+        self.tunable = tunable
+        self.name = None
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def check(self, value, where: str) -> float:
+        """The value as a float; ParameterError naming ``where`` if not allowed."""
+        return check_value(value, where, self)
+
+
+def check_value(value, where: str, spec) -> float:
+    """Check ``value`` against ``spec`` (anything with unit, description, min,
+    max, positive) and return it as a float."""
+    from .errors import ParameterError
+    what = f"({spec.description}, {spec.unit})"
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{where} = {value!r}: not a number {what}") from None
+    if not math.isfinite(v):
+        raise ParameterError(f"{where} = {v}: must be finite {what}")
+    if spec.positive and v <= 0:
+        raise ParameterError(f"{where} = {v:g} {spec.unit}: must be > 0 ({spec.description})")
+    if spec.min is not None and v < spec.min:
+        raise ParameterError(f"{where} = {v:g} {spec.unit}: must be >= {spec.min:g} ({spec.description})")
+    if spec.max is not None and v > spec.max:
+        raise ParameterError(f"{where} = {v:g} {spec.unit}: must be <= {spec.max:g} ({spec.description})")
+    return v
+
+
+class Variable:
+    """An algebraic variable declaration. ``output`` marks it as a result users
+    look at (an FMU output)."""
+
+    is_state = False
+
+    def __init__(self, unit: str, description: str, *, output=False, start=None):
+        self.unit = unit
+        self.description = description
+        self.output = output
+        self.start = start
+
+
+class State(Variable):
+    """A variable that appears differentiated; ``start`` is a number or an
+    expression of the component's parameters."""
+
+    is_state = True
+
+    def __init__(self, unit: str, description: str, *, start=0.0, output=True):
+        super().__init__(unit, description, output=output, start=start)
+
+
+# der() symbols, keyed by the element hash of the variable they differentiate.
+# The variable itself is kept in the value so its hash cannot be reused.
+_DER: dict[int, tuple[ca.SX, ca.SX]] = {}
+
+
+def _scalar_symbol(v, what: str):
+    if not isinstance(v, ca.SX) or not v.is_scalar() or not v.is_symbolic():
+        raise ModelError(f"{what} takes one declared variable, got {v!r}")
+    return v
+
+
+def der(v: ca.SX) -> ca.SX:
+    """The time derivative of variable ``v`` as a symbol of its own."""
+    _scalar_symbol(v, "der()")
+    h = v.element_hash()
+    if h not in _DER:
+        _DER[h] = (v, ca.SX.sym(f"der({v.name()})"))
+    return _DER[h][1]
+
+
+def der_of(v: ca.SX):
+    """The der() symbol of ``v`` if der(v) was ever asked for, else None."""
+    hit = _DER.get(v.element_hash())
+    return hit[1] if hit is not None else None
+
+
+def eq(lhs, rhs):
+    """An equation ``lhs = rhs`` in the residual form the compiler works with."""
+    return lhs - rhs
