@@ -57,11 +57,16 @@ def impact_velocity(h: float, g: float = STANDARD_GRAVITY) -> float:
     return math.sqrt(2.0 * g * h)
 
 
-def restitution_from_force(t, force) -> float:
+def restitution_from_force(t, force, t_split=None) -> float:
     """Coefficient of restitution from a contact-force history (Guo & Batzer,
     paper eq. 8): the impulse after the force peak divided by the impulse
     before it, for a body initially at rest. Uses the first contact only (the
-    first run of positive force), since the hammer may strike again."""
+    first run of positive force), since the hammer may strike again.
+
+    ``t_split`` splits at another instant instead, e.g. that of maximum
+    indentation, which turns the ratio into Poisson's restitution. With
+    hysteresis damping the force peaks before maximum indentation, so the
+    split at the peak gives a larger ratio than the velocities do."""
     t = np.asarray(t, float)
     f = np.asarray(force, float)
     if t.shape != f.shape or t.size < 3:
@@ -73,7 +78,10 @@ def restitution_from_force(t, force) -> float:
     gaps = np.flatnonzero(f[on[0]:] <= 0)
     stop = on[0] + gaps[0] if gaps.size else f.size - 1
     tt, ff = t[start:stop + 1], np.clip(f[start:stop + 1], 0.0, None)
-    k = int(np.argmax(ff))
+    if t_split is None:
+        k = int(np.argmax(ff))
+    else:
+        k = int(np.argmin(np.abs(tt - t_split)))
     before = np.trapezoid(ff[:k + 1], tt[:k + 1])
     after = np.trapezoid(ff[k:], tt[k:])
     return float(after / before)

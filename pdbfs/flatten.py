@@ -72,6 +72,8 @@ def flatten(root) -> FlatSystem:
 
     # equations first: der() calls in them create the derivative symbols
     local_eqs = [(comp, comp.equations(), comp.events()) for comp in root.walk()]
+    for comp, eqs, _ in local_eqs:
+        _check_balance(comp, sum(ca.SX(r).numel() for r in eqs))
     for comp in root.walk():
         prefix = comp.path()
         for p in comp._params.values():
@@ -148,6 +150,26 @@ def _connection_equations(root, flat, glob):
                 flat.equations.append((glob(c.f), f"{c.path()} is unconnected: zero force"))
             elif isinstance(c, SignalInput) and comp is not root:
                 raise ConnectError(f"signal input {c.path()} is not connected")
+
+
+def _check_balance(comp, n_eq):
+    """Modelica's local balance: a leaf component has as many equations as
+    unknowns minus its flange forces and inputs (those come from connections);
+    a composite has one equation per variable it declares itself."""
+    own = list(comp._vars)
+    if comp._children:
+        need, what = len(own), f"its own variables ({', '.join(own) or 'none'})"
+    else:
+        n_conn = sum(len(c.variables()) for c in comp._connectors.values())
+        n_given = sum(1 for c in comp._connectors.values() for *_, flow in c.variables() if flow)
+        n_given += sum(1 for c in comp._connectors.values() if isinstance(c, SignalInput))
+        need = len(own) + n_conn - n_given
+        what = (f"{len(own)} variables ({', '.join(own) or 'none'}) + {n_conn} connector "
+                f"variables - {n_given} given by connections")
+    if n_eq != need:
+        kind = "under" if n_eq < need else "over"
+        raise ModelError(f"component {comp.label()} is {kind}-determined: {n_eq} equations "
+                         f"for {need} unknowns: {what}")
 
 
 def _merge(connections):

@@ -15,10 +15,11 @@ from .errors import PdbfsError
 
 
 class Result:
-    def __init__(self, sim, t, Y, p, X, Z, settings):
+    def __init__(self, sim, t, p, X, Z, settings):
         self._sim = sim
         self.t = t
-        self._Y = Y
+        self._Y = None        # all outputs, computed on first need
+        self._rows = {}       # single outputs computed so far
         self._X = X
         self._Z = Z
         self.p = p
@@ -38,12 +39,22 @@ class Result:
         if name == "time":
             return self.t
         try:
-            return self._Y[self._index[name]]
+            i = self._index[name]
         except KeyError:
             import difflib
             close = difflib.get_close_matches(name, self.names, n=3)
             raise KeyError(f"{name!r} is not a variable of rig {self.rig}"
                            + (f"; did you mean {', '.join(close)}?" if close else "")) from None
+        if self._Y is not None:
+            return self._Y[i]
+        if i not in self._rows:
+            self._rows[i] = self._sim.outputs(self.t, self._X, self._Z, self.p, [i])[0]
+        return self._rows[i]
+
+    def _all(self):
+        if self._Y is None:
+            self._Y = self._sim.outputs(self.t, self._X, self._Z, self.p)
+        return self._Y
 
     def __contains__(self, name):
         return name == "time" or name in self._index
@@ -98,6 +109,8 @@ class Result:
         """Write time and the variables (all by default) as CSV, SI units in
         the header (``name [unit]``)."""
         names = self.names if names is None else list(names)
+        if len(names) > 8:
+            self._all()
         data = np.vstack([self.t] + [self[n] for n in names]).T
         if not np.all(np.isfinite(data)):
             raise PdbfsError("refusing to write NaN or infinite values to " + str(path))

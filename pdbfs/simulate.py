@@ -101,10 +101,11 @@ class Simulator:
                 raise ParameterError(f"{name} = {v}: must be a positive number")
         if max_step is not None and not (np.isfinite(max_step) and max_step > 0):
             raise ParameterError(f"max_step = {max_step}: must be a positive number")
-        key = (tuple(grid), rtol, atol, method, max_step, scaled)
+        key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled)
         if key not in self._cache:
             dae = self.dae
-            opts = {"abstol": atol, "reltol": rtol, "max_num_steps": 500000}
+            opts = {"abstol": atol, "reltol": rtol, "max_num_steps": 500000,
+                    "disable_internal_warnings": True}
             if max_step is not None:
                 opts["max_step_size"] = max_step
             if dae.is_ode:
@@ -135,9 +136,8 @@ class Simulator:
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
         X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step)
-        Y = self.outputs(grid, X, Z, p)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step)
-        return Result(self, grid, Y, p, X, Z, settings)
+        return Result(self, grid, p, X, Z, settings)
 
     @staticmethod
     def grid(t_end, n_out, t_out=None) -> np.ndarray:
@@ -157,8 +157,8 @@ class Simulator:
         nz = self.dae.z.numel()
         try:
             r = F(x0=x0, p=p, z0=np.zeros(nz))
-            X = np.array(r["xf"], dtype=float)
-            Z = np.array(r["zf"], dtype=float).reshape(nz, X.shape[1])
+            X = r["xf"].full()
+            Z = r["zf"].full().reshape(nz, X.shape[1])
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err) from None
         X = np.hstack([x0.reshape(-1, 1), X])
@@ -170,10 +170,17 @@ class Simulator:
                               "exponent far out of range?)")
         return X, Z
 
-    def outputs(self, grid, X, Z, p) -> np.ndarray:
+    def outputs(self, grid, X, Z, p, rows=None) -> np.ndarray:
+        """Outputs ``rows`` (indices into dae.y; all if None) on the grid."""
         n = len(grid)
-        out = self.dae.function("out").map(n)
-        return np.array(out(grid.reshape(1, -1), X, Z, p), dtype=float)
+        key = ("out", n, None if rows is None else tuple(rows))
+        f = self._cache.get(key)
+        if f is None:
+            dae = self.dae
+            y = dae.y if rows is None else ca.vertcat(*[dae.y[i] for i in rows])
+            f = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [y]).map(n)
+            self._cache[key] = f
+        return f(grid.reshape(1, -1), X, Z, p).full()
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err):
         """Walk the grid interval by interval to report where the solver stopped."""
@@ -187,8 +194,8 @@ class Simulator:
                 break
             t_ok = b
         reason = str(err).strip().splitlines()[-1] if str(err).strip() else repr(err)
-        for code, cause in (("TOO_MUCH_WORK", "too many steps: the rig is very stiff "
-                             "(try method='bdf') or the tolerances too tight"),
+        for code, cause in (("TOO_MUCH_WORK", "too many steps: the solution may blow up (a force or "
+                             "parameter out of range), or the rig is very stiff (try method='bdf')"),
                             ("CONV_FAIL", "the corrector did not converge: stiffness or a "
                              "discontinuity; try method='bdf' or a max_step"),
                             ("ERR_FAIL", "the error test failed repeatedly: a discontinuity or "

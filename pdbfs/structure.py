@@ -190,14 +190,20 @@ class _Aliases:
                 u, expr = found
                 keys, vals = [u], [expr]
                 owner = self.by_name.get(u.name())
-                if owner is not None and owner.der is not None and owner.der.name() not in self.gone:
-                    keys.append(owner.der)
-                    vals.append(self._der_of_expr(expr))
+                extra = []
+                if owner is not None and owner.der is not None:
+                    d_expr = self._der_of_expr(expr)
+                    if owner.der.name() not in self.gone:
+                        keys.append(owner.der)
+                        vals.append(d_expr)
+                    else:   # der(u) was already replaced: keep the differentiated equation
+                        extra.append((self.resolve(owner.der) - d_expr,
+                                      f"derivative of {where}"))
                 if owner is not None and (owner.is_state or
                                           (owner.der is not None and owner.der.name() in self.used_der)):
                     self.states_gone.append((owner, expr, where))
                 eqs.pop(i)
-                eqs = self._apply(eqs, keys, vals)
+                eqs = self._apply(eqs + extra, keys, vals)
                 changed = True
                 break
         kept = []

@@ -1,7 +1,8 @@
 """The summary of a run: what a test engineer reads off a pressure pulse.
 
 A rig names the variables that play each role in ``summary_signals``
-(``pressure``, ``contact_force``, ``piston_displacement``); the compiled DAE
+(``pressure``, ``contact_force``, ``piston_displacement``, and for rigs whose
+hammer strikes more than once ``impact_indentation``); the compiled DAE
 carries that mapping as ``dae.signals``.
 """
 from __future__ import annotations
@@ -15,7 +16,9 @@ KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
         "max_piston_displacement", "restitution_coefficient")
 UNITS = {"peak_pressure": "Pa", "time_of_peak": "s", "pulse_duration": "s",
          "peak_contact_force": "N", "max_piston_displacement": "m",
-         "restitution_coefficient": "1"}
+         "restitution_coefficient": "1",
+         # rigs with the role impact_indentation (repeated blows): lists, one per blow
+         "impact_count": "1", "impact_times": "s", "impact_peak_pressures": "Pa"}
 
 PULSE_LEVEL = 0.01   # the pulse lasts while the pressure exceeds 1 % of its peak
 
@@ -37,7 +40,60 @@ def summarize(res) -> dict:
         out["max_piston_displacement"] = res.peak(s)[1]
     if f:
         out["restitution_coefficient"] = restitution(res, f)
+    d = roles.get("impact_indentation")
+    if d:
+        out.update(blows(res, d, p))
     return out
+
+
+def blows(res, indentation, pressure=None) -> dict:
+    """Every blow of a hammer that strikes repeatedly. Contacts start where
+    ``indentation`` crosses 0 upwards (located by root finding); contacts
+    follow one another within one blow (the hammer chatters on the piston);
+    once the pressure has risen above PULSE_LEVEL of its overall peak and
+    fallen below it again, the next contact starts a new blow. Returns impact_count,
+    impact_times (first contact of each blow) and impact_peak_pressures."""
+    d = res[indentation]
+    # a crossing lies between two samples of opposite sign: upwards if the later one is > 0
+    onsets = [float(tt) for tt in res.crossings(indentation, 0.0)
+              if d[min(int(np.searchsorted(res.t, tt)), len(d) - 1)] > 0]
+    if d[0] > 0:
+        onsets.insert(0, float(res.t[0]))
+    if not pressure:
+        return {"impact_count": len(onsets), "impact_times": onsets}
+    y = res[pressure]
+    level = PULSE_LEVEL * float(np.max(y))
+    starts = []
+    for tt in onsets:
+        if starts:   # a new blow only once the previous pulse has risen and fallen
+            k0, k1 = np.searchsorted(res.t, [prev, tt])
+            above = y[k0:k1] >= level
+            ended = above.any() and not above[int(np.argmax(above)):].all()
+            prev = tt
+            if not ended:
+                continue
+        starts.append(tt)
+        prev = tt
+    edges = np.searchsorted(res.t, starts + [res.t[-1] + 1.0])
+    peaks = []
+    for k0, k1 in zip(edges[:-1], edges[1:]):
+        k1 = max(min(k1, len(y)), k0 + 1)
+        peaks.append(_local_peak(res, pressure, k0, k1))
+    return {"impact_count": len(starts), "impact_times": [float(s) for s in starts],
+            "impact_peak_pressures": peaks}
+
+
+def _local_peak(res, name, k0, k1) -> float:
+    """Maximum of ``name`` over output samples k0..k1-1, refined between
+    the neighbouring samples."""
+    y = res[name]
+    k = k0 + int(np.argmax(y[k0:k1]))
+    a, b = res.t[max(k - 1, 0)], res.t[min(k + 1, len(y) - 1)]
+    if b <= a:
+        return float(y[k])
+    r = minimize_scalar(lambda tt: -res.value_at(name, tt), bounds=(a, b), method="bounded",
+                        options={"xatol": 1e-12 * max(1.0, res.t[-1])})
+    return float(max(-r.fun, y[k]))
 
 
 def time_above(res, name, level) -> float:

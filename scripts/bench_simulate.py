@@ -1,0 +1,92 @@
+"""Benchmark: the paper rig through pdbfs (CasADi + CVODES) against the same
+equations written by hand with numpy for scipy's solve_ivp (RK45, DOP853),
+in one process, same tolerances, 2001 output points.
+
+    python scripts/bench_simulate.py [--repeat N]
+
+Prints seconds per simulation (median) and ratios against the RK45 baseline.
+"""
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from paper_equations import TABLE1, make_rhs, pressure  # noqa: E402
+
+RTOL, ATOL = 1e-8, 1e-10
+T = np.linspace(0.0, 0.02, 2001)
+
+
+def median_time(fn, repeat):
+    fn()
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=20)
+    args = ap.parse_args()
+
+    t0 = time.perf_counter()
+    from pdbfs.models import paper_rig
+    rig = paper_rig()
+    dae = rig.compile()
+    build = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)   # first call builds the integrator
+    first = time.perf_counter() - t0
+
+    rhs, _, _ = make_rhs(**TABLE1)
+    y0 = [0, TABLE1["v0"], 0, 0, 0, 0]
+
+    def baseline(method):
+        return solve_ivp(rhs, (0, T[-1]), y0, method=method, t_eval=T, rtol=RTOL, atol=ATOL)
+
+    peaks = {"pdbfs": rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)["oil.pressure"].max()}
+    for m in ("RK45", "DOP853"):
+        peaks[m] = pressure(baseline(m).y, TABLE1).max()
+    ref = peaks["DOP853"]
+    for k, v in peaks.items():
+        rel = abs(v - ref) / ref
+        print(f"peak pressure {k:<8} {v / 1e6:.6f} MPa (rel. to DOP853: {rel:.1e})")
+        assert rel < 1e-6, f"{k} disagrees with the baseline on the peak"
+
+    def scalar_rhs(t, y):   # the same equations with Python floats, no numpy arrays
+        x1, v1, x2, v2, x3, v3 = y
+        p = TABLE1
+        d = x1 - x2
+        dn = d ** p["n"] if d > 0 else 0.0
+        fc = max(p["k1"] * dn + p["D"] * dn * (v1 - v2), 0.0)
+        fo = p["k2"] * (x2 - x3) if x2 > x3 else 0.0
+        return [v1, -fc / p["m1"], v2, (fc - fo - p["c2"] * v2) / p["m2"], v3,
+                (fo - p["k3"] * x3) / p["m3"]]
+
+    runs = {
+        "pdbfs (CVODES Adams)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL),
+        "pdbfs (CVODES BDF)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL, method="bdf"),
+        "solve_ivp RK45": lambda: baseline("RK45"),
+        "solve_ivp DOP853": lambda: baseline("DOP853"),
+        "RK45, scalar-float RHS": lambda: solve_ivp(scalar_rhs, (0, T[-1]), y0, t_eval=T,
+                                                     rtol=RTOL, atol=ATOL),
+    }
+    secs = {k: median_time(f, args.repeat) for k, f in runs.items()}
+    base = secs["solve_ivp RK45"]
+    print(f"\none-off: compile {build * 1e3:.0f} ms, first simulate (integrator build) "
+          f"{first * 1e3:.1f} ms; {len(dae.x_names)} states")
+    print("baseline: RK45 on the numpy right-hand side (tests/paper_equations.py)")
+    print(f"{'run':<24} {'s/sim':>10} {'RK45 / this':>12}")
+    for k, s in secs.items():
+        print(f"{k:<24} {s:>10.5f} {base / s:>11.1f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,72 @@
+"""The paper's equations of motion (PHYSICS.md, eq. 9) written by hand with
+numpy: the independent reference the tests and the benchmark compare
+pdbfs against. Not used by pdbfs itself."""
+import numpy as np
+from scipy.integrate import solve_ivp
+
+TABLE1 = dict(m1=2948.4, m2=241.7, m3=500.0, k1=5.958e10, n=1.5, D=1.595e6, k2=2.228e8,
+              k3=2.5e10, c2=2.556e4, A=2.270e-2, v0=2.73)
+
+
+def make_rhs(m1, m2, m3, k1, n, D, k2, k3, c2, A, v0, n2=1.0):
+    """Right-hand side in plain numpy, the way one writes it by hand."""
+    M = np.array([m1, m2, m3])
+
+    def forces(y):
+        x, v = y[0::2], y[1::2]
+        d = x[0] - x[1]
+        dn = np.maximum(d, 0.0) ** n
+        fc = max(k1 * dn + D * dn * (v[0] - v[1]), 0.0)
+        fo = k2 * np.maximum(x[1] - x[2], 0.0) ** n2
+        return fc, fo
+
+    def rhs(t, y):
+        x, v = y[0::2], y[1::2]
+        fc, fo = forces(y)
+        f = np.array([-fc, fc - fo - c2 * v[1], fo - k3 * x[2]])
+        out = np.empty(6)
+        out[0::2] = v
+        out[1::2] = f / M
+        return out
+
+    # event functions: contact onset/separation, clamp of the damped force, oil slack
+    def ev_d(t, y):
+        return y[0] - y[2]
+
+    def ev_clamp(t, y):
+        return k1 + D * (y[1] - y[3])
+
+    def ev_oil(t, y):
+        return y[2] - y[4]
+
+    return rhs, forces, [ev_d, ev_clamp, ev_oil]
+
+
+def pressure(sol_y, p):
+    do = sol_y[2] - sol_y[4]
+    return np.where(do > 0, p["k2"] * np.clip(do, 0, None) ** p.get("n2", 1.0), 0.0) / p["A"]
+
+
+def reference(t_out, rtol=1e-12, atol=1e-15, **over):
+    """A tight solution restarted at every non-smooth point (event location),
+    so that no step straddles a kink. Returns states at t_out (6 x N)."""
+    p = dict(TABLE1, **over)
+    rhs, _, events = make_rhs(**p)
+    for e in events:
+        e.terminal = True
+    t0, y0 = 0.0, np.array([0, p["v0"], 0, 0, 0, 0], float)
+    out = np.empty((6, len(t_out)))
+    t_end = t_out[-1]
+    while True:
+        mask = (t_out >= t0) & (t_out <= t_end)
+        sol = solve_ivp(rhs, (t0, t_end), y0, method="DOP853", rtol=rtol, atol=atol,
+                        events=events, dense_output=True)
+        stop = sol.t[-1]
+        take = mask & (t_out <= stop)
+        out[:, take] = sol.sol(t_out[take])
+        if sol.status != 1 or stop >= t_end:
+            break
+        # step just past the event so it does not trigger again at once
+        t0 = stop + 1e-12
+        y0 = sol.sol(t0)
+    return out, p
