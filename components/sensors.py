@@ -14,7 +14,7 @@ class PositionSensor(PartialOneFlange):
         self.s = SignalOutput("m", "Measured position")
 
     def equations(self):
-        return [eq(self.flange.f, 0.0), eq(self.s, self.flange.s)]
+        return [eq(self.flange.f, 0.0), eq(self.s.value, self.flange.s)]
 
 
 class SpeedSensor(PartialOneFlange):
@@ -25,31 +25,32 @@ class SpeedSensor(PartialOneFlange):
         self.v = SignalOutput("m/s", "Measured velocity")
 
     def equations(self):
-        return [eq(self.flange.f, 0.0), eq(self.v, der(self.flange.s))]
+        return [eq(self.flange.f, 0.0), eq(self.v.value, der(self.flange.s))]
 
 
 class ForceSensor(PartialTwoFlanges):
-    """Force passed from flange_a to flange_b, output ``f`` (N, compression
-    positive: the force flange_a's side pushes with)."""
+    """Force transmitted between flange_a and flange_b, output ``f`` (N,
+    positive in tension, as ``flange_b.f`` in Modelica)."""
 
     def declare(self):
         super().declare()
-        self.f = SignalOutput("N", "Measured force (compression positive)")
+        self.f = SignalOutput("N", "Measured force (positive in tension)")
 
     def equations(self):
         return [eq(self.flange_a.s, self.flange_b.s),
                 eq(self.flange_a.f + self.flange_b.f, 0.0),
-                eq(self.f, self.flange_b.f)]
+                eq(self.f.value, self.flange_b.f)]
 
 
 class PressureSensor(ForceSensor):
-    """Like ForceSensor, divided by an area: output ``p`` (Pa)."""
+    """Like ForceSensor, as a pressure on an area: output ``p`` (Pa,
+    positive in compression, ``p = -f/A``)."""
 
     A = Parameter(2.270e-2, "m2", "Area the force acts on", positive=True)
 
     def declare(self):
         super().declare()
-        self.p = SignalOutput("Pa", "Measured pressure")
+        self.p = SignalOutput("Pa", "Measured pressure (positive in compression)")
 
     def equations(self):
-        return super().equations() + [eq(self.p * self.A, self.f)]
+        return super().equations() + [eq(self.p.value * self.A, -self.f.value)]

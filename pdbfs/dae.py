@@ -59,6 +59,8 @@ class DAE:
     event_names: list[str]
     # parameters computed from others (FMI calculatedParameter): name -> expr(p)
     calculated: dict[str, tuple[ca.SX, VarInfo]] = field(default_factory=dict)
+    # initial guess of z for IDAS (declared start values, else 0), function of p
+    z0: ca.SX | None = None
 
     # -- names ---------------------------------------------------------------
     @property

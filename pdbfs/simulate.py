@@ -92,6 +92,12 @@ class Simulator:
             raise ParameterError(f"start values are not finite: {', '.join(bad)}")
         return x0
 
+    def z_guess(self, p) -> np.ndarray:
+        dae = self.dae
+        if dae.is_ode:
+            return np.zeros(0)
+        return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
+
     # -- integrators -------------------------------------------------------------
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False):
         if method not in METHODS:
@@ -118,15 +124,16 @@ class Simulator:
                 spec = {"x": dae.x, "z": dae.z, "p": ca.vertcat(dae.p, t0, h), "t": tau,
                         "ode": h * subs(dae.ode), "alg": subs(dae.alg)}
             plugin = "cvodes" if dae.is_ode else "idas"
+            # the output grid includes t0: its z is then the consistent one
             self._cache[key] = ca.integrator("sim", plugin, spec, float(grid[0]),
-                                             list(grid[1:]), opts)
+                                             list(grid), opts)
         return self._cache[key]
 
     def step(self, x, p, t0, h, rtol, atol, method, max_step=None):
         """State at t0 + h from state x at t0 (h > 0)."""
         F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True)
-        r = F(x0=x, p=np.concatenate([p, [t0, h]]), z0=np.zeros(self.dae.z.numel()))
-        return np.array(r["xf"], dtype=float).ravel(), np.array(r["zf"], dtype=float).ravel()
+        r = F(x0=x, p=np.concatenate([p, [t0, h]]), z0=self.z_guess(p))
+        return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
 
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
@@ -156,13 +163,11 @@ class Simulator:
         F = self.integrator(grid, rtol, atol, method, max_step)
         nz = self.dae.z.numel()
         try:
-            r = F(x0=x0, p=p, z0=np.zeros(nz))
+            r = F(x0=x0, p=p, z0=self.z_guess(p))
             X = r["xf"].full()
             Z = r["zf"].full().reshape(nz, X.shape[1])
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err) from None
-        X = np.hstack([x0.reshape(-1, 1), X])
-        Z = np.hstack([Z[:, :1] if nz else np.zeros((0, 1)), Z])
         if not np.all(np.isfinite(X)):
             k = int(np.argmax(~np.all(np.isfinite(X), axis=0)))
             raise SolverError(f"rig {self.dae.name}: the solution became NaN or infinite at "

@@ -70,14 +70,18 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     _check_consistent_start(flat, al, states, x0, p_sym, free, final, t)
 
     z = ca.vertcat(*z_syms) if z_syms else ca.SX(0, 1)
+    by_name = {v.name: v for v in flat.vars}
+    z0 = ca.vertcat(*[_start(by_name[n]) if n in by_name else ca.SX(0.0) for n in z_labels]) \
+        if z_syms else ca.SX(0, 1)
     alg_expr = ca.vertcat(*[final(r) for r in alg]) if alg else ca.SX(0, 1)
 
     info = lambda v: VarInfo(v.name, v.unit, v.description, v.output)
     return DAE(name=name, t=t, x=x, z=z, p=p_sym, ode=ode, alg=alg_expr, x0=x0, y=y,
                events=ev, x_info=[info(v) for v in states],
-               z_info=[VarInfo(l, "", "algebraic unknown of a nonlinear block") for l in z_labels],
+               z_info=[VarInfo(n, by_name[n].unit if n in by_name else "",
+                               "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
-               event_names=[w for _, w in events], calculated=calculated)
+               event_names=[w for _, w in events], calculated=calculated, z0=z0)
 
 
 def _subst(expr, keys, vals):
