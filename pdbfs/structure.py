@@ -137,8 +137,8 @@ class _Aliases:
         for v in flat.vars:
             if v.der is not None:
                 self.der_owner[v.der.name()] = v
-        self.keys: list[ca.SX] = []          # eliminated symbols ...
-        self.vals: list[ca.SX] = []          # ... and what replaces them
+        self.K = ca.SX(0, 1)                 # eliminated symbols ...
+        self.V = ca.SX(0, 1)                 # ... and what replaces them (column vectors)
         self.gone: set[str] = set()
         self.used_der: set[str] = set()
         self.states_gone: list[tuple] = []   # (state FlatVar, replacement)
@@ -183,35 +183,40 @@ class _Aliases:
         for v in self.by_name.values():
             if v.der is not None:
                 self.used_der.add(v.der.name())
-        eqs = list(eqs)
+        # equations as one column (cheap to substitute into) and their origins
+        R = ca.vertcat(*[r for r, _ in eqs]) if eqs else ca.SX(0, 1)
+        W = [w for _, w in eqs]
         changed = True
-        while changed:
+        while changed:           # repeat: an elimination can make new aliases
             changed = False
-            for i, (r, where) in enumerate(eqs):
-                found = self._alias(r)
+            i = 0
+            while i < R.numel():
+                found = self._alias(R[i])
                 if found is None:
+                    i += 1
                     continue
                 u, expr = found
                 keys, vals = [u], [expr]
                 owner = self.by_name.get(u.name())
-                extra = []
+                extra, extra_w = [], []
                 if owner is not None and owner.der is not None:
                     d_expr = self._der_of_expr(expr)
                     if owner.der.name() not in self.gone:
                         keys.append(owner.der)
                         vals.append(d_expr)
                     else:   # der(u) was already replaced: keep the differentiated equation
-                        extra.append((self.resolve(owner.der) - d_expr,
-                                      f"derivative of {where}"))
+                        extra.append(self.resolve(owner.der) - d_expr)
+                        extra_w.append(f"derivative of {W[i]}")
                 if owner is not None and (owner.is_state or
                                           (owner.der is not None and owner.der.name() in self.used_der)):
-                    self.states_gone.append((owner, expr, where))
-                eqs.pop(i)
-                eqs = self._apply(eqs + extra, keys, vals)
+                    self.states_gone.append((owner, expr, W[i]))
+                R = ca.vertcat(R[:i], R[i + 1:], *extra)
+                W = W[:i] + W[i + 1:] + extra_w
+                R = self._apply(R, keys, vals)
                 changed = True
-                break
         kept = []
-        for r, where in eqs:
+        for k, where in enumerate(W):
+            r = R[k]
             if not self.unknowns_in(r):
                 if _identically_zero(r):
                     continue
@@ -239,24 +244,17 @@ class _Aliases:
             a, b, u, w = b, a, w, u
         return u, -(b * w + c0) / a
 
-    def _apply(self, eqs, keys, vals):
+    def _apply(self, R, keys, vals):
+        """Record the substitution and apply it to R and to earlier ones."""
         for k in keys:
             self.gone.add(k.name())
         kv, vv = ca.vertcat(*keys), ca.densify(ca.vertcat(*vals))
-        if self.vals:
-            old = _subst(ca.vertcat(*self.vals), kv, vv)
-            self.vals = [old[k] for k in range(old.numel())]
-        self.keys.extend(keys)
-        self.vals.extend(vals)
-        if not eqs:
-            return eqs
-        rs = _subst(ca.vertcat(*[r for r, _ in eqs]), kv, vv)
-        return [(rs[k], w) for k, (_, w) in enumerate(eqs)]
+        self.V = ca.vertcat(_subst(self.V, kv, vv), vv)
+        self.K = ca.vertcat(self.K, kv)
+        return _subst(R, kv, vv)
 
     def resolve(self, expr):
-        if not self.keys:
-            return expr
-        return _subst(expr, ca.vertcat(*self.keys), ca.vertcat(*self.vals))
+        return _subst(expr, self.K, self.V)
 
 
 def _identically_zero(r) -> bool:
