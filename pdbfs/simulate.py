@@ -22,6 +22,7 @@ import numpy as np
 from .dae import DAE
 from .errors import ParameterError, SolverError
 from .symbols import check_value
+from .vectorize import vectorize
 
 METHODS = ("adams", "bdf")
 
@@ -177,15 +178,19 @@ class Simulator:
 
     def outputs(self, grid, X, Z, p, rows=None) -> np.ndarray:
         """Outputs ``rows`` (indices into dae.y; all if None) on the grid."""
-        n = len(grid)
-        key = ("out", n, None if rows is None else tuple(rows))
+        key = ("out", None if rows is None else tuple(rows))
         f = self._cache.get(key)
         if f is None:
             dae = self.dae
             y = dae.y if rows is None else ca.vertcat(*[dae.y[i] for i in rows])
-            f = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [y]).map(n)
+            fun = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [y])
+            fast = vectorize(fun)
+            if fast is not None:
+                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]
+            else:
+                f = lambda t, X, Z, p: fun.map(len(t))(t.reshape(1, -1), X, Z, p).full()
             self._cache[key] = f
-        return f(grid.reshape(1, -1), X, Z, p).full()
+        return f(np.asarray(grid, float).reshape(1, -1), X, Z, p)
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err):
         """Walk the grid interval by interval to report where the solver stopped."""

@@ -70,13 +70,16 @@ def main():
         return [v1, -fc / p["m1"], v2, (fc - fo - p["c2"] * v2) / p["m2"], v3,
                 (fo - p["k3"] * x3) / p["m3"]]
 
+    # every run ends with the pressure history in hand
     runs = {
-        "pdbfs (CVODES Adams)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL),
-        "pdbfs (CVODES BDF)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL, method="bdf"),
-        "solve_ivp RK45": lambda: baseline("RK45"),
-        "solve_ivp DOP853": lambda: baseline("DOP853"),
-        "RK45, scalar-float RHS": lambda: solve_ivp(scalar_rhs, (0, T[-1]), y0, t_eval=T,
-                                                     rtol=RTOL, atol=ATOL),
+        "pdbfs (CVODES Adams)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)["oil.pressure"],
+        "pdbfs states only": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL),
+        "pdbfs (CVODES BDF)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL,
+                                                   method="bdf")["oil.pressure"],
+        "solve_ivp RK45": lambda: pressure(baseline("RK45").y, TABLE1),
+        "solve_ivp DOP853": lambda: pressure(baseline("DOP853").y, TABLE1),
+        "RK45, scalar-float RHS": lambda: pressure(solve_ivp(
+            scalar_rhs, (0, T[-1]), y0, t_eval=T, rtol=RTOL, atol=ATOL).y, TABLE1),
     }
     secs = {k: median_time(f, args.repeat) for k, f in runs.items()}
     base = secs["solve_ivp RK45"]
