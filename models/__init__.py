@@ -1,7 +1,35 @@
 """Rigs built from the component library. ``RIGS`` maps the names the
 command line accepts (``--rig NAME``) to functions that build them."""
+from .drop import DROP_SIGNALS, DropRig, drop_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
+from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig
 
-RIGS = {"paper": paper_rig}
+#: contact damping laws offered beside Table 1's D, with the rig-name suffix
+LAW_RIGS = {"ln": "lankarani-nikravesh", "hc": "hunt-crossley", "flores": "flores"}
 
-__all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS"]
+
+def _paper_with_law(suffix):
+    def build():
+        rig = paper_rig(law=LAW_RIGS[suffix])
+        rig.name = f"pdbfs_{suffix}"
+        # the law is tuned to the impact velocity the rig is run at
+        rig.contact.bind("v_impact", rig.hammer.v0)
+        return rig
+    build.__name__ = f"paper_{suffix}_rig"
+    build.__doc__ = (f"The paper's rig with the {LAW_RIGS[suffix]} damping law: D computed "
+                     "from contact.e and the impact velocity hammer.v0.")
+    return build
+
+
+RIGS = {
+    "paper": paper_rig,
+    **{f"paper-{s}": _paper_with_law(s) for s in LAW_RIGS},
+    # the paper's conclusion: piston and seal split into several masses
+    "split-piston": lambda: split_piston_rig(n=4),
+    # gravity and a drop height: repeated blows
+    "drop": drop_rig,
+}
+
+__all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
+           "SplitSeal", "SplitPistonRig", "split_piston_rig", "DropRig", "drop_rig",
+           "DROP_SIGNALS"]

@@ -1,0 +1,162 @@
+"""The paper's rig with the loading piston and seal assembly split into N
+masses (the paper's conclusion: "m2 needs to be split into several separated
+masses in order to obtain more detailed information about transferring
+process of impact force").
+
+    hammer --contact--> piston.p1 --link1-- piston.p2 -- ... -- piston.pN --oil--> breech
+                            |seal.part1        |seal.part2          |seal.partN       |mount
+                          frame              frame                frame             frame
+
+The N pieces share the mass ``piston.m`` equally and the seal friction
+``seal.c`` equally (the seal runs along the piston); neighbours are joined by
+linear springs ``piston.k_link = N * piston.k_axial`` (a bar of axial stiffness
+EA/L cut into N pieces of length L/N, joined centre to centre).
+
+The default ``piston.k_axial`` = 3.5e9 N/m is that of a steel bar
+(E = 2.1e11 Pa) of the piston's area 2.27e-2 m^2 and the length that gives
+241.7 kg at 7850 kg/m^3 (about 1.36 m): an estimate, not a paper value.
+
+With N = 1 there is no link and the rig is the paper's 3-DOF rig, equation
+for equation (tests/test_variants.py checks the pressure to 1e-9).
+"""
+from __future__ import annotations
+
+from pdbfs.component import Component
+from pdbfs.components import Fixed, ImpactContact, Mass, OilColumn, SealFriction, Spring
+from pdbfs.connectors import Flange
+from pdbfs.errors import ParameterError
+from pdbfs.symbols import Parameter, Variable, eq
+
+#: Axial stiffness EA/L of the whole piston, N/m (steel, see module docstring).
+K_AXIAL = 3.5e9
+
+
+def _check_n(n, who):
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ParameterError(f"{who}: n = {n!r} must be a whole number of piston pieces >= 1")
+    if n > 200:
+        raise ParameterError(f"{who}: n = {n} is too many piston pieces (at most 200)")
+
+
+class SplitPiston(Component):
+    """A piston of mass ``m`` cut into ``n`` equal rigid pieces joined by
+    linear springs. ``flange_a`` is the struck face (piece 1), ``flange_b``
+    the face on the oil (piece n); ``side{i}`` is a flange on piece i
+    (1-based) for side forces such as seal friction. The variable ``s`` is
+    the position of the centre of mass."""
+
+    m = Parameter(241.7, "kg", "Total mass of the piston and seal assembly (the paper's m2)",
+                  positive=True)
+    k_axial = Parameter(K_AXIAL, "N/m", "Axial stiffness EA/L of the whole piston; each of "
+                        "the n-1 links has n*k_axial", positive=True)
+
+    def __init__(self, n: int = 4, **params):
+        _check_n(n, "SplitPiston")
+        self._n = n
+        super().__init__(**params)
+
+    @property
+    def n(self) -> int:
+        return self._n
+
+    def declare(self):
+        n = self._n
+        self.flange_a = Flange()
+        self.flange_b = Flange()
+        self.s = Variable("m", "Position of the piston's centre of mass (positive down)",
+                          output=True)
+        for i in range(1, n + 1):
+            setattr(self, f"p{i}", Mass(m=self.m / n if n > 1 else self.m))
+            setattr(self, f"side{i}", Flange())
+        for i in range(1, n):
+            setattr(self, f"link{i}", Spring(k=self.k_axial * n, n=1.0))
+        for i in range(1, n + 1):
+            above = self.flange_a if i == 1 else getattr(self, f"link{i - 1}").flange_b
+            self.connect(above, self.piece(i).flange_a, getattr(self, f"side{i}"))
+            below = self.flange_b if i == n else getattr(self, f"link{i}").flange_a
+            self.connect(self.piece(i).flange_b, below)
+
+    def piece(self, i: int) -> Mass:
+        return getattr(self, f"p{i}")
+
+    def equations(self):
+        n = self._n
+        return [eq(self.s, sum(self.piece(i).s for i in range(1, n + 1)) / n)]
+
+
+class SplitSeal(Component):
+    """Seal friction ``c`` spread equally over ``n`` pieces: ``part{i}`` acts
+    between ``frame`` and ``flange{i}``."""
+
+    c = Parameter(2.556e4, "N.s/m", "Total viscous friction of the seal (the paper's c2)",
+                  min=0.0)
+
+    def __init__(self, n: int = 4, **params):
+        _check_n(n, "SplitSeal")
+        self._n = n
+        super().__init__(**params)
+
+    def declare(self):
+        n = self._n
+        self.frame = Flange()
+        for i in range(1, n + 1):
+            setattr(self, f"flange{i}", Flange())
+            part = SealFriction(c=self.c / n if n > 1 else self.c)
+            setattr(self, f"part{i}", part)
+            self.connect(self.frame, part.flange_a)
+            self.connect(part.flange_b, getattr(self, f"flange{i}"))
+
+
+SPLIT_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
+                 "piston_displacement": "piston.s"}
+
+
+class SplitPistonRig(Component):
+    """The paper's rig (Table 1 values) with the piston and seal split into
+    ``n`` masses. Parameters as in PaperRig, plus ``piston.k_axial``."""
+
+    summary_signals = SPLIT_SIGNALS
+
+    def __init__(self, n: int = 4, law=None, **params):
+        _check_n(n, "split_piston_rig")
+        self._n = n
+        self._law = law
+        self.name = f"pdbfs_split{n}"
+        super().__init__(**params)
+
+    def declare(self):
+        n = self._n
+        self.frame = Fixed()
+        self.hammer = Mass(m=2948.4, v0=2.73)
+        self.piston = SplitPiston(n=n)
+        self.breech = Mass(m=500.0)
+        self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6)
+        self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
+        self.seal = SplitSeal(n=n, c=2.556e4)
+        self.mount = Spring(k=2.5e10, n=1.0)
+        self.connect(self.hammer.flange_b, self.contact.flange_a)
+        self.connect(self.contact.flange_b, self.piston.flange_a)
+        for i in range(1, n + 1):
+            self.connect(getattr(self.piston, f"side{i}"), getattr(self.seal, f"flange{i}"))
+        self.connect(self.piston.flange_b, self.oil.flange_a)
+        self.connect(self.oil.flange_b, self.breech.flange_a)
+        self.connect(self.breech.flange_b, self.mount.flange_a)
+        self.connect(self.frame.flange, self.mount.flange_b, self.seal.frame)
+
+    @property
+    def n(self) -> int:
+        return self._n
+
+    def force_chain(self, res) -> list:
+        """Compressive forces through the piston, top to bottom, from a
+        Result: contact, links 1..n-1 (springs report tension, so negated),
+        oil. Returns a list of (label, array)."""
+        out = [("contact", res["contact.fc"])]
+        out += [(f"link {i}", -res[f"piston.link{i}.f"]) for i in range(1, self._n)]
+        return out + [("oil", res["oil.fc"])]
+
+
+def split_piston_rig(n: int = 4, **kw) -> SplitPistonRig:
+    """The paper's rig with piston and seal split into ``n`` masses joined by
+    stiff springs; ``n = 1`` is the paper's rig. ``law=`` as in paper_rig."""
+    return SplitPistonRig(n=n, **kw)

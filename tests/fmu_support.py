@@ -1,0 +1,96 @@
+"""Support for the FMU tests (tests/test_fmu_*.py): the real rigs, each
+exported once per test process, the CasADi reference, and a log recorder
+for fmpy's low-level API.  Not part of the package."""
+from __future__ import annotations
+
+import atexit
+import shutil
+import tempfile
+
+import numpy as np
+
+from pdbfs.fmu import export_fmu
+from pdbfs.models import paper_rig, split_piston_rig
+
+#: rigs the FMU tests export: name -> builder
+RIG_BUILDERS = {
+    "paper": paper_rig,
+    # Lankarani-Nikravesh damping: contact.D is a calculated parameter
+    "law": lambda: paper_rig(law="lankarani-nikravesh"),
+    # the piston split into three masses: ten states
+    "split3": lambda: split_piston_rig(3),
+}
+
+_CACHE: dict = {}
+
+
+def built_model(kind: str = "paper"):
+    """(dae, rig) of one of RIG_BUILDERS, built once per process."""
+    if kind not in _CACHE:
+        rig = RIG_BUILDERS[kind]()
+        _CACHE[kind] = {"model": (rig.compile(), rig)}
+    return _CACHE[kind]["model"]
+
+
+def built_fmu(kind: str = "paper") -> str:
+    """Export the rig once per process and return the FMU's path."""
+    dae, _ = built_model(kind)
+    entry = _CACHE[kind]
+    if "path" not in entry:
+        d = tempfile.mkdtemp(prefix=f"pdbfs-test-{kind}-")
+        atexit.register(shutil.rmtree, d, True)
+        entry["path"] = str(export_fmu(dae, f"{d}/{kind}.fmu"))
+    return entry["path"]
+
+
+def reference_pressure(rig, params: dict | None = None, t_end: float = 0.02, n_out: int = 2001,
+                       rtol: float = 1e-8, atol: float = 1e-10):
+    """(t, oil pressure) of the CasADi path (``rig.simulate``)."""
+    res = rig.simulate(t_end, n_out=n_out, params=dict(params or {}), rtol=rtol, atol=atol)
+    return np.asarray(res.t), np.asarray(res["oil.pressure"])
+
+
+_LOG: dict = {}
+
+
+def _shared_callbacks():
+    """One set of fmpy callbacks for the process (fmpy's logger proxy is
+    global); messages are kept per instance name."""
+    if "callbacks" not in _LOG:
+        from ctypes import byref
+
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+        from fmpy.logging import addLoggerProxy
+        messages = _LOG.setdefault("messages", [])
+
+        def log(env, name, status, category, message):
+            messages.append((name.decode(errors="replace"), status, category.decode(errors="replace"),
+                             message.decode(errors="replace")))
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(log)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(cb))
+        _LOG["callbacks"] = cb
+    return _LOG["callbacks"]
+
+
+class Recorder:
+    """The log messages of the FMU instance called ``name``."""
+
+    def __init__(self, name: str):
+        self.name = name
+        self.callbacks = _shared_callbacks()
+
+    @property
+    def messages(self) -> list[tuple[int, str, str]]:
+        return [(s, c, m) for n, s, c, m in _LOG["messages"] if n == self.name]
+
+    def errors(self) -> list[str]:
+        return [m for s, _, m in self.messages if s >= 3]
+
+    def clear(self):
+        _LOG["messages"][:] = [e for e in _LOG["messages"] if e[0] != self.name]

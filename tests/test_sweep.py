@@ -1,0 +1,136 @@
+"""pdbfs.sweep and `pdbfs sweep`: one compiled rig, many points."""
+import csv
+import math
+
+import numpy as np
+import pytest
+
+import pdbfs
+from pdbfs.cli import main
+from pdbfs.errors import ParameterError
+from pdbfs.models import paper_rig
+from pdbfs.simulate import Simulator
+from pdbfs.sweep import SweepResult, points_of
+
+V = [1.87, 2.73, 4.23, 5.50]
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return paper_rig()
+
+
+def test_grid_and_zip_points():
+    pts = points_of({"a": [1, 2], "b": [10, 20, 30]})
+    assert len(pts) == 6 and pts[0] == {"a": 1, "b": 10} and pts[-1] == {"a": 2, "b": 30}
+    pts = points_of({"a": [1, 2], "b": [10, 20]}, grid=False)
+    assert pts == [{"a": 1, "b": 10}, {"a": 2, "b": 20}]
+    with pytest.raises(ParameterError, match="equal length.*a: 2, b: 3"):
+        points_of({"a": [1, 2], "b": [1, 2, 3]}, grid=False)
+    with pytest.raises(ParameterError, match="no values given for a"):
+        points_of({"a": []})
+    with pytest.raises(ParameterError, match="non-empty dict"):
+        points_of({})
+
+
+def test_sweep_matches_single_runs_and_reuses_the_compiled_rig(rig):
+    dae = rig.compile()
+    sim = Simulator.of(rig)
+    res = pdbfs.sweep(rig, {"hammer.v0": V})
+    assert isinstance(res, SweepResult) and len(res) == 4 and not res.failed
+    assert rig.compile() is dae and Simulator.of(rig) is sim   # nothing rebuilt
+    for pt, v in zip(res, V):
+        single = rig.simulate(0.02, params={"hammer.v0": v}).summary()
+        assert pt.params == {"hammer.v0": v}
+        for k, val in single.items():
+            assert pt.summary[k] == pytest.approx(val, rel=1e-12, nan_ok=True)
+    # the physics of Fig. 6: magnitude governed by the impact velocity, ~ v
+    peaks = res.values("peak_pressure")
+    assert np.all(np.diff(peaks) > 0)
+    ratio = peaks / np.array(V)
+    assert np.ptp(ratio) / ratio.mean() < 0.1
+
+
+def test_parallel_sweep_gives_the_serial_answer(rig):
+    values = {"hammer.v0": [2.0, 3.0, 4.0], "oil.k": [1.5e8, 2.228e8, 4e8]}
+    serial = pdbfs.sweep(rig, values, workers=1)
+    parallel = pdbfs.sweep(rig, values, workers=2)
+    assert parallel.workers == 2 and serial.workers == 1
+    for a, b in zip(serial, parallel):
+        assert a.params == b.params
+        assert a.summary["peak_pressure"] == b.summary["peak_pressure"]
+        assert a.summary["pulse_duration"] == b.summary["pulse_duration"]
+    # Fig. 9: stiffer oil, higher and shorter pulse, at every velocity
+    for v in values["hammer.v0"]:
+        row = [p for p in serial if p.params["hammer.v0"] == v]
+        assert np.all(np.diff([p["peak_pressure"] for p in row]) > 0)
+        assert np.all(np.diff([p["pulse_duration"] for p in row]) < 0)
+
+
+def test_failed_points_are_reported_and_the_others_come_back(rig, tmp_path):
+    res = pdbfs.sweep(rig, {"hammer.v0": [2.73, 1e150, 4.23], "seal.c": [2.556e4, -1.0]},
+                      workers=2)
+    assert len(res) == 6
+    bad_c = [p for p in res if p.params["seal.c"] < 0]
+    assert all(p.error_type == "ParameterError" and "seal.c" in p.error for p in bad_c)
+    blown = [p for p in res if p.params["hammer.v0"] == 1e150 and p.params["seal.c"] > 0]
+    assert blown[0].error_type == "SolverError" and "solver failed" in blown[0].error
+    good = res.ok
+    assert [p.params["hammer.v0"] for p in good] == [2.73, 4.23]
+    assert good[0]["peak_pressure"] == pytest.approx(
+        rig.simulate(0.02).summary()["peak_pressure"], rel=1e-12)
+    with pytest.raises(KeyError, match="failed"):
+        bad_c[0]["peak_pressure"]
+    assert math.isnan(res.values("peak_pressure")[1])
+    path = res.to_csv(tmp_path / "s.csv")
+    rows = list(csv.DictReader(open(path)))
+    assert len(rows) == 6
+    assert "peak_pressure [Pa]" in rows[0] and rows[0]["error"] == ""
+    assert rows[1]["error"].startswith("ParameterError: seal.c = -1")
+    assert float(rows[0]["peak_pressure [Pa]"]) == good[0]["peak_pressure"]
+
+
+def test_sweep_rejects_bad_input_up_front(rig):
+    with pytest.raises(ParameterError, match="'hammer.v00'.*did you mean hammer.v0"):
+        pdbfs.sweep(rig, {"hammer.v00": [1, 2]})
+    with pytest.raises(ParameterError, match="both swept and fixed"):
+        pdbfs.sweep(rig, {"hammer.v0": [1, 2]}, params={"hammer.v0": 3})
+    with pytest.raises(ParameterError, match="workers"):
+        pdbfs.sweep(rig, {"hammer.v0": [1, 2]}, workers=0)
+    with pytest.raises(ParameterError, match="t_end"):
+        pdbfs.sweep(rig, {"hammer.v0": [1, 2]}, t_end=-1)
+    with pytest.raises(ParameterError, match="unknown rig 'nope'"):
+        pdbfs.sweep("nope", {"hammer.v0": [1, 2]})
+
+
+def test_trajectories_are_full_results(rig):
+    res = pdbfs.sweep(rig, {"seal.c": [2.556e4, 2.556e6]}, t_end=0.03, n_out=3001,
+                      trajectories=True, workers=2)
+    r0, r1 = res[0].result, res[1].result
+    assert r0["oil.pressure"].shape == (3001,)
+    t_pk, p_pk = r0.peak("oil.pressure")
+    assert p_pk == pytest.approx(res[0]["peak_pressure"], rel=1e-9)
+    assert r0.value_at("oil.pressure", t_pk) == pytest.approx(p_pk, rel=1e-9)
+    # Fig. 8: heavy seal friction flattens and stretches the pulse
+    assert r1["oil.pressure"].max() < 0.5 * r0["oil.pressure"].max()
+    assert r1["oil.pressure"][-1] > 0.1 * r1["oil.pressure"].max()  # still pressed at 30 ms
+    fig = res.plot()
+    assert len(fig.axes[0].lines) == 2
+
+
+def test_cli_sweep_writes_csv_and_plot(tmp_path, capsys):
+    out = tmp_path / "sw"
+    code = main(["sweep", "--set", "hammer.v0=1.87,2.73", "--set", "oil.k=2e8:4e8:2",
+                 "--out", str(out), "--quiet"])
+    assert code == 0
+    rows = list(csv.DictReader(open(out / "sweep.csv")))
+    assert [(float(r["hammer.v0"]), float(r["oil.k"])) for r in rows] == [
+        (1.87, 2e8), (1.87, 4e8), (2.73, 2e8), (2.73, 4e8)]
+    assert (out / "sweep.png").stat().st_size > 10000
+    assert "4 points, 0 failed" in capsys.readouterr().out
+    assert main(["sweep", "--set", "hammer.v0=1,x"]) == 2
+    assert "values must be numbers" in capsys.readouterr().err
+    assert main(["sweep", "--set", "nope=1,2", "--out", str(out)]) == 2
+    assert "unknown parameter 'nope'" in capsys.readouterr().err
+    assert main(["sweep", "--set", "hammer.v0=1,2", "--set", "seal.c=1", "--zip",
+                 "--out", str(out)]) == 2
