@@ -34,7 +34,8 @@ from pdbfs.components.laws import STANDARD_GRAVITY
 from pdbfs.symbols import Parameter
 
 DROP_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
-                "piston_displacement": "piston.s", "impact_indentation": "contact.d"}
+                "piston_displacement": "piston.s", "impact_indentation": "contact.d",
+                "striker_velocity": "hammer.v"}
 
 
 class DropRig(Component):

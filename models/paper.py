@@ -10,7 +10,7 @@ from pdbfs.components import Fixed, ImpactContact, Mass, OilColumn, SealFriction
 
 #: Which variable of a rig plays which role in the summary (pdbfs simulate).
 PAPER_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
-                 "piston_displacement": "piston.s"}
+                 "piston_displacement": "piston.s", "striker_velocity": "hammer.v"}
 
 
 class PaperRig(Component):

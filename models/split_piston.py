@@ -108,7 +108,7 @@ class SplitSeal(Component):
 
 
 SPLIT_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
-                 "piston_displacement": "piston.s"}
+                 "piston_displacement": "piston.s", "striker_velocity": "hammer.v"}
 
 
 class SplitPistonRig(Component):

@@ -7,6 +7,9 @@ from .component import Component
 from .connectors import Flange, SignalInput, SignalOutput
 from .dae import DAE, ParamInfo, VarInfo
 from .errors import ConnectError, ModelError, ParameterError, PdbfsError, SolverError
+from .result import Result
+from .simulation import simulate
+from .sweeps import sweep
 from .symbols import Parameter, State, Variable, der, eq, time
 
 Rig = Component   # a rig is a component made of connected components
@@ -15,16 +18,3 @@ __all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
            "Result", "sweep"]
-
-
-def __getattr__(name):   # keep `import pdbfs` light: the solver loads on first use
-    if name == "simulate":
-        from .simulate import simulate
-        return simulate
-    if name == "Result":
-        from .result import Result
-        return Result
-    if name == "sweep":
-        from .sweep import sweep
-        return sweep
-    raise AttributeError(name)

@@ -112,7 +112,7 @@ def _parse_sweep_sets(items):
 
 
 def cmd_sweep(args):
-    from .sweep import sweep
+    from .sweeps import sweep
     rig = _rig(args.rig)
     values = _parse_sweep_sets(args.set)
     t_end = args.t_end if args.t_end is not None else getattr(rig, "default_t_end", 0.02)

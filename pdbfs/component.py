@@ -174,7 +174,7 @@ class Component:
 
     def simulate(self, t_end: float = 0.02, **kwargs):
         """Simulate this rig; see ``pdbfs.simulate`` for the arguments."""
-        from .simulate import simulate
+        from .simulation import simulate
         return simulate(self, t_end, **kwargs)
 
     def export_fmu(self, path="pdbfs.fmu", **kwargs):

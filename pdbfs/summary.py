@@ -1,8 +1,9 @@
 """The summary of a run: what a test engineer reads off a pressure pulse.
 
 A rig names the variables that play each role in ``summary_signals``
-(``pressure``, ``contact_force``, ``piston_displacement``, and for rigs whose
-hammer strikes more than once ``impact_indentation``); the compiled DAE
+(``pressure``, ``contact_force``, ``piston_displacement``,
+``striker_velocity``, and for rigs whose hammer strikes more than once
+``impact_indentation``); the compiled DAE
 carries that mapping as ``dae.signals``.
 """
 from __future__ import annotations
@@ -39,7 +40,7 @@ def summarize(res) -> dict:
     if s:
         out["max_piston_displacement"] = res.peak(s)[1]
     if f:
-        out["restitution_coefficient"] = restitution(res, f)
+        out["restitution_coefficient"] = restitution(res, f, roles.get("striker_velocity"))
     d = roles.get("impact_indentation")
     if d:
         out.update(blows(res, d, p))
@@ -108,20 +109,45 @@ def time_above(res, name, level) -> float:
     return float(np.sum(times[1::2] - times[0::2])) if times.size else 0.0
 
 
-def restitution(res, name) -> float:
-    """Guo & Batzer's estimate on the first contact (the hammer may strike
-    again), the split at the force peak located precisely and added to the
-    sampled history."""
+def restitution(res, name, striker_velocity=None) -> float:
+    """Guo & Batzer's impulse ratio (paper eq. 8) for the first blow.
+
+    The paper's restitution phase starts at maximum indentation; Guo & Batzer
+    take the force peak for that instant, which holds for a single hump. The
+    PDBFS blow is many humps, and its force peaks well before the hammer
+    stops, so with a ``striker_velocity`` role the split is where the striker
+    stops, over every contact until it turns back (or the run ends). Without
+    it: the first contact, split at its force peak."""
     f = res[name]
-    on = np.flatnonzero(f > 0)
-    if on.size == 0:
+    if not np.any(f > 0):
         return float("nan")
+    if striker_velocity:
+        v = res[striker_velocity]
+        turns = res.crossings(striker_velocity, 0.0)
+        down_up = [tt for tt in turns if v[min(np.searchsorted(res.t, tt), len(v) - 1)] < 0]
+        if down_up:
+            t_stop = float(down_up[0])
+            later = [tt for tt in turns if tt > t_stop]
+            t_back = float(later[0]) if later else float(res.t[-1])   # the apex of the rebound
+            t, y = _with_point(res, name, t_stop)
+            k = int(np.searchsorted(t, t_stop))            # the inserted sample
+            j = int(np.searchsorted(t, t_back, side="right"))
+            before = np.trapezoid(y[:k + 1], t[:k + 1])
+            after = np.trapezoid(y[k:j], t[k:j])
+            return float(after / before)
+    on = np.flatnonzero(f > 0)
     gap = np.flatnonzero(f[on[0]:] <= 0)
     k_end = on[0] + gap[0] if gap.size else len(f) - 1
     k_pk = on[0] + int(np.argmax(f[on[0]:k_end + 1]))
     a, b = res.t[max(k_pk - 1, 0)], res.t[min(k_pk + 1, len(f) - 1)]
     r = minimize_scalar(lambda tt: -res.value_at(name, tt), bounds=(a, b), method="bounded",
                         options={"xatol": 1e-13})
-    t = np.insert(res.t, k_pk + (r.x > res.t[k_pk]), r.x)
-    y = np.insert(f, k_pk + (r.x > res.t[k_pk]), -r.fun)
-    return restitution_from_force(t, y)
+    t, y = _with_point(res, name, float(r.x))
+    return restitution_from_force(t, y, t_split=float(r.x))
+
+
+def _with_point(res, name, tt):
+    """The sampled history of ``name`` with its exact value at ``tt`` inserted."""
+    k = int(np.searchsorted(res.t, tt))
+    return (np.insert(res.t, k, tt),
+            np.insert(res[name], k, max(res.value_at(name, tt), 0.0)))

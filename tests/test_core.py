@@ -201,3 +201,12 @@ def test_result_exports(tmp_path):
     assert (tmp_path / "r.png").stat().st_size > 5000 and len(fig.axes) == 3
     with pytest.raises(KeyError, match="did you mean oil.pressure"):
         res["oil.presure"]
+
+
+def test_package_functions_stay_callable_after_use():
+    """pdbfs.simulate and pdbfs.sweep are functions, whatever was imported."""
+    import pdbfs.simulation  # noqa: F401
+    import pdbfs.sweeps  # noqa: F401
+    paper_rig().simulate(0.001, n_out=3)
+    assert callable(pdbfs.simulate) and callable(pdbfs.sweep)
+    assert pdbfs.simulate(paper_rig(), 0.001, n_out=3).t[-1] == 0.001

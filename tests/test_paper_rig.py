@@ -81,3 +81,14 @@ def test_computed_damping_changes_peak_by_about_two_percent():
     # the two tabled values differ far less
     other = paper_rig().simulate(params={"contact.D": 5.958e6}).summary()["peak_pressure"]
     assert abs(other - table) / table < rel / 3
+
+
+def test_restitution_is_the_hammer_rebound_and_in_the_papers_range(rig):
+    """Guo & Batzer's impulse ratio, split where the hammer stops, is the
+    hammer's rebound ratio (the contact is its only force); the paper
+    reports 0.90-0.95."""
+    for v in (1.87, 2.73, 4.23, 5.50):
+        res = rig.simulate(params={"hammer.v0": v})
+        e = res.summary()["restitution_coefficient"]
+        assert e == pytest.approx(-res["hammer.v"][-1] / v, rel=1e-4)
+        assert 0.88 < e < 0.95

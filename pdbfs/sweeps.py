@@ -275,7 +275,7 @@ def sweep(rig, values: dict, *, grid: bool = True, trajectories: bool = False,
     An unknown parameter name fails the whole sweep at once.
     """
     global _WORK
-    from .simulate import Simulator
+    from .simulation import Simulator
     if isinstance(rig, str):
         from pdbfs.models import RIGS
         if rig not in RIGS:
@@ -439,15 +439,3 @@ class _Progress:
             self.bar.close()
         else:
             sys.stderr.write("\n")
-
-
-# ``import pdbfs.sweep`` makes the package attribute ``pdbfs.sweep`` this
-# module (the import system sets it), hiding the function that
-# ``pdbfs.__getattr__`` exposes; calling the module calls the function, so
-# ``pdbfs.sweep(...)`` works either way.
-class _CallableModule(type(sys)):
-    def __call__(self, *args, **kwargs):
-        return sweep(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule
