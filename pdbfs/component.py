@@ -180,6 +180,9 @@ class Component:
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
         """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""
         from pdbfs.fmu import export_fmu
+        t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
+        kwargs.setdefault("stop_time", t_end)
+        kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))
         return export_fmu(self.compile(), path, **kwargs)
 
     def parameters(self):
