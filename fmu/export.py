@@ -12,7 +12,6 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import tempfile
 import uuid
 import zipfile
@@ -26,10 +25,11 @@ import numpy as np
 from pdbfs.dae import DAE
 
 from . import units as _units
+from .codegen import (FUNCS, FUNCTION_NAMES, compile_command, generate, model_functions, run_compiler,
+                      sizes_header_lines)
 from .sundials import find_sundials
 
 WRAPPER = Path(__file__).with_name("c") / "pdbfs_fmi2.c"
-FUNCS = "pdbfs_model_funcs"
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 
 DEFAULT_RTOL = 1e-8
@@ -192,17 +192,7 @@ class _Model:
 
     # -- CasADi functions -----------------------------------------------------
     def functions(self) -> list[ca.Function]:
-        d = self.dae
-        args, names = [d.t, d.x, d.z, d.p], ["t", "x", "z", "p"]
-        jac = ca.jacobian(d.ode, d.x)
-        return [
-            ca.Function("pdbfs_ode", args, [ca.densify(d.ode)], names, ["xdot"]),
-            ca.Function("pdbfs_jac", args, [ca.densify(jac)], names, ["jac"]),
-            ca.Function("pdbfs_out", args, [ca.densify(d.y)], names, ["y"]),
-            ca.Function("pdbfs_events", args, [ca.densify(d.events)], names, ["e"]),
-            ca.Function("pdbfs_start", [d.p], [ca.densify(d.x0)], ["p"], ["x0"]),
-            ca.Function("pdbfs_calc", [d.p], [ca.densify(self.calc_expr)], ["p"], ["c"]),
-        ]
+        return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr)
 
     # -- variables --------------------------------------------------------------
     def _build_variables(self) -> None:
@@ -416,8 +406,7 @@ class _Model:
              f"#define PDBFS_DEFAULT_MAXNUMSTEPS {DEFAULT_MAX_NUM_STEPS}",
              f"#define PDBFS_DEFAULT_RTOL {_c_double(self.tolerance)}",
              "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 1",
-             f"#define PDBFS_SZ_ARG {work[0]}", f"#define PDBFS_SZ_RES {work[1]}",
-             f"#define PDBFS_SZ_IW {work[2]}", f"#define PDBFS_SZ_W {work[3]}",
+             *sizes_header_lines(work),
              "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"
              + pad([p.value for p in d.params], _c_double, "0") + "};",
              "static const double PDBFS_P_MIN[PDBFS_NP + 1] = {"
@@ -464,17 +453,8 @@ without optimisation ('apt-get download libsundials-dev; dpkg-deb -x ...').
 
 
 def _compile(src: Path, out: Path, ident: str, cflags: list[str] | None = None) -> list[str]:
-    sd = find_sundials()
-    cc = os.environ.get("CC", "gcc")
-    if shutil.which(cc) is None:
-        raise RuntimeError(f"C compiler '{cc}' not found (set CC)")
-    cmd = [cc, "-std=gnu99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-fno-math-errno",
-           *(cflags or []), f"-I{src}", f"-I{sd.include_dir}",
-           str(src / "pdbfs_fmi2.c"), str(src / f"{FUNCS}.c"), "-o", str(out),
-           *sd.link_args(), "-lm", "-Wl,--exclude-libs,ALL", "-Wl,-z,defs", "-static-libgcc"]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        raise RuntimeError(f"compiling the FMU binary failed:\n{' '.join(cmd)}\n{r.stderr[-4000:]}")
+    cmd = compile_command([src / "pdbfs_fmi2.c", src / f"{FUNCS}.c"], out, [src], cflags)
+    run_compiler(cmd, "the FMU binary")
     return cmd
 
 
@@ -497,13 +477,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     with tempfile.TemporaryDirectory(prefix="pdbfs-fmu-") as tmp:
         src = Path(tmp) / "sources"
         src.mkdir()
-        funcs = model.functions()
-        cg = ca.CodeGenerator(f"{FUNCS}.c", {"with_header": True, "with_export": False, "verbose": False})
-        for f in funcs:
-            cg.add(f)
-        cg.generate(str(src) + os.sep)
-        work = (max(f.sz_arg() for f in funcs), max(f.sz_res() for f in funcs),
-                max(f.sz_iw() for f in funcs), max(f.sz_w() for f in funcs))
+        work = generate(model.functions(), src)
         hdr_dir = _fmi_header_dir()
         for h in FMI_HEADERS:
             shutil.copy2(hdr_dir / h, src / h)

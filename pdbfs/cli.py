@@ -48,7 +48,7 @@ def cmd_simulate(args):
     t_end = args.t_end if args.t_end is not None else getattr(rig, "default_t_end", 0.02)
     n_out = args.n_out if args.n_out is not None else getattr(rig, "default_n_out", 2001)
     res = rig.simulate(t_end, n_out=n_out, params=_parse_sets(args.set),
-                       rtol=args.rtol, method=args.method)
+                       rtol=args.rtol, method=args.method, backend=args.backend)
     summary = res.summary()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -119,7 +119,7 @@ def cmd_sweep(args):
     n_out = args.n_out if args.n_out is not None else getattr(rig, "default_n_out", 2001)
     res = sweep(rig, values, grid=not args.zip, trajectories=not args.no_plot, t_end=t_end,
                 n_out=n_out, params=_parse_sets(args.fix), rtol=args.rtol, method=args.method,
-                workers=args.workers, progress=None if not args.quiet else False)
+                backend=args.backend, workers=args.workers, progress=None if not args.quiet else False)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "sweep.csv")
@@ -163,6 +163,9 @@ def build_parser():
                    help="output points (default 2001; the drop rig: 30001)")
     s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance")
     s.add_argument("--method", default="adams", choices=["adams", "bdf"])
+    s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
+                   help="casadi: SUNDIALS through CasADi (default); c: CVODE compiled "
+                   "with the rig's generated C (ODE rigs, needs a C compiler; built once, cached)")
     s.add_argument("--out", default="out", help="output folder (default: out)")
     s.add_argument("--json", action="store_true", help="print the summary as JSON")
     s.set_defaults(func=cmd_simulate)
@@ -191,6 +194,8 @@ def build_parser():
     s.add_argument("--n-out", type=int, default=None, help="output points (default 2001)")
     s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance")
     s.add_argument("--method", default="adams", choices=["adams", "bdf"])
+    s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
+                   help="as for simulate (default: casadi)")
     s.add_argument("--workers", type=int, default=None,
                    help="processes (default: automatic, serial for small sweeps)")
     s.add_argument("--out", default="out", help="output folder (default: out)")

@@ -68,7 +68,7 @@ class Result:
             return self._X[:, k], self._Z[:, k]
         s = self.settings
         return self._sim.step(self._X[:, k], self.p, t0, t - t0, s["rtol"], s["atol"],
-                              s["method"], s["max_step"])
+                              s["method"], s["max_step"], backend=s.get("backend", "casadi"))
 
     def value_at(self, name: str, t: float) -> float:
         """Variable ``name`` at time ``t``, exact to the solver tolerance."""

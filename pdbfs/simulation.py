@@ -1,5 +1,7 @@
 """Simulation with SUNDIALS through casadi.integrator: CVODES for ODE rigs,
-IDAS for rigs that keep algebraic variables.
+IDAS for rigs that keep algebraic variables; or (``backend="c"``, ODE rigs
+only) with CVODE in a shared library compiled from CasADi-generated C of the
+DAE and a generic driver (``pdbfs.fmu.batch``, ``fmu/c/pdbfs_batch.c``).
 
 Tolerances, output grid, start values and parameters are arguments of each
 call; the DAE is never rebuilt, and integrators are cached per setting.
@@ -25,11 +27,14 @@ from .symbols import check_value
 from .vectorize import vectorize
 
 METHODS = ("adams", "bdf")
+BACKENDS = ("casadi", "c")
+MAX_NUM_STEPS = 500000
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
              start=None, rtol: float = 1e-8, atol: float = 1e-10, method: str = "adams",
-             max_step: float | None = None):
+             max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
+             backend: str = "casadi"):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
 
     t_out     output times (overrides t_end and n_out); must start at 0
@@ -39,11 +44,21 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     method    'adams' (non-stiff, the default) or 'bdf' (stiff); rigs with
               algebraic variables always use IDAS (BDF)
     max_step  largest internal step, s (None: no limit)
+    max_num_steps  most internal steps between two output points (more is a
+              SolverError)
+    backend   'casadi' (default): SUNDIALS through casadi.integrator;
+              'c': CVODE in a shared library compiled from the DAE (ODE rigs
+              only; built once per rig, cached in ~/.cache/pdbfs/compiled;
+              needs a C compiler). Adams uses fixed-point iteration there,
+              BDF Newton with the exact Jacobian; the non-smooth points are
+              located as roots of the event indicators and CVODE restarts
+              at each.
     Returns a pdbfs.result.Result.
     """
     sim = Simulator.of(model)
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,
-                   method=method, max_step=max_step)
+                   method=method, max_step=max_step, max_num_steps=max_num_steps,
+                   backend=backend)
 
 
 class Simulator:
@@ -100,7 +115,12 @@ class Simulator:
         return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
 
     # -- integrators -------------------------------------------------------------
-    def integrator(self, grid, rtol, atol, method, max_step, scaled=False):
+    @staticmethod
+    def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
+                       backend="casadi"):
+        if backend not in BACKENDS:
+            raise ParameterError(f"unknown backend {backend!r}; choose one of "
+                                 f"{', '.join(BACKENDS)}")
         if method not in METHODS:
             raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
         for name, v in (("rtol", rtol), ("atol", atol)):
@@ -108,10 +128,18 @@ class Simulator:
                 raise ParameterError(f"{name} = {v}: must be a positive number")
         if max_step is not None and not (np.isfinite(max_step) and max_step > 0):
             raise ParameterError(f"max_step = {max_step}: must be a positive number")
-        key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled)
+        if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \
+                or not 1 <= max_num_steps < 2 ** 62:
+            raise ParameterError(f"max_num_steps = {max_num_steps!r}: must be a whole number >= 1")
+
+    def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
+                   max_num_steps=MAX_NUM_STEPS):
+        self.check_settings(rtol, atol, method, max_step, max_num_steps)
+        key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled,
+               max_num_steps)
         if key not in self._cache:
             dae = self.dae
-            opts = {"abstol": atol, "reltol": rtol, "max_num_steps": 500000,
+            opts = {"abstol": atol, "reltol": rtol, "max_num_steps": int(max_num_steps),
                     "disable_internal_warnings": True}
             if max_step is not None:
                 opts["max_step_size"] = max_step
@@ -130,21 +158,39 @@ class Simulator:
                                              list(grid), opts)
         return self._cache[key]
 
-    def step(self, x, p, t0, h, rtol, atol, method, max_step=None):
+    def step(self, x, p, t0, h, rtol, atol, method, max_step=None, backend="casadi",
+             max_num_steps=MAX_NUM_STEPS):
         """State at t0 + h from state x at t0 (h > 0)."""
-        F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True)
+        if backend == "c":
+            grid = np.array([t0, t0 + h], dtype=float)
+            if not grid[1] - grid[0] > 8 * np.finfo(float).eps * np.max(np.abs(grid)):
+                return np.array(x, dtype=float), np.zeros(0)   # closer than CVODE can step
+            X = self.integrate_c(grid, np.asarray(x, float), p, rtol, atol, method, max_step,
+                                 max_num_steps)
+            return X[:, -1], np.zeros(0)
+        F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True,
+                            max_num_steps=max_num_steps)
         r = F(x0=x, p=np.concatenate([p, [t0, h]]), z0=self.z_guess(p))
         return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
 
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
-            rtol=1e-8, atol=1e-10, method="adams", max_step=None):
+            rtol=1e-8, atol=1e-10, method="adams", max_step=None,
+            max_num_steps=MAX_NUM_STEPS, backend="casadi"):
         from .result import Result
+        self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
+        if backend == "c":
+            self.compiled()          # a DAE rig is refused before anything else
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
-        X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step)
-        settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step)
+        if backend == "c":
+            X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            Z = np.zeros((0, grid.size))
+        else:
+            X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
+                        max_num_steps=max_num_steps, backend=backend)
         return Result(self, grid, p, X, Z, settings)
 
     @staticmethod
@@ -160,21 +206,63 @@ class Simulator:
             raise ParameterError("t_out must start at 0 and increase strictly, with 2+ points")
         return g
 
-    def integrate(self, grid, x0, p, rtol, atol, method, max_step):
-        F = self.integrator(grid, rtol, atol, method, max_step)
+    def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
+        F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps)
         nz = self.dae.z.numel()
         try:
             r = F(x0=x0, p=p, z0=self.z_guess(p))
             X = r["xf"].full()
             Z = r["zf"].full().reshape(nz, X.shape[1])
         except RuntimeError as err:
-            raise self._failure(grid, x0, p, rtol, atol, method, max_step, err) from None
+            raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
+                                max_num_steps) from None
+        self._check_finite(grid, X)
+        return X, Z
+
+    def _check_finite(self, grid, X):
         if not np.all(np.isfinite(X)):
             k = int(np.argmax(~np.all(np.isfinite(X), axis=0)))
             raise SolverError(f"rig {self.dae.name}: the solution became NaN or infinite at "
                               f"t = {grid[k]:.6g} s; check parameter values (a stiffness or "
                               "exponent far out of range?)")
-        return X, Z
+
+    # -- the compiled backend -----------------------------------------------------
+    def compiled(self):
+        """The DAE compiled to a shared library (pdbfs.fmu.batch), built once."""
+        from pdbfs.fmu.batch import compiled
+        return compiled(self.dae)
+
+    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
+        """States on ``grid`` (nx x len(grid)) from the compiled driver."""
+        X, st = self.compiled().run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        if not st.ok:
+            raise self._failure_c(grid, st)
+        self._check_finite(grid, X)
+        return X
+
+    def _failure_c(self, grid, st):
+        from pdbfs.fmu import batch as B
+        name = self.dae.name
+        if st.code == B.RC_BAD_INPUT:
+            return ParameterError(f"rig {name}: the compiled solver refused its input: {st.message}")
+        causes = {
+            B.RC_TOO_MUCH_WORK: _CAUSES["TOO_MUCH_WORK"],
+            B.RC_NOT_FINITE: "the solution became NaN or infinite; check parameter values (a "
+                             "stiffness or exponent far out of range?)",
+            -1: _CAUSES["TOO_MUCH_WORK"],                              # CV_TOO_MUCH_WORK
+            -2: "the tolerances are too small for double precision",  # CV_TOO_MUCH_ACC
+            -3: _CAUSES["ERR_FAIL"],                                   # CV_ERR_FAILURE
+            -4: _CAUSES["CONV_FAIL"],                                  # CV_CONV_FAILURE
+            -27: _CAUSES["TOO_CLOSE"],                                 # CV_TOO_CLOSE
+        }
+        if st.code in (-8, -9, -10, -11):       # CV_RHSFUNC_FAIL ... CV_UNREC_RHSFUNC_ERR
+            cause = ("the right-hand side became NaN or infinite (a force blowing up, or a "
+                     "parameter out of range)")
+        else:
+            cause = causes.get(st.code, "CVODE failed")
+        detail = f" (CVODE: {st.message})" if st.message else ""
+        return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
+                           f"(of {grid[-1]:.6g} s): {cause}{detail}")
 
     def outputs(self, grid, X, Z, p, rows=None) -> np.ndarray:
         """Outputs ``rows`` (indices into dae.y; all if None) on the grid."""
@@ -192,30 +280,37 @@ class Simulator:
             self._cache[key] = f
         return f(np.asarray(grid, float).reshape(1, -1), X, Z, p)
 
-    def _failure(self, grid, x0, p, rtol, atol, method, max_step, err):
+    def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
+                 max_num_steps=MAX_NUM_STEPS):
         """Walk the grid interval by interval to report where the solver stopped."""
         x, t_ok = x0, grid[0]
         for a, b in zip(grid[:-1], grid[1:]):
             try:
-                x, _ = self.step(x, p, a, b - a, rtol, atol, method, max_step)
+                x, _ = self.step(x, p, a, b - a, rtol, atol, method, max_step,
+                                 max_num_steps=max_num_steps)
             except RuntimeError:
                 break
             if not np.all(np.isfinite(x)):
                 break
             t_ok = b
         reason = str(err).strip().splitlines()[-1] if str(err).strip() else repr(err)
-        for code, cause in (("TOO_MUCH_WORK", "too many steps: the solution may blow up (a force or "
-                             "parameter out of range), or the rig is very stiff (try method='bdf')"),
-                            ("CONV_FAIL", "the corrector did not converge: stiffness or a "
-                             "discontinuity; try method='bdf' or a max_step"),
-                            ("ERR_FAIL", "the error test failed repeatedly: a discontinuity or "
-                             "a parameter far out of range"),
-                            ("TOO_CLOSE", "the time span is too short")):
+        for code, cause in _CAUSES.items():
             if code in str(err):
                 reason = cause
                 break
         return SolverError(f"rig {self.dae.name}: the solver failed after t = {t_ok:.6g} s "
                            f"(of {grid[-1]:.6g} s): {reason}")
+
+
+_CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages
+    "TOO_MUCH_WORK": "too many steps: the solution may blow up (a force or parameter out of "
+                     "range), or the rig is very stiff (try method='bdf')",
+    "CONV_FAIL": "the corrector did not converge: stiffness or a discontinuity; try "
+                 "method='bdf' or a max_step",
+    "ERR_FAIL": "the error test failed repeatedly: a discontinuity or a parameter far out of "
+                "range",
+    "TOO_CLOSE": "the time span is too short",
+}
 
 
 class _Unbounded:

@@ -255,7 +255,7 @@ _WORK = None   # (Simulator, run kwargs, trajectories): inherited by forked work
 def sweep(rig, values: dict, *, grid: bool = True, trajectories: bool = False,
           t_end: float = 0.02, n_out: int = 2001, params: dict | None = None,
           start: dict | None = None, rtol: float = 1e-8, atol: float = 1e-10,
-          method: str = "adams", max_step: float | None = None,
+          method: str = "adams", max_step: float | None = None, backend: str = "casadi",
           workers: int | None = None, progress: bool | None = None) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
@@ -265,7 +265,7 @@ def sweep(rig, values: dict, *, grid: bool = True, trajectories: bool = False,
                   equal length (point i takes the i-th value of each)
     trajectories  keep each point's full Result (``point.result``)
     params        parameters fixed for every point
-    t_end, n_out, start, rtol, atol, method, max_step: as in pdbfs.simulate
+    t_end, n_out, start, rtol, atol, method, max_step, backend: as in pdbfs.simulate
     workers       processes to use (None: automatic; 1: serial)
     progress      show a progress bar on stderr (None: when the sweep is
                   expected to take more than a couple of seconds)
@@ -292,9 +292,13 @@ def sweep(rig, values: dict, *, grid: bool = True, trajectories: bool = False,
     sim.param_vector({n: _probe_value(sim, n) for n in list(names) + list(fixed)})
     sim.param_vector(fixed)
     kwargs = dict(t_end=t_end, n_out=n_out, start=start, rtol=rtol, atol=atol, method=method,
-                  max_step=max_step)
+                  max_step=max_step, backend=backend)
     sim.grid(t_end, n_out)   # bad t_end / n_out: one clear error now
-    sim.integrator(sim.grid(t_end, n_out), rtol, atol, method, max_step)
+    sim.check_settings(rtol, atol, method, max_step, backend=backend)
+    if backend == "c":
+        sim.compiled()       # built once here, inherited by forked workers
+    else:
+        sim.integrator(sim.grid(t_end, n_out), rtol, atol, method, max_step)
 
     n = len(pts)
     if workers is None:

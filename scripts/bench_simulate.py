@@ -1,6 +1,7 @@
-"""Benchmark: the paper rig through pdbfs (CasADi + CVODES) against the same
-equations written by hand with numpy for scipy's solve_ivp (RK45, DOP853),
-in one process, same tolerances, 2001 output points.
+"""Benchmark: the paper rig through pdbfs (CasADi + CVODES, and the compiled
+CVODE backend) against the same equations written by hand with numpy for
+scipy's solve_ivp (RK45, DOP853), in one process, same tolerances, 2001
+output points.
 
     python scripts/bench_simulate.py [--repeat N]
 
@@ -44,6 +45,9 @@ def main():
     t0 = time.perf_counter()
     rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)   # first call builds the integrator
     first = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    rig.simulate(t_out=T, rtol=RTOL, atol=ATOL, backend="c")   # builds or loads the library
+    first_c = time.perf_counter() - t0
 
     rhs, _, _ = make_rhs(**TABLE1)
     y0 = [0, TABLE1["v0"], 0, 0, 0, 0]
@@ -51,7 +55,9 @@ def main():
     def baseline(method):
         return solve_ivp(rhs, (0, T[-1]), y0, method=method, t_eval=T, rtol=RTOL, atol=ATOL)
 
-    peaks = {"pdbfs": rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)["oil.pressure"].max()}
+    peaks = {"pdbfs": rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)["oil.pressure"].max(),
+             "pdbfs-c": rig.simulate(t_out=T, rtol=RTOL, atol=ATOL,
+                                     backend="c")["oil.pressure"].max()}
     for m in ("RK45", "DOP853"):
         peaks[m] = pressure(baseline(m).y, TABLE1).max()
     ref = peaks["DOP853"]
@@ -76,6 +82,10 @@ def main():
         "pdbfs states only": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL),
         "pdbfs (CVODES BDF)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL,
                                                    method="bdf")["oil.pressure"],
+        "pdbfs (compiled CVODE, backend='c')": lambda: rig.simulate(
+            t_out=T, rtol=RTOL, atol=ATOL, backend="c")["oil.pressure"],
+        "pdbfs (compiled CVODE BDF, backend='c')": lambda: rig.simulate(
+            t_out=T, rtol=RTOL, atol=ATOL, backend="c", method="bdf")["oil.pressure"],
         "solve_ivp RK45": lambda: pressure(baseline("RK45").y, TABLE1),
         "solve_ivp DOP853": lambda: pressure(baseline("DOP853").y, TABLE1),
         "RK45, scalar-float RHS": lambda: pressure(solve_ivp(
@@ -84,11 +94,13 @@ def main():
     secs = {k: median_time(f, args.repeat) for k, f in runs.items()}
     base = secs["solve_ivp RK45"]
     print(f"\none-off: compile {build * 1e3:.0f} ms, first simulate (integrator build) "
-          f"{first * 1e3:.1f} ms; {len(dae.x_names)} states")
+          f"{first * 1e3:.1f} ms, first simulate with backend='c' (library build or load) "
+          f"{first_c * 1e3:.0f} ms; {len(dae.x_names)} states")
     print("baseline: RK45 on the numpy right-hand side (tests/paper_equations.py)")
-    print(f"{'run':<24} {'s/sim':>10} {'RK45 / this':>12}")
+    w = max(map(len, secs))
+    print(f"{'run':<{w}} {'s/sim':>10} {'RK45 / this':>12}")
     for k, s in secs.items():
-        print(f"{k:<24} {s:>10.5f} {base / s:>11.1f}x")
+        print(f"{k:<{w}} {s:>10.5f} {base / s:>11.1f}x")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,207 @@
+"""The compiled backend, ``simulate(..., backend="c")``: CVODE in a shared
+library built from the DAE's generated C (pdbfs.fmu.batch,
+fmu/c/pdbfs_batch.c), against the CasADi path."""
+import ctypes
+import json
+
+import numpy as np
+import pytest
+
+import pdbfs
+from pdbfs import Parameter, eq
+from pdbfs.cli import main
+from pdbfs.components import Fixed, Force, Mass, PartialCompliant
+from pdbfs.errors import ParameterError, SolverError
+from pdbfs.fmu import batch
+from pdbfs.models import paper_rig, split_piston_rig
+from pdbfs.simulation import Simulator
+
+T = np.linspace(0.0, 0.02, 2001)
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return paper_rig()
+
+
+@pytest.fixture(scope="module")
+def split3():
+    return split_piston_rig(3)
+
+
+def _pressure_gap(rig, **kw):
+    a = rig.simulate(t_out=T, **kw)
+    b = rig.simulate(t_out=T, backend="c", **kw)
+    pa, pb = a["oil.pressure"], b["oil.pressure"]
+    return np.max(np.abs(pa - pb)) / pa.max(), a, b
+
+
+@pytest.mark.parametrize("over", [{}, {"hammer.v0": 4.23}, {"seal.c": 2.556e6}])
+def test_agrees_with_the_casadi_path(rig, over):
+    gap, a, b = _pressure_gap(rig, params=over)    # default tolerances: rtol 1e-8
+    assert gap < 1e-6
+    # as tests/test_accuracy.py: the breech's small fast motion is looser for both paths
+    for k, name in enumerate(rig.compile().x_names):
+        scale = np.max(np.abs(a._X[k]))
+        tol = 1e-4 if name.startswith("breech") else 1e-5
+        assert np.max(np.abs(a._X[k] - b._X[k])) < tol * scale, name
+    assert b.settings["backend"] == "c" and b._Z.shape == (0, T.size)
+
+
+def test_bdf_and_split_piston_agree(rig, split3):
+    gap, _, _ = _pressure_gap(rig, method="bdf")
+    assert gap < 1e-6
+    gap, _, _ = _pressure_gap(split3)
+    assert gap < 1e-6
+
+
+def test_result_methods_and_summary_agree(rig):
+    a = rig.simulate(n_out=201)
+    b = rig.simulate(n_out=201, backend="c")
+    sa, sb = a.summary(), b.summary()
+    for key in ("peak_pressure", "peak_contact_force", "max_piston_displacement",
+                "restitution_coefficient"):
+        assert sb[key] == pytest.approx(sa[key], rel=1e-6), key
+    for key in ("time_of_peak", "pulse_duration"):
+        assert sb[key] == pytest.approx(sa[key], abs=1e-9), key
+    assert b.crossings("contact.d", 0.0)[0] == pytest.approx(a.crossings("contact.d", 0.0)[0],
+                                                              abs=1e-10)
+    assert b.value_at("oil.pressure", 5.55e-3) == pytest.approx(
+        a.value_at("oil.pressure", 5.55e-3), rel=1e-6)
+
+
+def test_results_do_not_depend_on_the_output_grid(rig):
+    fine = rig.simulate(n_out=2001, backend="c")
+    coarse = rig.simulate(n_out=21, backend="c")
+    rng = np.random.default_rng(1)
+    odd = np.unique(np.r_[0.0, rng.uniform(0.0, 0.02, 300), 0.02])
+    ragged = rig.simulate(t_out=odd, backend="c")
+    idx = np.searchsorted(fine.t, coarse.t)
+    # the same CVODE steps whatever the grid: equal to round-off
+    scale = np.max(np.abs(fine._X), axis=1, keepdims=True)
+    assert np.max(np.abs(fine._X[:, idx] - coarse._X) / scale) < 1e-12
+    assert np.max(np.abs(ragged._X[:, -1] - fine._X[:, -1]) / scale[:, 0]) < 1e-12
+    # the peak is refined by integrating from the nearest output point: to the tolerance
+    assert rig.simulate(n_out=101, backend="c").summary()["peak_pressure"] == pytest.approx(
+        fine.summary()["peak_pressure"], rel=1e-8)
+
+
+class _Hardening(PartialCompliant):
+    k = Parameter(1.0, "N/m", "Linear stiffness", positive=True)
+    b = Parameter(0.0, "1/m2", "Cubic hardening", min=0.0)
+
+    def equations(self):
+        return super().equations() + [eq(self.f, self.k * (self.s_rel + self.b * self.s_rel ** 3))]
+
+
+class _TwoSprings(pdbfs.Rig):
+    """Two nonlinear springs in series (as tests/test_core.py's Chain(2)): the
+    node between them stays algebraic."""
+
+    def declare(self):
+        self.frame = Fixed()
+        self.body = Mass(m=1.0, v0=2.0)
+        self.k0 = _Hardening(k=2000.0, b=200.0)
+        self.k1 = _Hardening(k=2000.0, b=200.0)
+        self.connect(self.frame.flange, self.k0.flange_a)
+        self.connect(self.k0.flange_b, self.k1.flange_a)
+        self.connect(self.k1.flange_b, self.body.flange_a)
+
+
+def test_dae_rig_is_refused_clearly():
+    rig = _TwoSprings()
+    assert not rig.compile().is_ode
+    with pytest.raises(ParameterError, match=r"backend='c' integrates ODE rigs only.*algebraic"
+                                             r".*backend='casadi'"):
+        rig.simulate(0.5, backend="c")
+    rig.simulate(0.5, n_out=11)    # the CasADi path (IDAS) still works
+
+
+def test_bad_settings_are_refused(rig):
+    with pytest.raises(ParameterError, match="unknown backend 'fortran'"):
+        rig.simulate(backend="fortran")
+    with pytest.raises(ParameterError, match="max_num_steps"):
+        rig.simulate(backend="c", max_num_steps=0)
+    with pytest.raises(ParameterError, match="rtol"):
+        rig.simulate(backend="c", rtol=float("nan"))
+    with pytest.raises(ParameterError, match="hammer.v0"):
+        rig.simulate(backend="c", params={"hammer.v0": float("inf")})
+
+
+def test_the_library_checks_its_input(rig):
+    c = Simulator.of(rig).compiled()
+    p = Simulator.of(rig).param_vector()
+    x0 = Simulator.of(rig).start_vector(p)
+    X, st = c.run([0.0, 0.01, 0.005], x0, p, 1e-8, 1e-10)      # not increasing
+    assert st.code == batch.RC_BAD_INPUT and "strictly increasing" in st.message
+    X, st = c.run([0.0, 0.01], x0, p, -1.0, 1e-10)
+    assert st.code == batch.RC_BAD_INPUT and "rtol" in st.message
+    # wrong sizes straight into C: refused, nothing written
+    info = np.zeros(5)
+    msg = ctypes.create_string_buffer(256)
+    t = np.array([0.0, 0.01])
+    out = np.zeros(2 * c.nx)
+    code = c._run(c.nx + 1, c.np, p.ctypes.data, x0.ctypes.data, 2, t.ctypes.data,
+                  out.ctypes.data, 1e-8, 1e-10, 0, 0.0, 100, info.ctypes.data, msg, 256)
+    assert code == batch.RC_BAD_INPUT and b"sizes" in msg.value and not out.any()
+
+
+def test_parameters_change_without_rebuilding(tmp_path, monkeypatch):
+    # a fresh cache directory: exactly one build, then none
+    monkeypatch.setattr(batch, "cache_dir", lambda: tmp_path)
+    before = batch.BUILDS
+    first = paper_rig()
+    peaks = [first.simulate(backend="c", params={"hammer.v0": v})["oil.pressure"].max()
+             for v in (1.87, 2.73, 4.23)]
+    assert batch.BUILDS == before + 1
+    assert np.all(np.diff(peaks) > 0)
+    lib = Simulator.of(first).compiled()
+    first.simulate(backend="c", params={"seal.c": 1e5}, start={"hammer.v": 3.0}, rtol=1e-6,
+                   method="bdf", max_step=1e-5, n_out=11)
+    assert Simulator.of(first).compiled() is lib and batch.BUILDS == before + 1
+    # another instance of the same rig: the library comes from the disk cache
+    second = paper_rig()
+    second.simulate(backend="c")
+    assert batch.BUILDS == before + 1
+    assert Simulator.of(second).compiled().path == lib.path
+    assert [f.name for f in tmp_path.iterdir()] == [lib.path.name]
+
+
+class _Blowup(pdbfs.Rig):
+    def declare(self):
+        self.m = Mass(m=1.0)
+        self.f = Force(function=lambda t: 1.0 / (0.001 - t) ** 3)   # blows up at 1 ms
+        self.connect(self.m.flange_a, self.f.flange)
+
+
+def test_solver_failure_reports_time_and_cause(rig):
+    with pytest.raises(SolverError, match=r"failed after t = 0\.00(099\d*|1) s \(of 0\.002 s\): "
+                                          r"too many steps"):
+        _Blowup().simulate(0.002, n_out=2001, backend="c", max_num_steps=20000)
+    with pytest.raises(SolverError, match=r"failed after t = [0-9.e-]+ s \(of 0\.02 s\): too many "
+                                          r"steps.*CVODE: 5 internal steps"):
+        rig.simulate(backend="c", max_num_steps=5)
+
+
+def test_nan_in_the_solution_is_a_solver_error(rig, monkeypatch):
+    c = Simulator.of(rig).compiled()
+    real = type(c).run
+
+    def poisoned(self, *a, **k):
+        X, st = real(self, *a, **k)
+        X[1, -3:] = np.nan
+        return X, st
+    monkeypatch.setattr(type(c), "run", poisoned)
+    with pytest.raises(SolverError, match=r"NaN or infinite at t = 0\.0199"):
+        rig.simulate(backend="c")
+
+
+def test_cli_and_sweep_take_the_backend(rig, tmp_path, capsys):
+    assert main(["simulate", "--backend", "c", "--json", "--out", str(tmp_path)]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["peak_pressure"] == pytest.approx(rig.simulate().summary()["peak_pressure"],
+                                                     rel=1e-6)
+    res = pdbfs.sweep(rig, {"hammer.v0": [2.0, 4.0]}, backend="c")
+    for pt in res:
+        single = rig.simulate(params=pt.params, backend="c").summary()
+        assert pt.summary["peak_pressure"] == pytest.approx(single["peak_pressure"], rel=1e-12)
