@@ -133,11 +133,14 @@ class Simulator:
             raise ParameterError(f"max_num_steps = {max_num_steps!r}: must be a whole number >= 1")
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
-                   max_num_steps=MAX_NUM_STEPS):
+                   max_num_steps=MAX_NUM_STEPS, xdot0=None):
+        """A casadi integrator for these settings (cached). ``xdot0`` (DAE
+        rigs) is IDAS's guess of der(x) at the start, which its consistent
+        initialisation needs; such integrators are built per call."""
         self.check_settings(rtol, atol, method, max_step, max_num_steps)
         key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled,
                max_num_steps)
-        if key not in self._cache:
+        if xdot0 is not None or key not in self._cache:
             dae = self.dae
             opts = {"abstol": atol, "reltol": rtol, "max_num_steps": int(max_num_steps),
                     "disable_internal_warnings": True}
@@ -145,6 +148,8 @@ class Simulator:
                 opts["max_step_size"] = max_step
             if dae.is_ode:
                 opts["linear_multistep_method"] = method
+            if xdot0 is not None:
+                opts["init_xdot"] = [float(v) for v in xdot0]
             spec = {"x": dae.x, "z": dae.z, "p": dae.p, "t": dae.t, "ode": dae.ode,
                     "alg": dae.alg}
             if scaled:   # tau in [0, 1] covers [t0, t0 + h]: one object for any interval
@@ -154,9 +159,31 @@ class Simulator:
                         "ode": h * subs(dae.ode), "alg": subs(dae.alg)}
             plugin = "cvodes" if dae.is_ode else "idas"
             # the output grid includes t0: its z is then the consistent one
-            self._cache[key] = ca.integrator("sim", plugin, spec, float(grid[0]),
-                                             list(grid), opts)
+            F = ca.integrator("sim", plugin, spec, float(grid[0]), list(grid), opts)
+            if xdot0 is not None:
+                return F
+            self._cache[key] = F
         return self._cache[key]
+
+    def consistent_start(self, t0, x0, p):
+        """(z, der(x)) at the start of a DAE rig: z solved from the algebraic
+        equations by Newton from the declared guesses, der(x) from the ODE."""
+        dae = self.dae
+        rf = self._cache.get("rootfinder")
+        if rf is None:
+            tp = ca.vertcat(dae.t, dae.x, dae.p)
+            rf = ca.rootfinder("z0", "newton", {"x": dae.z, "p": tp, "g": dae.alg},
+                               {"error_on_fail": False})
+            self._cache["rootfinder"] = rf
+        z = self.z_guess(p)
+        try:
+            z_new = rf(z, np.concatenate([[t0], x0, p])).full().ravel()
+            if np.all(np.isfinite(z_new)):
+                z = z_new
+        except RuntimeError:
+            pass   # IDAS's own initialisation gets another go from the guess
+        xdot = self.dae.function("ode")(t0, x0, z, p).full().ravel()
+        return z, xdot
 
     def step(self, x, p, t0, h, rtol, atol, method, max_step=None, backend="casadi",
              max_num_steps=MAX_NUM_STEPS):
@@ -168,9 +195,12 @@ class Simulator:
             X = self.integrate_c(grid, np.asarray(x, float), p, rtol, atol, method, max_step,
                                  max_num_steps)
             return X[:, -1], np.zeros(0)
+        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
+            self.consistent_start(t0, x, p)
         F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True,
-                            max_num_steps=max_num_steps)
-        r = F(x0=x, p=np.concatenate([p, [t0, h]]), z0=self.z_guess(p))
+                            max_num_steps=max_num_steps,
+                            xdot0=None if xdot0 is None else h * xdot0)   # d/dtau = h d/dt
+        r = F(x0=x, p=np.concatenate([p, [t0, h]]), z0=z0)
         return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
 
     # -- one simulation -----------------------------------------------------------
@@ -207,10 +237,13 @@ class Simulator:
         return g
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
-        F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps)
+        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
+            self.consistent_start(grid[0], x0, p)
+        F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
+                            xdot0=xdot0)
         nz = self.dae.z.numel()
         try:
-            r = F(x0=x0, p=p, z0=self.z_guess(p))
+            r = F(x0=x0, p=p, z0=z0)
             X = r["xf"].full()
             Z = r["zf"].full().reshape(nz, X.shape[1])
         except RuntimeError as err:

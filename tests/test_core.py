@@ -56,6 +56,13 @@ def test_nonlinear_algebraic_loop_goes_to_idas():
                                  + 50.0 * n ** 2 * res[f"k{i}.s_rel"] ** 4 / 4) for i in range(n))
     E = 0.5 * r2["body.v"] ** 2 + pe(r2, 2)
     assert np.max(np.abs(E - 2.0)) < 1e-6
+    # IDAS starts consistently whatever the horizon and grid
+    for t_end, n in ((0.1, 11), (0.01, 3)):
+        short = two.simulate(t_end, n_out=n, **TIGHT)
+        assert np.allclose(short["body.s"], one.simulate(t_end, n_out=n, **TIGHT)["body.s"],
+                           rtol=1e-6, atol=1e-9)
+    assert two.simulate(0.5, n_out=51).peak("body.s")[1] == pytest.approx(
+        r1.peak("body.s")[1], rel=1e-6)
 
 
 class Drop(pdbfs.Rig):
