@@ -27,18 +27,16 @@ from __future__ import annotations
 
 import casadi as ca
 
-from pdbfs.component import Component
-from pdbfs.components import (Fixed, Gravity, ImpactContact, Mass, OilColumn, SealFriction,
-                              Spring)
+from pdbfs.components import Gravity
 from pdbfs.components.laws import STANDARD_GRAVITY
 from pdbfs.symbols import Parameter
 
-DROP_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
-                "piston_displacement": "piston.s", "impact_indentation": "contact.d",
-                "striker_velocity": "hammer.v"}
+from .paper import PAPER_SIGNALS, PaperRig
+
+DROP_SIGNALS = {**PAPER_SIGNALS, "impact_indentation": "contact.d"}
 
 
-class DropRig(Component):
+class DropRig(PaperRig):
     """PDBFS with gravity, the hammer dropped from height ``h``; Table 1
     values otherwise. Simulate it over about a second to see the blows."""
 
@@ -53,23 +51,16 @@ class DropRig(Component):
     g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration on every body",
                   min=0.0, tunable=False)
 
-    def __init__(self, law=None, **params):
-        self._law = law
-        super().__init__(**params)
-
     def declare(self):
+        super().declare()   # the paper's rig ...
         g = self.g
-        self.frame = Fixed()
-        self.hammer = Mass(m=2948.4)
-        self.piston = Mass(m=241.7)
-        self.breech = Mass(m=500.0)
-        self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6)
-        self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
-        self.seal = SealFriction(c=2.556e4)
-        self.mount = Spring(k=2.5e10, n=1.0)
+        # ... with the weight of every body
         self.hammer_weight = Gravity(m=self.hammer.m, g=g)
         self.piston_weight = Gravity(m=self.piston.m, g=g)
         self.breech_weight = Gravity(m=self.breech.m, g=g)
+        self.connect(self.hammer_weight.flange, self.hammer.flange_a)
+        self.connect(self.piston_weight.flange, self.piston.flange_a)
+        self.connect(self.breech_weight.flange, self.breech.flange_a)
         # static equilibrium before the blow (linear oil and mount assumed
         # for the start values; with exponents n != 1 use the n-th root)
         w2 = self.piston.m * g
@@ -78,17 +69,11 @@ class DropRig(Component):
         s2 = s3 + (w2 / self.oil.k) ** (1.0 / self.oil.n)
         self.breech.bind("s0", s3)
         self.piston.bind("s0", s2)
+        # the hammer is released at rest, h above the piston face
+        self.hammer.bind("v0", 0.0)
         self.hammer.bind("s0", s2 - self.h - self.contact.gap)
         if self._law is not None:
             self.contact.bind("v_impact", ca.sqrt(2.0 * g * self.h))
-        self.connect(self.hammer_weight.flange, self.hammer.flange_a)
-        self.connect(self.hammer.flange_b, self.contact.flange_a)
-        self.connect(self.contact.flange_b, self.piston.flange_a, self.seal.flange_b,
-                     self.piston_weight.flange)
-        self.connect(self.piston.flange_b, self.oil.flange_a)
-        self.connect(self.oil.flange_b, self.breech.flange_a, self.breech_weight.flange)
-        self.connect(self.breech.flange_b, self.mount.flange_a)
-        self.connect(self.frame.flange, self.mount.flange_b, self.seal.flange_a)
 
 
 def drop_rig(**kw) -> DropRig:

@@ -82,9 +82,13 @@ class Component:
         self._params[name] = slot
         object.__setattr__(self, name, slot.sym)
 
-    def bind(self, name: str, expr):
-        """Make parameter ``name`` computed from others (``expr`` of their symbols)."""
-        self._params[name].value = expr
+    def bind(self, name: str, value):
+        """Give parameter ``name`` a new default (a number), or make it
+        computed from others (an expression of their symbols)."""
+        slot = self._params[name]
+        if not isinstance(value, ca.SX):
+            value = slot.decl.check(value, f"{type(self).__name__}.{name}")
+        slot.value = value
 
     def __setattr__(self, name, value):
         if name.startswith("_"):
