@@ -7,7 +7,8 @@ bash scripts/setup.sh
 pdbfs simulate --out out
 pdbfs export-fmu -o pdbfs.fmu
 python3 -m fmpy.cli validate pdbfs.fmu
-python3 -m fmpy.cli simulate pdbfs.fmu --interface-type CoSimulation --output-file out/fmu_results.csv
+python3 -m fmpy.cli simulate pdbfs.fmu --interface-type CoSimulation --output-interval 1e-5 \
+    --output-file out/fmu_results.csv
 python3 - <<'PY'
 import numpy as np
 py = np.genfromtxt("out/results.csv", delimiter=",", names=True)
