@@ -246,13 +246,7 @@ def fig4(ctx, rep, path):
 
 def _local_max_time(res, name, a, b):
     """Time of the largest value of ``name`` in [a, b], refined on the solution."""
-    from scipy.optimize import minimize_scalar
-    k0, k1 = np.searchsorted(res.t, [a, b])
-    k = k0 + int(np.argmax(res[name][k0:k1 + 1]))
-    lo, hi = res.t[max(k - 1, 0)], res.t[min(k + 1, len(res.t) - 1)]
-    r = minimize_scalar(lambda tt: -res.value_at(name, tt), bounds=(lo, hi), method="bounded",
-                        options={"xatol": 1e-13})
-    return float(r.x)
+    return res.peak(name, window=(a, b))[0]
 
 
 def _with_point(t, f, tp, fp):

@@ -77,10 +77,16 @@ class Result:
         out = self._sim.dae.function("out")
         return float(out(t, x, z, self.p)[i])
 
-    def peak(self, name: str, sign: float = 1.0) -> tuple[float, float]:
-        """(time, value) of the maximum (``sign=-1``: minimum) of ``name``."""
+    def peak(self, name: str, sign: float = 1.0, window=None) -> tuple[float, float]:
+        """(time, value) of the maximum (``sign=-1``: minimum) of ``name``,
+        over the run or between the times ``window = (a, b)``: the largest
+        sample, refined on the solution between its neighbours."""
         y = sign * self[name]
-        k = int(np.argmax(y))
+        k0, k1 = 0, len(y) - 1
+        if window is not None:
+            k0 = int(np.searchsorted(self.t, window[0]))
+            k1 = int(np.searchsorted(self.t, window[1], side="right")) - 1
+        k = int(k0 + np.argmax(y[k0:k1 + 1]))
         a, b = self.t[max(k - 1, 0)], self.t[min(k + 1, len(self.t) - 1)]
         if b <= a:
             return float(self.t[k]), float(self[name][k])

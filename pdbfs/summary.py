@@ -9,7 +9,6 @@ carries that mapping as ``dae.signals``.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from pdbfs.components.laws import restitution_from_force
 
@@ -85,16 +84,8 @@ def blows(res, indentation, pressure=None) -> dict:
 
 
 def _local_peak(res, name, k0, k1) -> float:
-    """Maximum of ``name`` over output samples k0..k1-1, refined between
-    the neighbouring samples."""
-    y = res[name]
-    k = k0 + int(np.argmax(y[k0:k1]))
-    a, b = res.t[max(k - 1, 0)], res.t[min(k + 1, len(y) - 1)]
-    if b <= a:
-        return float(y[k])
-    r = minimize_scalar(lambda tt: -res.value_at(name, tt), bounds=(a, b), method="bounded",
-                        options={"xatol": 1e-12 * max(1.0, res.t[-1])})
-    return float(max(-r.fun, y[k]))
+    """Maximum of ``name`` over output samples k0..k1-1, refined on the solution."""
+    return res.peak(name, window=(res.t[k0], res.t[k1 - 1]))[1]
 
 
 def time_above(res, name, level) -> float:
@@ -138,12 +129,9 @@ def restitution(res, name, striker_velocity=None) -> float:
     on = np.flatnonzero(f > 0)
     gap = np.flatnonzero(f[on[0]:] <= 0)
     k_end = on[0] + gap[0] if gap.size else len(f) - 1
-    k_pk = on[0] + int(np.argmax(f[on[0]:k_end + 1]))
-    a, b = res.t[max(k_pk - 1, 0)], res.t[min(k_pk + 1, len(f) - 1)]
-    r = minimize_scalar(lambda tt: -res.value_at(name, tt), bounds=(a, b), method="bounded",
-                        options={"xatol": 1e-13})
-    t, y = _with_point(res, name, float(r.x))
-    return restitution_from_force(t, y, t_split=float(r.x))
+    t_pk = res.peak(name, window=(res.t[on[0]], res.t[k_end]))[0]
+    t, y = _with_point(res, name, t_pk)
+    return restitution_from_force(t, y, t_split=t_pk)
 
 
 def _with_point(res, name, tt):
