@@ -1,5 +1,3 @@
-import casadi as ca
-
 from pdbfs.symbols import Parameter, Variable, eq, time
 
 from .interfaces import PartialOneFlange

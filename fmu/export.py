@@ -183,9 +183,9 @@ class _Model:
         self.x_nominal = [1.0] * nx  # absolute tolerance = rtol * nominal
         for i, vi in enumerate(dae.x_info):
             try:
-                exps, f = _units.parse(vi.unit)
+                exps, _ = _units.parse(vi.unit)
             except _units.UnitError:
-                exps, f = {}, 1.0
+                exps = {}
             scale = 1e-3 if exps.get("m", 0) >= 1 else 1.0  # positions: mm-level absolute accuracy scale
             self.x_nominal[i] = max(abs(float(x0[i])), scale) if np.isfinite(x0[i]) else 1.0
         self._build_variables()

@@ -63,9 +63,9 @@ def blows(res, indentation, pressure=None) -> dict:
         return {"impact_count": len(onsets), "impact_times": onsets}
     y = res[pressure]
     level = PULSE_LEVEL * float(np.max(y))
-    starts = []
+    starts, prev = [], None
     for tt in onsets:
-        if starts:   # a new blow only once the previous pulse has risen and fallen
+        if prev is not None:   # a new blow only once the previous pulse has risen and fallen
             k0, k1 = np.searchsorted(res.t, [prev, tt])
             above = y[k0:k1] >= level
             ended = above.any() and not above[int(np.argmax(above)):].all()

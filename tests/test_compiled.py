@@ -8,13 +8,14 @@ import numpy as np
 import pytest
 
 import pdbfs
-from pdbfs import Parameter, eq
 from pdbfs.cli import main
-from pdbfs.components import Fixed, Force, Mass, PartialCompliant
+from pdbfs.components import Force, Mass
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.fmu import batch
 from pdbfs.models import paper_rig, split_piston_rig
 from pdbfs.simulation import Simulator
+
+from test_core import Chain
 
 T = np.linspace(0.0, 0.02, 2001)
 
@@ -86,30 +87,8 @@ def test_results_do_not_depend_on_the_output_grid(rig):
         fine.summary()["peak_pressure"], rel=1e-8)
 
 
-class _Hardening(PartialCompliant):
-    k = Parameter(1.0, "N/m", "Linear stiffness", positive=True)
-    b = Parameter(0.0, "1/m2", "Cubic hardening", min=0.0)
-
-    def equations(self):
-        return super().equations() + [eq(self.f, self.k * (self.s_rel + self.b * self.s_rel ** 3))]
-
-
-class _TwoSprings(pdbfs.Rig):
-    """Two nonlinear springs in series (as tests/test_core.py's Chain(2)): the
-    node between them stays algebraic."""
-
-    def declare(self):
-        self.frame = Fixed()
-        self.body = Mass(m=1.0, v0=2.0)
-        self.k0 = _Hardening(k=2000.0, b=200.0)
-        self.k1 = _Hardening(k=2000.0, b=200.0)
-        self.connect(self.frame.flange, self.k0.flange_a)
-        self.connect(self.k0.flange_b, self.k1.flange_a)
-        self.connect(self.k1.flange_b, self.body.flange_a)
-
-
 def test_dae_rig_is_refused_clearly():
-    rig = _TwoSprings()
+    rig = Chain(2)      # two nonlinear springs in series: the node stays algebraic
     assert not rig.compile().is_ode
     with pytest.raises(ParameterError, match=r"backend='c' integrates ODE rigs only.*algebraic"
                                              r".*backend='casadi'"):
