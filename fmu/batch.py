@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError
+from pdbfs.errors import ExportError, ParameterError, PdbfsError
 
 from .codegen import FUNCS, compile_command, compiler, generate, model_functions, run_compiler, \
     sizes_header_lines
@@ -88,11 +88,14 @@ class CompiledODE:
                 self.path.unlink(missing_ok=True)
                 self.path = self._build(dae)
                 self._lib = self._load(self.path)
+        except ExportError as err:   # no compiler, a compiler error, ...
+            raise ExportError(f"backend='c' could not build the compiled model of rig "
+                              f"{dae.name}: {err}") from err
         except PdbfsError:
             raise
         except SundialsNotFound as err:
             raise PdbfsError(f"backend='c' needs SUNDIALS' CVODE: {err}") from err
-        except (RuntimeError, OSError) as err:   # no compiler, a compiler error, ...
+        except (RuntimeError, OSError) as err:
             raise PdbfsError(f"backend='c' could not build the compiled model of rig {dae.name}: "
                              f"{err}") from err
 

@@ -23,6 +23,8 @@ from pathlib import Path
 
 import casadi as ca
 
+from pdbfs.errors import ExportError
+
 from .sundials import Sundials, find_sundials
 
 #: name (without extension) of the generated C file of the model functions
@@ -55,7 +57,7 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None) -> list[ca.Functi
     }
     unknown = [w for w in which if w not in make]
     if unknown:
-        raise ValueError(f"unknown model function(s) {unknown}; known: {', '.join(FUNCTION_NAMES)}")
+        raise ExportError(f"unknown model function(s) {unknown}; known: {', '.join(FUNCTION_NAMES)}")
     return [make[w]() for w in which]
 
 
@@ -84,7 +86,7 @@ def sizes_header_lines(work: tuple[int, int, int, int]) -> list[str]:
 def compiler() -> str:
     cc = os.environ.get("CC", "gcc")
     if shutil.which(cc) is None:
-        raise RuntimeError(f"C compiler '{cc}' not found (set CC)")
+        raise ExportError(f"C compiler '{cc}' not found (set CC)")
     return cc
 
 
@@ -102,4 +104,4 @@ def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
 def run_compiler(cmd: list[str], what: str) -> None:
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
-        raise RuntimeError(f"compiling {what} failed:\n{' '.join(cmd)}\n{r.stderr[-4000:]}")
+        raise ExportError(f"compiling {what} failed:\n{' '.join(cmd)}\n{r.stderr[-4000:]}")

@@ -23,6 +23,7 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.dae import DAE
+from pdbfs.errors import ExportError
 
 from . import units as _units
 from .codegen import (FUNCS, FUNCTION_NAMES, compile_command, generate, model_functions, run_compiler,
@@ -49,7 +50,7 @@ def _fmi_header_dir() -> Path:
     for d in cands:
         if all((d / h).is_file() for h in FMI_HEADERS):
             return d
-    raise RuntimeError("FMI 2.0 headers (fmi2Functions.h ...) not found: install fmpy or set "
+    raise ExportError("FMI 2.0 headers (fmi2Functions.h ...) not found: install fmpy or set "
                        "PDBFS_FMI2_HEADERS to a directory holding them")
 
 
@@ -105,32 +106,32 @@ def _deps(jac_sparsity: ca.Sparsity, row: int, cols_to_index: list[int]) -> list
 
 def _check_dae(dae: DAE) -> None:
     if not dae.is_ode:
-        raise ValueError(f"DAE '{dae.name}' has {dae.z.numel()} algebraic variable(s) "
+        raise ExportError(f"DAE '{dae.name}' has {dae.z.numel()} algebraic variable(s) "
                          f"({', '.join(dae.z_names)}): the FMU exporter needs a pure ODE; "
                          "simplify the rig so that no algebraic variable remains")
     if dae.x.numel() == 0:
-        raise ValueError(f"DAE '{dae.name}' has no states: nothing to integrate")
+        raise ExportError(f"DAE '{dae.name}' has no states: nothing to integrate")
     for what, expr, info in (("x", dae.x, dae.x_info), ("p", dae.p, dae.params), ("y", dae.y, dae.y_info)):
         if expr.numel() != len(info):
-            raise ValueError(f"DAE '{dae.name}': {what} has {expr.numel()} entries but {len(info)} infos")
+            raise ExportError(f"DAE '{dae.name}': {what} has {expr.numel()} entries but {len(info)} infos")
     if dae.events.numel() != len(dae.event_names):
-        raise ValueError(f"DAE '{dae.name}': {dae.events.numel()} event indicators but "
+        raise ExportError(f"DAE '{dae.name}': {dae.events.numel()} event indicators but "
                          f"{len(dae.event_names)} names")
     names = dae.p_names + dae.x_names + [n for n in dae.calculated]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
-        raise ValueError(f"DAE '{dae.name}': duplicate names {sorted(dup)}")
+        raise ExportError(f"DAE '{dae.name}': duplicate names {sorted(dup)}")
     for n in names:
         if n.startswith("solver.") or n.startswith("der("):
-            raise ValueError(f"DAE '{dae.name}': the name '{n}' is reserved by the FMU exporter")
+            raise ExportError(f"DAE '{dae.name}': the name '{n}' is reserved by the FMU exporter")
     for prm in dae.params:
         v = prm.value
         if not math.isfinite(v) or (prm.positive and not v > 0) or \
                 (prm.min is not None and v < prm.min) or (prm.max is not None and v > prm.max):
-            raise ValueError(f"parameter {prm.name}: default {v} violates its own bounds")
+            raise ExportError(f"parameter {prm.name}: default {v} violates its own bounds")
     for n in dae.x_names:
         if n in dae.p_names:
-            raise ValueError(f"'{n}' is both a state and a parameter")
+            raise ExportError(f"'{n}' is both a state and a parameter")
 
 
 class _Model:
@@ -471,7 +472,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     """
     ident = model_identifier or _identifier(dae.name)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", ident):
-        raise ValueError(f"model_identifier '{ident}' is not a C identifier")
+        raise ExportError(f"model_identifier '{ident}' is not a C identifier")
     model = _Model(dae, ident, stop_time, step_size, tolerance)
     path = Path(path)
     with tempfile.TemporaryDirectory(prefix="pdbfs-fmu-") as tmp:

@@ -6,7 +6,8 @@ components declare -> a rig connects -> flatten -> structural simplification
 from .component import Component
 from .connectors import Flange, SignalInput, SignalOutput
 from .dae import DAE, ParamInfo, VarInfo
-from .errors import ConnectError, ModelError, ParameterError, PdbfsError, SolverError
+from .errors import (ConnectError, ExportError, ModelError, ParameterError, PdbfsError,
+                     SolverError)
 from .result import Result
 from .simulation import simulate
 from .sweeps import sweep
@@ -15,6 +16,6 @@ from .symbols import Parameter, State, Variable, der, eq, time
 Rig = Component   # a rig is a component made of connected components
 
 __all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
-           "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError",
+           "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
            "Result", "sweep"]

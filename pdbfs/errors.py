@@ -19,3 +19,8 @@ class ModelError(PdbfsError):
 
 class SolverError(PdbfsError, RuntimeError):
     """The integrator failed; the message gives the time reached and a likely cause."""
+
+
+class ExportError(PdbfsError, ValueError):
+    """A rig cannot be turned into C code or an FMU (algebraic variables
+    left, no compiler, a compilation failure)."""

@@ -155,3 +155,10 @@ def test_rigid_bodies_with_inconsistent_start_are_named():
             self.connect(self.a.flange_b, self.b.flange_a)
     with pytest.raises(ModelError, match=r"b.v starts at 0 m/s.*consistent start values"):
         R().compile()
+
+
+def test_fmu_export_of_a_dae_rig_is_a_clear_error(tmp_path):
+    from test_core import Chain
+    with pytest.raises(pdbfs.ExportError, match="algebraic variable.*k0.s_rel"):
+        Chain(2).export_fmu(tmp_path / "x.fmu")
+    assert not (tmp_path / "x.fmu").exists()
