@@ -196,7 +196,7 @@ def test_start_values_per_call():
 
 
 def test_result_exports(tmp_path):
-    pd = pytest.importorskip("pandas")
+    import pandas as pd   # a test dependency (pyproject [test])
     res = paper_rig().simulate(0.005, n_out=51)
     df = res.to_pandas(["oil.pressure", "hammer.s"])
     assert isinstance(df, pd.DataFrame) and df.index.name == "time" and len(df) == 51

@@ -3,7 +3,7 @@ CasADi path, and its results do not depend on the communication step."""
 import numpy as np
 import pytest
 
-fmpy = pytest.importorskip("fmpy")
+import fmpy  # noqa: E402  (a dependency of pdbfs)
 
 import fmu_support as T  # noqa: E402
 
@@ -66,7 +66,6 @@ def test_communication_step_independence(fmu_path, fine, coarse):
 
 
 def test_libcosimpy_agrees_with_casadi(fmu_path, references):
-    pytest.importorskip("libcosimpy")
     from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level

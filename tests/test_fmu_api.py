@@ -5,7 +5,7 @@ import casadi
 import numpy as np
 import pytest
 
-fmpy = pytest.importorskip("fmpy")
+import fmpy  # noqa: E402  (a dependency of pdbfs)
 from fmpy import extract, read_model_description  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import FMU2Model, FMU2Slave  # noqa: E402
