@@ -3,7 +3,7 @@ CasADi path, and its results do not depend on the communication step."""
 import numpy as np
 import pytest
 
-import fmpy  # noqa: E402  (a dependency of pdbfs)
+import fmpy
 
 import fmu_support as T  # noqa: E402
 

@@ -5,12 +5,11 @@ import casadi
 import numpy as np
 import pytest
 
-import fmpy  # noqa: E402  (a dependency of pdbfs)
-from fmpy import extract, read_model_description  # noqa: E402
-from fmpy.fmi1 import FMICallException  # noqa: E402
-from fmpy.fmi2 import FMU2Model, FMU2Slave  # noqa: E402
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Model, FMU2Slave
 
-import fmu_support as T  # noqa: E402
+import fmu_support as T
 
 
 @pytest.fixture(scope="module")

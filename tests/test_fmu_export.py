@@ -10,7 +10,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-import fmpy  # noqa: E402  (a dependency of pdbfs)
+import fmpy
 from fmpy import read_model_description  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
