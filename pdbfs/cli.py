@@ -38,6 +38,8 @@ def _print_summary(summary):
         if isinstance(v, (list, tuple)):   # one value per blow (rigs with repeated impacts)
             vals = ", ".join(f"{x:.6g}" for x in v)
             print(f"  {k:<26} [{vals}] {UNITS.get(k, '')}")
+        elif v is None:                    # not defined for this run (e.g. no contact)
+            print(f"  {k:<26} {'n/a':>14}")
         else:
             print(f"  {k:<26} {v:>14.6g} {UNITS.get(k, '')}")
 

@@ -143,7 +143,7 @@ class Simulator:
         if xdot0 is not None or key not in self._cache:
             dae = self.dae
             opts = {"abstol": atol, "reltol": rtol, "max_num_steps": int(max_num_steps),
-                    "disable_internal_warnings": True}
+                    "disable_internal_warnings": True, "show_eval_warnings": False}
             if max_step is not None:
                 opts["max_step_size"] = max_step
             if dae.is_ode:
@@ -331,8 +331,10 @@ class Simulator:
             if code in str(err):
                 reason = cause
                 break
-        return SolverError(f"rig {self.dae.name}: the solver failed after t = {t_ok:.6g} s "
-                           f"(of {grid[-1]:.6g} s): {reason}")
+        where = (f"after t = {t_ok:.6g} s (of {grid[-1]:.6g} s)" if t_ok < grid[-1] else
+                 f"before t = {grid[-1]:.6g} s (a retry interval by interval got through, so "
+                 "the rig is at the edge of what these settings can do)")
+        return SolverError(f"rig {self.dae.name}: the solver failed {where}: {reason}")
 
 
 _CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages

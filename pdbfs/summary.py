@@ -100,7 +100,7 @@ def time_above(res, name, level) -> float:
     return float(np.sum(times[1::2] - times[0::2])) if times.size else 0.0
 
 
-def restitution(res, name, striker_velocity=None) -> float:
+def restitution(res, name, striker_velocity=None) -> float | None:
     """Guo & Batzer's impulse ratio (paper eq. 8) for the first blow.
 
     The paper's restitution phase starts at maximum indentation; Guo & Batzer
@@ -108,24 +108,26 @@ def restitution(res, name, striker_velocity=None) -> float:
     PDBFS blow is many humps, and its force peaks well before the hammer
     stops, so with a ``striker_velocity`` role the split is where the striker
     stops, over every contact until it turns back (or the run ends). Without
-    it: the first contact, split at its force peak."""
+    it: the first contact, split at its force peak. None where not defined
+    (no contact, or the striker has not stopped by the end of the run)."""
     f = res[name]
     if not np.any(f > 0):
-        return float("nan")
+        return None          # no contact: not defined
     if striker_velocity:
         v = res[striker_velocity]
         turns = res.crossings(striker_velocity, 0.0)
         down_up = [tt for tt in turns if v[min(np.searchsorted(res.t, tt), len(v) - 1)] < 0]
-        if down_up:
-            t_stop = float(down_up[0])
-            later = [tt for tt in turns if tt > t_stop]
-            t_back = float(later[0]) if later else float(res.t[-1])   # the apex of the rebound
-            t, y = _with_point(res, name, t_stop)
-            k = int(np.searchsorted(t, t_stop))            # the inserted sample
-            j = int(np.searchsorted(t, t_back, side="right"))
-            before = np.trapezoid(y[:k + 1], t[:k + 1])
-            after = np.trapezoid(y[k:j], t[k:j])
-            return float(after / before)
+        if not down_up:
+            return None
+        t_stop = float(down_up[0])
+        later = [tt for tt in turns if tt > t_stop]
+        t_back = float(later[0]) if later else float(res.t[-1])   # the apex of the rebound
+        t, y = _with_point(res, name, t_stop)
+        k = int(np.searchsorted(t, t_stop))            # the inserted sample
+        j = int(np.searchsorted(t, t_back, side="right"))
+        before = np.trapezoid(y[:k + 1], t[:k + 1])
+        after = np.trapezoid(y[k:j], t[k:j])
+        return float(after / before) if before > 0 else None
     on = np.flatnonzero(f > 0)
     gap = np.flatnonzero(f[on[0]:] <= 0)
     k_end = on[0] + gap[0] if gap.size else len(f) - 1

@@ -96,7 +96,7 @@ class SweepResult:
                 out.append(p.params[key])
             elif p.summary is not None and key in p.summary:
                 v = p.summary[key]
-                out.append(v if np.isscalar(v) else np.nan)
+                out.append(v if np.isscalar(v) and v is not None else np.nan)
             elif p.summary is None:
                 out.append(np.nan)
             else:

@@ -62,3 +62,13 @@ def test_error_is_one_line_without_traceback(tmp_path):
     assert r.returncode == 2
     assert r.stderr.strip() == "pdbfs: error: oil.k = nan: must be finite (Oil column " \
         "stiffness (unit N/m^n); the paper's k2, N/m)"
+
+
+def test_undefined_summary_values_are_null_not_nan(tmp_path):
+    # 3 ms: the hammer has not stopped yet, so no restitution can be computed
+    r = run("simulate", "--t-end", "0.003", "--out", str(tmp_path), "--json")
+    assert r.returncode == 0, r.stderr
+    assert "NaN" not in r.stdout
+    summary = json.loads(r.stdout)
+    assert summary["restitution_coefficient"] is None
+    assert summary["peak_pressure"] > 0
