@@ -217,3 +217,15 @@ def test_package_functions_stay_callable_after_use():
     paper_rig().simulate(0.001, n_out=3)
     assert callable(pdbfs.simulate) and callable(pdbfs.sweep)
     assert pdbfs.simulate(paper_rig(), 0.001, n_out=3).t[-1] == 0.001
+
+
+def test_every_parameter_of_every_rig_has_unit_and_description():
+    from pdbfs.models import RIGS
+    for name, make in RIGS.items():
+        dae = make().compile()
+        for p in dae.params:
+            assert p.unit and p.description, (name, p.name)
+        for _, (_, info) in dae.calculated.items():
+            assert info.unit and info.description, (name, info.name)
+        for v in dae.y_info:
+            assert v.unit and v.description, (name, v.name)
