@@ -2,7 +2,8 @@
 
 1. parameters bound to other parameters are substituted (calculated ones);
 2. balance is checked per component and, by maximum matching, in total;
-3. aliases ``a*u + b*w + c(p, t) = 0`` are eliminated, derivatives included:
+3. aliases ``a*u + b*w + c(p, t) = 0`` (a a number, b a number or a
+   parameter expression) are eliminated, derivatives included:
    eliminating ``u`` also replaces ``der(u)`` by the derivative of its
    replacement, so a state tied to another state stops being a state (two
    rigidly connected masses become one);
@@ -226,23 +227,28 @@ class _Aliases:
         return kept
 
     def _alias(self, r):
+        """(u, replacement) if r = a*u + b*w + c with a a non-zero number, b a
+        number or an expression of parameters, c free of variables; else None."""
         us = self.unknowns_in(r)
         if not 1 <= len(us) <= 2:
             return None
         uv = ca.vertcat(*us)
         J = ca.jacobian(r, uv)
-        if not J.is_constant():
-            return None
-        coeffs = [float(J[k]) for k in range(len(us))]
-        if any(c == 0.0 for c in coeffs):
-            return None
+        if ca.depends_on(J, uv) or ca.depends_on(J, self.t) or \
+                any(self.kind(s) is not None for s in ca.symvar(J)):
+            return None                          # not linear with constant coefficients
         c0 = ca.substitute(r, uv, ca.DM.zeros(len(us)))
+        numeric = [J[k].is_constant() and float(J[k]) != 0.0 for k in range(len(us))]
         if len(us) == 1:
-            return us[0], -c0 / coeffs[0]
-        (a, b), (u, w) = coeffs, us
-        if self.kind(u) > self.kind(w):   # eliminate the lower-ranked; ties: the later one
-            a, b, u, w = b, a, w, u
-        return u, -(b * w + c0) / a
+            return (us[0], -c0 / float(J[0])) if numeric[0] else None
+        order = sorted(range(2), key=lambda k: self.kind(us[k]))   # lower-ranked first
+        for k in order:            # eliminate the lower-ranked one whose coefficient is a number
+            if numeric[k]:
+                u, w, a, b = us[k], us[1 - k], float(J[k]), J[1 - k]
+                if b.is_constant() and float(b) == 0.0:
+                    return None
+                return u, -(b * w + c0) / a
+        return None
 
     def _apply(self, R, keys, vals):
         """Record the substitution and apply it to R and to earlier ones."""

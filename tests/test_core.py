@@ -229,3 +229,40 @@ def test_every_parameter_of_every_rig_has_unit_and_description():
             assert info.unit and info.description, (name, info.name)
         for v in dae.y_info:
             assert v.unit and v.description, (name, v.name)
+
+
+class Lever(pdbfs.Component):
+    """An ideal massless lever: flange_b moves ``ratio`` times flange_a."""
+
+    ratio = Parameter(2.0, "1", "Motion ratio s_b / s_a", positive=True)
+
+    def declare(self):
+        from pdbfs.connectors import Flange
+        self.flange_a = Flange()
+        self.flange_b = Flange()
+
+    def equations(self):
+        return [eq(self.flange_b.s, self.ratio * self.flange_a.s),
+                eq(self.flange_a.f + self.ratio * self.flange_b.f, 0.0)]   # no power lost
+
+
+def test_lever_with_parameter_ratio_reduces_to_one_body():
+    """A constraint with a parameter coefficient is still an alias: the second
+    body stops being a state and its inertia is seen through ratio^2."""
+    class R(pdbfs.Rig):
+        def declare(self):
+            self.push = Force(F=10.0)
+            self.m1 = Mass(m=1.0)
+            self.lever = Lever(ratio=3.0)
+            self.m2 = Mass(m=0.5)
+            self.connect(self.push.flange, self.m1.flange_a)
+            self.connect(self.m1.flange_b, self.lever.flange_a)
+            self.connect(self.lever.flange_b, self.m2.flange_a)
+    rig = R()
+    assert rig.compile().x_names == ["m1.s", "m1.v"]
+    for r in (3.0, 0.5):
+        res = rig.simulate(1.0, n_out=11, params={"lever.ratio": r}, **TIGHT)
+        s1 = 10.0 * res.t ** 2 / (2 * (1.0 + r ** 2 * 0.5))
+        assert np.allclose(res["m1.s"], s1, rtol=1e-9, atol=1e-12)
+        assert np.allclose(res["m2.s"], r * s1, rtol=1e-9, atol=1e-12)
+        assert np.allclose(res["lever.flange_b.f"] * 1.0, -0.5 * res["m2.a"], atol=1e-9)
