@@ -345,6 +345,9 @@ _CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError message
     "ERR_FAIL": "the error test failed repeatedly: a discontinuity or a parameter far out of "
                 "range",
     "TOO_CLOSE": "the time span is too short",
+    "IDACalcIC": "IDAS found no consistent start for the algebraic variables: a nonlinear "
+                 "block that is singular at the start (e.g. power-law springs in series have "
+                 "zero stiffness at rest, where Newton cannot converge)",
 }
 
 
