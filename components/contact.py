@@ -17,8 +17,10 @@ class HertzContact(PartialCompression):
     zero otherwise. flange_a is the striking (upper) body."""
 
     k = Parameter(5.958e10, "N/m^1.5", "Contact stiffness (unit N/m^n)", positive=True)
-    n = Parameter(1.5, "1", "Hertz exponent (1.5 for spheres)", min=1.0)
-    gap = Parameter(0.0, "m", "Clearance: contact starts when flange_a passes flange_b by gap")
+    n = Parameter(1.5, "1", "Hertz exponent (1.5 for spheres)", min=1.0,
+                  tunable=False)
+    gap = Parameter(0.0, "m", "Clearance: contact starts when flange_a passes flange_b by gap",
+                    tunable=False)
 
     def equations(self):
         return super().equations() + [
@@ -42,8 +44,8 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     D = Parameter(1.595e6, "N.s/m^2.5", "Hysteresis damping factor (unit N.s/m^(n+1))", min=0.0)
     k = Parameter(0.0, "N/m^1.5", "Stiffness of the elastic part beside it, for the "
                   "no-pull clamp (0: the damper alone never pulls)", min=0.0)
-    n = Parameter(1.5, "1", "Indentation exponent", min=1.0)
-    gap = Parameter(0.0, "m", "Clearance, as in HertzContact")
+    n = Parameter(1.5, "1", "Indentation exponent", min=1.0, tunable=False)
+    gap = Parameter(0.0, "m", "Clearance, as in HertzContact", tunable=False)
 
     def __init__(self, law: str | None = None, **params):
         if law is not None and law not in DAMPING_LAWS:

@@ -7,7 +7,7 @@ class Mass(PartialTwoFlanges):
     """A rigid body sliding along x (positive down), as a point: both flanges
     sit at its position ``s``."""
 
-    m = Parameter(1.0, "kg", "Mass of the body", positive=True)
+    m = Parameter(1.0, "kg", "Mass of the body", positive=True, tunable=False)
     s0 = Parameter(0.0, "m", "Start position", tunable=False)
     v0 = Parameter(0.0, "m/s", "Start velocity (positive down)", tunable=False)
 

@@ -21,8 +21,10 @@ class OilColumn(PartialCompression):
     k = Parameter(2.228e8, "N/m", "Oil column stiffness (unit N/m^n); the paper's k2",
                   positive=True)
     n = Parameter(1.0, "1", "Force-law exponent: 1 linear (default, fits the paper's "
-                  "figures), 1.5 the Hertz-like reading of Table 1's unit", min=1.0)
-    A = Parameter(2.270e-2, "m2", "Piston area the pressure acts on", positive=True)
+                  "figures), 1.5 the Hertz-like reading of Table 1's unit", min=1.0,
+                  tunable=False)
+    A = Parameter(2.270e-2, "m2", "Piston area the pressure acts on", positive=True,
+                  tunable=False)
 
     def __init__(self, bulk_modulus: bool = False, **params):
         self._from_bulk = bulk_modulus
@@ -33,7 +35,8 @@ class OilColumn(PartialCompression):
         self.pressure = Variable("Pa", "Oil pressure (at the breech)", output=True)
         if self._from_bulk:
             self.K = Parameter(2.2e9, "Pa", "Bulk modulus of the oil", positive=True)
-            self.L = Parameter(0.2, "m", "Length of the oil column", positive=True)
+            self.L = Parameter(0.2, "m", "Length of the oil column", positive=True,
+                                   tunable=False)
             self.bind("k", self.K * self.A / self.L)
 
     def equations(self):

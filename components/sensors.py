@@ -46,7 +46,7 @@ class PressureSensor(ForceSensor):
     """Like ForceSensor, as a pressure on an area: output ``p`` (Pa,
     positive in compression, ``p = -f/A``)."""
 
-    A = Parameter(2.270e-2, "m2", "Area the force acts on", positive=True)
+    A = Parameter(2.270e-2, "m2", "Area the force acts on", positive=True, tunable=False)
 
     def declare(self):
         super().declare()

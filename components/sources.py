@@ -28,8 +28,9 @@ class Gravity(PartialOneFlange):
     """Weight ``m*g`` of a body, pushing down (+x). Bind ``m`` to the body's
     mass: ``Gravity(m=rig.hammer.m)``."""
 
-    m = Parameter(1.0, "kg", "Mass the weight acts on", positive=True)
-    g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration", min=0.0)
+    m = Parameter(1.0, "kg", "Mass the weight acts on", positive=True, tunable=False)
+    g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration", min=0.0,
+                  tunable=False)
 
     def equations(self):
         return [eq(self.flange.f, -self.m * self.g)]

@@ -10,8 +10,8 @@ class Spring(PartialCompliant):
     linear for ``n = 1``. ``compression_only=True`` makes it push, never pull."""
 
     k = Parameter(1.0, "N/m", "Stiffness (unit N/m^n for an exponent n other than 1)", positive=True)
-    n = Parameter(1.0, "1", "Force-law exponent (1: linear)", min=1.0)
-    s_rel0 = Parameter(0.0, "m", "Unstretched relative position")
+    n = Parameter(1.0, "1", "Force-law exponent (1: linear)", min=1.0, tunable=False)
+    s_rel0 = Parameter(0.0, "m", "Unstretched relative position", tunable=False)
 
     def __init__(self, compression_only: bool = False, **params):
         self._compression_only = compression_only

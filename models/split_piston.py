@@ -46,7 +46,7 @@ class SplitPiston(Component):
     the position of the centre of mass."""
 
     m = Parameter(241.7, "kg", "Total mass of the piston and seal assembly (the paper's m2)",
-                  positive=True)
+                  positive=True, tunable=False)
     k_axial = Parameter(K_AXIAL, "N/m", "Axial stiffness EA/L of the whole piston; each of "
                         "the n-1 links has n*k_axial", positive=True)
 
