@@ -113,6 +113,7 @@ def flatten(root) -> FlatSystem:
 
     _connection_equations(root, flat, glob)
     _check_time_not_shadowed(flat)
+    _check_foreign_symbols(flat)
     return flat
 
 
@@ -190,3 +191,16 @@ def _check_time_not_shadowed(flat):
         if v.name == "time":
             raise ModelError("a variable may not be called 'time'")
     flat.time = time
+
+
+def _check_foreign_symbols(flat):
+    """Every symbol in an equation must belong to this rig (or be time)."""
+    known = {"time"} | {p.name for p in flat.params} | {v.name for v in flat.vars}
+    known |= {f"der({v.name})" for v in flat.vars}
+    for what, items in (("equation", flat.equations), ("event indicator", flat.events)):
+        for expr, where in items:
+            strangers = sorted({s.name() for s in ca.symvar(expr)} - known)
+            if strangers:
+                raise ModelError(
+                    f"{where}: uses {', '.join(strangers)}, which belong(s) to no component of "
+                    f"this rig (a variable of another rig, or a symbol made outside declare())")

@@ -162,3 +162,20 @@ def test_fmu_export_of_a_dae_rig_is_a_clear_error(tmp_path):
     with pytest.raises(pdbfs.ExportError, match="algebraic variable.*k0.s_rel"):
         Chain(2).export_fmu(tmp_path / "x.fmu")
     assert not (tmp_path / "x.fmu").exists()
+
+
+def test_equation_using_a_symbol_of_another_rig_is_named():
+    other = Mass()
+
+    class Sneaky(pdbfs.Component):
+        def declare(self):
+            self.x = Variable("m", "copies a foreign position")
+
+        def equations(self):
+            return [eq(self.x, other.s)]
+
+    class R(pdbfs.Rig):
+        def declare(self):
+            self.sneaky = Sneaky()
+    with pytest.raises(ModelError, match=r"sneaky \(Sneaky\), equation 1: uses s, which belong"):
+        R().compile()
