@@ -4,12 +4,9 @@ import casadi as ca
 from pdbfs.errors import ParameterError
 from pdbfs.symbols import Parameter, Variable, eq
 
+from .functions import positive_power
 from .interfaces import PartialCompression, PartialCompliantWithVelocity
 from .laws import DAMPING_LAWS
-
-
-def _positive_part(d):
-    return ca.fmax(d, 0.0)
 
 
 class HertzContact(PartialCompression):
@@ -25,7 +22,7 @@ class HertzContact(PartialCompression):
     def equations(self):
         return super().equations() + [
             eq(self.d, -self.s_rel - self.gap),
-            eq(self.fc, self.k * _positive_part(self.d) ** self.n)]
+            eq(self.fc, self.k * positive_power(self.d, self.n))]
 
     def events(self):
         return [(self.d, "indentation")]
@@ -66,7 +63,7 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
             self.bind("D", DAMPING_LAWS[self._law](self.k, self.e, self.v_impact))
 
     def equations(self):
-        dn = _positive_part(self.d) ** self.n
+        dn = positive_power(self.d, self.n)
         return super().equations() + [
             eq(self.d, -self.s_rel - self.gap),
             eq(self.fc, ca.fmax(self.D * dn * (-self.v_rel), -self.k * dn)),

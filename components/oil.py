@@ -1,7 +1,7 @@
-import casadi as ca
 
 from pdbfs.symbols import Parameter, Variable, eq
 
+from .functions import positive_power
 from .interfaces import PartialCompression
 
 
@@ -42,7 +42,7 @@ class OilColumn(PartialCompression):
     def equations(self):
         return super().equations() + [
             eq(self.d, -self.s_rel),
-            eq(self.fc, self.k * ca.fmax(self.d, 0.0) ** self.n),
+            eq(self.fc, self.k * positive_power(self.d, self.n)),
             eq(self.pressure * self.A, self.fc)]
 
     def events(self):

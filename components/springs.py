@@ -2,6 +2,7 @@ import casadi as ca
 
 from pdbfs.symbols import Parameter, eq
 
+from .functions import signed_power
 from .interfaces import PartialCompliant, PartialCompliantWithVelocity
 
 
@@ -21,7 +22,7 @@ class Spring(PartialCompliant):
         e = self.s_rel - self.s_rel0
         if self._compression_only:
             e = ca.fmin(e, 0.0)
-        return super().equations() + [eq(self.f, self.k * ca.sign(e) * ca.fabs(e) ** self.n)]
+        return super().equations() + [eq(self.f, self.k * signed_power(e, self.n))]
 
     def events(self):
         return [(self.s_rel - self.s_rel0, "stretch")] if self._compression_only else []

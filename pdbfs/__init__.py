@@ -12,10 +12,11 @@ from .result import Result
 from .simulation import simulate
 from .sweeps import sweep
 from .symbols import Parameter, State, Variable, der, eq, time
+from .trajectory import trajectory_function
 
 Rig = Component   # a rig is a component made of connected components
 
 __all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
-           "Result", "sweep"]
+           "Result", "sweep", "trajectory_function"]

@@ -1,0 +1,16 @@
+"""Force laws' building blocks, written so that their derivatives stay
+finite everywhere: with a symbolic exponent, ``max(x, 0)**n`` has
+d/dn = x**n * log(x), which is 0 * -inf = NaN at x = 0 and would poison
+parameter sensitivities; the branches below are never evaluated there."""
+import casadi as ca
+
+
+def positive_power(x, n):
+    """``x**n`` for x > 0, else 0 (contact and compression-only laws)."""
+    return ca.if_else(x > 0, ca.fmax(x, 0.0) ** n, 0.0)
+
+
+def signed_power(x, n):
+    """``sign(x) * |x|**n`` (symmetric power-law springs)."""
+    return ca.if_else(x > 0, ca.fmax(x, 0.0) ** n,
+                      ca.if_else(x < 0, -(ca.fmax(-x, 0.0) ** n), 0.0))
