@@ -88,17 +88,14 @@ class DAE:
 
     # -- CasADi functions (cheap to build, cached) ----------------------------
     def function(self, which: str) -> ca.Function:
-        """``ode``, ``alg``, ``out``, ``start``, ``events``, ``jac_ode``
-        (d ode / d x) as CasADi Functions of (t, x, z, p), or (p) for start."""
+        """``ode``, ``alg``, ``out``, ``events`` as CasADi Functions of
+        (t, x, z, p), or ``start`` of (p)."""
         cache = self.__dict__.setdefault("_functions", {})
         if which not in cache:
             args = [self.t, self.x, self.z, self.p]
             names = ["t", "x", "z", "p"]
             if which == "start":
                 f = ca.Function("start", [self.p], [self.x0], ["p"], ["x0"])
-            elif which == "jac_ode":
-                f = ca.Function("jac_ode", args, [ca.jacobian(self.ode, self.x)],
-                                names, ["jac"])
             else:
                 expr = {"ode": self.ode, "alg": self.alg, "out": self.y,
                         "events": self.events}[which]
