@@ -153,6 +153,12 @@ def cmd_reproduce(args):
 
 def build_parser():
     ap = argparse.ArgumentParser(prog="pdbfs", description=__doc__.splitlines()[0])
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        ver = version("pdbfs")
+    except PackageNotFoundError:
+        ver = "unknown"
+    ap.add_argument("--version", action="version", version=f"pdbfs {ver}")
     sub = ap.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("simulate", help="simulate a rig, write results.csv and a plot")
