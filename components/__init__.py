@@ -1,4 +1,13 @@
-"""The component library: translational mechanics for impact test rigs."""
+"""The component library: translational mechanics for impact test rigs.
+
+One small component per concept, each a class declaring parameters,
+variables and equations (after Modelica's Mechanics.Translational):
+interfaces.py has the shared partial bases, laws.py the paper's formulas
+(Hertz stiffness, damping laws, restitution from a force history) as plain
+functions.
+
+May import: pdbfs.errors and pdbfs.modelling.
+"""
 from .contact import HertzContact, HuntCrossleyDamper, ImpactContact
 from .friction import SealFriction
 from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,

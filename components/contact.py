@@ -2,7 +2,7 @@
 import casadi as ca
 
 from pdbfs.errors import ParameterError
-from pdbfs.symbols import Parameter, Variable, eq
+from pdbfs.modelling import Parameter, Variable, eq
 
 from .functions import positive_power
 from .interfaces import PartialCompression, PartialCompliantWithVelocity

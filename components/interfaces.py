@@ -1,8 +1,6 @@
 """Partial bases shared by the translational components (after the Modelica
 Standard Library's Mechanics.Translational.Interfaces)."""
-from pdbfs.component import Component
-from pdbfs.connectors import Flange
-from pdbfs.symbols import Variable, der, eq
+from pdbfs.modelling import Component, Flange, Variable, der, eq
 
 
 class PartialOneFlange(Component):

@@ -1,4 +1,4 @@
-from pdbfs.symbols import Parameter, State, Variable, der, eq
+from pdbfs.modelling import Parameter, State, Variable, der, eq
 
 from .interfaces import PartialOneFlange, PartialTwoFlanges
 

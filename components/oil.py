@@ -1,5 +1,5 @@
 
-from pdbfs.symbols import Parameter, Variable, eq
+from pdbfs.modelling import Parameter, Variable, eq
 
 from .functions import positive_power
 from .interfaces import PartialCompression

@@ -1,7 +1,6 @@
 """Ideal sensors: they take no force (position, speed) or pass it through
 (force, pressure), and give their reading as a SignalOutput."""
-from pdbfs.connectors import SignalOutput
-from pdbfs.symbols import Parameter, der, eq
+from pdbfs.modelling import Parameter, SignalOutput, der, eq
 
 from .interfaces import PartialOneFlange, PartialTwoFlanges
 

@@ -1,4 +1,4 @@
-from pdbfs.symbols import Parameter, Variable, eq, time
+from pdbfs.modelling import Parameter, Variable, eq, time
 
 from .interfaces import PartialOneFlange
 from .laws import STANDARD_GRAVITY

@@ -1,6 +1,6 @@
 import casadi as ca
 
-from pdbfs.symbols import Parameter, eq
+from pdbfs.modelling import Parameter, eq
 
 from .functions import signed_power
 from .interfaces import PartialCompliant, PartialCompliantWithVelocity

@@ -1,5 +1,8 @@
 """Rigs built from the component library. ``RIGS`` maps the names the
-command line accepts (``--rig NAME``) to functions that build them."""
+command line accepts (``--rig NAME``) to functions that build them.
+
+May import: pdbfs.errors, pdbfs.modelling, pdbfs.components and pdbfs.rig.
+"""
 from .drop import DROP_SIGNALS, DropRig, drop_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
 from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig

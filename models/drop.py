@@ -29,7 +29,7 @@ import casadi as ca
 
 from pdbfs.components import Gravity
 from pdbfs.components.laws import STANDARD_GRAVITY
-from pdbfs.symbols import Parameter
+from pdbfs.modelling import Parameter
 
 from .paper import PAPER_SIGNALS, PaperRig
 

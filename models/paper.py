@@ -5,15 +5,15 @@ loading piston and breech assembly, built only from the component library.
                                                |seal              |mount
                                               frame              frame
 """
-from pdbfs.component import Component
 from pdbfs.components import Fixed, ImpactContact, Mass, OilColumn, SealFriction, Spring
+from pdbfs.rig import Rig
 
 #: Which variable of a rig plays which role in the summary (pdbfs simulate).
 PAPER_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
                  "piston_displacement": "piston.s", "striker_velocity": "hammer.v"}
 
 
-class PaperRig(Component):
+class PaperRig(Rig):
     """Pile-driver breech fatigue testing system, 3 degrees of freedom, with
     the paper's Table 1 values. Linear oil column and mount by default; set
     ``oil.n = 1.5`` (and ``mount.n``) for the other reading of Table 1."""

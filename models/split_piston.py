@@ -21,11 +21,10 @@ for equation (tests/test_variants.py checks the pressure to 1e-9).
 """
 from __future__ import annotations
 
-from pdbfs.component import Component
 from pdbfs.components import Fixed, ImpactContact, Mass, OilColumn, SealFriction, Spring
-from pdbfs.connectors import Flange
 from pdbfs.errors import ParameterError
-from pdbfs.symbols import Parameter, Variable, eq
+from pdbfs.modelling import Component, Flange, Parameter, Variable, eq
+from pdbfs.rig import Rig
 
 #: Axial stiffness EA/L of the whole piston, N/m (steel, see module docstring).
 K_AXIAL = 3.5e9
@@ -111,7 +110,7 @@ SPLIT_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
                  "piston_displacement": "piston.s", "striker_velocity": "hammer.v"}
 
 
-class SplitPistonRig(Component):
+class SplitPistonRig(Rig):
     """The paper's rig (Table 1 values) with the piston and seal split into
     ``n`` masses. Parameters as in PaperRig, plus ``piston.k_axial``."""
 

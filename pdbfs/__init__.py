@@ -1,20 +1,28 @@
 """pdbfs: acausal component models of impact test rigs.
 
 components declare -> a rig connects -> flatten -> structural simplification
--> one CasADi DAE -> SUNDIALS (pdbfs.simulate) or an FMI 2.0 FMU (pdbfs.fmu).
+-> one CasADi DAE -> SUNDIALS (pdbfs.simulate) or an FMI 2.0 FMU (pdbfs.fmu)
+-> studies on the same DAE (pdbfs.sweep, ...).
+
+The stages, each a package whose docstring says what it may import:
+
+    pdbfs.modelling    the modelling compiler: components -> one CasADi DAE
+    pdbfs.native       C code generation and CVODE, shared by the two below
+    pdbfs.simulation   SUNDIALS (through CasADi, or compiled) -> Result
+    pdbfs.fmu          rig -> C code -> FMU
+    pdbfs.studies      sweeps, the paper reproduced, ...
+    pdbfs.cli          the command line, a thin layer over this API
+
+and the libraries on top of the compiler: pdbfs.components (the component
+library) and pdbfs.models (rigs built from it).
 """
-from .component import Component
-from .connectors import Flange, SignalInput, SignalOutput
-from .dae import DAE, ParamInfo, VarInfo
 from .errors import (ConnectError, ExportError, ModelError, ParameterError, PdbfsError,
                      SolverError)
-from .result import Result
-from .simulation import simulate
-from .sweeps import sweep
-from .symbols import Parameter, State, Variable, der, eq, time
-from .trajectory import trajectory_function
-
-Rig = Component   # a rig is a component made of connected components
+from .modelling import (DAE, Component, Flange, Parameter, ParamInfo, SignalInput, SignalOutput,
+                        State, Variable, VarInfo, der, eq, time)
+from .rig import Rig
+from .simulation import Result, simulate, trajectory_function
+from .studies import sweep
 
 __all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",

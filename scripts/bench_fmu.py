@@ -36,7 +36,7 @@ def main() -> int:
     from fmpy.fmi2 import FMU2Slave
 
     from pdbfs.fmu import export_fmu
-    from pdbfs.fmu.sundials import find_sundials
+    from pdbfs.native.sundials import find_sundials
     from pdbfs.models import paper_rig
 
     rig = paper_rig()

@@ -3,7 +3,7 @@
 
     python scripts/reproduce_paper.py [--out DIR] [--figures fig4,fig6]
 
-Same as ``pdbfs reproduce``; the work is done by pdbfs.reproduce.reproduce.
+Same as ``pdbfs reproduce``; the work is done by pdbfs.studies.paper.reproduce.
 """
 import sys
 

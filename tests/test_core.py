@@ -126,7 +126,7 @@ class Sub(pdbfs.Rig):
     parallel around a mass."""
 
     def declare(self):
-        from pdbfs.connectors import Flange
+        from pdbfs import Flange
         self.flange_a = Flange()
         self.flange_b = Flange()
         self.s1 = Spring(k=100.0)
@@ -175,13 +175,12 @@ def test_paper_rig_simplifies_to_six_states_and_no_algebraic():
 def test_parameters_change_without_rebuilding(monkeypatch):
     rig = paper_rig()
     dae = rig.compile()
-    import pdbfs.flatten
-    import pdbfs.structure
+    import pdbfs.modelling.component as C
 
     def boom(*a, **k):
         raise AssertionError("rebuilt")
-    monkeypatch.setattr(pdbfs.flatten, "flatten", boom)
-    monkeypatch.setattr(pdbfs.structure, "simplify", boom)
+    monkeypatch.setattr(C, "flatten", boom)
+    monkeypatch.setattr(C, "simplify", boom)
     r1 = rig.simulate(0.01, params={"hammer.v0": 2.0})
     r2 = rig.simulate(0.01, params={"hammer.v0": 4.0}, rtol=1e-6, n_out=11)
     assert rig.compile() is dae
@@ -212,8 +211,8 @@ def test_result_exports(tmp_path):
 
 def test_package_functions_stay_callable_after_use():
     """pdbfs.simulate and pdbfs.sweep are functions, whatever was imported."""
-    import pdbfs.simulation  # noqa: F401
-    import pdbfs.sweeps  # noqa: F401
+    import pdbfs.simulation.simulator  # noqa: F401
+    import pdbfs.studies.sweeps  # noqa: F401
     paper_rig().simulate(0.001, n_out=3)
     assert callable(pdbfs.simulate) and callable(pdbfs.sweep)
     assert pdbfs.simulate(paper_rig(), 0.001, n_out=3).t[-1] == 0.001
@@ -237,7 +236,7 @@ class Lever(pdbfs.Component):
     ratio = Parameter(2.0, "1", "Motion ratio s_b / s_a", positive=True)
 
     def declare(self):
-        from pdbfs.connectors import Flange
+        from pdbfs import Flange
         self.flange_a = Flange()
         self.flange_b = Flange()
 

@@ -8,7 +8,7 @@ from pdbfs import ConnectError, ModelError, ParameterError, SolverError
 from pdbfs.cli import main
 from pdbfs.components import Fixed, Force, Mass, PositionSensor, Spring
 from pdbfs.models import paper_rig
-from pdbfs.symbols import Variable, eq
+from pdbfs import Variable, eq
 
 
 @pytest.mark.parametrize("value, msg", [(0.0, "must be > 0"), (-3.0, "must be > 0"),

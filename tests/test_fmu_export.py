@@ -17,6 +17,7 @@ from fmpy.validation import validate_fmu  # noqa: E402
 import fmu_support as T  # noqa: E402
 import pdbfs.fmu  # noqa: E402
 from pdbfs.fmu import export_fmu  # noqa: E402
+from pdbfs.fmu.export import WRAPPER_FILES  # noqa: E402
 from pdbfs.models import RIGS  # noqa: E402
 
 
@@ -75,13 +76,15 @@ def test_sources_and_readme(fmu_path):
     with zipfile.ZipFile(fmu_path) as z:
         names = set(z.namelist())
         readme = z.read("sources/README.txt").decode()
-        wrapper = z.read("sources/pdbfs_fmi2.c").decode()
-    for f in ("pdbfs_fmi2.c", "pdbfs_model.h", "pdbfs_model_funcs.c", "pdbfs_model_funcs.h",
-              "fmi2Functions.h", "README.txt"):
+        shipped = {f.name: z.read(f"sources/{f.name}").decode() for f in WRAPPER_FILES}
+    for f in ("pdbfs_model.h", "pdbfs_model_funcs.c", "pdbfs_model_funcs.h", "fmi2Functions.h",
+              "README.txt"):
         assert f"sources/{f}" in names
     assert "SUNDIALS" in readme and "gcc" in readme
-    # one generic wrapper for every rig: the shipped file is the package's
-    assert wrapper == (pathlib.Path(pdbfs.fmu.__file__).parent / "c" / "pdbfs_fmi2.c").read_text()
+    # one generic wrapper for every rig: the shipped files are the package's
+    assert {"fmi2_functions.c", "cosimulation.c", "pdbfs_cvode.c"} <= set(shipped)
+    for f in WRAPPER_FILES:
+        assert shipped[f.name] == f.read_text(), f.name
 
 
 def test_model_description(md, dae):

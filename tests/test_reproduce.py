@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pdbfs.cli import main
-from pdbfs.reproduce import FIGURES, reproduce
+from pdbfs.studies.paper import FIGURES, reproduce
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

@@ -10,7 +10,7 @@ from pdbfs.cli import main
 from pdbfs.errors import ParameterError
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
-from pdbfs.sweeps import SweepResult, points_of
+from pdbfs.studies import SweepResult, points_of
 
 V = [1.87, 2.73, 4.23, 5.50]
 

@@ -8,7 +8,7 @@ from pdbfs.components.laws import (DAMPING_LAWS, STANDARD_GRAVITY, damping_lanka
                                    impact_velocity)
 from pdbfs.errors import ParameterError
 from pdbfs.models import RIGS, drop_rig, paper_rig, split_piston_rig
-from pdbfs.summary import KEYS
+from pdbfs.simulation import SUMMARY_KEYS as KEYS
 
 
 # ------------------------------------------------------------------ split piston

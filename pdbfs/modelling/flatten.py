@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 
 from .connectors import Flange, SignalInput
-from .errors import ConnectError, ModelError
+from pdbfs.errors import ConnectError, ModelError
 from .symbols import der_of, time
 
 

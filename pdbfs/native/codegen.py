@@ -1,5 +1,6 @@
 """C code generation and compilation shared by the FMU exporter
-(``export.py``) and the compiled simulation backend (``batch.py``).
+(``pdbfs.fmu``) and the compiled simulation backend
+(``pdbfs.simulation.compiled``).
 
 Conventions (the same for every generated binary):
 
@@ -26,6 +27,10 @@ import casadi as ca
 from pdbfs.errors import ExportError
 
 from .sundials import Sundials, find_sundials
+
+#: the C shared by every generated binary: CVODE through the events
+NATIVE_C = Path(__file__).with_name("c")
+CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h")
 
 #: name (without extension) of the generated C file of the model functions
 FUNCS = "pdbfs_model_funcs"

@@ -10,7 +10,7 @@ import math
 
 import casadi as ca
 
-from .errors import ModelError
+from pdbfs.errors import ModelError
 
 #: The independent variable, shared by every component.
 time = ca.SX.sym("time")
@@ -46,7 +46,7 @@ class Parameter:
 def check_value(value, where: str, spec) -> float:
     """Check ``value`` against ``spec`` (anything with unit, description, min,
     max, positive) and return it as a float."""
-    from .errors import ParameterError
+    from pdbfs.errors import ParameterError
     what = f"({spec.description}, {spec.unit})"
     try:
         v = float(value)

@@ -1,7 +1,7 @@
 """Simulation with SUNDIALS through casadi.integrator: CVODES for ODE rigs,
 IDAS for rigs that keep algebraic variables; or (``backend="c"``, ODE rigs
 only) with CVODE in a shared library compiled from CasADi-generated C of the
-DAE and a generic driver (``pdbfs.fmu.batch``, ``fmu/c/pdbfs_batch.c``).
+DAE and a generic driver (``compiled.py``, ``c/pdbfs_batch.c``).
 
 Tolerances, output grid, start values and parameters are arguments of each
 call; the DAE is never rebuilt, and integrators are cached per setting.
@@ -21,9 +21,10 @@ import difflib
 import casadi as ca
 import numpy as np
 
-from .dae import DAE
-from .errors import ParameterError, SolverError
-from .symbols import check_value
+from pdbfs.errors import ParameterError, SolverError
+from pdbfs.modelling import DAE, check_value
+
+from . import compiled as C
 from .vectorize import vectorize
 
 METHODS = ("adams", "bdf")
@@ -53,7 +54,7 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               BDF Newton with the exact Jacobian; the non-smooth points are
               located as roots of the event indicators and CVODE restarts
               at each.
-    Returns a pdbfs.result.Result.
+    Returns a pdbfs.Result.
     """
     sim = Simulator.of(model)
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,
@@ -261,9 +262,8 @@ class Simulator:
 
     # -- the compiled backend -----------------------------------------------------
     def compiled(self):
-        """The DAE compiled to a shared library (pdbfs.fmu.batch), built once."""
-        from pdbfs.fmu.batch import compiled
-        return compiled(self.dae)
+        """The DAE compiled to a shared library (compiled.py), built once."""
+        return C.compiled(self.dae)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
         """States on ``grid`` (nx x len(grid)) from the compiled driver."""
@@ -274,7 +274,7 @@ class Simulator:
         return X
 
     def _failure_c(self, grid, st):
-        from pdbfs.fmu import batch as B
+        B = C
         name = self.dae.name
         if st.code == B.RC_BAD_INPUT:
             return ParameterError(f"rig {name}: the compiled solver refused its input: {st.message}")

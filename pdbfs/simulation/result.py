@@ -11,7 +11,7 @@ import csv
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from .errors import PdbfsError
+from pdbfs.errors import PdbfsError
 
 
 class Result:

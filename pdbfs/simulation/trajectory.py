@@ -14,8 +14,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from .errors import ParameterError
-from .simulation import MAX_NUM_STEPS, Simulator
+from pdbfs.errors import ParameterError
+from .simulator import MAX_NUM_STEPS, Simulator
 
 
 def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,

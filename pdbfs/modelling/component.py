@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import casadi as ca
 
+from pdbfs.errors import ConnectError, ParameterError
+
 from .connectors import Connector
-from .errors import ConnectError, ParameterError
+from .flatten import flatten
+from .structure import simplify
 from .symbols import Parameter, Variable
 
 
@@ -162,12 +165,10 @@ class Component:
             comp = comp._parent
         return False
 
-    # -- compile and run --------------------------------------------------------
+    # -- compile ----------------------------------------------------------------
     def compile(self):
         """The simplified CasADi DAE of this rig (built once, then cached)."""
         if self._compiled is None:
-            from .flatten import flatten
-            from .structure import simplify
             dae = simplify(flatten(self), name=self.rig_name())
             dae.signals = dict(getattr(self, "summary_signals", {}) or {})
             object.__setattr__(self, "_compiled", dae)
@@ -175,20 +176,3 @@ class Component:
 
     def rig_name(self) -> str:
         return getattr(self, "name", None) or type(self).__name__
-
-    def simulate(self, t_end: float = 0.02, **kwargs):
-        """Simulate this rig; see ``pdbfs.simulate`` for the arguments."""
-        from .simulation import simulate
-        return simulate(self, t_end, **kwargs)
-
-    def export_fmu(self, path="pdbfs.fmu", **kwargs):
-        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""
-        from pdbfs.fmu import export_fmu
-        t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
-        kwargs.setdefault("stop_time", t_end)
-        kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))
-        return export_fmu(self.compile(), path, **kwargs)
-
-    def parameters(self):
-        """The rig's free parameters (ParamInfo), in the DAE's order."""
-        return self.compile().params

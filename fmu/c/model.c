@@ -1,0 +1,82 @@
+/* The model of a pdbfs FMU on its CasADi-generated functions: defaults, start
+ * values, derivatives, outputs, event indicators, calculated parameters. */
+#include <math.h>
+
+#include "fmu_instance.h"
+
+int fmu_all_finite(const double *v, int n) {
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+void model_defaults(Inst *m) {
+    int i;
+    for (i = 0; i < NP; i++) m->s.p[i] = PDBFS_P_DEFAULT[i];
+    m->s.rtol = PDBFS_DEFAULT_RTOL;
+    m->s.max_step = PDBFS_DEFAULT_MAXSTEP;
+    m->s.method = PDBFS_DEFAULT_METHOD;
+    m->s.max_num_steps = PDBFS_DEFAULT_MAXNUMSTEPS;
+    m->s.rtol_user = 0;
+    m->s.tol_defined = 0;
+    m->s.tol = PDBFS_DEFAULT_RTOL;
+    m->s.t_start = 0.0;
+    m->s.stop_defined = 0;
+    m->s.t_stop = 0.0;
+    m->s.time = 0.0;
+    m->s.x_fixed = 0;
+    for (i = 0; i < NX; i++) m->s.x[i] = 0.0;
+    m->s.mode = ST_INSTANTIATED;
+    m->derived_ok = 0;
+    m->need_restart = 1;
+    m->ev.p = m->s.p;
+    m->ev.arg = m->arg;
+    m->ev.res = m->res;
+    m->ev.iw = m->iw;
+    m->ev.w = m->w;
+}
+
+/* the tolerance in force: solver.rtol if set, else the experiment's, else the default */
+double model_rtol(const Inst *m) {
+    if (m->s.rtol_user) return m->s.rtol;
+    if (m->s.tol_defined) return m->s.tol;
+    return m->s.rtol;
+}
+
+int model_start(Inst *m, double *x0) {
+    m->arg[0] = m->s.p;
+    m->res[0] = x0;
+    return pdbfs_start(m->arg, m->res, m->iw, m->w, 0);
+}
+
+/* the state: x0(p) until initialisation has fixed it */
+const double *model_x(Inst *m) {
+    if (!m->s.x_fixed) model_start(m, m->s.x);
+    return m->s.x;
+}
+
+void model_update(Inst *m) {
+    const double *x;
+    if (m->derived_ok) return;
+    x = model_x(m);
+    pdbfs_eval_txp(&m->ev, pdbfs_ode, m->s.time, x, m->xdot);
+    pdbfs_eval_txp(&m->ev, pdbfs_out, m->s.time, x, m->y);
+    if (NE > 0) pdbfs_eval_txp(&m->ev, pdbfs_events, m->s.time, x, m->e);
+    if (NC > 0) {
+        m->arg[0] = m->s.p;
+        m->res[0] = m->c;
+        pdbfs_calc(m->arg, m->res, m->iw, m->w, 0);
+    }
+    m->derived_ok = 1;
+}
+
+fmi2Status model_check_param(Inst *m, int k, double v) {
+    if (!isfinite(v)) return ERR(m, "parameter %s: value %g is not finite", PDBFS_P_NAME[k], v);
+    if (PDBFS_P_POSITIVE[k] && !(v > 0))
+        return ERR(m, "parameter %s: value %g must be positive", PDBFS_P_NAME[k], v);
+    if (v < PDBFS_P_MIN[k] || v > PDBFS_P_MAX[k])
+        return ERR(m, "parameter %s: value %g outside [%g, %g]", PDBFS_P_NAME[k], v, PDBFS_P_MIN[k],
+                   PDBFS_P_MAX[k]);
+    return fmi2OK;
+}

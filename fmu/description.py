@@ -1,0 +1,110 @@
+"""modelDescription.xml of a pdbfs FMU (FMI 2.0, Model Exchange and
+Co-Simulation): every parameter with its unit, bounds and description."""
+from __future__ import annotations
+
+from xml.sax.saxutils import quoteattr
+
+from . import units as _units
+from .model import FmuModel
+
+
+def _x(v: float) -> str:
+    """A float for the XML."""
+    return repr(float(v))
+
+
+def model_description(model: FmuModel, guid: str) -> str:
+    """modelDescription.xml of ``model`` with ``guid``."""
+    d = model.dae
+    units_used = []
+    for v in model.vars:
+        if v.unit and v.unit not in units_used:
+            units_used.append(v.unit)
+    descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
+    L = ['<?xml version="1.0" encoding="UTF-8"?>',
+         '<fmiModelDescription',
+         '  fmiVersion="2.0"',
+         f'  modelName={quoteattr(d.name)}',
+         f'  guid="{guid}"',
+         f'  description={quoteattr(descr)}',
+         '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
+         '  variableNamingConvention="structured"',
+         f'  numberOfEventIndicators="{model.ne}">',
+         f'  <ModelExchange modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
+         'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
+         'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
+         'providesDirectionalDerivative="false"/>',
+         f'  <CoSimulation modelIdentifier="{model.ident}" canHandleVariableCommunicationStepSize="true" '
+         'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
+         'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
+         'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
+         'providesDirectionalDerivative="false"/>',
+         '  <UnitDefinitions>']
+    for u in units_used:
+        try:
+            attrs = _units.base_unit_attrs(u)
+        except _units.UnitError:
+            attrs = None  # unknown symbol: the unit is declared without SI exponents
+        if attrs is None:
+            L.append(f'    <Unit name={quoteattr(u)}/>')
+        else:
+            a = " ".join(f'{k}="{v}"' for k, v in attrs.items())
+            L.append(f'    <Unit name={quoteattr(u)}><BaseUnit{" " + a if a else ""}/></Unit>')
+    L += ['  </UnitDefinitions>',
+          '  <TypeDefinitions>',
+          '    <SimpleType name="pdbfs.SolverMethod" description="CVODE linear multistep method">',
+          '      <Enumeration>',
+          '        <Item name="BDF" value="1" description="backward differentiation formulas, Newton"/>',
+          '        <Item name="Adams" value="2" description="Adams-Moulton, fixed-point iteration"/>',
+          '      </Enumeration>',
+          '    </SimpleType>',
+          '  </TypeDefinitions>',
+          '  <LogCategories>',
+          '    <Category name="logEvents" description="events and solver restarts"/>',
+          '    <Category name="logStatusWarning" description="warnings"/>',
+          '    <Category name="logStatusError" description="errors"/>',
+          '    <Category name="logAll" description="everything"/>',
+          '  </LogCategories>',
+          f'  <DefaultExperiment startTime="0" stopTime="{_x(model.stop_time)}" '
+          f'stepSize="{_x(model.step_size)}" tolerance="{_x(model.tolerance)}"/>',
+          '  <ModelVariables>']
+    for i, v in enumerate(model.vars, start=1):
+        head = (f'    <ScalarVariable name={quoteattr(v.name)} valueReference="{v.vr}" '
+                f'description={quoteattr(v.description)} causality="{v.causality}" '
+                f'variability="{v.variability}"' + (f' initial="{v.initial}"' if v.initial else "") + ">")
+        a = []
+        if v.declared_type:
+            a.append(f'declaredType="{v.declared_type}"')
+        if v.start is not None:
+            a.append(f'start="{v.start if v.type != "Real" else _x(v.start)}"')
+        if v.unit:
+            a.append(f"unit={quoteattr(v.unit)}")
+        if v.min is not None:
+            a.append(f'min="{_x(v.min) if v.type == "Real" else v.min}"')
+        if v.max is not None:
+            a.append(f'max="{_x(v.max)}"')
+        if v.nominal is not None:
+            a.append(f'nominal="{_x(v.nominal)}"')
+        if v.derivative is not None:
+            a.append(f'derivative="{v.derivative}"')
+        L.append(head + f'<{v.type} {" ".join(a)}/></ScalarVariable>')
+    L.append('  </ModelVariables>')
+    outputs, derivs, init = model.structure()
+
+    def unk(i, deps):
+        return f'      <Unknown index="{i}" dependencies="{" ".join(map(str, deps))}"/>'
+    L.append('  <ModelStructure>')
+    L.append('    <Outputs>')
+    L += [unk(i, dp) for i, dp in outputs]
+    L.append('    </Outputs>')
+    L.append('    <Derivatives>')
+    L += [unk(i, dp) for i, dp in derivs]
+    L.append('    </Derivatives>')
+    L.append('    <InitialUnknowns>')
+    L += [unk(i, dp) for i, dp in init]
+    L.append('    </InitialUnknowns>')
+    L.append('  </ModelStructure>')
+    L.append('</fmiModelDescription>')
+    return "\n".join(L) + "\n"
+
+# -- pdbfs_model.h -----------------------------------------------------------

@@ -1,0 +1,240 @@
+"""What an FMU of a DAE exposes: its variables (value references,
+causality, variability, units, bounds), the nominal values of its states and
+its model structure (dependencies), derived from the DAE alone."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from pdbfs.errors import ExportError
+from pdbfs.modelling import DAE
+from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
+
+from . import units as _units
+
+DEFAULT_MAX_NUM_STEPS = 10_000_000
+
+
+@dataclass
+class _Var:
+    name: str
+    vr: int
+    causality: str
+    variability: str
+    initial: str | None
+    description: str
+    type: str = "Real"
+    start: float | int | None = None
+    unit: str | None = None
+    min: float | None = None
+    max: float | None = None
+    derivative: int | None = None   # 1-based index of the state
+    declared_type: str | None = None
+    nominal: float | None = None
+
+
+def _deps(jac_sparsity: ca.Sparsity, row: int, cols_to_index: list[int]) -> list[int]:
+    sp = jac_sparsity
+    colind, rowind = sp.colind(), sp.row()
+    out = []
+    for j in range(sp.size2()):
+        if row in rowind[colind[j]:colind[j + 1]]:
+            out.append(cols_to_index[j])
+    return sorted(out)
+
+
+def _check_dae(dae: DAE) -> None:
+    if not dae.is_ode:
+        raise ExportError(f"DAE '{dae.name}' has {dae.z.numel()} algebraic variable(s) "
+                         f"({', '.join(dae.z_names)}): the FMU exporter needs a pure ODE; "
+                         "simplify the rig so that no algebraic variable remains")
+    if dae.x.numel() == 0:
+        raise ExportError(f"DAE '{dae.name}' has no states: nothing to integrate")
+    for what, expr, info in (("x", dae.x, dae.x_info), ("p", dae.p, dae.params), ("y", dae.y, dae.y_info)):
+        if expr.numel() != len(info):
+            raise ExportError(f"DAE '{dae.name}': {what} has {expr.numel()} entries but {len(info)} infos")
+    if dae.events.numel() != len(dae.event_names):
+        raise ExportError(f"DAE '{dae.name}': {dae.events.numel()} event indicators but "
+                         f"{len(dae.event_names)} names")
+    names = dae.p_names + dae.x_names + [n for n in dae.calculated]
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise ExportError(f"DAE '{dae.name}': duplicate names {sorted(dup)}")
+    for n in names:
+        if n.startswith("solver.") or n.startswith("der("):
+            raise ExportError(f"DAE '{dae.name}': the name '{n}' is reserved by the FMU exporter")
+    for prm in dae.params:
+        v = prm.value
+        if not math.isfinite(v) or (prm.positive and not v > 0) or \
+                (prm.min is not None and v < prm.min) or (prm.max is not None and v > prm.max):
+            raise ExportError(f"parameter {prm.name}: default {v} violates its own bounds")
+    for n in dae.x_names:
+        if n in dae.p_names:
+            raise ExportError(f"'{n}' is both a state and a parameter")
+
+
+class FmuModel:
+    """Everything derived from the DAE that the C header and the XML need."""
+
+    def __init__(self, dae: DAE, ident: str, stop_time: float, step_size: float, tolerance: float):
+        _check_dae(dae)
+        self.dae, self.ident = dae, ident
+        self.stop_time, self.step_size, self.tolerance = stop_time, step_size, tolerance
+        nx, npar = dae.x.numel(), dae.p.numel()
+        self.nx, self.np = nx, npar
+        self.calc_names = list(dae.calculated)
+        self.calc_expr = ca.vertcat(*[dae.calculated[n][0] for n in self.calc_names]) \
+            if self.calc_names else ca.SX(0, 1)
+        self.nc = len(self.calc_names)
+        self.ne = dae.events.numel()
+        self.ny = dae.y.numel()
+        x_names, p_names = dae.x_names, dae.p_names
+        taken = set(x_names) | set(p_names) | set(self.calc_names)
+        # y entries that are states are served by the state variable itself;
+        # ones named like a parameter or a calculated parameter are dropped
+        self.y_alias_state: dict[int, int] = {}
+        self.y_exposed: list[int] = []
+        seen = set()
+        for i, vi in enumerate(dae.y_info):
+            if vi.name in x_names:
+                self.y_alias_state[i] = x_names.index(vi.name)
+            elif vi.name in taken or vi.name in seen:
+                continue
+            else:
+                self.y_exposed.append(i)
+                seen.add(vi.name)
+        self.nyv = len(self.y_exposed)
+        self.state_is_output = [False] * nx
+        for i, k in self.y_alias_state.items():
+            if dae.y_info[i].output:
+                self.state_is_output[k] = True
+        # value references
+        self.vr_p = 0
+        self.vr_rtol = npar
+        self.vr_maxstep = npar + 1
+        self.vr_c = npar + 2
+        self.vr_x = self.vr_c + self.nc
+        self.vr_dx = self.vr_x + nx
+        self.vr_y = self.vr_dx + nx
+        self.vr_method = self.vr_y + self.nyv
+        self.vr_maxnumsteps = self.vr_method + 1
+        p0 = dae.p_default()
+        x0 = np.array(dae.function("start")(p0), dtype=float).ravel()
+        self.x_nominal = [1.0] * nx  # absolute tolerance = rtol * nominal
+        for i, vi in enumerate(dae.x_info):
+            try:
+                exps, _ = _units.parse(vi.unit)
+            except _units.UnitError:
+                exps = {}
+            scale = 1e-3 if exps.get("m", 0) >= 1 else 1.0  # positions: mm-level absolute accuracy scale
+            self.x_nominal[i] = max(abs(float(x0[i])), scale) if np.isfinite(x0[i]) else 1.0
+        self._build_variables()
+
+    # -- CasADi functions -----------------------------------------------------
+    def functions(self) -> list[ca.Function]:
+        return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr)
+
+    # -- variables --------------------------------------------------------------
+    def _build_variables(self) -> None:
+        d = self.dae
+        V: list[_Var] = []
+        for k, prm in enumerate(d.params):
+            lo = prm.min if prm.min is not None else (0.0 if prm.positive else None)
+            desc = prm.description + (" (must be > 0)" if prm.positive else "")
+            V.append(_Var(prm.name, self.vr_p + k, "parameter", "tunable" if prm.tunable else "fixed", "exact",
+                          desc, start=prm.value, unit=prm.unit, min=lo, max=prm.max))
+        V.append(_Var("solver.rtol", self.vr_rtol, "parameter", "fixed", "exact",
+                      "Co-Simulation: CVODE relative tolerance; if not set, fmi2SetupExperiment's tolerance "
+                      "is used when given. Absolute tolerance = rtol * nominal of each state",
+                      start=self.tolerance, unit="1", min=1e-15, max=1.0))
+        V.append(_Var("solver.max_step", self.vr_maxstep, "parameter", "fixed", "exact",
+                      "Co-Simulation: maximum internal CVODE step (0: no limit)", start=0.0, unit="s", min=0.0))
+        V.append(_Var("solver.method", self.vr_method, "parameter", "fixed", "exact",
+                      "Co-Simulation: CVODE method, 1 = BDF (Newton, dense LU, exact Jacobian), "
+                      "2 = Adams (fixed-point iteration)", type="Enumeration", start=1,
+                      declared_type="pdbfs.SolverMethod"))
+        V.append(_Var("solver.max_num_steps", self.vr_maxnumsteps, "parameter", "fixed", "exact",
+                      "Co-Simulation: most internal CVODE steps in one fmi2DoStep (more is a solver failure)",
+                      type="Integer", start=DEFAULT_MAX_NUM_STEPS, min=1))
+        p_tunable = [prm.tunable for prm in d.params]
+        jc = ca.jacobian(self.calc_expr, d.p).sparsity() if self.nc else None
+        for k, n in enumerate(self.calc_names):
+            vi = d.calculated[n][1]
+            dep = _deps(jc, k, list(range(self.np)))
+            tun = any(p_tunable[j] for j in dep)
+            V.append(_Var(n, self.vr_c + k, "calculatedParameter", "tunable" if tun else "fixed", "calculated",
+                          vi.description, unit=vi.unit))
+        for k, vi in enumerate(d.x_info):
+            V.append(_Var(vi.name, self.vr_x + k, "output" if self.state_is_output[k] else "local",
+                          "continuous", "calculated", vi.description, unit=vi.unit,
+                          nominal=self.x_nominal[k]))
+        known = {}  # a derivative's unit is named like a unit the rig already uses, if any
+        for u in [prm.unit for prm in d.params] + [vi.unit for vi in d.x_info + d.y_info]:
+            try:
+                e, f = _units.parse(u)
+                known.setdefault((tuple(e.values()), f), u)
+            except _units.UnitError:
+                pass
+
+        def dunit(u):
+            du = _units.per_second(u)
+            try:
+                e, f = _units.parse(du)
+                return known.get((tuple(e.values()), f), du)
+            except _units.UnitError:
+                return du
+        for k, vi in enumerate(d.x_info):
+            V.append(_Var(f"der({vi.name})", self.vr_dx + k, "local", "continuous", "calculated",
+                          f"time derivative of {vi.name}", unit=dunit(vi.unit), derivative=None))
+        for k, yi in enumerate(self.y_exposed):
+            vi = d.y_info[yi]
+            V.append(_Var(vi.name, self.vr_y + k, "output" if vi.output else "local", "continuous",
+                          "calculated", vi.description, unit=vi.unit))
+        # sort by value reference (the method enum goes last) and index from 1
+        V.sort(key=lambda v: v.vr)
+        self.vars = V
+        self.index = {v.name: i + 1 for i, v in enumerate(V)}
+        x_idx = [self.index[n] for n in d.x_names]
+        for k, vi in enumerate(d.x_info):
+            V[self.index[f"der({vi.name})"] - 1].derivative = x_idx[k]
+        self.x_index = x_idx
+
+    # -- model structure --------------------------------------------------------
+    def structure(self):
+        d = self.dae
+        x_idx = self.x_index
+        p_idx = [self.index[n] for n in d.p_names]
+        jy = ca.jacobian(d.y, d.x).sparsity()
+        jf = ca.jacobian(d.ode, d.x).sparsity()
+        outputs = []  # (index, deps)
+        for k in range(self.nx):
+            if self.state_is_output[k]:
+                outputs.append((x_idx[k], [x_idx[k]]))
+        for k, yi in enumerate(self.y_exposed):
+            if d.y_info[yi].output:
+                outputs.append((self.index[d.y_info[yi].name], _deps(jy, yi, x_idx)))
+        outputs.sort()
+        derivs = [(self.index[f"der({n})"], _deps(jf, k, x_idx)) for k, n in enumerate(d.x_names)]
+        # initial unknowns: dependencies on the parameters, with x = x0(p)
+        sub = lambda e: ca.substitute(e, d.x, d.x0)  # noqa: E731
+        init = []
+        jx0 = ca.jacobian(d.x0, d.p).sparsity()
+        jy0 = ca.jacobian(sub(d.y), d.p).sparsity()
+        jf0 = ca.jacobian(sub(d.ode), d.p).sparsity()
+        for k in range(self.nx):
+            init.append((x_idx[k], _deps(jx0, k, p_idx)))
+            init.append((self.index[f"der({d.x_names[k]})"], _deps(jf0, k, p_idx)))
+        for k, yi in enumerate(self.y_exposed):
+            if d.y_info[yi].output:
+                init.append((self.index[d.y_info[yi].name], _deps(jy0, yi, p_idx)))
+        if self.nc:
+            jc = ca.jacobian(self.calc_expr, d.p).sparsity()
+            for k, n in enumerate(self.calc_names):
+                init.append((self.index[n], _deps(jc, k, p_idx)))
+        init.sort()
+        return outputs, derivs, init
+
+    # -- modelDescription.xml ---------------------------------------------------

@@ -1,0 +1,137 @@
+"""Structural analysis: from flat equations to one simplified CasADi DAE.
+
+1. parameters bound to other parameters are substituted (calculated ones);
+2. aliases are eliminated, derivatives included (aliases.py);
+3. the rest is matched (balance: every unknown determined by one equation),
+   sorted into blocks (BLT), and each block linear in its unknowns is solved
+   symbolically; nonlinear blocks stay algebraic for IDAS (blt.py).
+"""
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from pdbfs.errors import ModelError, ParameterError
+
+from .aliases import Aliases
+from .blt import solve_blt
+from .dae import DAE, ParamInfo, VarInfo
+from .flatten import FlatSystem
+from .symbolic import subst as _subst
+
+
+def simplify(flat: FlatSystem, name: str) -> DAE:
+    t = flat.time
+    free, calculated, p_old, p_new = _parameters(flat)
+    eqs = [(_subst(r, p_old, p_new), w) for r, w in flat.equations]
+    events = [(_subst(e, p_old, p_new), w) for e, w in flat.events]
+    for v in flat.vars:
+        if isinstance(v.start, ca.SX):
+            v.start = _subst(v.start, p_old, p_new)
+    p_sym = ca.vertcat(*[p.sym for p in free])
+
+    al = Aliases(flat, t)
+    eqs = al.eliminate(eqs)
+
+    states = [v for v in flat.vars if v.name not in al.gone
+              and (v.is_state or (v.der is not None and v.der.name() in al.used_der))]
+    state_ids = {id(v) for v in states}
+    algebraic = [v for v in flat.vars if v.name not in al.gone and id(v) not in state_ids]
+    unknowns, labels = [], []
+    for v in states:
+        if v.der is None:
+            raise ModelError(f"{v.name} is declared a state but no equation uses der({v.name})")
+        if v.der.name() not in al.gone:
+            unknowns.append(v.der)
+            labels.append(f"der({v.name})")
+    for v in algebraic:
+        unknowns.append(v.sym)
+        labels.append(v.name)
+
+    solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
+
+    # everything in terms of (t, x, z, p)
+    s_keys = ca.vertcat(*[s for s, _ in solved]) if solved else ca.SX(0, 1)
+    s_vals = ca.vertcat(*[e for _, e in solved]) if solved else ca.SX(0, 1)
+
+    def final(expr):
+        expr = al.resolve(expr)
+        return _subst(expr, s_keys, s_vals)
+
+    x = ca.vertcat(*[v.sym for v in states])
+    ode = ca.vertcat(*[final(v.der) for v in states]) if states else ca.SX(0, 1)
+    y_vars = flat.vars
+    y = ca.vertcat(*[final(v.sym) for v in y_vars])
+    ev = ca.vertcat(*[final(e) for e, _ in events]) if events else ca.SX(0, 1)
+    x0 = ca.vertcat(*[_start(v) for v in states]) if states else ca.SX(0, 1)
+    _check_consistent_start(flat, al, states, x0, p_sym, free, final, t)
+
+    z = ca.vertcat(*z_syms) if z_syms else ca.SX(0, 1)
+    by_name = {v.name: v for v in flat.vars}
+    z0 = ca.vertcat(*[_start(by_name[n]) if n in by_name else ca.SX(0.0) for n in z_labels]) \
+        if z_syms else ca.SX(0, 1)
+    alg_expr = ca.vertcat(*[final(r) for r in alg]) if alg else ca.SX(0, 1)
+
+    info = lambda v: VarInfo(v.name, v.unit, v.description, v.output)
+    return DAE(name=name, t=t, x=x, z=z, p=p_sym, ode=ode, alg=alg_expr, x0=x0, y=y,
+               events=ev, x_info=[info(v) for v in states],
+               z_info=[VarInfo(n, by_name[n].unit if n in by_name else "",
+                               "algebraic unknown of a nonlinear block") for n in z_labels],
+               params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
+               event_names=[w for _, w in events], calculated=calculated, z0=z0)
+
+
+# -- parameters ------------------------------------------------------------------
+def _param_info(p) -> ParamInfo:
+    d = p.decl
+    return ParamInfo(p.name, float(p.value), d.unit, d.description, d.min, d.max,
+                     d.positive, d.tunable)
+
+
+def _parameters(flat):
+    """Split free parameters from bound ones; express bound ones in free ones."""
+    free = [p for p in flat.params if not isinstance(p.value, ca.SX)]
+    bound = [p for p in flat.params if isinstance(p.value, ca.SX)]
+    for p in free:
+        p.decl.check(p.value, p.name)
+    b_sym = ca.vertcat(*[p.sym for p in bound]) if bound else ca.SX(0, 1)
+    exprs = ca.vertcat(*[p.value for p in bound]) if bound else ca.SX(0, 1)
+    for _ in range(len(bound) + 1):
+        if not bound or not ca.depends_on(exprs, b_sym):
+            break
+        exprs = _subst(exprs, b_sym, exprs)
+    else:
+        raise ParameterError("parameter bindings form a cycle: "
+                             + ", ".join(p.name for p in bound))
+    calculated = {}
+    for k, p in enumerate(bound):
+        e = exprs[k]
+        if not (e.is_symbolic()):   # plain aliases of another parameter are not listed
+            calculated[p.name] = (e, VarInfo(p.name, p.decl.unit, p.decl.description))
+    return free, calculated, b_sym, exprs
+
+
+def _start(v):
+    if v.start is None:
+        return ca.SX(0.0)
+    return ca.SX(v.start)
+
+
+# -- alias elimination ---------------------------------------------------------------
+def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
+    """A state eliminated as an alias must start where its replacement starts
+    (checked at the default parameter values)."""
+    gone = [(v, where) for v, _, where in al.states_gone if v.is_state or v.start is not None]
+    if not gone:
+        return
+    x = ca.vertcat(*[v.sym for v in states]) if states else ca.SX(0, 1)
+    mine = ca.vertcat(*[_start(v) for v, _ in gone])
+    theirs = ca.vertcat(*[_subst(final(v.sym), x, x0) for v, _ in gone])
+    f = ca.Function("start_check", [t, p_sym], [mine, theirs])
+    a, b = (np.array(r).ravel() for r in f(0.0, [p.value for p in free]))
+    for (v, where), s_mine, s_theirs in zip(gone, a, b):
+        if abs(s_mine - s_theirs) > 1e-9 * (1.0 + abs(s_mine)):
+            raise ModelError(
+                f"{v.name} starts at {s_mine:g} {v.unit}, but {where} ties it to a value "
+                f"that starts at {s_theirs:g} {v.unit}; give rigidly connected bodies "
+                "consistent start values")

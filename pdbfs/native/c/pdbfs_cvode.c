@@ -1,0 +1,212 @@
+/* pdbfs_cvode: see pdbfs_cvode.h.  Never aborts, never prints: failures are
+ * return codes, messages go to the caller's log callback. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include "pdbfs_cvode.h"
+
+#define NO_MEMORY (-100)
+
+static void say(PdbfsCvode *s, int kind, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+static void say(PdbfsCvode *s, int kind, const char *fmt, ...) {
+    char buf[512];
+    va_list ap;
+    if (!s->log) return;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    s->log(s->env, kind, buf);
+}
+
+int pdbfs_eval_txp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, double *out) {
+    double tt = t;
+    ev->arg[0] = &tt;
+    ev->arg[1] = x;
+    ev->arg[2] = NULL;
+    ev->arg[3] = ev->p;
+    ev->res[0] = out;
+    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
+}
+
+static int all_finite(const double *v, long n) {
+    long i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+/* ------------------------------------------------------- CVODE callbacks */
+
+static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *ud) {
+    PdbfsCvode *s = (PdbfsCvode *)ud;
+    double *yd = N_VGetArrayPointer(ydot);
+    s->rhs_evals++;
+    if (pdbfs_eval_txp(s->ev, pdbfs_ode, t, N_VGetArrayPointer(y), yd)) return -1;
+    return all_finite(yd, s->nx) ? 0 : 1;   /* recoverable: CVODE retries with a smaller step */
+}
+
+static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
+                  N_Vector t1, N_Vector t2, N_Vector t3) {
+    PdbfsCvode *s = (PdbfsCvode *)ud;
+    double *jd = SUNDenseMatrix_Data(J);   /* column major, like CasADi */
+    (void)fy; (void)t1; (void)t2; (void)t3;
+    if (pdbfs_eval_txp(s->ev, pdbfs_jac, t, N_VGetArrayPointer(y), jd)) return -1;
+    return all_finite(jd, (long)s->nx * s->nx) ? 0 : 1;
+}
+
+static int cv_root(realtype t, N_Vector y, realtype *g, void *ud) {
+    PdbfsCvode *s = (PdbfsCvode *)ud;
+    return pdbfs_eval_txp(s->ev, pdbfs_events, t, N_VGetArrayPointer(y), g) ? -1 : 0;
+}
+
+static void cv_err(int code, const char *module, const char *function, char *msg, void *ud) {
+    PdbfsCvode *s = (PdbfsCvode *)ud;
+    say(s, code < 0 ? PDBFS_LOG_ERROR : PDBFS_LOG_WARNING, "%s (%s %s, flag %d)", msg ? msg : "",
+        module ? module : "", function ? function : "?", code);
+}
+
+/* ------------------------------------------------------------- life cycle */
+
+void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env) {
+    memset(s, 0, sizeof *s);
+    s->nx = nx;
+    s->ne = ne;
+    s->ev = ev;
+    s->log = log;
+    s->env = env;
+}
+
+void pdbfs_cvode_free(PdbfsCvode *s) {
+    if (s->cv) CVodeFree(&s->cv);
+    if (s->LS) SUNLinSolFree(s->LS);
+    if (s->NLS) SUNNonlinSolFree(s->NLS);
+    if (s->A) SUNMatDestroy(s->A);
+    if (s->y) N_VDestroy(s->y);
+    if (s->tmp) N_VDestroy(s->tmp);
+    if (s->atol) N_VDestroy(s->atol);
+    if (s->ctx) SUNContext_Free(&s->ctx);
+    s->cv = NULL; s->LS = NULL; s->NLS = NULL; s->A = NULL;
+    s->y = NULL; s->tmp = NULL; s->atol = NULL; s->ctx = NULL;
+}
+
+/* a new CVODE memory for set->method, at (t0, y) */
+static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
+    int flag;
+    s->cv = CVodeCreate(set->method == PDBFS_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
+    if (!s->cv) return NO_MEMORY;
+    s->method = set->method;
+    CVodeSetErrHandlerFn(s->cv, cv_err, s);
+    flag = CVodeInit(s->cv, cv_rhs, t0, s->y);
+    if (flag == CV_SUCCESS) flag = CVodeSetUserData(s->cv, s);
+    if (flag == CV_SUCCESS && set->method == PDBFS_ADAMS) {
+        s->NLS = SUNNonlinSol_FixedPoint(s->y, 0, s->ctx);
+        if (!s->NLS) return NO_MEMORY;
+        flag = CVodeSetNonlinearSolver(s->cv, s->NLS);
+    } else if (flag == CV_SUCCESS) {
+        s->A = SUNDenseMatrix(s->nx, s->nx, s->ctx);
+        s->LS = s->A ? SUNLinSol_Dense(s->y, s->A, s->ctx) : NULL;
+        if (!s->LS) return NO_MEMORY;
+        flag = CVodeSetLinearSolver(s->cv, s->LS, s->A);
+        if (flag == CV_SUCCESS) flag = CVodeSetJacFn(s->cv, cv_jac);
+    }
+    if (flag == CV_SUCCESS && s->ne > 0) {
+        flag = CVodeRootInit(s->cv, s->ne, cv_root);
+        if (flag == CV_SUCCESS) flag = CVodeSetNoInactiveRootWarn(s->cv);
+    }
+    return flag;
+}
+
+int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0) {
+    int flag = CV_SUCCESS, i;
+    if (s->cv && s->method != set->method) pdbfs_cvode_free(s);
+    if (!s->ctx && SUNContext_Create(NULL, &s->ctx) != 0) return NO_MEMORY;
+    if (!s->y) s->y = N_VNew_Serial(s->nx, s->ctx);
+    if (!s->tmp) s->tmp = N_VNew_Serial(s->nx, s->ctx);
+    if (!s->atol) s->atol = N_VNew_Serial(s->nx, s->ctx);
+    if (!s->y || !s->tmp || !s->atol) {
+        say(s, PDBFS_LOG_ERROR, "out of memory (N_Vector of %d states)", s->nx);
+        return NO_MEMORY;
+    }
+    for (i = 0; i < s->nx; i++) NV_Ith_S(s->y, i) = x0[i];
+    for (i = 0; i < s->nx; i++) NV_Ith_S(s->atol, i) = set->atol[i];
+    if (!s->cv) flag = create(s, set, t0);
+    else flag = CVodeReInit(s->cv, t0, s->y);
+    if (flag == CV_SUCCESS) flag = CVodeSVtolerances(s->cv, set->rtol, s->atol);
+    if (flag == CV_SUCCESS) flag = CVodeSetMaxStep(s->cv, set->max_step > 0 ? set->max_step : 0.0);
+    if (flag == CV_SUCCESS && isfinite(set->t_stop)) flag = CVodeSetStopTime(s->cv, set->t_stop);
+    if (flag != CV_SUCCESS) {
+        say(s, PDBFS_LOG_ERROR, "CVODE setup failed (flag %d)", flag);
+        return flag < 0 ? flag : NO_MEMORY;
+    }
+    s->t_stop = set->t_stop;
+    s->tn = t0;
+    s->root_pending = 0;
+    s->steps_since_start = 0;
+    return 0;
+}
+
+/* --------------------------------------------------------------- stepping */
+
+/* restart at the pending root: the right-hand side is not smooth there */
+static int restart_at_root(PdbfsCvode *s) {
+    int flag = CVodeGetDky(s->cv, s->t_root, 0, s->y);
+    if (flag == CV_SUCCESS) flag = CVodeReInit(s->cv, s->t_root, s->y);
+    if (flag == CV_SUCCESS && isfinite(s->t_stop)) flag = CVodeSetStopTime(s->cv, s->t_stop);
+    if (flag != CV_SUCCESS) {
+        say(s, PDBFS_LOG_ERROR, "restart at the root t = %.17g failed (flag %d)", s->t_root, flag);
+        return flag;
+    }
+    say(s, PDBFS_LOG_EVENT, "event at t=%.17g, CVODE restarted", s->t_root);
+    s->roots++;
+    s->root_pending = 0;
+    s->tn = s->t_root;
+    s->steps_since_start = 0;
+    return 0;
+}
+
+int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_steps, double *x_out) {
+    long n = 0;
+    int flag, i;
+    double tret;
+    for (;;) {
+        if (s->root_pending && s->t_root <= t_out) {
+            flag = restart_at_root(s);
+            if (flag) return flag;
+        }
+        if (s->tn >= t_out || (s->root_pending && s->t_root > t_out)) break;
+        if (++n > max_steps) {
+            say(s, PDBFS_LOG_ERROR, "%ld internal steps without reaching t = %.10g", max_steps, t_out);
+            return PDBFS_CV_TOO_MUCH_WORK;
+        }
+        flag = CVode(s->cv, horizon, s->y, &tret, CV_ONE_STEP);
+        if (flag < 0) {
+            CVodeGetCurrentTime(s->cv, &s->tn);
+            return flag;
+        }
+        s->steps++;
+        s->steps_since_start++;
+        if (flag == CV_ROOT_RETURN) {
+            s->root_pending = 1;
+            s->t_root = tret;
+        }
+        CVodeGetCurrentTime(s->cv, &s->tn);
+    }
+    if (s->steps_since_start == 0) {   /* t_out is the (re)start point itself */
+        for (i = 0; i < s->nx; i++) x_out[i] = NV_Ith_S(s->y, i);
+        return 0;
+    }
+    flag = CVodeGetDky(s->cv, t_out, 0, s->tmp);
+    if (flag != CV_SUCCESS) {
+        say(s, PDBFS_LOG_ERROR, "CVodeGetDky failed at t = %.17g (flag %d)", t_out, flag);
+        return flag;
+    }
+    for (i = 0; i < s->nx; i++) x_out[i] = NV_Ith_S(s->tmp, i);
+    return 0;
+}

@@ -1,0 +1,103 @@
+/*
+ * pdbfs_cvode: CVODE driven through a rig's non-smooth points, shared by the
+ * compiled simulation backend (simulation/c/pdbfs_batch.c) and the FMU's
+ * co-simulation (fmu/c/cosimulation.c).
+ *
+ * The model is the CasADi-generated C of pdbfs_ode, pdbfs_jac (d ode / dx,
+ * dense, column major) and pdbfs_events, all functions of (t, x, z, p).
+ * CVODE runs in one-step mode; the event indicators are its root functions
+ * and it is restarted at every root (the right-hand side is not smooth
+ * there); states at requested times come from CVODE's dense output
+ * (CVodeGetDky), so they do not depend on which times are requested.
+ *
+ * Methods: Adams-Moulton with fixed-point iteration, or BDF with Newton,
+ * dense LU and the CasADi Jacobian.
+ */
+#ifndef PDBFS_CVODE_H
+#define PDBFS_CVODE_H
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nonlinearsolver.h>
+
+#include "pdbfs_model_funcs.h"
+
+#define PDBFS_ADAMS 0
+#define PDBFS_BDF 1
+
+/* pdbfs_cvode_advance's own failure (CVODE's are its negative flags) */
+#define PDBFS_CV_TOO_MUCH_WORK 3
+
+/* what the log callback is told */
+#define PDBFS_LOG_ERROR 0
+#define PDBFS_LOG_WARNING 1
+#define PDBFS_LOG_EVENT 2
+
+typedef int (*pdbfs_casadi_fn)(const casadi_real **, casadi_real **, casadi_int *, casadi_real *, int);
+typedef void (*pdbfs_log_fn)(void *env, int kind, const char *text);
+
+/* How to evaluate the model: the parameters and CasADi work arrays (owned by
+ * the caller, sized by the generated PDBFS_SZ_* of its header). */
+typedef struct {
+    const double *p;
+    const casadi_real **arg;
+    casadi_real **res;
+    casadi_int *iw;
+    casadi_real *w;
+} PdbfsEval;
+
+typedef struct {
+    int method;           /* PDBFS_ADAMS or PDBFS_BDF */
+    double rtol;
+    const double *atol;   /* nx absolute tolerances */
+    double max_step;      /* largest internal step, 0: no limit */
+    double t_stop;        /* CVODE never steps past this time, if finite */
+} PdbfsCvodeSettings;
+
+typedef struct {
+    int nx, ne;
+    PdbfsEval *ev;
+    pdbfs_log_fn log;     /* may be NULL */
+    void *env;
+    /* CVODE and its memory */
+    SUNContext ctx;
+    void *cv;
+    N_Vector y, tmp, atol;
+    SUNMatrix A;
+    SUNLinearSolver LS;
+    SUNNonlinearSolver NLS;
+    int method;           /* of the CVODE memory in cv */
+    double t_stop;        /* of the settings it was started with */
+    /* where the integration is */
+    double tn;            /* time CVODE has integrated to */
+    int root_pending;     /* a root at t_root, not yet restarted from */
+    double t_root;
+    long steps_since_start;
+    /* statistics since pdbfs_cvode_init */
+    long steps, roots, rhs_evals;
+} PdbfsCvode;
+
+/* Prepare ``s`` (no allocation yet). */
+void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env);
+
+/* (Re)start at (t0, x0): a new CVODE memory if there is none or the method
+ * changed, else CVodeReInit.  0 on success, else a CVODE flag (<0) or -100
+ * for memory, with a message through the log callback. */
+int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0);
+
+/* Integrate to t_out (restarting at every root on the way, at most
+ * max_steps internal steps) and write the state at t_out into x_out.
+ * ``horizon`` >= t_out is how far CVODE may look ahead.  0 on success,
+ * PDBFS_CV_TOO_MUCH_WORK, or CVODE's negative flag; s->tn is then the
+ * time reached. */
+int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_steps, double *x_out);
+
+/* Free CVODE's memory; ``s`` may be started again. */
+void pdbfs_cvode_free(PdbfsCvode *s);
+
+/* Call a generated function of (t, x, z, p) with z empty. */
+int pdbfs_eval_txp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, double *out);
+
+#endif

@@ -1,0 +1,28 @@
+"""Simulation and results: a rig's DAE -> SUNDIALS -> a Result.
+
+    simulator.py   simulate(), Simulator: CVODES/IDAS through casadi.integrator,
+                   integrators cached per setting, clear SolverErrors
+    compiled.py    backend="c": the DAE's generated C + c/pdbfs_batch.c +
+                   CVODE in one shared library, called through ctypes
+    result.py      Result: arrays by dotted name, values off the grid, peaks
+                   and crossings located on the solution, CSV, pandas, plot
+    summary.py     what a test engineer reads off a pulse (peak pressure,
+                   duration, restitution, ...)
+    trajectory.py  the simulation as a differentiable CasADi Function of
+                   chosen parameters (CVODES sensitivities)
+    vectorize.py   CasADi output functions evaluated on whole numpy rows
+    plotting.py    matplotlib plots of a Result
+
+May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
+generation, SUNDIALS) and pdbfs.components.laws (formulas). Never the
+studies, the FMU exporter or the rigs in pdbfs.models.
+"""
+from .result import Result
+from .simulator import MAX_NUM_STEPS, Simulator, simulate
+from .summary import KEYS as SUMMARY_KEYS
+from .summary import UNITS as SUMMARY_UNITS
+from .summary import summarize
+from .trajectory import trajectory_function
+
+__all__ = ["Result", "Simulator", "simulate", "MAX_NUM_STEPS", "summarize", "SUMMARY_KEYS",
+           "SUMMARY_UNITS", "trajectory_function"]

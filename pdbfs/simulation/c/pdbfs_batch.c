@@ -1,0 +1,227 @@
+/*
+ * pdbfs generic batch driver: one whole simulation over an output grid in
+ * one call, for pdbfs.simulate(..., backend="c").
+ *
+ * This file is the same for every rig.  Everything model-specific comes from
+ * two generated files:
+ *   pdbfs_batch_model.h  sizes (states, parameters, event indicators, CasADi
+ *                        work arrays)
+ *   pdbfs_model_funcs.c  CasADi-generated C of pdbfs_ode, pdbfs_jac and
+ *                        pdbfs_events
+ * The integration itself (CVODE through the non-smooth points, dense output)
+ * is native/c/pdbfs_cvode.c, shared with the FMU; CVODE's stop time is the
+ * last output time.
+ *
+ * Thread safe and reentrant: every call allocates its own CVODE memory and
+ * CasADi work arrays.  Never aborts: every failure is a return code, the time
+ * reached and a message.
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pdbfs_batch_model.h"
+#include "pdbfs_cvode.h"
+
+#define NX PDBFS_NX
+#define NP PDBFS_NP
+#define NE PDBFS_NE
+
+#define API __attribute__((visibility("default")))
+
+/* version of the calling convention below: the Python side checks it */
+#define PDBFS_BATCH_ABI 1
+
+/* methods */
+#define METHOD_ADAMS PDBFS_ADAMS
+#define METHOD_BDF PDBFS_BDF
+
+/* return codes (CVODE's own failures return CVODE's negative flag) */
+#define RC_OK 0
+#define RC_BAD_INPUT 1       /* sizes, grid, tolerances: nothing was integrated */
+#define RC_SETUP 2           /* CVODE or memory could not be set up */
+#define RC_TOO_MUCH_WORK PDBFS_CV_TOO_MUCH_WORK   /* max_num_steps steps between two outputs */
+#define RC_NOT_FINITE 4      /* NaN or infinity in the solution */
+
+/* info[] slots */
+#define INFO_T 0             /* time reached (last successful CVODE step, or t_end) */
+#define INFO_STEPS 1         /* internal steps */
+#define INFO_ROOTS 2         /* restarts at roots of the event indicators */
+#define INFO_RHS 3           /* right-hand side evaluations */
+#define INFO_FLAG 4          /* CVODE flag of the failure, 0 if none */
+#define INFO_N 5
+
+typedef struct {
+    char *msg;
+    size_t msglen;
+} Msg;
+
+static void setmsg(Msg *c, const char *fmt, ...) {
+    va_list ap;
+    if (!c->msg || c->msglen == 0) return;
+    va_start(ap, fmt);
+    vsnprintf(c->msg, c->msglen, fmt, ap);
+    va_end(ap);
+}
+
+/* keep CVODE's last error message (warnings and events are dropped) */
+static void keep_error(void *env, int kind, const char *text) {
+    if (kind == PDBFS_LOG_ERROR) setmsg((Msg *)env, "%s", text);
+}
+
+static int all_finite(const double *v, long n) {
+    long i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+/* Sizes compiled in: out[0..2] = states, parameters, event indicators. */
+API int pdbfs_batch_abi(void) { return PDBFS_BATCH_ABI; }
+
+API void pdbfs_batch_sizes(long long *out) {
+    if (!out) return;
+    out[0] = NX;
+    out[1] = NP;
+    out[2] = NE;
+}
+
+/*
+ * Integrate from (t[0], x0) and write the state at every t[k] into
+ * X[i * nt + k] (state-major: row i is state i over the grid).
+ *
+ *   nx, np        must equal the compiled sizes
+ *   t             nt >= 2 finite, strictly increasing times
+ *   rtol, atol    positive; atol applies to every state
+ *   method        0 Adams (fixed point), 1 BDF (Newton, dense LU, exact Jacobian)
+ *   max_step      largest internal step (0: no limit)
+ *   max_num_steps most internal steps between two output points
+ *   info[5]       time reached, steps, roots, rhs evaluations, CVODE flag
+ *   msg           message on failure (msglen bytes, always terminated)
+ *
+ * Returns 0, a positive RC_* code or CVODE's negative flag.  On failure the
+ * output points before info[INFO_T] are filled in.
+ */
+API int pdbfs_batch_run(long long nx, long long np, const double *p, const double *x0,
+                        long long nt, const double *t, double *X, double rtol, double atol,
+                        int method, double max_step, long long max_num_steps, double *info,
+                        char *msg, long long msglen) {
+    Msg c;
+    PdbfsEval ev;
+    PdbfsCvode s;
+    PdbfsCvodeSettings set;
+    double atolv[NX + 1], x[NX + 1];
+    void *work = NULL;
+    long long k, i;
+    double treached;
+    int flag, rc = RC_OK;
+
+    c.msg = msg;
+    c.msglen = msg && msglen > 0 ? (size_t)msglen : 0;
+    if (c.msglen) msg[0] = 0;
+    if (info) for (i = 0; i < INFO_N; i++) info[i] = 0.0;
+    if (!info || !t || !X || !x0 || (NP > 0 && !p)) {
+        setmsg(&c, "NULL argument");
+        return RC_BAD_INPUT;
+    }
+    info[INFO_T] = nt > 0 ? t[0] : 0.0;
+    if (nx != NX || np != NP) {
+        setmsg(&c, "sizes: %lld states and %lld parameters given, the library has %d and %d", nx, np, NX, NP);
+        return RC_BAD_INPUT;
+    }
+    if (nt < 2) {
+        setmsg(&c, "need at least 2 output times, got %lld", nt);
+        return RC_BAD_INPUT;
+    }
+    for (k = 0; k < nt; k++) {
+        if (!isfinite(t[k]) || (k > 0 && !(t[k] > t[k - 1]))) {
+            setmsg(&c, "output times must be finite and strictly increasing (t[%lld] = %g)", k, t[k]);
+            return RC_BAD_INPUT;
+        }
+    }
+    if (!(rtol > 0) || !(atol > 0) || !isfinite(rtol) || !isfinite(atol)) {
+        setmsg(&c, "rtol = %g, atol = %g: must be positive", rtol, atol);
+        return RC_BAD_INPUT;
+    }
+    if (!(max_step >= 0) || !isfinite(max_step)) {
+        setmsg(&c, "max_step = %g: must be >= 0 (0: no limit)", max_step);
+        return RC_BAD_INPUT;
+    }
+    if (max_num_steps < 1) {
+        setmsg(&c, "max_num_steps = %lld: must be >= 1", max_num_steps);
+        return RC_BAD_INPUT;
+    }
+    if (method != METHOD_ADAMS && method != METHOD_BDF) {
+        setmsg(&c, "method = %d: 0 (Adams) or 1 (BDF)", method);
+        return RC_BAD_INPUT;
+    }
+    if (!all_finite(x0, NX) || !all_finite(p, NP)) {
+        setmsg(&c, "start values or parameters are not finite");
+        return RC_BAD_INPUT;
+    }
+
+    /* CasADi work arrays, one block */
+    {
+        size_t sz = sizeof(double) * (PDBFS_SZ_W + 1) + sizeof(casadi_int) * (PDBFS_SZ_IW + 1)
+                    + sizeof(double *) * (PDBFS_SZ_ARG + 1) + sizeof(double *) * (PDBFS_SZ_RES + 1);
+        char *b = (char *)malloc(sz);
+        if (!b) {
+            setmsg(&c, "out of memory");
+            return RC_SETUP;
+        }
+        work = b;
+        ev.w = (casadi_real *)b;
+        b += sizeof(double) * (PDBFS_SZ_W + 1);
+        ev.arg = (const casadi_real **)b;
+        b += sizeof(double *) * (PDBFS_SZ_ARG + 1);
+        ev.res = (casadi_real **)b;
+        b += sizeof(double *) * (PDBFS_SZ_RES + 1);
+        ev.iw = (casadi_int *)b;
+    }
+    ev.p = p;
+
+    for (i = 0; i < NX; i++) atolv[i] = atol;
+    set.method = method;
+    set.rtol = rtol;
+    set.atol = atolv;
+    set.max_step = max_step;
+    set.t_stop = t[nt - 1];
+    pdbfs_cvode_init(&s, NX, NE, &ev, keep_error, &c);
+    treached = t[0];
+    for (i = 0; i < NX; i++) X[i * nt] = x0[i];
+    flag = pdbfs_cvode_start(&s, &set, t[0], x0);
+    if (flag) {
+        if (c.msglen && !msg[0]) setmsg(&c, "CVODE setup failed (flag %d)", flag);
+        rc = RC_SETUP;
+    }
+    for (k = 1; k < nt && rc == RC_OK; k++) {
+        flag = pdbfs_cvode_advance(&s, t[k], t[nt - 1], (long)max_num_steps, x);
+        if (flag) {
+            if (s.tn > treached) treached = s.tn;
+            if (flag < 0) {
+                if (c.msglen && !msg[0]) setmsg(&c, "CVODE failed (flag %d)", flag);
+                info[INFO_FLAG] = flag;
+            }
+            rc = flag;
+            break;
+        }
+        if (!all_finite(x, NX)) {
+            setmsg(&c, "the solution is NaN or infinite at t = %.17g", t[k]);
+            rc = RC_NOT_FINITE;
+            break;
+        }
+        for (i = 0; i < NX; i++) X[i * nt + k] = x[i];
+        treached = t[k];
+    }
+
+    info[INFO_T] = treached;
+    info[INFO_STEPS] = (double)s.steps;
+    info[INFO_ROOTS] = (double)s.roots;
+    info[INFO_RHS] = (double)s.rhs_evals;
+    pdbfs_cvode_free(&s);
+    free(work);
+    if (c.msglen) msg[c.msglen - 1] = 0;
+    return rc;
+}
