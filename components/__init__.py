@@ -21,4 +21,10 @@ from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
 from .sources import Force, Gravity
 from .springs import Damper, Spring
 
-__all__ = [n for n in dir() if not n.startswith("_")]
+__all__ = ["HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
+           "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",
+           "PartialOneFlange", "PartialTwoFlanges", "DAMPING_LAWS", "damping_flores",
+           "damping_hunt_crossley", "damping_lankarani_nikravesh", "hertz_stiffness",
+           "impact_velocity", "restitution_from_force", "Fixed", "Mass", "OilColumn",
+           "ForceSensor", "PositionSensor", "PressureSensor", "SpeedSensor", "Force",
+           "Gravity", "Damper", "Spring"]

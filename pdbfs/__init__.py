@@ -2,7 +2,7 @@
 
 components declare -> a rig connects -> flatten -> structural simplification
 -> one CasADi DAE -> SUNDIALS (pdbfs.simulate) or an FMI 2.0 FMU (pdbfs.fmu)
--> studies on the same DAE (pdbfs.sweep, ...).
+-> studies on the same DAE (pdbfs.sweep, pdbfs.calibrate, pdbfs.design).
 
 The stages, each a package whose docstring says what it may import:
 
@@ -10,21 +10,22 @@ The stages, each a package whose docstring says what it may import:
     pdbfs.native       C code generation and CVODE, shared by the two below
     pdbfs.simulation   SUNDIALS (through CasADi, or compiled) -> Result
     pdbfs.fmu          rig -> C code -> FMU
-    pdbfs.studies      sweeps, the paper reproduced, ...
+    pdbfs.studies      sweeps, calibration, design, the paper reproduced
     pdbfs.cli          the command line, a thin layer over this API
 
 and the libraries on top of the compiler: pdbfs.components (the component
 library) and pdbfs.models (rigs built from it).
 """
-from .errors import (ConnectError, ExportError, ModelError, ParameterError, PdbfsError,
-                     SolverError)
+from .errors import (ConnectError, DataError, ExportError, ModelError, ParameterError,
+                     PdbfsError, SolverError)
 from .modelling import (DAE, Component, Flange, Parameter, ParamInfo, SignalInput, SignalOutput,
                         State, Variable, VarInfo, der, eq, time)
 from .rig import Rig
 from .simulation import Result, simulate, trajectory_function
-from .studies import sweep
+from .studies import calibrate, design, design_map, sweep
 
 __all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
+           "DataError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
-           "Result", "sweep", "trajectory_function"]
+           "Result", "sweep", "trajectory_function", "calibrate", "design", "design_map"]

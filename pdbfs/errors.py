@@ -24,3 +24,8 @@ class SolverError(PdbfsError, RuntimeError):
 class ExportError(PdbfsError, ValueError):
     """A rig cannot be turned into C code or an FMU (algebraic variables
     left, no compiler, a compilation failure)."""
+
+
+class DataError(PdbfsError, ValueError):
+    """A data file (a measured trace, a target curve) is missing or malformed;
+    the message names the file and what is wrong with it."""

@@ -15,7 +15,6 @@ from fmpy import read_model_description  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
 import fmu_support as T  # noqa: E402
-import pdbfs.fmu  # noqa: E402
 from pdbfs.fmu import export_fmu  # noqa: E402
 from pdbfs.fmu.export import WRAPPER_FILES  # noqa: E402
 from pdbfs.models import RIGS  # noqa: E402

@@ -1,4 +1,5 @@
-"""Command line: ``pdbfs simulate | params | export-fmu | sweep | reproduce``.
+"""Command line: ``pdbfs simulate | params | export-fmu | sweep | reproduce | calibrate |
+design | design-map``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -13,9 +14,9 @@ import sys
 
 from pdbfs.errors import PdbfsError
 
-from . import reproduce, run, sweep
+from . import calibrate, design, reproduce, run, sweep
 
-COMMANDS = (run, sweep, reproduce)
+COMMANDS = (run, sweep, reproduce, calibrate, design)
 
 
 def build_parser():

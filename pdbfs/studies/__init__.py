@@ -2,12 +2,27 @@
 
     sweeps.py        sweep(): many parameter points on one compiled rig
     sweep_result.py  SweepResult: summaries per point, CSV, table, plot
+    calibration.py   calibrate(): a rig's unknown parameters fitted to a trace
+    design.py        design(): the settings that give a target pulse
+    design_map.py    design_map(): pulse features over two settings, one sweep
+      traces.py        measured traces and target curves, read and checked
+      unknowns.py      free parameters: scaling, bounds, drop height for speed
+      signal_model.py  a rig's output with exact sensitivities on a fine grid
+      features.py      peak, time of peak, duration and their gradients
+      problems.py      the least-squares problems (curve, features)
+      fitting.py       bounded multistart least squares and its statistics
+      reports.py       text, plots and CSV of the results
     paper/           the paper's figures reproduced
 
 May import: pdbfs.errors, pdbfs.modelling, pdbfs.simulation, pdbfs.models
 and pdbfs.components. Nothing below imports from here.
 """
-from .sweeps import points_of, sweep
+from .calibration import Calibration, calibrate
+from .design import Design, design
+from .design_map import DesignMap, design_map
 from .sweep_result import SweepPoint, SweepResult
+from .sweeps import points_of, sweep
+from .traces import Trace, read_trace
 
-__all__ = ["sweep", "points_of", "SweepPoint", "SweepResult"]
+__all__ = ["sweep", "points_of", "SweepPoint", "SweepResult", "calibrate", "Calibration",
+           "design", "Design", "design_map", "DesignMap", "Trace", "read_trace"]

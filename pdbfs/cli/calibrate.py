@@ -1,0 +1,65 @@
+"""pdbfs calibrate: fit a rig's unknown parameters to a measured trace."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from .common import parse_sets, rig_by_name
+
+
+def free_list(text):
+    return [f.strip() for f in (text or "").split(",") if f.strip()]
+
+
+def write_outputs(out, stem, result):
+    """PNG, CSV and JSON of a calibration or design, written only once it succeeded."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    result.plot(out / f"{stem}.png")
+    result.to_csv(out / f"{stem}.csv")
+    part = out / f".{stem}.json.part"
+    part.write_text(json.dumps(result.to_dict(), indent=2) + "\n")
+    part.replace(out / f"{stem}.json")
+    return [out / f"{stem}.{ext}" for ext in ("png", "csv", "json")]
+
+
+def cmd_calibrate(args):
+    from pdbfs.studies import calibrate
+    rig = rig_by_name(args.rig)
+    cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
+                    fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
+                    params=parse_sets(args.set), starts=args.starts, seed=args.seed)
+    wrote = write_outputs(args.out, "calibration", cal) if args.out else []
+    if args.json:
+        print(json.dumps(cal.to_dict()))
+    else:
+        print(cal.report())
+        if wrote:
+            print("wrote " + ", ".join(map(str, wrote)))
+
+
+def add_parsers(sub):
+    s = sub.add_parser("calibrate", help="fit a rig's unknown parameters to a measured trace "
+                       "(CSV: time in s, signal in SI units)")
+    s.add_argument("--rig", default="paper", help="rig name (default: paper)")
+    s.add_argument("--trace", required=True, metavar="FILE.csv",
+                   help="the measured trace: a header, then time (s) and signal (SI) columns")
+    s.add_argument("--free", required=True, metavar="NAME,NAME,...",
+                   help="parameters to fit, e.g. oil.k,seal.c,hammer.v0 (hammer.h: a drop height)")
+    s.add_argument("--signal", default=None,
+                   help="the rig variable the trace measured (default: the rig's pressure)")
+    s.add_argument("--fit-offset", action="store_true",
+                   help="also fit the trigger time shift and the sensor's zero offset")
+    s.add_argument("--bounds", action="append", metavar="NAME=LO:HI",
+                   help="bounds of a free parameter (default: a factor 100 either side)")
+    s.add_argument("--set", action="append", metavar="NAME=VALUE",
+                   help="hold a parameter at VALUE (repeatable)")
+    s.add_argument("--t-end", type=float, default=None,
+                   help="simulated horizon, s (default: the trace's length)")
+    s.add_argument("--starts", type=int, default=3,
+                   help="starts of the optimiser: the rig's values, then a Latin hypercube (default 3)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the extra starts")
+    s.add_argument("--out", default=None,
+                   help="folder for calibration.png (trace, fit, residuals), .csv and .json")
+    s.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    s.set_defaults(func=cmd_calibrate)

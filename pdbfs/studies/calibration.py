@@ -1,0 +1,183 @@
+"""Calibration: the rig's unknown parameters fitted to a measured trace.
+
+    cal = pdbfs.calibrate(paper_rig(), "kistler.csv", free=["oil.k", "seal.c", "hammer.v0"],
+                          fit_offset=True)
+    cal.params, cal.std, cal.rms_residual, cal.undetermined
+
+Least squares on the trace's own samples with exact gradients (CVODES
+sensitivities, studies/signal_model.py), bounded and scaled unknowns
+(studies/unknowns.py), several starts (studies/fitting.py). Parameters the
+trace does not determine are named, held at their start values and left
+out of the fit: no made-up value is reported for them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdbfs.errors import DataError, ParameterError, PdbfsError
+from pdbfs.simulation import Simulator
+
+from .fitting import distinct_optima, solve, statistics
+from .problems import OFFSET, SHIFT, CurveProblem, offset_unknowns
+from .signal_model import DT, SignalModel, signal_of
+from .traces import as_trace
+from .unknowns import CALIBRATION_RANGE, parse_bounds, rig_unknowns
+
+
+@dataclass
+class Calibration:
+    """What a calibration found. ``params`` maps each free name to its fitted
+    value, or None where the trace does not determine it (``undetermined``
+    says why; ``held`` gives the value it was held at)."""
+
+    rig: str
+    signal: str
+    unit: str
+    params: dict
+    std: dict
+    corr: dict                # {name: {name: correlation}} over the determined unknowns
+    rms_residual: float
+    sigma: float              # residual standard deviation (degrees of freedom counted)
+    undetermined: dict        # name -> reason
+    held: dict                # name -> value it was held at
+    at_bounds: dict           # name -> "lower" / "upper" bound value reached
+    starts: list = field(default_factory=list)
+    optima: int = 1
+    t: np.ndarray = None      # the trace
+    y: np.ndarray = None
+    fit: np.ndarray = None    # the model at the trace's times
+    evaluations: int = 0
+    units: dict = field(default_factory=dict)
+
+    @property
+    def residuals(self) -> np.ndarray:
+        return self.y - self.fit
+
+    def to_dict(self) -> dict:
+        """JSON-ready: params, std, rms_residual, correlation, undetermined, ..."""
+        return {"rig": self.rig, "signal": self.signal, "params": self.params, "std": self.std,
+                "units": self.units, "rms_residual": self.rms_residual, "sigma": self.sigma,
+                "correlation": self.corr, "undetermined": self.undetermined, "held": self.held,
+                "at_bounds": self.at_bounds, "starts": self.starts, "distinct_optima": self.optima,
+                "evaluations": self.evaluations}
+
+    def report(self) -> str:
+        from .reports import calibration_text
+        return calibration_text(self)
+
+    def plot(self, path=None):
+        from .reports import plot_fit
+        return plot_fit(self, path)
+
+    def to_csv(self, path):
+        from .reports import write_columns
+        return write_columns(path, {"time [s]": self.t, f"trace [{self.unit}]": self.y,
+                                    f"fit [{self.unit}]": self.fit,
+                                    f"residual [{self.unit}]": self.residuals})
+
+
+def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bounds=None,
+              start=None, params=None, starts: int = 3, seed: int = 0, rtol: float = 1e-8,
+              atol: float = 1e-10, dt: float = DT) -> Calibration:
+    """Fit the parameters ``free`` of ``rig`` so that its ``signal`` (default:
+    the rig's pressure) matches ``trace`` (a CSV path, a Trace or (t, y)).
+
+    fit_offset  also fit a trigger time shift ``trace.shift`` (s; the model
+                runs at t - shift) and a sensor offset ``trace.offset``
+    bounds      {name: (lo, hi)} (or "NAME=LO:HI" strings); default: a
+                factor 100 either side of the start for positive parameters
+    start       {name: value}: where the first start begins (default: the
+                rig's value); ``starts`` - 1 more begin on a Latin hypercube
+    params      {name: value} held fixed (not free)
+    t_end       simulated horizon (default: the trace's last time, plus the
+                shift's range)
+    """
+    sim = Simulator.of(_rig(rig))
+    dae = sim.dae
+    trace = as_trace(trace)
+    signal = signal_of(dae, signal)
+    bounds = parse_bounds(bounds)
+    own = {k: bounds.pop(k) for k in (SHIFT, OFFSET) if k in bounds}
+    unknowns, p0 = rig_unknowns(sim, free, bounds=bounds, start=start, fixed=params,
+                                factor=CALIBRATION_RANGE)
+    targets = [u.target for u in unknowns]
+    unit = next(v.unit for v in dae.y_info if v.name == signal)
+    horizon = float(trace.t[-1])
+    if fit_offset:
+        probe = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol)
+        s0 = probe(np.array([u.rig_value(u.ref) for u in unknowns]), sens=False)
+        extra = offset_unknowns(trace, (s0.t, s0.y), unit)
+        for u in extra:
+            if u.name in own:
+                u.lo, u.hi = own[u.name]
+                u.ref = min(max(u.ref, u.lo), u.hi)
+        unknowns += extra
+        horizon = float(trace.t[-1] - extra[0].lo)
+    elif own:
+        raise ParameterError("bounds of trace.shift / trace.offset need fit_offset (--fit-offset)")
+    if horizon <= 0:
+        raise DataError(f"{trace.source}: every sample lies before the impact (t <= 0)")
+    model = SignalModel(sim, signal, targets, max(horizon, t_end or 0.0), p0, dt=dt, rtol=rtol,
+                        atol=atol)
+    scale = float(np.max(np.abs(trace.y))) or 1.0
+    return _fit(dae.name, signal, unit, model, unknowns, trace, scale, starts, seed)
+
+
+def _rig(rig):
+    """A rig, or the rig of that name in pdbfs.models.RIGS."""
+    if isinstance(rig, str):
+        from pdbfs.models import RIGS
+        if rig not in RIGS:
+            raise ParameterError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
+        return RIGS[rig]()
+    return rig
+
+
+def _fit(rig_name, signal, unit, model, unknowns, trace, scale, starts, seed) -> Calibration:
+    """Fit, then hold what the trace does not determine and fit the rest again."""
+    held, undetermined = {}, {}
+    z_start = {u.name: u.z(u.ref) for u in unknowns}
+    first = None
+    while True:
+        prob = CurveProblem(model, unknowns, trace, scale, held)
+        active = prob.unknowns
+        z0 = np.array([z_start[u.name] for u in active])
+        lo, hi = (np.array(b) for b in zip(*(u.z_bounds for u in active)))
+        fit = solve(prob, z0, lo, hi, starts=starts if first is None else 1, seed=seed)
+        first = first or fit
+        st = statistics(fit.residual * scale, fit.jac * scale)
+        if not st.undetermined:
+            break
+        names = [u.name for u in active]
+        for group in st.entangled:
+            rest = [names[j] for j in group[1:]]
+            undetermined[names[group[0]]] = (
+                f"the trace does not separate it from {', '.join(rest)} (fitted with it held)"
+                if rest else "the trace does not depend on it")
+        for i in st.loose:
+            undetermined[names[i]] = "its standard error exceeds the value itself (a factor e)"
+        for i in st.undetermined:
+            held[names[i]] = active[i].ref
+        if len(held) == len(unknowns):
+            raise PdbfsError("the trace determines none of the free parameters: "
+                             + "; ".join(f"{k}: {v}" for k, v in undetermined.items()))
+        z_start.update({n: z for n, z in zip(names, fit.z)})   # go on from the optimum
+    values = {u.name: u.value(z) for u, z in zip(active, fit.z)}
+    std = {u.name: float(u.dvalue(z) * s) for u, z, s in zip(active, fit.z, st.std_z)}
+    corr = {a.name: {b.name: float(st.corr[i, j]) for j, b in enumerate(active)}
+            for i, a in enumerate(active)}
+    at_bounds = {u.name: ("lower", u.lo) if a < 0 else ("upper", u.hi)
+                 for u, a in zip(active, fit.active) if a}
+    y_fit, _ = prob.curve(fit.z, sens=False)
+    order = [u.name for u in unknowns]
+    return Calibration(
+        rig=rig_name, signal=signal, unit=unit, params={n: values.get(n) for n in order},
+        std={n: std.get(n) for n in order}, corr=corr,
+        rms_residual=float(np.sqrt(np.mean((trace.y - y_fit) ** 2))), sigma=st.sigma,
+        undetermined=undetermined, held=held, at_bounds=at_bounds,
+        starts=[{"cost": s.cost, "evaluations": s.iterations, "status": s.status}
+                for s in first.starts],
+        optima=distinct_optima(first), t=trace.t, y=trace.y, fit=y_fit,
+        evaluations=model.evaluations, units={u.name: u.unit for u in unknowns})

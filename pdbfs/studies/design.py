@@ -1,0 +1,181 @@
+"""Design: the settings of a rig that give a wanted pressure pulse.
+
+    pdbfs.design(rig, target="gun.csv", free=["hammer.v0", "oil.k", "seal.c"])
+    pdbfs.design(rig, target={"peak_pressure": 150e6, "pulse_duration": 0.009},
+                 free=["hammer.h", "oil.k"], bounds={"hammer.h": (0.1, 2.0)})
+
+To a target curve: least squares on the curve's own samples (the same
+engine as calibration). To target features (peak pressure, pulse duration
+as the summary defines it, time of peak): their exact gradients
+(studies/features.py) drive a bounded least-squares solve; where no setting
+within the bounds reaches the targets, the nearest reachable point is
+returned with what stops it (a bound, or the features moving together).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdbfs.errors import ParameterError
+from pdbfs.simulation import Simulator
+
+from .calibration import _rig
+from .features import FEATURES, UNITS
+from .fitting import solve
+from .problems import CurveProblem, FeatureProblem
+from .signal_model import DT, SignalModel, signal_of
+from .traces import as_trace
+from .unknowns import DESIGN_RANGE, parse_bounds, rig_unknowns
+
+#: relative miss of a feature target below which it counts as reached
+REACHED = 1e-4
+ALIASES = {"peak": "peak_pressure", "duration": "pulse_duration", "peak_time": "time_of_peak"}
+
+
+@dataclass
+class Design:
+    rig: str
+    signal: str
+    unit: str
+    params: dict                       # free name -> designed value
+    implied: dict                      # rig parameters set through a transform (v0 from h)
+    reachable: bool
+    limit: str = ""                    # why not, when not reachable
+    targets: dict = field(default_factory=dict)
+    features: dict = field(default_factory=dict)   # the designed pulse's features
+    rms_error: float | None = None     # target-curve mode
+    worst_deviation: float | None = None
+    worst_time: float | None = None
+    at_bounds: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
+    t: np.ndarray = None               # target curve times, or the designed pulse's grid
+    y: np.ndarray = None               # target curve (None in feature mode)
+    fit: np.ndarray = None             # the designed pulse at t
+    evaluations: int = 0
+
+    def to_dict(self) -> dict:
+        d = {"rig": self.rig, "signal": self.signal, "params": self.params, "implied": self.implied,
+             "units": self.units, "reachable": self.reachable, "at_bounds": self.at_bounds,
+             "evaluations": self.evaluations}
+        if self.targets:
+            d.update(targets=self.targets, features=self.features)
+        else:
+            d.update(rms_error=self.rms_error, worst_deviation=self.worst_deviation,
+                     worst_time=self.worst_time, features=self.features)
+        if not self.reachable:
+            d["limit"] = self.limit
+        return d
+
+    def report(self) -> str:
+        from .reports import design_text
+        return design_text(self)
+
+    def plot(self, path=None):
+        from .reports import plot_design
+        return plot_design(self, path)
+
+    def to_csv(self, path):
+        from .reports import write_columns
+        cols = {"time [s]": self.t}
+        if self.y is not None:
+            cols[f"target [{self.unit}]"] = self.y
+        cols[f"designed [{self.unit}]"] = self.fit
+        return write_columns(path, cols)
+
+
+def design(rig, target, *, free, bounds=None, start=None, params=None, signal=None,
+           t_end=None, starts: int = 1, seed: int = 0, rtol: float = 1e-8,
+           atol: float = 1e-10, dt: float = DT) -> Design:
+    """Settings of ``free`` that make ``rig``'s ``signal`` (default: its
+    pressure) match ``target``: a curve (CSV path, Trace, (t, y)) or a dict of
+    features {peak_pressure (Pa), pulse_duration (s), time_of_peak (s)}.
+    ``free`` may name a drop height ``X.h`` for a rig whose hammer has an
+    impact speed ``X.v0``. Bounds default to a factor 10 either side of the
+    rig's values. More ``starts`` (Latin hypercube) are tried for features
+    when the first does not reach them."""
+    sim = Simulator.of(_rig(rig))
+    dae = sim.dae
+    signal = signal_of(dae, signal)
+    unit = next(v.unit for v in dae.y_info if v.name == signal)
+    unknowns, p0 = rig_unknowns(sim, free, bounds=parse_bounds(bounds), start=start,
+                                fixed=params, factor=DESIGN_RANGE)
+    targets = [u.target for u in unknowns]
+    z0 = np.array([u.z(u.ref) for u in unknowns])
+    lo, hi = (np.array(b) for b in zip(*(u.z_bounds for u in unknowns)))
+    if isinstance(target, dict):
+        goals = _feature_targets(target)
+        horizon = t_end or _horizon(goals, getattr(rig, "default_t_end", 0.02))
+        model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol)
+        prob = FeatureProblem(model, unknowns, goals)
+        fit = solve(prob, z0, lo, hi, starts=1)
+        if np.max(np.abs(fit.residual)) > REACHED and starts > 1:
+            more = solve(prob, fit.z, lo, hi, starts=starts, seed=seed)
+            fit = more if more.cost < fit.cost else fit
+        feats, _, s = prob.features(fit.z, sens=False)
+        miss = {k: (feats[k] - t) / t for k, t in goals.items()}
+        reached = max(abs(m) for m in miss.values()) <= REACHED
+        out = Design(dae.name, signal, unit, {}, {}, reached, targets=goals,
+                     features={k: feats[k] for k in feats}, t=s.t, fit=s.y)
+        if not reached:
+            out.limit = _limit(unknowns, fit, feats, goals, prob)
+    else:
+        trace = as_trace(target, "target")
+        horizon = max(float(trace.t[-1]), t_end or 0.0)
+        model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol)
+        scale = float(np.max(np.abs(trace.y))) or 1.0
+        prob = CurveProblem(model, unknowns, trace, scale)
+        fit = solve(prob, z0, lo, hi, starts=starts, seed=seed)
+        y_fit, _ = prob.curve(fit.z, sens=False)
+        dev = y_fit - trace.y
+        k = int(np.argmax(np.abs(dev)))
+        out = Design(dae.name, signal, unit, {}, {}, True, rms_error=float(np.sqrt(np.mean(dev ** 2))),
+                     worst_deviation=float(abs(dev[k])), worst_time=float(trace.t[k]),
+                     t=trace.t, y=trace.y, fit=y_fit)
+    for u, z, a in zip(unknowns, fit.z, fit.active):
+        v = u.value(z)
+        out.params[u.name] = v
+        out.units[u.name] = u.unit
+        if u.height:
+            out.implied[u.target] = u.rig_value(v)
+        if a:
+            out.at_bounds[u.name] = ("lower", u.lo) if a < 0 else ("upper", u.hi)
+    out.evaluations = model.evaluations
+    return out
+
+
+def _feature_targets(target: dict) -> dict:
+    goals = {}
+    for k, v in target.items():
+        k = ALIASES.get(k, k)
+        if k not in FEATURES:
+            raise ParameterError(f"unknown design target {k!r}; choose from {', '.join(FEATURES)}")
+        if v is None:
+            continue
+        v = float(v)
+        if not (np.isfinite(v) and v > 0):
+            raise ParameterError(f"design target {k} = {v:g} {UNITS[k]}: must be a positive number")
+        goals[k] = v
+    if not goals:
+        raise ParameterError("no design target: give a curve, or at least one of "
+                             + ", ".join(FEATURES))
+    return goals
+
+
+def _horizon(goals, default):
+    """Long enough for the pulse asked for to rise and fall again."""
+    return max(default, 3.0 * goals.get("pulse_duration", 0.0), 4.0 * goals.get("time_of_peak", 0.0))
+
+
+def _limit(unknowns, fit, feats, goals, prob) -> str:
+    """Why the targets were not reached, in words."""
+    near = ", ".join(f"{k} = {feats[k]:.4g} {UNITS[k]}" for k in goals)
+    bound = [f"{u.name} at its {'lower' if a < 0 else 'upper'} bound "
+             f"{u.lo if a < 0 else u.hi:.4g} {u.unit}" for u, a in zip(unknowns, fit.active) if a]
+    if bound:
+        return f"not reachable within the bounds: nearest reachable {near}; stopped by " \
+               + "; ".join(bound)
+    rank = np.linalg.matrix_rank(fit.jac, tol=1e-6 * max(np.abs(fit.jac).max(), 1e-300))
+    return (f"not reachable: nearest reachable {near}; the free parameters ("
+            + ", ".join(u.name for u in unknowns) + f") move the {len(goals)} target(s) together "
+            f"(rank {rank} here): free another parameter or relax a target")

@@ -1,0 +1,124 @@
+"""A design map: peak pressure and pulse duration over two settings of a rig,
+computed by one sweep and drawn as contours - the chart a test engineer
+pins on the wall to see which settings give which pulse.
+
+    m = pdbfs.design_map(paper_rig(), x=("hammer.v0", 1, 6), y=("oil.k", 1e8, 1e9))
+    m.plot("map.png"); m.to_csv("map.csv")
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pdbfs.components.laws import impact_velocity
+from pdbfs.errors import ParameterError
+from pdbfs.simulation import Simulator
+
+from .calibration import _rig
+from .reports import save_figure, write_columns
+from .sweeps import sweep
+
+MAPPED = ("peak_pressure", "pulse_duration", "time_of_peak")
+
+
+@dataclass
+class DesignMap:
+    rig: str
+    x_name: str
+    y_name: str
+    x: np.ndarray                  # axis values (as asked: a drop height stays a height)
+    y: np.ndarray
+    values: dict                   # feature -> (len(y), len(x)) array, NaN where a point failed
+    failed: int
+    x_unit: str = ""
+    y_unit: str = ""
+
+    def plot(self, path=None):
+        import matplotlib
+        matplotlib.use("Agg", force=False)
+        import matplotlib.pyplot as plt
+        X, Y = np.meshgrid(self.x, self.y)
+        fig, ax = plt.subplots(figsize=(7.5, 5.5))
+        peak = self.values["peak_pressure"] / 1e6
+        cf = ax.contourf(X, Y, peak, levels=14, cmap="viridis")
+        fig.colorbar(cf, ax=ax, label="peak pressure (MPa)")
+        cs = ax.contour(X, Y, self.values["pulse_duration"] * 1e3, levels=10, colors="w",
+                        linewidths=1.0)
+        ax.clabel(cs, fmt="%.1f ms", fontsize=8)
+        from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+        for vals, axis, scale in ((self.x, ax.xaxis, ax.set_xscale), (self.y, ax.yaxis, ax.set_yscale)):
+            if _is_log(vals):   # 1, 2, 5 per decade, as plain numbers: maps span a decade or two
+                scale("log")
+                axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+                axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+                axis.set_minor_formatter(NullFormatter())
+        ax.set_xlabel(f"{self.x_name} ({self.x_unit})" if self.x_unit else self.x_name)
+        ax.set_ylabel(f"{self.y_name} ({self.y_unit})" if self.y_unit else self.y_name)
+        ax.set_title(f"rig {self.rig}: peak pressure (colour) and pulse duration (white, ms)",
+                     fontsize=10)
+        fig.tight_layout()
+        if path is not None:
+            save_figure(fig, path)
+        return fig
+
+    def to_csv(self, path):
+        X, Y = np.meshgrid(self.x, self.y)
+        cols = {self.x_name: X.ravel(), self.y_name: Y.ravel()}
+        cols.update({k: v.ravel() for k, v in self.values.items()})
+        return write_columns(path, cols)
+
+
+def _is_log(v) -> bool:
+    return len(v) > 2 and v[0] > 0 and np.allclose(np.diff(np.log(v)), np.log(v[1] / v[0]))
+
+
+def axis(spec, n: int, log=None):
+    """(name, values) from (name, lo, hi) or "NAME=LO:HI"; log spacing when
+    hi/lo >= 10 unless ``log`` says otherwise."""
+    if isinstance(spec, str):
+        name, sep, rng = spec.partition("=")
+        lo, sep2, hi = rng.partition(":")
+        try:
+            if not (sep and sep2 and name.strip()):
+                raise ValueError
+            spec = (name.strip(), float(lo), float(hi))
+        except ValueError:
+            raise ParameterError(f"axis {spec!r}: expected NAME=LO:HI, e.g. hammer.v0=1:6") from None
+    name, lo, hi = spec
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        raise ParameterError(f"axis {name}: lo = {lo:g} must be below hi = {hi:g}")
+    if not (isinstance(n, int) and n >= 2):
+        raise ParameterError(f"design map: n = {n!r} points per axis; need a whole number >= 2")
+    if log is None:
+        log = lo > 0 and hi / lo >= 10
+    return name, (np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n))
+
+
+def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=None,
+               backend: str = "casadi", progress=None) -> DesignMap:
+    """Peak pressure, pulse duration and time of peak over the grid of
+    ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
+    for the impact speed X.v0), ``n`` points per axis, all in one sweep."""
+    rig = _rig(rig)
+    sim = Simulator.of(rig)
+    (xn, xv), (yn, yv) = axis(x, n, log), axis(y, n, log)
+    if xn == yn:
+        raise ParameterError(f"design map: x and y are both {xn}")
+    units = {p.name: p.unit for p in sim.dae.params}
+    cols, axis_units = {}, []
+    for name, vals in ((xn, xv), (yn, yv)):
+        if name not in units and name.endswith(".h") and name[:-2] + ".v0" in units:
+            cols[name[:-2] + ".v0"] = [impact_velocity(h) for h in vals]
+            axis_units.append("m")
+        else:
+            cols[name] = list(vals)
+            axis_units.append(units.get(name, ""))
+    (cx, vx), (cy, vy) = cols.items()
+    grid = [(a, b) for b in vy for a in vx]          # y rows, x columns
+    res = sweep(rig, {cx: [g[0] for g in grid], cy: [g[1] for g in grid]}, grid=False,
+                t_end=t_end, n_out=int(round(t_end / 1e-5)) + 1, params=params, backend=backend,
+                progress=progress)
+    values = {k: res.values(k).reshape(len(yv), len(xv)) for k in MAPPED}
+    return DesignMap(sim.dae.name, xn, yn, xv, yv, values, len(res.failed), *axis_units)
