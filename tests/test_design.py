@@ -87,3 +87,23 @@ def test_design_map_is_one_sweep_with_the_paper_trends():
     assert np.allclose(m.y, [1e8, np.sqrt(1e17), 1e9])   # log-spaced: a decade apart
     s = paper_rig().simulate(0.03, n_out=3001, params={"hammer.v0": 3.5, "oil.k": m.y[1]}).summary()
     assert peak[1, 1] == pytest.approx(s["peak_pressure"], rel=1e-9)
+
+
+def test_design_and_design_map_commands(tmp_path, capsys):
+    import json
+    from pdbfs.cli import main
+    rig = paper_rig()
+    t = np.linspace(0.0, 0.014, 141)
+    target = rig.simulate(t_out=t, params={"hammer.v0": 3.5})["oil.pressure"]
+    path = tmp_path / "gun.csv"
+    np.savetxt(path, np.column_stack([t, target]), delimiter=",", header="t,p", comments="")
+    assert main(["design", "--target", str(path), "--free", "hammer.v0", "--json",
+                 "--out", str(tmp_path / "d")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["params"]["hammer.v0"] == pytest.approx(3.5, rel=1e-5) and out["rms_error"] < 1e3
+    assert (tmp_path / "d" / "design.png").stat().st_size > 10000
+    assert main(["design-map", "--x", "hammer.h=0.2:0.8", "--y", "seal.c=1e4:1e5", "--n", "3",
+                 "--json", "--out", str(tmp_path / "m"), "--quiet"]) == 0
+    m = json.loads(capsys.readouterr().out)
+    assert np.array(m["peak_pressure"]).shape == (3, 3) and m["failed"] == 0
+    assert (tmp_path / "m" / "design_map.png").exists() and (tmp_path / "m" / "design_map.csv").exists()
