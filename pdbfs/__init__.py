@@ -10,7 +10,7 @@ The stages, each a package whose docstring says what it may import:
     pdbfs.native       C code generation and CVODE, shared by the two below
     pdbfs.simulation   SUNDIALS (through CasADi, or compiled) -> Result
     pdbfs.fmu          rig -> C code -> FMU
-    pdbfs.studies      sweeps, calibration, design, the paper reproduced
+    pdbfs.studies      sweeps (local or Dask), sensitivity, calibration, design, the paper
     pdbfs.cli          the command line, a thin layer over this API
 
 and the libraries on top of the compiler: pdbfs.components (the component
@@ -22,10 +22,11 @@ from .modelling import (DAE, Component, Flange, Parameter, ParamInfo, SignalInpu
                         State, Variable, VarInfo, der, eq, time)
 from .rig import Rig
 from .simulation import Result, simulate, trajectory_function
-from .studies import calibrate, design, design_map, sweep
+from .studies import calibrate, design, design_map, sensitivity, sweep
 
 __all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
            "DataError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
-           "Result", "sweep", "trajectory_function", "calibrate", "design", "design_map"]
+           "Result", "sweep", "trajectory_function", "calibrate", "design", "design_map",
+           "sensitivity"]

@@ -127,7 +127,7 @@ def test_cli_sweep_writes_csv_and_plot(tmp_path, capsys):
     assert [(float(r["hammer.v0"]), float(r["oil.k"])) for r in rows] == [
         (1.87, 2e8), (1.87, 4e8), (2.73, 2e8), (2.73, 4e8)]
     assert (out / "sweep.png").stat().st_size > 10000
-    assert "4 points, 0 failed" in capsys.readouterr().out
+    assert "4 points, 0 failed;" in capsys.readouterr().out
     assert main(["sweep", "--set", "hammer.v0=1,x"]) == 2
     assert "values must be numbers" in capsys.readouterr().err
     assert main(["sweep", "--set", "nope=1,2", "--out", str(out)]) == 2

@@ -1,5 +1,5 @@
-"""Command line: ``pdbfs simulate | params | export-fmu | sweep | reproduce | calibrate |
-design | design-map``.
+"""Command line: ``pdbfs simulate | params | export-fmu | sweep | sensitivity | reproduce |
+calibrate | design | design-map``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -14,9 +14,9 @@ import sys
 
 from pdbfs.errors import PdbfsError
 
-from . import calibrate, design, reproduce, run, sweep
+from . import calibrate, design, reproduce, run, sensitivity, sweep
 
-COMMANDS = (run, sweep, reproduce, calibrate, design)
+COMMANDS = (run, sweep, sensitivity, reproduce, calibrate, design)
 
 
 def build_parser():
@@ -40,5 +40,8 @@ def main(argv=None) -> int:
     except PdbfsError as err:
         print(f"pdbfs: error: {err}", file=sys.stderr)
         return 2
+    except BrokenPipeError:          # e.g. piped into head: not an error of pdbfs
+        sys.stderr.close()
+        return 0
     return status or 0
 

@@ -40,44 +40,98 @@ def parse_sweep_sets(items):
     return out
 
 
+#: a sweep this small keeps its trajectories for the overlay plot (unless --no-plot)
+PLOT_MAX_POINTS = 50
+#: a sweep this small also writes one sweep.csv beside its chunks
+CSV_MAX_POINTS = 100_000
+
+
+def points_from_args(args):
+    """The sweep's points: --set lists (a grid, or --zip), or --sample KIND:N over
+    --range / --dist."""
+    from pdbfs.studies.sampling import Grid, Sample, parse_dist, parse_range, parse_sample
+    if args.sample:
+        if args.set:
+            raise ParameterError("give --set lists or --sample with --range/--dist, not both")
+        kind, n = parse_sample(args.sample)
+        ranges = dict(parse_range(r) for r in args.range or [])
+        dists = dict(parse_dist(d) for d in args.dist or [])
+        return Sample(kind, n, ranges, dists, seed=args.seed)
+    if args.range or args.dist:
+        raise ParameterError("--range and --dist need --sample (lhs:N, sobol:N or mc:N)")
+    return Grid(parse_sweep_sets(args.set), zip=args.zip)
+
+
 def cmd_sweep(args):
     from pdbfs.studies import sweep
+    from pdbfs.studies.cluster import close, connect
     rig = rig_by_name(args.rig)
-    values = parse_sweep_sets(args.set)
+    points = points_from_args(args)
     t_end = args.t_end if args.t_end is not None else getattr(rig, "default_t_end", 0.02)
     n_out = args.n_out if args.n_out is not None else getattr(rig, "default_n_out", 2001)
-    res = sweep(rig, values, grid=not args.zip, trajectories=not args.no_plot, t_end=t_end,
-                n_out=n_out, params=parse_sets(args.fix), rtol=args.rtol, method=args.method,
-                backend=args.backend, workers=args.workers, progress=None if not args.quiet else False)
+    # a small grid keeps its trajectories for the overlay plot, in memory; the rest
+    # streams its chunks to --out (and resumes)
+    plot = not args.no_plot and not args.sample and points.n <= PLOT_MAX_POINTS and not args.dask
     out = Path(args.out)
+    if plot:
+        from pdbfs.studies.sweep_store import refuse_other_sweep
+        refuse_other_sweep(out, args.overwrite)
+    client = connect(args.dask) if args.dask else None
+    try:
+        res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
+                    params=parse_sets(args.fix), rtol=args.rtol, method=args.method,
+                    backend=args.backend, workers=args.workers, client=client,
+                    out=None if plot else out, format=args.format, chunk_size=args.chunk,
+                    overwrite=args.overwrite, progress=None if not args.quiet else False)
+    finally:
+        if client is not None:
+            close(client)
     out.mkdir(parents=True, exist_ok=True)
-    res.to_csv(out / "sweep.csv")
-    wrote = [out / "sweep.csv"]
-    if not args.no_plot and res.ok:
+    wrote = [out] if res.store is not None else []
+    if len(res) <= CSV_MAX_POINTS:
+        res.to_csv(out / "sweep.csv")
+        wrote.append(out / "sweep.csv")
+    if plot and res.ok:
         import matplotlib
         matplotlib.use("Agg")
         res.plot(path=out / "sweep.png", title=f"rig {res.rig}: {len(res.ok)} points")
         wrote.append(out / "sweep.png")
+    failed = res.n_failed
     if args.json:
-        print(json.dumps([{"params": p.params, "summary": p.summary, "error": p.error}
-                          for p in res.points]))
+        doc = {"rig": res.rig, "n_points": len(res), "failed": failed, "computed": res.computed,
+               "elapsed": res.elapsed,
+               "where": res.where, "folder": str(out) if res.store is not None else None}
+        if len(res) <= 10_000:
+            doc["points"] = [{"params": p.params, "summary": p.summary, "error": p.error}
+                             for p in res.points]
+        print(json.dumps(doc))
     else:
-        print(f"rig {res.rig}: {len(res)} points, {len(res.failed)} failed, "
-              f"{res.elapsed:.2f} s on {res.workers} process(es)")
+        resumed = len(res) - res.computed
+        print(f"rig {res.rig}: {len(res)} points, {failed} failed; {res.computed} computed in "
+              f"{res.elapsed:.2f} s on {res.where} ({res.computed / max(res.elapsed, 1e-9):.0f} "
+              "points/s)" + (f", {resumed} found done in {args.out}" if resumed else ""))
         print(res.table())
-        print("wrote " + " and ".join(str(w) for w in wrote))
-    return 1 if res.failed and args.strict else 0
+        print("wrote " + ", ".join(str(w) for w in wrote))
+    return 1 if failed and args.strict else 0
 
 
 def add_parsers(sub):
-    s = sub.add_parser("sweep", help="simulate a rig over parameter values: CSV of summaries "
-                       "and an overlay plot of the pressure")
+    s = sub.add_parser("sweep", help="simulate a rig over a grid or a sample of parameter "
+                       "values, locally or on a Dask cluster; summaries to CSV/Parquet")
     s.add_argument("--rig", default="paper", help="rig name (default: paper)")
     s.add_argument("--set", action="append", metavar="NAME=V1,V2,...",
                    help="values of a parameter, comma separated or START:STOP:NUM "
                    "(repeatable; every combination is run)")
     s.add_argument("--zip", action="store_true",
                    help="pair the lists point by point instead of every combination")
+    s.add_argument("--sample", metavar="KIND:N",
+                   help="N points: lhs (Latin hypercube), sobol, or mc (Monte Carlo)")
+    s.add_argument("--range", action="append", metavar="NAME=LO:HI[:log]",
+                   help="a sampled parameter's range (uniform; :log for its logarithm)")
+    s.add_argument("--dist", action="append", metavar="NAME=normal:MEAN:SD",
+                   help="a Monte Carlo parameter's distribution: normal:MEAN:SD, "
+                   "uniform:LO:HI or lognormal:MEDIAN:SIGMA (with --sample mc:N)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
     s.add_argument("--fix", action="append", metavar="NAME=VALUE",
                    help="a parameter held at VALUE for every point (repeatable)")
     s.add_argument("--t-end", type=float, default=None, help="end time, s (default 0.02)")
@@ -85,12 +139,22 @@ def add_parsers(sub):
     s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance")
     s.add_argument("--method", default="adams", choices=["adams", "bdf"])
     s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
-                   help="as for simulate (default: casadi)")
+                   help="as for simulate (default: casadi; c: summaries in compiled C, fastest)")
     s.add_argument("--workers", type=int, default=None,
-                   help="processes (default: automatic, serial for small sweeps)")
-    s.add_argument("--out", default="out", help="output folder (default: out)")
-    s.add_argument("--no-plot", action="store_true", help="write the CSV only")
-    s.add_argument("--json", action="store_true", help="print the points as JSON")
+                   help="threads or processes on this machine (default: one per core)")
+    s.add_argument("--dask", metavar="ADDRESS",
+                   help="run on the Dask scheduler at ADDRESS (tcp://HOST:8786), or 'local' "
+                   "for a LocalCluster here")
+    s.add_argument("--out", default="out",
+                   help="output folder (default: out): manifest and chunk files of the sweep "
+                   "(rerun the same command to resume), sweep.csv, sweep.png")
+    s.add_argument("--format", default="parquet", choices=["parquet", "csv"],
+                   help="format of the chunk files (default: parquet)")
+    s.add_argument("--chunk", type=int, default=None, help="points per chunk (default: automatic)")
+    s.add_argument("--overwrite", action="store_true",
+                   help="replace another sweep found in --out instead of refusing")
+    s.add_argument("--no-plot", action="store_true", help="no overlay plot of the pressure")
+    s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.add_argument("--strict", action="store_true",
                    help="exit with status 1 if any point failed")

@@ -62,6 +62,12 @@ class DAE:
     # initial guess of z for IDAS (declared start values, else 0), function of p
     z0: ca.SX | None = None
 
+    def __getstate__(self):
+        """Pickle the model, not its caches (functions, integrators, compiled
+        libraries are rebuilt where it is unpickled; needs CasADi's pickle
+        context for the symbols)."""
+        return {k: v for k, v in self.__dict__.items() if not k.startswith("_")}
+
     # -- names ---------------------------------------------------------------
     @property
     def x_names(self) -> list[str]:

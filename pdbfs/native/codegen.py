@@ -43,12 +43,25 @@ LDFLAGS = ["-lm", "-Wl,--exclude-libs,ALL", "-Wl,-z,defs", "-static-libgcc"]
 FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc")
 
 
-def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None) -> list[ca.Function]:
+def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()) -> list[ca.Function]:
     """CasADi Functions ``pdbfs_<name>`` of the DAE for code generation, in
     the order of ``which``: ``ode`` (der x), ``jac`` (d ode / d x, dense,
     column major), ``out`` (y), ``events`` (event indicators), ``start``
-    (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters)."""
+    (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters),
+    ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
+    derivatives for a state derivative v: (d/dx) v + d/dt, a function of
+    (t, x, v, p)), ``roles_dot`` (their derivatives along the solution),
+    ``ode_q`` and ``jac_q`` (the ODE with the outputs named in ``quad``
+    integrated as extra states, and its Jacobian)."""
     args, names = [dae.t, dae.x, dae.z, dae.p], ["t", "x", "z", "p"]
+    r = ca.vertcat(*[dae.y[dae.y_names.index(n)] for n in roles]) if roles else ca.SX(0, 1)
+    v = ca.SX.sym("v", dae.x.numel())
+    r_rate = ca.jtimes(r, dae.x, v) + ca.jacobian(r, dae.t) if roles else ca.SX(0, 1)
+    r_dot = ca.jtimes(r, dae.x, dae.ode) + ca.jacobian(r, dae.t) if roles else ca.SX(0, 1)
+    q = ca.SX.sym("q", len(quad))
+    xq = ca.vertcat(dae.x, q)
+    ode_q = ca.vertcat(dae.ode, *[dae.y[dae.y_names.index(n)] for n in quad])
+    args_q = [dae.t, xq, dae.z, dae.p]
     make = {
         "ode": lambda: ca.Function("pdbfs_ode", args, [ca.densify(dae.ode)], names, ["xdot"]),
         "jac": lambda: ca.Function("pdbfs_jac", args, [ca.densify(ca.jacobian(dae.ode, dae.x))],
@@ -59,6 +72,14 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None) -> list[ca.Functi
         "calc": lambda: ca.Function("pdbfs_calc", [dae.p],
                                     [ca.densify(calc_expr if calc_expr is not None else ca.SX(0, 1))],
                                     ["p"], ["c"]),
+        "roles": lambda: ca.Function("pdbfs_roles", args, [ca.densify(r)], names, ["r"]),
+        "roles_rate": lambda: ca.Function("pdbfs_roles_rate", [dae.t, dae.x, v, dae.p],
+                                          [ca.densify(r_rate)], ["t", "x", "v", "p"], ["r_dot"]),
+        "roles_dot": lambda: ca.Function("pdbfs_roles_dot", args, [ca.densify(r_dot)], names,
+                                         ["r_dot"]),
+        "ode_q": lambda: ca.Function("pdbfs_ode_q", args_q, [ca.densify(ode_q)], names, ["xdot"]),
+        "jac_q": lambda: ca.Function("pdbfs_jac_q", args_q, [ca.densify(ca.jacobian(ode_q, xq))],
+                                     names, ["jac"]),
     }
     unknown = [w for w in which if w not in make]
     if unknown:

@@ -77,16 +77,29 @@ class Result:
         out = self._sim.dae.function("out")
         return float(out(t, x, z, self.p)[i])
 
+    @property
+    def curves(self):
+        """The Hermite interpolants of the variables (pdbfs.simulation.hermite)."""
+        if "_curves" not in self.__dict__:
+            from .hermite import Curves
+            self._curves = Curves(self)
+        return self._curves
+
     def peak(self, name: str, sign: float = 1.0, window=None) -> tuple[float, float]:
         """(time, value) of the maximum (``sign=-1``: minimum) of ``name``,
         over the run or between the times ``window = (a, b)``: the largest
-        sample, refined on the solution between its neighbours."""
+        sample, refined on the solution between its neighbours (on the
+        Hermite interpolant where it is trusted, else by minimising the
+        solution itself)."""
         y = sign * self[name]
         k0, k1 = 0, len(y) - 1
         if window is not None:
             k0 = int(np.searchsorted(self.t, window[0]))
             k1 = int(np.searchsorted(self.t, window[1], side="right")) - 1
         k = int(k0 + np.argmax(y[k0:k1 + 1]))
+        fast = self.curves.peak(name, k, sign) if k0 < k < k1 else None
+        if fast is not None:
+            return fast
         a, b = self.t[max(k - 1, 0)], self.t[min(k + 1, len(self.t) - 1)]
         if b <= a:
             return float(self.t[k]), float(self[name][k])
@@ -98,12 +111,17 @@ class Result:
         return float(self.t[k]), float(self[name][k])
 
     def crossings(self, name: str, level: float = 0.0) -> np.ndarray:
-        """Times at which ``name`` crosses ``level``, located by root finding."""
+        """Times at which ``name`` crosses ``level``, on the Hermite
+        interpolant where it is trusted, else by root finding on the solution."""
         y = self[name] - level
         s = np.sign(y)
         idx = np.flatnonzero(s[:-1] * s[1:] < 0)
-        g = lambda tt: self.value_at(name, tt) - level
-        out = [brentq(g, self.t[k], self.t[k + 1], xtol=1e-14, rtol=1e-12) for k in idx]
+        g = lambda tt: self.value_at(name, tt) - level   # noqa: E731
+        out = []
+        for k in idx:
+            tc = self.curves.crossing(name, level, k)
+            out.append(tc if tc is not None else
+                       brentq(g, self.t[k], self.t[k + 1], xtol=1e-14, rtol=1e-12))
         return np.array(out)
 
     # -- export -------------------------------------------------------------------

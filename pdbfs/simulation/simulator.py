@@ -313,6 +313,41 @@ class Simulator:
             self._cache[key] = f
         return f(np.asarray(grid, float).reshape(1, -1), X, Z, p)
 
+    def _vectorised(self, key, build):
+        """A function of (t, X, Z, p) on whole grids (numpy replay, else map), cached."""
+        f = self._cache.get(key)
+        if f is None:
+            fun = build()
+            fast = vectorize(fun)
+            if fast is not None:
+                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]   # noqa: E731
+            else:
+                f = lambda t, X, Z, p: fun.map(t.shape[1])(t, X, Z, p).full()   # noqa: E731
+            self._cache[key] = f
+        return f
+
+    def rates_on(self, grid, X, Z, p, name):
+        """d(name)/dt on the grid, from the DAE: (d y/dx) der(x) + d y/dt; None
+        for rigs with algebraic variables (their derivatives are not at hand)."""
+        dae = self.dae
+        if not dae.is_ode:
+            return None
+        y = dae.y[dae.y_names.index(name)]
+
+        def build():
+            rate = ca.jtimes(y, dae.x, dae.ode) + ca.jacobian(y, dae.t)
+            return ca.Function("rate", [dae.t, dae.x, dae.z, dae.p], [rate])
+        f = self._vectorised(("rate", name), build)
+        return f(np.asarray(grid, float).reshape(1, -1), X, Z, p).ravel()
+
+    def events_on(self, grid, X, Z, p):
+        """The event indicators on the grid (one row each)."""
+        dae = self.dae
+        f = self._vectorised(("events",), lambda: ca.Function(
+            "ev", [dae.t, dae.x, dae.z, dae.p], [dae.events]))
+        return np.atleast_2d(f(np.asarray(grid, float).reshape(1, -1), X, Z, p)) \
+            if dae.events.numel() else np.zeros((0, len(grid)))
+
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
                  max_num_steps=MAX_NUM_STEPS):
         """Walk the grid interval by interval to report where the solver stopped."""

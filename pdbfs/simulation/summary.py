@@ -23,6 +23,24 @@ UNITS = {"peak_pressure": "Pa", "time_of_peak": "s", "pulse_duration": "s",
 PULSE_LEVEL = 0.01   # the pulse lasts while the pressure exceeds 1 % of its peak
 
 
+def keys_for(dae) -> list[str]:
+    """The summary keys of a rig, in order, from the roles it names."""
+    roles = getattr(dae, "signals", {}) or {}
+    keys = []
+    if roles.get("pressure"):
+        keys += ["peak_pressure", "time_of_peak", "pulse_duration"]
+    if roles.get("contact_force"):
+        keys.append("peak_contact_force")
+    if roles.get("piston_displacement"):
+        keys.append("max_piston_displacement")
+    if roles.get("contact_force"):
+        keys.append("restitution_coefficient")
+    if roles.get("impact_indentation"):
+        keys += ["impact_count", "impact_times"] + (["impact_peak_pressures"]
+                                                   if roles.get("pressure") else [])
+    return keys
+
+
 def summarize(res) -> dict:
     roles = getattr(res._sim.dae, "signals", {}) or {}
     out = {}
@@ -122,6 +140,10 @@ def restitution(res, name, striker_velocity=None) -> float | None:
         t_stop = float(down_up[0])
         later = [tt for tt in turns if tt > t_stop]
         t_back = float(later[0]) if later else float(res.t[-1])   # the apex of the rebound
+        before = res.curves.integral(name, res.t[0], t_stop)
+        if before is not None:            # on the Hermite interpolant: no grid error
+            after = res.curves.integral(name, t_stop, t_back)
+            return float(after / before) if before > 0 else None
         t, y = _with_point(res, name, t_stop)
         k = int(np.searchsorted(t, t_stop))            # the inserted sample
         j = int(np.searchsorted(t, t_back, side="right"))

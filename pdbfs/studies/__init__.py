@@ -1,7 +1,13 @@
 """Studies on a rig's DAE: what users run to find a rig, not just simulate it.
 
-    sweeps.py        sweep(): many parameter points on one compiled rig
-    sweep_result.py  SweepResult: summaries per point, CSV, table, plot
+    sweeps.py        sweep(): many parameter points on one compiled rig, locally
+                     (threads, processes) or on Dask; streamed to disk, resumable
+      sampling.py      grids, Latin hypercube / Sobol' samples, Monte Carlo
+      sweep_runner.py  one chunk of points evaluated (C summaries, or Python)
+      sweep_store.py   manifest and chunk files of a sweep on disk
+      sweep_result.py  SweepResult: the table of points, CSV, pandas, plot
+      cluster.py       a Dask client: a scheduler's address, or a LocalCluster
+    sensitivity.py   sensitivity(): Sobol' indices (SALib) from one sweep
     calibration.py   calibrate(): a rig's unknown parameters fitted to a trace
     design.py        design(): the settings that give a target pulse
     design_map.py    design_map(): pulse features over two settings, one sweep
@@ -21,8 +27,11 @@ from .calibration import Calibration, calibrate
 from .design import Design, design
 from .design_map import DesignMap, design_map
 from .sweep_result import SweepPoint, SweepResult
+from .sampling import Grid, Points, Sample
+from .sensitivity import Sensitivity, sensitivity
 from .sweeps import points_of, sweep
 from .traces import Trace, read_trace
 
 __all__ = ["sweep", "points_of", "SweepPoint", "SweepResult", "calibrate", "Calibration",
-           "design", "Design", "design_map", "DesignMap", "Trace", "read_trace"]
+           "design", "Design", "design_map", "DesignMap", "Trace", "read_trace", "Grid", "Sample",
+           "Points", "sensitivity", "Sensitivity"]

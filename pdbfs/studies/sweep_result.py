@@ -1,16 +1,21 @@
-"""The result of a sweep: one SweepPoint per parameter point, in input order,
-with its summary or the reason it failed; as a table, CSV, DataFrame or an
-overlay plot."""
+"""The result of a sweep: a table with one row per point (its parameters, its
+summary, or why it failed), held in memory as columns, or read from the
+sweep's folder when the sweep streamed its chunks to disk (then nothing is
+held until asked for). Points as objects (``res.points``, ``res[i]``) are
+made on demand, for sweeps small enough to look at point by point.
+"""
 from __future__ import annotations
 
 import csv
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from pdbfs.errors import PdbfsError
 from pdbfs.simulation import SUMMARY_UNITS as UNITS
+
+from .sweep_runner import LIST_KEYS
 
 
 @dataclass
@@ -38,18 +43,82 @@ class SweepPoint:
         return self.summary[key]
 
 
-@dataclass
 class SweepResult:
-    """The points of a sweep, in the order of the input."""
+    """The points of a sweep, in input order. ``frame`` is the table (pandas);
+    ``store`` the folder it came from, if any."""
 
-    rig: str
-    names: list[str]
-    points: list[SweepPoint] = field(default_factory=list)
-    elapsed: float = 0.0
-    workers: int = 1
+    def __init__(self, rig, names, keys, frame=None, store=None, results=None, elapsed=0.0,
+                 workers=1, where="this process"):
+        self.rig, self.names, self.keys = rig, list(names), list(keys)
+        self._frame, self.store = frame, store
+        self._results = results or {}
+        self.elapsed, self.workers, self.where = elapsed, workers, where
+        self.computed = None      # points computed by this run (the rest: resumed from disk)
+        self._points = None
+
+    @classmethod
+    def load(cls, path) -> "SweepResult":
+        """The sweep written to the folder ``path`` (as far as it got)."""
+        from .sweep_store import Store
+        store = Store.open(path)
+        spec = store.spec
+        names = list(spec["points"].get("values") or spec["points"].get("ranges", {})) + \
+            list(spec["points"].get("dists", {}))
+        res = cls(spec.get("rig", "?"), names, [], store=store)
+        cols = list(res.frame.columns)
+        res.names = [c for c in cols if c in names] or names
+        res.keys = [c for c in cols if c not in ("point", "error") and c not in res.names]
+        return res
+
+    # -- the table --------------------------------------------------------------
+    @property
+    def frame(self):
+        if self._frame is None:
+            self._frame = self.store.read()
+        return self._frame
 
     def __len__(self):
-        return len(self.points)
+        if self._frame is None and self.store is not None:
+            return self.store.spec["n_points"]
+        return len(self.frame)
+
+    def to_pandas(self):
+        """The table as a pandas DataFrame: one row per point (point number,
+        parameters, summary keys, error; undefined values are NaN)."""
+        return self.frame.copy()
+
+    def values(self, key: str) -> np.ndarray:
+        """A parameter or summary value of every point (NaN where a point
+        failed or the value is undefined)."""
+        if key not in self.names and key not in self.keys:
+            raise KeyError(f"{key!r} is neither a swept parameter ({', '.join(self.names)}) "
+                           f"nor a summary key ({', '.join(self.keys)})")
+        if key in LIST_KEYS:
+            return np.full(len(self), np.nan)
+        return self.frame[key].to_numpy(dtype=float, na_value=np.nan)
+
+    def summary_keys(self) -> list[str]:
+        return list(self.keys)
+
+    # -- points -------------------------------------------------------------------
+    @property
+    def points(self) -> list[SweepPoint]:
+        if self._points is None:
+            self._points = [self._point(i, row) for i, row in enumerate(self.frame.itertuples(index=False))]
+        return self._points
+
+    def _point(self, i, row) -> SweepPoint:
+        row = row._asdict() if hasattr(row, "_asdict") else dict(row)
+        cols = dict(zip(self.frame.columns, row.values()))
+        pt = SweepPoint(index=int(cols.get("point", i)), params={n: float(cols[n]) for n in self.names})
+        err = cols.get("error") or ""
+        if err:
+            typ, _, msg = str(err).partition(": ")
+            pt.error_type, pt.error = typ, msg
+        else:
+            pt.summary = {k: _value(k, cols[k]) for k in self.keys}
+            pt.result = self._results.get(pt.index)
+        return pt
 
     def __iter__(self):
         return iter(self.points)
@@ -65,63 +134,33 @@ class SweepResult:
     def failed(self) -> list[SweepPoint]:
         return [p for p in self.points if not p.ok]
 
-    def values(self, key: str) -> np.ndarray:
-        """A parameter or summary value of every point (NaN where a point failed)."""
-        out = []
-        for p in self.points:
-            if key in p.params:
-                out.append(p.params[key])
-            elif p.summary is not None and key in p.summary:
-                v = p.summary[key]
-                out.append(v if np.isscalar(v) and v is not None else np.nan)
-            elif p.summary is None:
-                out.append(np.nan)
-            else:
-                raise KeyError(f"{key!r} is neither a swept parameter ({', '.join(self.names)}) "
-                               f"nor a summary key ({', '.join(p.summary)})")
-        return np.asarray(out, dtype=float)
-
-    def summary_keys(self) -> list[str]:
-        keys = []
-        for p in self.points:
-            for k in (p.summary or {}):
-                if k not in keys:
-                    keys.append(k)
-        return keys
+    @property
+    def n_failed(self) -> int:
+        return int((self.frame["error"] != "").sum()) if len(self) else 0
 
     def rows(self) -> list[dict]:
-        """One flat dict per point: parameters, summary keys, error."""
-        keys = self.summary_keys()
-        rows = []
+        """One flat dict per point: parameters, summary keys (lists as JSON), error."""
+        out = []
         for p in self.points:
             row = dict(p.params)
-            for k in keys:
+            for k in self.keys:
                 v = (p.summary or {}).get(k)
                 row[k] = json.dumps(v) if isinstance(v, (list, tuple)) else v
             row["error"] = "" if p.ok else f"{p.error_type}: {p.error}"
-            rows.append(row)
-        return rows
+            out.append(row)
+        return out
 
+    # -- output -------------------------------------------------------------------
     def to_csv(self, path):
-        """Write one row per point: swept parameters, every summary key (SI
-        units in the header), and the error of failed points."""
-        keys = self.summary_keys()
+        """One row per point: swept parameters, every summary key (SI units in
+        the header; an undefined value is an empty cell), and the error."""
+        head = self.names + [f"{k} [{UNITS.get(k, '')}]".replace(" []", "") for k in self.keys]
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(self.names + [f"{k} [{UNITS.get(k, '')}]".replace(" []", "")
-                                     for k in keys] + ["error"])
-            for row in self.rows():
-                w.writerow([_cell(row[n]) for n in self.names] + [_cell(row[k]) for k in keys]
-                           + [row["error"]])
+            w.writerow(head + ["error"])
+            for row in self.frame[self.names + self.keys + ["error"]].itertuples(index=False):
+                w.writerow([_cell(v) for v in row])
         return path
-
-    def to_pandas(self):
-        """A pandas DataFrame, one row per point (needs pandas installed)."""
-        try:
-            import pandas as pd
-        except ImportError:
-            raise PdbfsError("to_pandas() needs pandas: pip install pandas") from None
-        return pd.DataFrame(self.rows())
 
     def plot(self, name=None, path=None, title=None, labels=None, scale=None, ax=None):
         """Overlay ``name`` (by default the rig's pressure) of every point
@@ -159,23 +198,41 @@ class SweepResult:
             fig.savefig(path, dpi=130)
         return fig
 
-    def table(self) -> str:
-        """A plain-text table of the points (for the command line)."""
-        keys = [k for k in self.summary_keys() if k not in ("impact_times",)]
+    def table(self, limit: int | None = 200) -> str:
+        """A plain-text table of the points (for the command line; the first
+        ``limit`` points)."""
+        keys = [k for k in self.keys if k not in ("impact_times",)]
         head = self.names + [f"{k} [{UNITS.get(k, '')}]" for k in keys]
         lines = ["  ".join(f"{h:>14}" for h in head)]
-        for p in self.points:
+        pts = self.points if limit is None or len(self) <= limit else \
+            [self._point(i, r) for i, r in enumerate(self.frame.head(limit).itertuples(index=False))]
+        for p in pts:
             cells = [_fmt(p.params[n]) for n in self.names]
             if p.ok:
                 cells += [_fmt(p.summary.get(k)) for k in keys]
                 lines.append("  ".join(f"{c:>14}" for c in cells))
             else:
                 lines.append("  ".join(f"{c:>14}" for c in cells) + f"  FAILED {p.error_type}: {p.error}")
+        if len(pts) < len(self):
+            lines.append(f"... {len(self) - len(pts)} more points (the whole table: to_csv or "
+                         "the sweep's folder)")
         return "\n".join(lines)
 
 
-def _cell(v):
+def _value(key, v):
+    """A table cell as a summary value: None for undefined, lists from JSON."""
+    if key in LIST_KEYS:
+        return json.loads(v) if isinstance(v, str) and v else None
     if v is None:
+        return None
+    v = float(v)
+    if np.isnan(v):
+        return None
+    return int(v) if key == "impact_count" else v
+
+
+def _cell(v):
+    if v is None or (isinstance(v, (float, np.floating)) and np.isnan(v)):
         return ""
     if isinstance(v, (float, np.floating)):
         return repr(float(v))

@@ -1,181 +1,173 @@
 """Parameter sweeps: one compiled rig, many parameter points.
 
     res = pdbfs.sweep(paper_rig(), {"hammer.v0": [1.87, 2.73, 4.23, 5.50]})
-    res.to_csv("sweep.csv")
-    for pt in res: print(pt.params, pt.summary or pt.error)
+    res = pdbfs.sweep(paper_rig(), Sample("lhs", 100_000, ranges={...}), backend="c",
+                      out="lhs-sweep")                       # streamed to disk, resumable
+    res = pdbfs.sweep(rig, values, client=dask.distributed.Client(...))   # on a cluster
 
-The rig is compiled once and every point runs on the same cached SUNDIALS
-integrator (``Simulator.of(rig)``); nothing is rebuilt between points.
-
-Parallelism: a point costs about 6 ms of integration and about 11 ms of
-summary (peaks and crossings are located by root finding on the solution), so
-the work is spread over forked worker processes, each running whole points
-(integration and summary). CasADi's ``map(N, 'thread')`` over the integrator
-was measured slower than a serial loop on this machine (6.7 vs 5.5 ms per
-point, 2 cores) and would leave the summaries serial, so it is not used.
-Below ``PARALLEL_MIN_POINTS`` points, or on one core, the sweep runs serially.
+The points come in chunks (sampling.py); a chunk is evaluated by a Runner
+(sweep_runner.py): with the compiled backend one call of the C summary
+driver per chunk, run in threads (ctypes releases the GIL); with the CasADi
+backend point by point in forked processes; on a Dask cluster as one task
+per chunk, the rig built once per worker. Chunks go to memory, or to the
+files of a Store (sweep_store.py) as they finish, so a sweep of any size
+runs in bounded memory and resumes after an interruption.
 """
 from __future__ import annotations
 
-import itertools
 import math
 import os
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError
+from pdbfs.errors import ParameterError
 from pdbfs.simulation import Result, Simulator
 
-from .sweep_result import SweepPoint, SweepResult
+from .sampling import Grid, PointSet
+from .sweep_result import SweepResult
+from .sweep_runner import Runner, Settings, payload, run_remote
+from .sweep_store import Store, chunk_columns
 
-#: below this many points a sweep runs serially (forking costs ~50-100 ms)
+#: below this many points a sweep runs in one process
 PARALLEL_MIN_POINTS = 8
-#: show a progress bar for sweeps expected to take longer than this, s
+#: a progress bar appears once a sweep has run this long, s
 PROGRESS_AFTER = 2.0
 
 
-# ------------------------------------------------------------------ the points
 def points_of(values: dict, grid: bool = True) -> list[dict]:
-    """The parameter points of a sweep: the Cartesian product of the lists
-    (``grid=True``) or the lists read as columns of equal length."""
-    if not isinstance(values, dict) or not values:
-        raise ParameterError("sweep: give the values as a non-empty dict "
-                             "{parameter name: list of values}")
-    cols = {}
-    for name, vals in values.items():
-        if not isinstance(name, str):
-            raise ParameterError(f"sweep: parameter name {name!r} is not a string")
-        if isinstance(vals, (str, bytes)) or np.isscalar(vals):
-            vals = [vals]
-        vals = list(np.asarray(vals, dtype=object).ravel()) if isinstance(vals, np.ndarray) \
-            else list(vals)
-        if not vals:
-            raise ParameterError(f"sweep: no values given for {name}")
-        cols[name] = vals
-    names = list(cols)
-    if grid:
-        return [dict(zip(names, combo)) for combo in itertools.product(*cols.values())]
-    lengths = {n: len(v) for n, v in cols.items()}
-    if len(set(lengths.values())) > 1:
-        raise ParameterError("sweep(grid=False) needs lists of equal length, got "
-                             + ", ".join(f"{n}: {k}" for n, k in lengths.items()))
-    n = next(iter(lengths.values()))
-    return [{name: cols[name][i] for name in names} for i in range(n)]
+    """The parameter points of a small sweep as dicts: the Cartesian product
+    of the lists (``grid=True``) or the lists read as columns."""
+    g = Grid(values, zip=not grid)
+    return [dict(zip(g.names, row.tolist())) for row in g.all()]
 
 
-# ------------------------------------------------------------------ the sweep
-_WORK = None   # (Simulator, run kwargs, trajectories): inherited by forked workers
-
-
-def sweep(rig, values: dict, *, grid: bool = True, trajectories: bool = False,
-          t_end: float = 0.02, n_out: int = 2001, params: dict | None = None,
-          start: dict | None = None, rtol: float = 1e-8, atol: float = 1e-10,
-          method: str = "adams", max_step: float | None = None, backend: str = "casadi",
-          workers: int | None = None, progress: bool | None = None) -> SweepResult:
+def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
+          n_out: int = 2001, params: dict | None = None, start: dict | None = None,
+          rtol: float = 1e-8, atol: float = 1e-10, method: str = "adams",
+          max_step: float | None = None, backend: str = "casadi", workers: int | None = None,
+          progress: bool | None = None, client=None, out=None, format: str = "parquet",
+          chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
     rig           a Component, its compiled DAE, or a name from pdbfs.models.RIGS
-    values        {parameter name: list of values}
-    grid          True: every combination; False: the lists are columns of
-                  equal length (point i takes the i-th value of each)
-    trajectories  keep each point's full Result (``point.result``)
+    values        {parameter name: list of values}, or a PointSet (sampling.py:
+                  Sample("lhs" | "sobol" | "mc", n, ranges=..., dists=...))
+    grid          dict values: every combination (True) or columns (False)
+    trajectories  keep each point's full Result (``point.result``; small sweeps)
     params        parameters fixed for every point
     t_end, n_out, start, rtol, atol, method, max_step, backend: as in pdbfs.simulate
-    workers       processes to use (None: automatic; 1: serial)
-    progress      show a progress bar on stderr (None: when the sweep is
-                  expected to take more than a couple of seconds)
+    workers       threads or processes on this machine (None: automatic)
+    client        a dask.distributed.Client: one task per chunk on its cluster
+    out           a folder: chunks are written there as they finish (``format``
+                  parquet or csv) and a rerun of the same sweep resumes; a folder
+                  holding another sweep is refused unless ``overwrite``
+    progress      a progress bar on stderr (None: once the sweep takes a while)
 
-    A point that fails (a bad value, a solver failure: any PdbfsError) is
-    returned with its parameters and the reason; the others still run.
-    An unknown parameter name fails the whole sweep at once.
+    A point that fails (a bad value, a solver failure) is returned with its
+    parameters and the reason; the others still run. An unknown parameter
+    name fails the whole sweep at once.
     """
-    global _WORK
     if isinstance(rig, str):
         from pdbfs.models import RIGS
         if rig not in RIGS:
             raise ParameterError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
         rig = RIGS[rig]()
     sim = Simulator.of(rig)
-    pts = points_of(values, grid)
-    names = list(pts[0])
+    points = values if isinstance(values, PointSet) else Grid(values, zip=not grid)
     fixed = dict(params or {})
-    clash = sorted(set(fixed) & set(names))
+    clash = sorted(set(fixed) & set(points.names))
     if clash:
         raise ParameterError(f"sweep: {', '.join(clash)} is both swept and fixed in params=")
+    info = {p.name: p for p in sim.dae.params}
     # names first: an unknown name is an error of the whole sweep, not of a point
-    sim.param_vector({n: _probe_value(sim, n) for n in list(names) + list(fixed)})
+    sim.param_vector({n: info[n].value if n in info else 0.0 for n in points.names + list(fixed)})
     sim.param_vector(fixed)
-    kwargs = dict(t_end=t_end, n_out=n_out, start=start, rtol=rtol, atol=atol, method=method,
-                  max_step=max_step, backend=backend)
-    sim.grid(t_end, n_out)   # bad t_end / n_out: one clear error now
+    sim.grid(t_end, n_out)
     sim.check_settings(rtol, atol, method, max_step, backend=backend)
-    if backend == "c":
-        sim.compiled()       # built once here, inherited by forked workers
-    else:
-        sim.integrator(sim.grid(t_end, n_out), rtol, atol, method, max_step)
+    if start:
+        sim.start_vector(sim.param_vector(fixed), start)
+    if trajectories and (client is not None or out is not None):
+        raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
+    settings = Settings(float(t_end), int(n_out), float(rtol), float(atol), method, max_step,
+                        backend, tuple(sorted((start or {}).items())), bool(trajectories))
+    runner = Runner(sim, points.names, fixed, settings)
 
-    n = len(pts)
-    if workers is None:
-        workers = _auto_workers(n)
-    elif not (isinstance(workers, int) and workers >= 1):
-        raise ParameterError(f"sweep: workers = {workers!r} must be a whole number >= 1")
-    workers = min(workers, n)
-    if workers > 1 and not _can_fork():
-        workers = 1
+    n = points.n
+    workers = _workers(workers, n)
+    if chunk_size is None:
+        per = 512 if runner.fast is not None else 32
+        chunk_size = max(1, min(per, math.ceil(n / (4 * workers))))
+    elif not (isinstance(chunk_size, int) and chunk_size >= 1):
+        raise ParameterError(f"sweep: chunk_size = {chunk_size!r} must be a whole number >= 1")
+    chunks = [(c, c * chunk_size, min(n, (c + 1) * chunk_size)) for c in range(math.ceil(n / chunk_size))]
+    store = None
+    if out is not None:
+        spec = {"rig": sim.dae.name, "dae": _dae_key(sim), "points": points.spec, "fixed": fixed,
+                "settings": settings.__dict__}
+        store = Store(out, spec, n, chunk_size, format, overwrite)
+        done = store.done()
+        chunks = [c for c in chunks if c[0] not in done]
 
     t0 = time.perf_counter()
-    bar = _Progress(n, progress, sim.dae.name)
-    jobs = [(i, {**fixed, **p}) for i, p in enumerate(pts)]
-    raw = {}
-    _WORK = (sim, kwargs, trajectories)
-    try:
-        if workers == 1:
-            for job in jobs:
-                i, out = _run_point(job)
-                raw[i] = out
-                bar.update(1)
-        else:
-            import multiprocessing as mp
-            chunk = max(1, min(16, math.ceil(n / (workers * 4))))
-            chunks = [jobs[k:k + chunk] for k in range(0, n, chunk)]
-            with mp.get_context("fork").Pool(workers) as pool:
-                for outs in pool.imap_unordered(_run_chunk, chunks):
-                    for i, out in outs:
-                        raw[i] = out
-                    bar.update(len(outs))
-    finally:
-        _WORK = None
-        bar.close()
+    bar = _bar(n, n - sum(b - a for _, a, b in chunks), progress, sim.dae.name)
+    kept, results = [], {}
 
-    res = SweepResult(rig=sim.dae.name, names=names, elapsed=time.perf_counter() - t0,
-                      workers=workers)
-    for i, p in enumerate(pts):
-        out = raw[i]
-        pt = SweepPoint(index=i, params=dict(p))
-        if out[0] == "ok":
-            pt.summary = out[1]
-            if trajectories:
-                pt.result = _rebuild(sim, out[2])
+    def finish(cid, chunk):
+        if store is not None:
+            store.write(cid, chunk_columns(chunk, points.names, runner.keys))
         else:
-            pt.error_type, pt.error = out[1], out[2]
-        res.points.append(pt)
+            kept.append(chunk_columns(chunk, points.names, runner.keys))
+            for i, r in zip(chunk.index, chunk.results):
+                if r is not None:
+                    results[int(i)] = _rebuild(sim, r)
+        bar.update(len(chunk.index))
+
+    try:
+        if client is not None:
+            where = _run_dask(client, sim, points, fixed, settings, chunks, finish)
+        elif workers > 1 and runner.fast is not None:
+            with ThreadPoolExecutor(workers) as pool:
+                submit = lambda cid, a, b: pool.submit(runner.run, np.arange(a, b), points.block(a, b))  # noqa: E731
+                _windowed(chunks, submit, lambda f: f.result(), 4 * workers, finish)
+            where = f"{workers} threads"
+        elif workers > 1 and _can_fork():
+            where = _run_forked(runner, points, chunks, workers, finish)
+        else:
+            for cid, a, b in chunks:
+                finish(cid, runner.run(np.arange(a, b), points.block(a, b)))
+            where, workers = "this process", 1
+    finally:
+        bar.close()
+    frame = None
+    if store is None:
+        import pandas as pd
+        frame = pd.concat([pd.DataFrame(c) for c in kept], ignore_index=True)
+        frame = frame.sort_values("point", kind="stable").reset_index(drop=True)
+    res = SweepResult(sim.dae.name, points.names, runner.keys, frame=frame, store=store,
+                      results=results, elapsed=time.perf_counter() - t0, workers=workers,
+                      where=where)
+    res.computed = sum(b - a for _, a, b in chunks)   # the others were on disk already
     return res
 
 
-def _probe_value(sim, name):
-    """A valid value of parameter ``name`` (its default), to check names only."""
-    for info in sim.dae.params:
-        if info.name == name:
-            return info.value
-    return 0.0   # unknown: param_vector raises with a hint
+def _workers(workers, n) -> int:
+    if workers is None:
+        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+        return 1 if n < PARALLEL_MIN_POINTS or (cpus or 1) < 2 else min(cpus, n)
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ParameterError(f"sweep: workers = {workers!r} must be a whole number >= 1")
+    return min(workers, max(n, 1))
 
 
-def _auto_workers(n: int) -> int:
-    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    if n < PARALLEL_MIN_POINTS or (cpus or 1) < 2:
-        return 1
-    return min(cpus, n)
+def _dae_key(sim) -> str:
+    """What identifies the rig's equations, for the sweep's manifest."""
+    import hashlib
+    dae = sim.dae
+    text = "\n".join([str(dae.ode), str(dae.y), str(dae.x0), str(dae.events), ",".join(dae.p_names)])
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def _can_fork() -> bool:
@@ -183,77 +175,89 @@ def _can_fork() -> bool:
     return "fork" in mp.get_all_start_methods()
 
 
-def _run_chunk(jobs):
-    return [_run_point(j) for j in jobs]
+_FORKED = None   # (runner, points): inherited by forked workers
 
 
-def _run_point(job):
-    i, params = job
-    sim, kwargs, keep = _WORK
+def _forked_chunk(job):
+    cid, a, b = job
+    runner, points = _FORKED
+    chunk = runner.run(np.arange(a, b), points.block(a, b))
+    # Results travel without their Simulator; the parent gives them its own
+    chunk.results = [None if r is None else {k: v for k, v in vars(r).items()
+                                             if k not in ("_sim", "_curves")}
+                     for r in chunk.results]
+    return cid, chunk
+
+
+def _run_forked(runner, points, chunks, workers, finish) -> str:
+    global _FORKED
+    import multiprocessing as mp
+    _FORKED = (runner, points)
     try:
-        res = sim.run(params=params, **kwargs)
-        summary = res.summary()
-        if keep:   # the Result without its Simulator (rebuilt in the parent's)
-            state = {k: v for k, v in vars(res).items() if k != "_sim"}
-            return i, ("ok", summary, state)
-        return i, ("ok", summary)
-    except PdbfsError as err:
-        return i, ("error", type(err).__name__, str(err))
-    except (ArithmeticError, ValueError, RuntimeError) as err:   # anything the summary hits
-        return i, ("error", type(err).__name__, f"{err}")
+        with mp.get_context("fork").Pool(workers) as pool:
+            for cid, chunk in pool.imap_unordered(_forked_chunk, chunks):
+                finish(cid, chunk)
+    finally:
+        _FORKED = None
+    return f"{workers} processes"
 
 
 def _rebuild(sim, state):
+    if isinstance(state, Result):
+        return state
     res = Result.__new__(Result)
     res.__dict__.update(state)
     res._sim = sim
     return res
 
 
-class _Progress:
-    """tqdm if installed, else a one-line bar on stderr; shown only when
-    asked, or (progress=None) once the sweep looks like lasting a while."""
+def _windowed(chunks, submit, result, window, finish):
+    """Keep at most ``window`` chunks in flight (points are made as chunks are
+    submitted, so memory stays bounded), finishing them as they complete."""
+    from concurrent.futures import FIRST_COMPLETED, wait
+    todo, running = iter(chunks), {}
+    for cid, a, b in todo:
+        running[submit(cid, a, b)] = cid
+        if len(running) >= window:
+            break
+    while running:
+        done, _ = wait(list(running), return_when=FIRST_COMPLETED)
+        for f in done:
+            finish(running.pop(f), result(f))
+            nxt = next(todo, None)
+            if nxt is not None:
+                running[submit(*nxt)] = nxt[0]
 
-    def __init__(self, total, progress, label):
-        self.total, self.done, self.progress = total, 0, progress
-        self.label = label
-        self.t0 = time.perf_counter()
-        self.bar = None
-        self.shown = False
-        if progress:
-            self._open()
 
-    def _open(self):
-        self.shown = True
-        try:
-            from tqdm import tqdm
-            self.bar = tqdm(total=self.total, initial=self.done, desc=f"sweep {self.label}",
-                            unit="pt", file=sys.stderr, leave=False)
-        except ImportError:
-            self.bar = None
+def _run_dask(client, sim, points, fixed, settings, chunks, finish) -> str:
+    """One task per chunk, a few per worker in flight; the rig travels once
+    to every worker (scattered) and is built there once
+    (sweep_runner.run_remote keeps it). Tasks of a lost worker are run again
+    by Dask on the others."""
+    from distributed import as_completed
+    key, data = payload(sim, points.names, fixed, settings)
+    shipped = client.scatter(data, broadcast=True)
+    n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
+    todo, ids = iter(chunks), {}
 
-    def update(self, k):
-        self.done += k
-        if self.progress is None and not self.shown and self.done < self.total:
-            elapsed = time.perf_counter() - self.t0
-            if elapsed / self.done * self.total > PROGRESS_AFTER and sys.stderr.isatty():
-                self._open()
-                return
-        if not self.shown:
-            return
-        if self.bar is not None:
-            self.bar.update(k)
-        else:
-            w = 30
-            f = int(w * self.done / self.total)
-            sys.stderr.write(f"\rsweep {self.label} [{'#' * f}{'.' * (w - f)}] "
-                             f"{self.done}/{self.total}")
-            sys.stderr.flush()
+    def submit(cid, a, b):
+        f = client.submit(run_remote, key, shipped, np.arange(a, b), points.block(a, b),
+                          key=f"pdbfs-sweep-{key}-{cid}", pure=False)
+        ids[f.key] = cid
+        return f
 
-    def close(self):
-        if not self.shown:
-            return
-        if self.bar is not None:
-            self.bar.close()
-        else:
-            sys.stderr.write("\n")
+    first = [submit(*c) for _, c in zip(range(4 * n_workers), todo)]
+    pending = as_completed(first)
+    for fut in pending:
+        finish(ids.pop(fut.key), fut.result())
+        nxt = next(todo, None)
+        if nxt is not None:
+            pending.add(submit(*nxt))
+    return f"Dask, {len(client.scheduler_info().get('workers', {}))} worker(s)"
+
+
+def _bar(total, initial, progress, label):
+    from tqdm import tqdm
+    disable = progress is False or (progress is None and not sys.stderr.isatty())
+    return tqdm(total=total, initial=initial, desc=f"sweep {label}", unit="pt", file=sys.stderr,
+                leave=False, disable=disable, delay=0 if progress else PROGRESS_AFTER)

@@ -48,7 +48,7 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     double *yd = N_VGetArrayPointer(ydot);
     s->rhs_evals++;
-    if (pdbfs_eval_txp(s->ev, pdbfs_ode, t, N_VGetArrayPointer(y), yd)) return -1;
+    if (pdbfs_eval_txp(s->ev, s->ode, t, N_VGetArrayPointer(y), yd)) return -1;
     return all_finite(yd, s->nx) ? 0 : 1;   /* recoverable: CVODE retries with a smaller step */
 }
 
@@ -57,13 +57,18 @@ static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
     PdbfsCvode *s = (PdbfsCvode *)ud;
     double *jd = SUNDenseMatrix_Data(J);   /* column major, like CasADi */
     (void)fy; (void)t1; (void)t2; (void)t3;
-    if (pdbfs_eval_txp(s->ev, pdbfs_jac, t, N_VGetArrayPointer(y), jd)) return -1;
+    if (pdbfs_eval_txp(s->ev, s->jac, t, N_VGetArrayPointer(y), jd)) return -1;
     return all_finite(jd, (long)s->nx * s->nx) ? 0 : 1;
 }
 
 static int cv_root(realtype t, N_Vector y, realtype *g, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     return pdbfs_eval_txp(s->ev, pdbfs_events, t, N_VGetArrayPointer(y), g) ? -1 : 0;
+}
+
+static int cv_user_root(realtype t, N_Vector y, realtype *g, void *ud) {
+    PdbfsCvode *s = (PdbfsCvode *)ud;
+    return s->user_root(s->root_env, t, N_VGetArrayPointer(y), g) ? -1 : 0;
 }
 
 static void cv_err(int code, const char *module, const char *function, char *msg, void *ud) {
@@ -79,6 +84,8 @@ void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn
     s->nx = nx;
     s->ne = ne;
     s->ev = ev;
+    s->ode = pdbfs_ode;
+    s->jac = pdbfs_jac;
     s->log = log;
     s->env = env;
 }
@@ -134,10 +141,15 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
         say(s, PDBFS_LOG_ERROR, "out of memory (N_Vector of %d states)", s->nx);
         return NO_MEMORY;
     }
+    N_VEnableFusedOps_Serial(s->y, 1);   /* one call per linear combination: small rigs are call-bound */
     for (i = 0; i < s->nx; i++) NV_Ith_S(s->y, i) = x0[i];
     for (i = 0; i < s->nx; i++) NV_Ith_S(s->atol, i) = set->atol[i];
     if (!s->cv) flag = create(s, set, t0);
     else flag = CVodeReInit(s->cv, t0, s->y);
+    if (flag == CV_SUCCESS && s->roots_changed) {   /* back to the rig's events */
+        flag = CVodeRootInit(s->cv, s->ne, s->ne > 0 ? cv_root : NULL);
+        s->roots_changed = 0;
+    }
     if (flag == CV_SUCCESS) flag = CVodeSVtolerances(s->cv, set->rtol, s->atol);
     if (flag == CV_SUCCESS) flag = CVodeSetMaxStep(s->cv, set->max_step > 0 ? set->max_step : 0.0);
     if (flag == CV_SUCCESS && isfinite(set->t_stop)) flag = CVodeSetStopTime(s->cv, set->t_stop);
@@ -197,6 +209,10 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
             s->t_root = tret;
         }
         CVodeGetCurrentTime(s->cv, &s->tn);
+        if (s->on_step && s->on_step(s->step_env, tret, N_VGetArrayPointer(s->y))) {
+            say(s, PDBFS_LOG_ERROR, "stopped by the step callback at t = %.10g", tret);
+            return PDBFS_CV_STOPPED;
+        }
     }
     if (s->steps_since_start == 0) {   /* t_out is the (re)start point itself */
         for (i = 0; i < s->nx; i++) x_out[i] = NV_Ith_S(s->y, i);
@@ -209,4 +225,32 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
     }
     for (i = 0; i < s->nx; i++) x_out[i] = NV_Ith_S(s->tmp, i);
     return 0;
+}
+
+int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0,
+                      double t1, pdbfs_root_fn g, void *env, int dir, int max, double *t_root,
+                      double *x_root) {
+    PdbfsCvodeSettings local = *set;
+    int flag, n = 0, i;
+    double tret;
+    local.t_stop = t1;
+    flag = pdbfs_cvode_start(s, &local, t0, x0);
+    if (flag) return flag < 0 ? flag : -100;
+    s->user_root = g;
+    s->root_env = env;
+    s->roots_changed = 1;
+    flag = CVodeRootInit(s->cv, 1, cv_user_root);
+    if (flag == CV_SUCCESS) flag = CVodeSetRootDirection(s->cv, &dir);
+    if (flag == CV_SUCCESS) flag = CVodeSetNoInactiveRootWarn(s->cv);
+    while (flag >= 0 && n < max) {
+        flag = CVode(s->cv, t1, s->y, &tret, CV_NORMAL);
+        if (flag == CV_ROOT_RETURN) {
+            t_root[n] = tret;
+            for (i = 0; i < s->nx; i++) x_root[n * s->nx + i] = NV_Ith_S(s->y, i);
+            n++;
+        } else if (flag >= 0) {
+            break;       /* reached t1 */
+        }
+    }
+    return flag < 0 ? flag : n;
 }

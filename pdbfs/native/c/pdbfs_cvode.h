@@ -27,8 +27,9 @@
 #define PDBFS_ADAMS 0
 #define PDBFS_BDF 1
 
-/* pdbfs_cvode_advance's own failure (CVODE's are its negative flags) */
+/* pdbfs_cvode_advance's own failures (CVODE's are its negative flags) */
 #define PDBFS_CV_TOO_MUCH_WORK 3
+#define PDBFS_CV_STOPPED 5        /* the step callback asked to stop */
 
 /* what the log callback is told */
 #define PDBFS_LOG_ERROR 0
@@ -37,6 +38,8 @@
 
 typedef int (*pdbfs_casadi_fn)(const casadi_real **, casadi_real **, casadi_int *, casadi_real *, int);
 typedef void (*pdbfs_log_fn)(void *env, int kind, const char *text);
+typedef int (*pdbfs_step_fn)(void *env, double t, const double *x);
+typedef int (*pdbfs_root_fn)(void *env, double t, const double *x, double *g);
 
 /* How to evaluate the model: the parameters and CasADi work arrays (owned by
  * the caller, sized by the generated PDBFS_SZ_* of its header). */
@@ -59,6 +62,8 @@ typedef struct {
 typedef struct {
     int nx, ne;
     PdbfsEval *ev;
+    /* the right-hand side and its dense Jacobian (default pdbfs_ode, pdbfs_jac) */
+    pdbfs_casadi_fn ode, jac;
     pdbfs_log_fn log;     /* may be NULL */
     void *env;
     /* CVODE and its memory */
@@ -75,6 +80,14 @@ typedef struct {
     int root_pending;     /* a root at t_root, not yet restarted from */
     double t_root;
     long steps_since_start;
+    /* called after every internal step with its end (a root where the step
+     * stopped at one); a nonzero return stops the integration */
+    pdbfs_step_fn on_step;
+    void *step_env;
+    /* a user root function while pdbfs_cvode_roots runs (else the events) */
+    pdbfs_root_fn user_root;
+    void *root_env;
+    int roots_changed;
     /* statistics since pdbfs_cvode_init */
     long steps, roots, rhs_evals;
 } PdbfsCvode;
@@ -93,6 +106,15 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
  * PDBFS_CV_TOO_MUCH_WORK, or CVODE's negative flag; s->tn is then the
  * time reached. */
 int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_steps, double *x_out);
+
+/* Roots of g(t, x) on (t0, t1], integrating from (t0, x0): at most max,
+ * with direction dir (-1 falling, +1 rising, 0 both), their times in
+ * t_root and states in x_root (max x nx).  The number found, or a CVODE
+ * flag (< 0).  The rig's own events are not roots here: pass an interval
+ * free of them (a step of an earlier integration). */
+int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0,
+                      double t1, pdbfs_root_fn g, void *env, int dir, int max, double *t_root,
+                      double *x_root);
 
 /* Free CVODE's memory; ``s`` may be started again. */
 void pdbfs_cvode_free(PdbfsCvode *s);

@@ -32,7 +32,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 1
+#define PDBFS_BATCH_ABI 2
 
 /* methods */
 #define METHOD_ADAMS PDBFS_ADAMS

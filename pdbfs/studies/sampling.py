@@ -1,0 +1,253 @@
+"""The points of a sweep: grids and zipped lists, Latin hypercube and Sobol'
+samples of ranges (scipy.stats.qmc), Monte Carlo draws from distributions.
+
+A point set is a number of points over named parameters that hands out
+blocks of rows (``block(i0, i1)``, an array of i1 - i0 x len(names)) and a
+``spec`` that identifies it (the sweep's manifest hashes it to recognise a
+sweep it is asked to resume). Nothing holds one Python object per point:
+a million-point grid is indexed, not listed.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import stats
+from scipy.stats import qmc
+
+from pdbfs.errors import ParameterError
+
+SAMPLERS = ("lhs", "sobol", "mc")
+DISTRIBUTIONS = {"normal": 2, "uniform": 2, "lognormal": 2}   # name -> number of arguments
+
+
+class PointSet:
+    names: list[str]
+    n: int
+
+    def block(self, i0: int, i1: int) -> np.ndarray:
+        raise NotImplementedError
+
+    @property
+    def spec(self) -> dict:
+        raise NotImplementedError
+
+    def all(self) -> np.ndarray:
+        return self.block(0, self.n)
+
+
+class Grid(PointSet):
+    """Every combination of the value lists (``zip=False``) or the lists read
+    as columns of equal length (``zip=True``)."""
+
+    def __init__(self, values: dict, zip: bool = False):
+        if not isinstance(values, dict) or not values:
+            raise ParameterError("sweep: give the values as a non-empty dict "
+                                 "{parameter name: list of values}")
+        self.cols = {}
+        for name, vals in values.items():
+            if not isinstance(name, str):
+                raise ParameterError(f"sweep: parameter name {name!r} is not a string")
+            arr = np.atleast_1d(np.asarray(vals, dtype=object)).ravel()
+            if arr.size == 0:
+                raise ParameterError(f"sweep: no values given for {name}")
+            try:
+                self.cols[name] = arr.astype(float)
+            except (TypeError, ValueError):
+                bad = next(v for v in arr if not _is_number(v))
+                raise ParameterError(f"sweep: {name} = {bad!r} is not a number") from None
+        self.names, self.zip = list(self.cols), zip
+        sizes = [c.size for c in self.cols.values()]
+        if zip and len(set(sizes)) > 1:
+            raise ParameterError("sweep(grid=False) needs lists of equal length, got "
+                                 + ", ".join(f"{n}: {c.size}" for n, c in self.cols.items()))
+        self.shape = tuple(sizes)
+        self.n = sizes[0] if zip else math.prod(sizes)
+
+    def block(self, i0, i1):
+        idx = np.arange(i0, i1)
+        if self.zip:
+            return np.column_stack([c[idx] for c in self.cols.values()])
+        sub = np.unravel_index(idx, self.shape)      # the last name varies fastest
+        return np.column_stack([c[s] for c, s in zip(self.cols.values(), sub)])
+
+    @property
+    def spec(self):
+        """The lists by length, ends and a hash: a manifest stays small for a
+        million values."""
+        return {"kind": "zip" if self.zip else "grid",
+                "values": {n: {"n": int(c.size), "first": float(c[0]), "last": float(c[-1]),
+                               "sha256": _digest(c)} for n, c in self.cols.items()}}
+
+
+def _digest(a) -> str:
+    import hashlib
+    return hashlib.sha256(np.ascontiguousarray(a, dtype=float).tobytes()).hexdigest()[:16]
+
+
+def _is_number(v) -> bool:
+    try:
+        float(v)
+        return True
+    except (TypeError, ValueError):
+        return False
+
+
+class Sample(PointSet):
+    """``n`` points: a Latin hypercube (``lhs``) or scrambled Sobol' sequence
+    (``sobol``) over ``ranges`` {name: (lo, hi) or (lo, hi, "log")}, or
+    Monte Carlo draws (``mc``) from ``dists`` {name: ("normal", mean, sd) |
+    ("uniform", lo, hi) | ("lognormal", median, sigma_ln)} and uniform
+    ranges; reproducible from ``seed``."""
+
+    def __init__(self, kind: str, n: int, ranges=None, dists=None, seed: int = 0):
+        if kind not in SAMPLERS:
+            raise ParameterError(f"unknown sampler {kind!r}; choose one of {', '.join(SAMPLERS)}")
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:
+            raise ParameterError(f"sample size N = {n!r}: must be a whole number > 0")
+        self.kind, self.n, self.seed = kind, int(n), int(seed)
+        self.ranges = {k: _check_range(k, v) for k, v in (ranges or {}).items()}
+        self.dists = {k: _check_dist(k, v) for k, v in (dists or {}).items()}
+        if kind != "mc" and self.dists:
+            raise ParameterError(f"distributions (--dist) need Monte Carlo sampling (mc:N), "
+                                 f"not {kind}")
+        both = sorted(set(self.ranges) & set(self.dists))
+        if both:
+            raise ParameterError(f"{both[0]} has both a range and a distribution")
+        self.names = list(self.ranges) + list(self.dists)
+        if not self.names:
+            raise ParameterError("sampling needs at least one --range NAME=LO:HI"
+                                 + (" or --dist" if kind == "mc" else ""))
+        self._u = None
+
+    def _unit(self) -> np.ndarray:
+        """n x d points in the unit cube (the whole set: LHS is stratified as a whole)."""
+        if self._u is None:
+            d = len(self.names)
+            if self.kind == "lhs":
+                self._u = qmc.LatinHypercube(d=d, seed=self.seed).random(self.n)
+            elif self.kind == "sobol":
+                self._u = qmc.Sobol(d=d, scramble=True, seed=self.seed).random(self.n)
+            else:
+                self._u = np.random.default_rng(self.seed).random((self.n, d))
+        return self._u
+
+    def block(self, i0, i1):
+        u = self._unit()[i0:i1]
+        cols = []
+        for j, name in enumerate(self.names):
+            if name in self.ranges:
+                lo, hi, log = self.ranges[name]
+                cols.append(np.exp(np.log(lo) + u[:, j] * np.log(hi / lo)) if log
+                            else lo + u[:, j] * (hi - lo))
+            else:
+                cols.append(_ppf(self.dists[name], u[:, j]))
+        return np.column_stack(cols)
+
+    @property
+    def spec(self):
+        return {"kind": self.kind, "n": self.n, "seed": self.seed,
+                "ranges": {k: list(v) for k, v in self.ranges.items()},
+                "dists": {k: list(v) for k, v in self.dists.items()}}
+
+
+def _check_range(name, v):
+    try:
+        lo, hi, *rest = v
+        lo, hi = float(lo), float(hi)
+    except (TypeError, ValueError):
+        raise ParameterError(f"range of {name}: expected (LO, HI), got {v!r}") from None
+    log = bool(rest and rest[0] in ("log", True))
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        raise ParameterError(f"range of {name}: LO = {lo:g} must be below HI = {hi:g}")
+    if log and lo <= 0:
+        raise ParameterError(f"range of {name}: a log range needs LO > 0, got {lo:g}")
+    return lo, hi, log
+
+
+def _check_dist(name, v):
+    kind, *args = v
+    if kind not in DISTRIBUTIONS:
+        raise ParameterError(f"distribution of {name}: unknown {kind!r}; choose one of "
+                             f"{', '.join(DISTRIBUTIONS)}")
+    if len(args) != DISTRIBUTIONS[kind]:
+        raise ParameterError(f"distribution of {name}: {kind} takes {DISTRIBUTIONS[kind]} numbers")
+    a, b = map(float, args)
+    if kind == "uniform" and not a < b:
+        raise ParameterError(f"distribution of {name}: uniform needs LO < HI, got {a:g}, {b:g}")
+    if kind in ("normal", "lognormal") and not b > 0:
+        raise ParameterError(f"distribution of {name}: the spread must be > 0, got {b:g}")
+    if kind == "lognormal" and not a > 0:
+        raise ParameterError(f"distribution of {name}: lognormal needs a median > 0, got {a:g}")
+    return kind, a, b
+
+
+def _ppf(dist, u):
+    kind, a, b = dist
+    if kind == "normal":
+        return stats.norm.ppf(u, loc=a, scale=b)
+    if kind == "uniform":
+        return a + u * (b - a)
+    return stats.lognorm.ppf(u, s=b, scale=a)
+
+
+def parse_range(item: str):
+    """``NAME=LO:HI`` or ``NAME=LO:HI:log`` -> (name, (lo, hi[, "log"]))."""
+    name, sep, rng = item.partition("=")
+    parts = rng.split(":")
+    try:
+        if not (sep and name.strip()) or len(parts) not in (2, 3) or \
+                (len(parts) == 3 and parts[2] != "log"):
+            raise ValueError
+        lo, hi = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise ParameterError(f"--range {item!r}: expected NAME=LO:HI or NAME=LO:HI:log, "
+                             "e.g. oil.k=1e8:1e9") from None
+    return name.strip(), (lo, hi, "log") if len(parts) == 3 else (lo, hi)
+
+
+def parse_dist(item: str):
+    """``NAME=normal:MEAN:SD`` (or uniform:LO:HI, lognormal:MEDIAN:SIGMA)."""
+    name, sep, rest = item.partition("=")
+    kind, _, args = rest.partition(":")
+    if not (sep and name.strip() and kind):
+        raise ParameterError(f"--dist {item!r}: expected NAME=normal:MEAN:SD")
+    if kind not in DISTRIBUTIONS:
+        raise ParameterError(f"--dist {item!r}: unknown distribution {kind!r}; choose one of "
+                             f"{', '.join(DISTRIBUTIONS)}")
+    try:
+        nums = [float(a) for a in args.split(":")]
+    except ValueError:
+        raise ParameterError(f"--dist {item!r}: the numbers after {kind} are not numbers") from None
+    return name.strip(), (kind, *nums)
+
+
+def parse_sample(text: str):
+    """``lhs:N``, ``sobol:N`` or ``mc:N`` -> (kind, N)."""
+    kind, _, n = text.partition(":")
+    if kind not in SAMPLERS:
+        raise ParameterError(f"--sample {text!r}: unknown sampler {kind!r}; choose one of "
+                             f"{', '.join(SAMPLERS)} (as lhs:N)")
+    try:
+        n = int(n)
+    except ValueError:
+        raise ParameterError(f"--sample {text!r}: N must be a whole number, as in lhs:1000") from None
+    if n <= 0:
+        raise ParameterError(f"--sample {text!r}: N = {n} must be > 0")
+    return kind, n
+
+
+class Points(PointSet):
+    """Points given as an array (rows) over ``names``; ``spec`` identifies them."""
+
+    def __init__(self, names, array, spec: dict):
+        self.names, self.array = list(names), np.atleast_2d(np.asarray(array, dtype=float))
+        self.n = self.array.shape[0]
+        self._spec = {**spec, "sha256": _digest(self.array)}
+
+    def block(self, i0, i1):
+        return self.array[i0:i1]
+
+    @property
+    def spec(self):
+        return self._spec

@@ -1,0 +1,147 @@
+"""One chunk of sweep points, evaluated: the same code runs in this process,
+in threads, in forked processes and on Dask workers.
+
+With the compiled backend a chunk is one call of the summary driver (C:
+integration and summary of every point, no Python object per point);
+otherwise each point is simulated and summarised in Python (the CasADi
+backend, start-value overrides, kept trajectories, and summary roles the C
+driver does not know, such as the repeated blows of the drop rig).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import pickle
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from pdbfs.errors import ParameterError, PdbfsError
+from pdbfs.modelling import check_value
+from pdbfs.simulation import Simulator
+from pdbfs.simulation.summary import keys_for
+
+#: list-valued summary entries (one value per blow) are stored as JSON text
+LIST_KEYS = ("impact_times", "impact_peak_pressures")
+
+
+@dataclass(frozen=True)
+class Settings:
+    t_end: float = 0.02
+    n_out: int = 2001
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    method: str = "adams"
+    max_step: float | None = None
+    backend: str = "casadi"
+    start: tuple = ()                 # (name, value) pairs overriding start values
+    trajectories: bool = False
+
+
+@dataclass
+class Chunk:
+    """The evaluated points of one chunk, as columns."""
+
+    index: np.ndarray                 # point numbers
+    params: np.ndarray                # len(index) x len(names)
+    summary: dict                     # key -> float array (NaN: undefined) or list of JSON text
+    error: list                       # "" or "Type: message", per point
+    results: list = field(default_factory=list)   # Results, with trajectories=True
+
+
+class Runner:
+    """Evaluates blocks of points of ``names`` for one rig and settings."""
+
+    def __init__(self, sim: Simulator, names, fixed: dict, settings: Settings):
+        dae = sim.dae
+        self.sim, self.names, self.settings = sim, list(names), settings
+        self.columns = [dae.p_names.index(n) for n in self.names]
+        self.infos = [dae.params[i] for i in self.columns]
+        self.base = sim.param_vector(fixed)
+        self.keys = keys_for(dae)
+        self.fast = None
+        if settings.backend == "c" and not settings.start and not settings.trajectories:
+            lib = sim.compiled()
+            if set(self.keys) <= set(lib.summary_keys):
+                self.fast = lib
+
+    def run(self, index, block) -> Chunk:
+        block = np.atleast_2d(np.asarray(block, dtype=float))
+        n = block.shape[0]
+        P = np.repeat(self.base[None, :], n, axis=0)
+        P[:, self.columns] = block
+        error = [""] * n
+        for i in range(n):          # each value within its parameter's limits
+            for j, info in enumerate(self.infos):
+                try:
+                    check_value(block[i, j], info.name, info)
+                except ParameterError as err:
+                    error[i] = f"ParameterError: {err}"
+                    break
+        ok = np.array([not e for e in error])
+        summary = {k: ([""] * n if k in LIST_KEYS else np.full(n, np.nan)) for k in self.keys}
+        results = [None] * n if self.settings.trajectories else []
+        if self.fast is not None:
+            self._run_fast(P, ok, summary, error)
+        else:
+            self._run_points(P, ok, summary, error, results)
+        return Chunk(np.asarray(index), block, summary, error, results)
+
+    def _run_fast(self, P, ok, summary, error):
+        s = self.settings
+        from pdbfs.simulation.compiled import SUMMARY_KEYS
+        values, codes, messages = self.fast.summaries(P[ok], s.t_end, s.rtol, s.atol, s.method,
+                                                      s.max_step)
+        rows = np.flatnonzero(ok)
+        for k in self.keys:
+            summary[k][rows] = values[:, SUMMARY_KEYS.index(k)]
+        for r, code, msg in zip(rows, codes, messages):
+            if code:
+                error[r] = f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
+                for k in self.keys:
+                    summary[k][r] = np.nan
+
+    def _run_points(self, P, ok, summary, error, results):
+        s = self.settings
+        for i in np.flatnonzero(ok):
+            try:
+                res = self.sim.run(s.t_end, s.n_out, params=dict(zip(self.sim.dae.p_names, P[i])),
+                                   start=dict(s.start) or None, rtol=s.rtol, atol=s.atol,
+                                   method=s.method, max_step=s.max_step, backend=s.backend)
+                out = res.summary()
+            except PdbfsError as err:
+                error[i] = f"{type(err).__name__}: {err}"
+                continue
+            except (ArithmeticError, ValueError, RuntimeError) as err:   # anything the summary hits
+                error[i] = f"{type(err).__name__}: {err}"
+                continue
+            for k in self.keys:
+                v = out.get(k)
+                if k in LIST_KEYS:
+                    summary[k][i] = json.dumps(v) if v is not None else ""
+                else:
+                    summary[k][i] = np.nan if v is None else float(v)
+            if s.trajectories:
+                results[i] = res
+
+
+# -------------------------------------------------------- on Dask workers
+def payload(sim: Simulator, names, fixed, settings: Settings) -> tuple[str, bytes]:
+    """What a worker needs to build the Runner: the DAE (CasADi's pickling),
+    the swept names, the fixed values and the settings; and a key for it."""
+    with ca.global_pickle_context():
+        data = pickle.dumps((sim.dae, list(names), dict(fixed), settings))
+    return hashlib.sha256(data).hexdigest()[:24], data
+
+
+_RUNNERS: dict = {}   # key -> Runner, per worker process: the rig is built once per worker
+
+
+def run_remote(key: str, data: bytes, index, block) -> Chunk:
+    runner = _RUNNERS.get(key)
+    if runner is None:
+        with ca.global_unpickle_context():
+            dae, names, fixed, settings = pickle.loads(data)
+        runner = _RUNNERS[key] = Runner(Simulator.of(dae), names, fixed, settings)
+    return runner.run(index, block)

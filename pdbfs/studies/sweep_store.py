@@ -1,0 +1,154 @@
+"""A sweep on disk: ``manifest.json`` (what sweep this is, and a hash of it)
+and one file per chunk of points (Parquet by default, or CSV), each written
+to a temporary name and renamed, so a file that exists is complete.
+
+Running the same sweep again into the same folder skips the chunks already
+there: a sweep that was killed, or lost a Dask worker, resumes where it
+stopped, and nothing is computed twice or lost. A folder that holds another
+sweep is refused.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pdbfs.errors import ParameterError
+
+MANIFEST = "manifest.json"
+FORMATS = ("parquet", "csv")
+
+
+def spec_hash(spec: dict) -> str:
+    return hashlib.sha256(json.dumps(spec, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
+class Store:
+    def __init__(self, path, spec: dict, n_points: int, chunk_size: int, fmt: str = "parquet",
+                 overwrite: bool = False):
+        if fmt not in FORMATS:
+            raise ParameterError(f"unknown sweep file format {fmt!r}; choose {' or '.join(FORMATS)}")
+        self.dir, self.fmt = Path(path), fmt
+        self.spec = {**spec, "format": fmt, "chunk_size": int(chunk_size), "n_points": int(n_points)}
+        self.hash = spec_hash(self.spec)
+        manifest = self.dir / MANIFEST
+        if self.dir.exists() and not self.dir.is_dir():
+            raise ParameterError(f"sweep output {self.dir} is a file, not a folder")
+        old = self._read_manifest(manifest)
+        if old is not None and old.get("hash") != self.hash:
+            if not overwrite:
+                raise ParameterError(
+                    f"{self.dir} holds another sweep (rig {old.get('spec', {}).get('rig', '?')}, "
+                    f"{old.get('spec', {}).get('n_points', '?')} points, started "
+                    f"{old.get('started', '?')}); choose another output folder, or overwrite it "
+                    "(--overwrite)")
+            self._clear()
+            old = None
+        elif old is None and self.chunk_files():
+            if not overwrite:
+                raise ParameterError(f"{self.dir} holds chunk files but no {MANIFEST}: not a sweep "
+                                     "this can resume; choose another output folder")
+            self._clear()
+        self.dir.mkdir(parents=True, exist_ok=True)
+        if old is None:
+            _write_atomic(manifest, json.dumps(
+                {"hash": self.hash, "started": time.strftime("%Y-%m-%d %H:%M:%S"),
+                 "spec": self.spec}, indent=1, default=str) + "\n")
+
+    @classmethod
+    def open(cls, path) -> "Store":
+        """The sweep already in ``path`` (read only: no manifest is written)."""
+        self = cls.__new__(cls)
+        self.dir = Path(path)
+        old = cls._read_manifest(self.dir / MANIFEST)
+        if old is None:
+            raise ParameterError(f"{self.dir} holds no sweep ({MANIFEST} is missing)")
+        self.spec, self.hash, self.fmt = old["spec"], old["hash"], old["spec"].get("format", "parquet")
+        return self
+
+    @staticmethod
+    def _read_manifest(path: Path):
+        if not path.is_file():
+            return None
+        try:
+            return json.loads(path.read_text())
+        except (OSError, ValueError):
+            raise ParameterError(f"{path} is not a readable sweep manifest; choose another "
+                                 "output folder") from None
+
+    def _clear(self):
+        for f in self.chunk_files():
+            f.unlink()
+        (self.dir / MANIFEST).unlink(missing_ok=True)
+
+    def chunk_files(self) -> list[Path]:
+        if not self.dir.is_dir():
+            return []
+        return sorted(p for p in self.dir.glob("chunk-*.*") if p.suffix in (".parquet", ".csv"))
+
+    def path_of(self, chunk_id: int) -> Path:
+        return self.dir / f"chunk-{chunk_id:06d}.{self.fmt}"
+
+    def done(self) -> set[int]:
+        return {int(p.stem.split("-")[1]) for p in self.chunk_files() if p.suffix == f".{self.fmt}"}
+
+    def write(self, chunk_id: int, columns: dict):
+        """Write one chunk (a dict of equal-length columns) atomically."""
+        path = self.path_of(chunk_id)
+        part = path.with_name(f".{path.name}.{os.getpid()}.part")
+        if self.fmt == "parquet":
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+            table = pa.table({k: pa.array(v, from_pandas=True) for k, v in columns.items()})
+            pq.write_table(table, part)
+        else:
+            import pandas as pd
+            pd.DataFrame(columns).to_csv(part, index=False)
+        os.replace(part, path)
+
+    def read(self):
+        """Every chunk as one pandas DataFrame, in point order."""
+        import pandas as pd
+        files = [p for p in self.chunk_files() if p.suffix == f".{self.fmt}"]
+        if not files:
+            return pd.DataFrame()
+        read = pd.read_parquet if self.fmt == "parquet" else \
+            (lambda p: pd.read_csv(p, keep_default_na=True, dtype={"error": str}))
+        df = pd.concat([read(p) for p in files], ignore_index=True)
+        if "error" in df:
+            df["error"] = df["error"].fillna("")
+        return df.sort_values("point", kind="stable").reset_index(drop=True)
+
+
+def refuse_other_sweep(path, overwrite: bool = False):
+    """For results written beside no chunks (a small sweep kept in memory): a
+    folder holding a chunked sweep is refused, or cleared with ``overwrite``."""
+    path = Path(path)
+    if (path / MANIFEST).is_file():
+        if not overwrite:
+            raise ParameterError(f"{path} holds another sweep ({MANIFEST} and its chunks); "
+                                 "choose another output folder, or overwrite it (--overwrite)")
+        for f in path.glob("chunk-*.*"):
+            f.unlink()
+        (path / MANIFEST).unlink()
+
+
+def chunk_columns(chunk, names, keys) -> dict:
+    """A Chunk as the columns of its file: point, parameters, summary, error."""
+    cols = {"point": np.asarray(chunk.index, dtype=np.int64)}
+    for j, n in enumerate(names):
+        cols[n] = chunk.params[:, j]
+    for k in keys:
+        cols[k] = chunk.summary[k]
+    cols["error"] = list(chunk.error)
+    return cols
+
+
+def _write_atomic(path: Path, text: str):
+    part = path.with_name(f".{path.name}.{os.getpid()}.part")
+    part.write_text(text)
+    os.replace(part, path)

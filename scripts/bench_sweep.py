@@ -1,0 +1,107 @@
+"""Benchmark: a sweep of the paper rig (summaries only, 0-20 ms, rtol 1e-8,
+atol 1e-10; hammer.v0, oil.k and seal.c on a Latin hypercube), points per
+second on this machine, in one run:
+
+* pdbfs, backend "c": the C summary driver, one thread per core;
+* pdbfs, backend "casadi": CVODES through CasADi and the Python summary,
+  one forked process per core;
+* the same sweep by hand: the paper's equations in numpy (tests/paper_equations.py)
+  with scipy's solve_ivp (DOP853, dense output; peaks and crossings by
+  minimize_scalar and brentq on it), one process per core - the baseline.
+
+    python scripts/bench_sweep.py [--points 4000] [--memory 200000]
+
+``--memory N`` also runs N points (and N/10) to disk and prints the peak
+resident memory of both: a sweep streams its chunks, so it does not grow.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq, minimize_scalar
+
+import pdbfs
+from pdbfs.models import paper_rig
+from pdbfs.studies import Grid, Sample
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from paper_equations import TABLE1, make_rhs  # noqa: E402
+
+RANGES = {"hammer.v0": (1.5, 5.5), "oil.k": (1e8, 1e9), "seal.c": (2.5e3, 2.5e5, "log")}
+CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+
+
+def by_hand(point):
+    """One point written by hand: integrate, then peak, duration, contact peak."""
+    v0, k2, c2 = point
+    p = dict(TABLE1, v0=v0, k2=k2, c2=c2)
+    rhs, forces, _ = make_rhs(**p)
+    t = np.linspace(0.0, 0.02, 2001)
+    sol = solve_ivp(rhs, (0.0, 0.02), [0, v0, 0, 0, 0, 0], method="DOP853", t_eval=t,
+                    dense_output=True, rtol=1e-8, atol=1e-10)
+    pres = lambda tt: k2 * max(sol.sol(tt)[2] - sol.sol(tt)[4], 0.0) / p["A"]   # noqa: E731
+    y = k2 * np.clip(sol.y[2] - sol.y[4], 0, None) / p["A"]
+    k = int(np.argmax(y))
+    r = minimize_scalar(lambda tt: -pres(tt), bounds=(t[max(k - 1, 0)], t[min(k + 1, 2000)]),
+                        method="bounded", options={"xatol": 1e-12})
+    level = 0.01 * -r.fun
+    s = np.sign(y - level)
+    cross = [brentq(lambda tt: pres(tt) - level, t[i], t[i + 1]) for i in np.flatnonzero(s[:-1] * s[1:] < 0)]
+    fc = np.array([forces(sol.y[:, i])[0] for i in range(t.size)])
+    return -r.fun, r.x, float(np.sum(np.diff(cross)[::2])), fc.max()
+
+
+def rate(f, n):
+    t0 = time.perf_counter()
+    f()
+    return n / (time.perf_counter() - t0)
+
+
+def rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--points", type=int, default=4000, help="points of the compiled sweep")
+    ap.add_argument("--memory", type=int, default=0, help="also run this many points to disk")
+    args = ap.parse_args(argv)
+    rig = paper_rig()
+    n_c, n_ca, n_sp = args.points, max(args.points // 10, 2 * CORES), max(args.points // 40, 2 * CORES)
+    pdbfs.sweep(rig, Sample("lhs", 8, RANGES), backend="c")            # build the library once
+    rates = {
+        "pdbfs, backend c (C summaries, threads)":
+            rate(lambda: pdbfs.sweep(rig, Sample("lhs", n_c, RANGES, seed=1), backend="c"), n_c),
+        "pdbfs, backend casadi (processes)":
+            rate(lambda: pdbfs.sweep(rig, Sample("lhs", n_ca, RANGES, seed=1)), n_ca),
+    }
+    pts = Sample("lhs", n_sp, RANGES, seed=1).all()
+    with ProcessPoolExecutor(CORES) as pool:
+        list(pool.map(by_hand, pts[:CORES]))                          # start the workers
+        rates["solve_ivp DOP853 by hand (processes)"] = rate(lambda: list(pool.map(by_hand, pts)), n_sp)
+    base = rates["solve_ivp DOP853 by hand (processes)"]
+    print(f"sweep of the paper rig, summaries, 0-20 ms, rtol 1e-8, {CORES} cores")
+    print(f"{'run':<44} {'points/s':>10} {'/ by hand':>10}")
+    for name, r in rates.items():
+        print(f"{name:<44} {r:>10.0f} {r / base:>9.1f}x")
+    if args.memory:
+        with tempfile.TemporaryDirectory() as tmp:
+            for n in (args.memory // 10, args.memory):
+                t0 = time.perf_counter()
+                pdbfs.sweep(rig, Grid({"hammer.v0": np.linspace(1.5, 5.5, n)}), backend="c",
+                            out=Path(tmp) / f"s{n}", progress=False)
+                print(f"{n} points to disk in {time.perf_counter() - t0:.1f} s; peak resident "
+                      f"memory of this process so far {rss_mb():.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
