@@ -1,13 +1,26 @@
 """Alias elimination: equations ``a*u + b*w + c(p, t) = 0`` (a a number, b a
-number or a parameter expression) remove ``u`` from the system, derivatives
-included: eliminating ``u`` also replaces ``der(u)`` by the derivative of its
-replacement, so a state tied to another state stops being a state (two
-rigidly connected masses become one mass).
+number or a parameter expression; or ``a*u + c(p, t) = 0``) remove ``u`` from
+the system, derivatives included: eliminating ``u`` also replaces ``der(u)``
+by the derivative of its replacement, so a state tied to another state stops
+being a state (two rigidly connected masses become one mass).
+
+Near-linear in the size of the rig: the alias equations are found in bulk
+(one Jacobian sparsity, one test of linearity), joined into alias sets
+(union-find), and each set is expressed in its most important member - a
+declared state first, then a variable whose derivative is used, then a
+component's variable before a connector's, the first declared before later
+ones - by one walk over the set. Every replacement is then a function of
+the kept members only, so the equations are substituted once. New aliases
+made by that substitution (an equation left with two unknowns) are found in
+the next round; there are rarely more than two.
 """
 from __future__ import annotations
 
+from collections import deque
+
 import casadi as ca
 import numpy as np
+from scipy.sparse import csr_matrix
 
 from pdbfs.errors import ModelError
 
@@ -17,93 +30,52 @@ from .symbolic import subst as _subst
 class Aliases:
     def __init__(self, flat, t):
         self.t = t
-        self.by_name = {v.name: v for v in flat.vars}
+        self.vars = {v.name: v for v in flat.vars}
         self.order = {v.name: i for i, v in enumerate(flat.vars)}
-        self.der_owner = {}                  # "der(x)" -> FlatVar x
-        for v in flat.vars:
-            if v.der is not None:
-                self.der_owner[v.der.name()] = v
-        self.K = ca.SX(0, 1)                 # eliminated symbols ...
-        self.V = ca.SX(0, 1)                 # ... and what replaces them (column vectors)
+        self.der_owner = {v.der.name(): v for v in flat.vars if v.der is not None}
+        self.K, self.V = [], []              # eliminated symbols and their replacements
         self.gone: set[str] = set()
-        self.used_der: set[str] = set()
-        self.states_gone: list[tuple] = []   # (state FlatVar, replacement)
+        self.used_der: set[str] = set(self.der_owner)
+        self.states_gone: list[tuple] = []   # (FlatVar, replacement, equation's origin)
+        self._KV = None
 
-    def kind(self, s):
-        """(rank, order) of a variable-like symbol, or None for p and t."""
-        n = s.name()
-        if n in self.by_name:
-            v = self.by_name[n]
+    # -- ranks ------------------------------------------------------------------
+    def rank(self, name):
+        """(rank, -order) of a variable-like symbol: the larger is kept."""
+        v = self.vars.get(name)
+        if v is not None:
             if v.is_state:
-                rank = 4
+                r = 4
             elif v.der is not None and v.der.name() in self.used_der:
-                rank = 3
+                r = 3
             else:
-                rank = v.rank - 1      # component variable 1, connector variable 0
-            return (rank, -self.order[n])
-        if n in self.der_owner:
-            return (2, -self.order[self.der_owner[n].name])
-        return None
+                r = v.rank - 1       # component variable 1, connector variable 0
+            return (r, -self.order[name])
+        return (2, -self.order[self.der_owner[name].name])
 
-    def unknowns_in(self, r):
-        return [s for s in ca.symvar(r) if self.kind(s) is not None]
+    def unknown_symbols(self):
+        syms = [v.sym for n, v in self.vars.items() if n not in self.gone]
+        syms += [v.der for v in self.vars.values()
+                 if v.der is not None and v.der.name() not in self.gone]
+        return syms
 
-    def _der_of_expr(self, expr):
-        """d/dt of an expression linear in variables, through their der symbols."""
-        out = ca.jacobian(expr, self.t)
-        for s in self.unknowns_in(expr):
-            coeff = ca.jacobian(expr, s)
-            n = s.name()
-            v = self.by_name.get(n)
-            if v is None:
-                raise ModelError(f"the rig needs the second derivative of {self.der_owner[n].name}: "
-                                 "index reduction of that order is not supported")
-            if v.der is None:
-                v.der = ca.SX.sym(f"der({v.name})")
-                self.der_owner[v.der.name()] = v
-            self.used_der.add(v.der.name())
-            out = out + coeff * v.der
-        return self.resolve(out)   # der(w) may itself be eliminated already
-
+    # -- elimination ---------------------------------------------------------------
     def eliminate(self, eqs):
-        for v in self.by_name.values():
-            if v.der is not None:
-                self.used_der.add(v.der.name())
-        # equations as one column (cheap to substitute into) and their origins
-        R = ca.vertcat(*[r for r, _ in eqs]) if eqs else ca.SX(0, 1)
+        R = [r for r, _ in eqs]
         W = [w for _, w in eqs]
-        changed = True
-        while changed:           # repeat: an elimination can make new aliases
-            changed = False
-            i = 0
-            while i < R.numel():
-                found = self._alias(R[i])
-                if found is None:
-                    i += 1
-                    continue
-                u, expr = found
-                keys, vals = [u], [expr]
-                owner = self.by_name.get(u.name())
-                extra, extra_w = [], []
-                if owner is not None and owner.der is not None:
-                    d_expr = self._der_of_expr(expr)
-                    if owner.der.name() not in self.gone:
-                        keys.append(owner.der)
-                        vals.append(d_expr)
-                    else:   # der(u) was already replaced: keep the differentiated equation
-                        extra.append(self.resolve(owner.der) - d_expr)
-                        extra_w.append(f"derivative of {W[i]}")
-                if owner is not None and (owner.is_state or
-                                          (owner.der is not None and owner.der.name() in self.used_der)):
-                    self.states_gone.append((owner, expr, W[i]))
-                R = ca.vertcat(R[:i], R[i + 1:], *extra)
-                W = W[:i] + W[i + 1:] + extra_w
-                R = self._apply(R, keys, vals)
-                changed = True
+        while True:                      # a round can leave new aliases behind
+            edges, rest = self._classify(R, self.unknown_symbols())
+            if not edges:
+                break
+            keys, vals, rows = self._round(edges, W)
+            if not keys:                 # aliases that cannot be solved: plain equations
+                break
+            W = [W[i] for i in rest] + [w for _, w in rows]
+            R = self._apply([R[i] for i in rest] + [r for r, _ in rows], keys, vals)
         kept = []
-        for k, where in enumerate(W):
-            r = R[k]
-            if not self.unknowns_in(r):
+        unknown = {s.name() for s in self.unknown_symbols()}
+        for r, where in zip(R, W):
+            if not any(s.name() in unknown for s in ca.symvar(r)):
                 if _identically_zero(r):
                     continue
                 raise ModelError(f"over-determined: {where} leaves nothing to determine "
@@ -111,41 +83,197 @@ class Aliases:
             kept.append((r, where))
         return kept
 
-    def _alias(self, r):
-        """(u, replacement) if r = a*u + b*w + c with a a non-zero number, b a
-        number or an expression of parameters, c free of variables; else None."""
-        us = self.unknowns_in(r)
-        if not 1 <= len(us) <= 2:
-            return None
-        uv = ca.vertcat(*us)
-        J = ca.jacobian(r, uv)
-        if ca.depends_on(J, uv) or ca.depends_on(J, self.t) or \
-                any(self.kind(s) is not None for s in ca.symvar(J)):
-            return None                          # not linear with constant coefficients
-        c0 = ca.substitute(r, uv, ca.DM.zeros(len(us)))
-        numeric = [J[k].is_constant() and float(J[k]) != 0.0 for k in range(len(us))]
-        if len(us) == 1:
-            return (us[0], -c0 / float(J[0])) if numeric[0] else None
-        order = sorted(range(2), key=lambda k: self.kind(us[k]))   # lower-ranked first
-        for k in order:            # eliminate the lower-ranked one whose coefficient is a number
-            if numeric[k]:
-                u, w, a, b = us[k], us[1 - k], float(J[k]), J[1 - k]
-                if b.is_constant() and float(b) == 0.0:
-                    return None
-                return u, -(b * w + c0) / a
-        return None
+    def _classify(self, R, U):
+        """(alias edges, indices of the other equations). An edge is (row,
+        [(symbol name, coefficient)], constant part)."""
+        if not R or not U:
+            return [], list(range(len(R)))
+        Rv, Uv = ca.vertcat(*R), ca.vertcat(*U)
+        rows, cols = ca.jacobian_sparsity(Rv, Uv).get_triplet()
+        inc = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(R), len(U)))
+        count = np.diff(inc.indptr)
+        cand = np.flatnonzero((count >= 1) & (count <= 2))
+        if cand.size == 0:
+            return [], list(range(len(R)))
+        Rc = ca.vertcat(*[R[i] for i in cand])
+        nonlinear = ca.which_depends(Rc, Uv, 2, True)
+        J = ca.jacobian(Rc, Uv)
+        c0 = ca.substitute(Rc, Uv, ca.DM.zeros(len(U)))
+        edges, alias_rows = [], set()
+        for k, i in enumerate(cand):
+            if nonlinear[k]:
+                continue
+            cs = inc.indices[inc.indptr[i]:inc.indptr[i + 1]]
+            coefs = [J[k, int(j)] for j in cs]
+            if any(ca.depends_on(c, self.t) for c in coefs):
+                continue                 # coefficients must not change in time
+            edges.append((int(i), [(U[int(j)].name(), c) for j, c in zip(cs, coefs)], c0[k]))
+            alias_rows.add(int(i))
+        return edges, [i for i in range(len(R)) if i not in alias_rows]
+
+    def _round(self, edges, W):
+        """One round: every alias set expressed in its best member. Returns the
+        eliminated symbols, their replacements, and rows to keep: equations
+        closing a cycle of aliases, and derivatives that cannot be eliminated
+        directly (checked or used in the next round)."""
+        sym = {s.name(): s for s in self.unknown_symbols()}
+        keys, vals, rows, eliminated = [], [], [], []
+        for members, set_edges in _components(edges):
+            by_node = {}
+            for e in set_edges:
+                for name, _ in e[1]:
+                    by_node.setdefault(name, []).append(e)
+            expr, tree = self._express(members, set_edges, by_node, sym)
+            for name, value in expr.items():
+                if _is_symbol(value, name):
+                    continue
+                keys.append(sym[name])
+                vals.append(value)
+                eliminated.append((name, value, W[by_node[name][0][0]]))
+            for e in set_edges:          # equations closing a cycle: kept, checked later
+                if e[0] not in tree:
+                    rows.append((sum((c * sym[n] for n, c in e[1]), e[2]), W[e[0]]))
+        in_sets = {k.name() for k in keys} | {n for m, _ in _components(edges) for n in m}
+        der_keys, der_vals = [], []
+        for name, value, where in eliminated:
+            v = self.vars.get(name)
+            if v is None:
+                continue
+            if v.is_state or (v.der is not None and v.der.name() in self.used_der):
+                self.states_gone.append((v, value, where))
+            if v.der is not None and v.der.name() not in self.gone:
+                d = self._derivative(value)
+                if v.der.name() in in_sets:      # der(u) is an alias itself: keep the relation
+                    rows.append((v.der - d, f"derivative of {where}"))
+                else:
+                    der_keys.append(v.der)
+                    der_vals.append(d)
+        if der_keys and keys:            # derivatives in terms of this round's survivors
+            dv = _subst(ca.vertcat(*der_vals), ca.vertcat(*keys), ca.vertcat(*vals))
+            der_vals = [dv[i] for i in range(dv.numel())]
+        return keys + der_keys, vals + der_vals, rows
+
+    def _express(self, members, set_edges, by_node, sym):
+        """(name -> replacement, tree edges) of one alias set: from a member
+        fixed by a parameter expression if there is one, else from the best
+        member from which every other one can be reached."""
+        fixed, tree = {}, set()
+        for e in set_edges:              # members fixed by parameter expressions: all of them,
+            if len(e[1]) == 1:           # so that a cycle is closed by a connection (named)
+                (name, a), = e[1]
+                if a.is_constant() and float(a) != 0.0 and name not in fixed:
+                    fixed[name] = -e[2] / float(a)
+                    tree.add(e[0])
+        if fixed:
+            return _walk(fixed, by_node, tree)
+        best = None
+        for cand in sorted(members, key=self.rank, reverse=True):
+            trial = _walk({cand: sym[cand]}, by_node, set())
+            if best is None or len(trial[0]) > len(best[0]):
+                best = trial
+            if len(trial[0]) == len(members):
+                break
+        return best
+
+    def _derivative(self, value):
+        """d/dt of a replacement (linear in kept members), through their der symbols."""
+        out = ca.jacobian(value, self.t)
+        for s in ca.symvar(value):
+            n = s.name()
+            if n in self.der_owner:
+                raise ModelError(f"the rig needs the second derivative of {self.der_owner[n].name}: "
+                                 "index reduction of that order is not supported")
+            v = self.vars.get(n)
+            if v is None:
+                continue                 # a parameter
+            if v.der is None:
+                v.der = ca.SX.sym(f"der({v.name})")
+                self.der_owner[v.der.name()] = v
+            self.used_der.add(v.der.name())
+            out = out + ca.jacobian(value, s) * v.der
+        return self.resolve(out)         # der(w) may have been eliminated in an earlier round
 
     def _apply(self, R, keys, vals):
-        """Record the substitution and apply it to R and to earlier ones."""
+        """Record the eliminations and substitute them into R, once."""
         for k in keys:
             self.gone.add(k.name())
-        kv, vv = ca.vertcat(*keys), ca.densify(ca.vertcat(*vals))
-        self.V = ca.vertcat(_subst(self.V, kv, vv), vv)
-        self.K = ca.vertcat(self.K, kv)
-        return _subst(R, kv, vv)
+        self.K += keys
+        self.V += vals
+        self._KV = None
+        if not R or not keys:
+            return R
+        out = _subst(ca.vertcat(*R), ca.vertcat(*keys), ca.vertcat(*vals))
+        return [out[i] for i in range(out.numel())]
 
     def resolve(self, expr):
-        return _subst(expr, self.K, self.V)
+        if self._KV is None:
+            self._KV = self._closed()
+        K, V = self._KV
+        return _subst(expr, K, V)
+
+    def _closed(self):
+        """Replacements in terms of surviving symbols only (later rounds may
+        have eliminated what earlier replacements refer to)."""
+        if not self.K:
+            return ca.SX(0, 1), ca.SX(0, 1)
+        K, V = ca.vertcat(*self.K), ca.vertcat(*self.V)
+        for _ in range(len(self.K) + 1):
+            if not ca.depends_on(V, K):
+                break
+            V = _subst(V, K, V)
+        return K, V
+
+
+def _is_symbol(value, name) -> bool:
+    return isinstance(value, ca.SX) and value.is_symbolic() and value.name() == name
+
+
+def _walk(expr, by_node, tree):
+    """Express every member reachable from the known ones, each through an
+    edge where its own coefficient is a non-zero number."""
+    tree = set(tree)
+    expr = dict(expr)
+    queue = deque(expr)
+    while queue:
+        w = queue.popleft()
+        for e in by_node.get(w, ()):
+            if e[0] in tree or len(e[1]) != 2:
+                continue
+            (n1, a1), (n2, a2) = e[1]
+            u, a_u, a_w = (n2, a2, a1) if n1 == w else (n1, a1, a2)
+            if u in expr or not (a_u.is_constant() and float(a_u) != 0.0):
+                continue
+            if a_w.is_constant() and float(a_w) == 0.0:
+                continue
+            expr[u] = -(a_w * expr[w] + e[2]) / float(a_u)
+            tree.add(e[0])
+            queue.append(u)
+    return expr, tree
+
+
+def _components(edges):
+    """Union-find over the members of the edges: [(members, edges)] per set."""
+    parent = {}
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+    for e in edges:
+        names = [n for n, _ in e[1]]
+        for n in names:
+            parent.setdefault(n, n)
+        for n in names[1:]:
+            ra, rb = find(names[0]), find(n)
+            if ra != rb:
+                parent[rb] = ra
+    groups = {}
+    for e in edges:
+        groups.setdefault(find(e[1][0][0]), ([], []))[1].append(e)
+    for n in parent:
+        groups[find(n)][0].append(n)
+    return list(groups.values())
 
 
 def _identically_zero(r) -> bool:
