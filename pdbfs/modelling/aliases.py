@@ -54,27 +54,47 @@ class Aliases:
         return (2, -self.order[self.der_owner[name].name])
 
     def unknown_symbols(self):
-        syms = [v.sym for n, v in self.vars.items() if n not in self.gone]
-        syms += [v.der for v in self.vars.values()
-                 if v.der is not None and v.der.name() not in self.gone]
-        return syms
+        return [s for _, s in self.unknowns()]
+
+    def unknowns(self):
+        """(name, symbol) of every variable and der() symbol not eliminated
+        (cached until the next elimination)."""
+        key = (len(self.gone), len(self.der_owner))
+        if getattr(self, "_unknowns_key", None) != key:
+            gone = self.gone
+            out = [(n, v.sym) for n, v in self.vars.items() if n not in gone]
+            out += [(d, v.der) for d, v in self.der_owner.items() if d not in gone]
+            self._unknowns, self._unknowns_key = out, key
+            self._unknowns_vec = None
+        return self._unknowns
+
+    def unknowns_vector(self):
+        self.unknowns()
+        if self._unknowns_vec is None:
+            self._unknowns_vec = ca.vertcat(*[u for _, u in self._unknowns])
+        return self._unknowns_vec
 
     # -- elimination ---------------------------------------------------------------
     def eliminate(self, eqs):
-        R = [r for r, _ in eqs]
+        R = ca.vertcat(*[r for r, _ in eqs]) if eqs else ca.SX(0, 1)   # one column
         W = [w for _, w in eqs]
+        fresh = None                     # rows that may have become aliases (None: all)
         while True:                      # a round can leave new aliases behind
-            edges, rest = self._classify(R, self.unknown_symbols())
+            edges, rest = self._classify(R, self.unknowns(), fresh)
             if not edges:
                 break
             keys, vals, rows = self._round(edges, W)
             if not keys:                 # aliases that cannot be solved: plain equations
                 break
             W = [W[i] for i in rest] + [w for _, w in rows]
-            R = self._apply([R[i] for i in rest] + [r for r, _ in rows], keys, vals)
+            kept = R[rest] if rest else ca.SX(0, 1)
+            K, V = ca.vertcat(*keys), ca.vertcat(*vals)
+            touched = _rows_with(kept, K)
+            fresh = set(touched) | set(range(kept.numel(), kept.numel() + len(rows)))
+            R = self._apply(ca.vertcat(kept, *[r for r, _ in rows]), keys, vals, K, V)
         kept = []
-        unknown = {s.name() for s in self.unknown_symbols()}
-        for r, where in zip(R, W):
+        unknown = {n for n, _ in self.unknowns()}
+        for r, where in zip(ca.vertsplit(R, 1) if R.numel() else [], W):
             if not any(s.name() in unknown for s in ca.symvar(r)):
                 if _identically_zero(r):
                     continue
@@ -83,45 +103,57 @@ class Aliases:
             kept.append((r, where))
         return kept
 
-    def _classify(self, R, U):
+    def _classify(self, R, unknowns, fresh=None):
         """(alias edges, indices of the other equations). An edge is (row,
-        [(symbol name, coefficient)], constant part)."""
-        if not R or not U:
-            return [], list(range(len(R)))
-        Rv, Uv = ca.vertcat(*R), ca.vertcat(*U)
+        [(symbol name, coefficient, its number or None)], constant part).
+        Only the rows in ``fresh`` (all if None) are looked at."""
+        n_r = R.numel()
+        look = list(range(n_r)) if fresh is None else sorted(fresh)
+        if not look or not unknowns:
+            return [], list(range(n_r))
+        names = [n for n, _ in unknowns]
+        Rv, Uv = R[look], self.unknowns_vector()
         rows, cols = ca.jacobian_sparsity(Rv, Uv).get_triplet()
-        inc = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(R), len(U)))
+        inc = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(look), len(names)))
         count = np.diff(inc.indptr)
         cand = np.flatnonzero((count >= 1) & (count <= 2))
         if cand.size == 0:
-            return [], list(range(len(R)))
-        Rc = ca.vertcat(*[R[i] for i in cand])
+            return [], list(range(n_r))
+        Rc = Rv[[int(i) for i in cand]]
         nonlinear = ca.which_depends(Rc, Uv, 2, True)
         J = ca.jacobian(Rc, Uv)
-        c0 = ca.substitute(Rc, Uv, ca.DM.zeros(len(U)))
+        c0 = ca.vertsplit(ca.substitute(Rc, Uv, ca.DM.zeros(len(names))), 1)
+        # the coefficients: J's nonzeros, by (row, column), in one call
+        jr, jc = J.sparsity().get_triplet()
+        coef = {}
+        for r, c, v in zip(jr, jc, J.nonzeros()):
+            coef[(r, c)] = v
+        in_time = ca.which_depends(ca.vertcat(*J.nonzeros()), self.t, 1, True) \
+            if J.nnz() else []
+        timed = {(r, c) for r, c, d in zip(jr, jc, in_time) if d}
         edges, alias_rows = [], set()
         for k, i in enumerate(cand):
             if nonlinear[k]:
                 continue
             cs = inc.indices[inc.indptr[i]:inc.indptr[i + 1]]
-            coefs = [J[k, int(j)] for j in cs]
-            if any(ca.depends_on(c, self.t) for c in coefs):
+            if any((k, int(j)) in timed for j in cs):
                 continue                 # coefficients must not change in time
-            edges.append((int(i), [(U[int(j)].name(), c) for j, c in zip(cs, coefs)], c0[k]))
-            alias_rows.add(int(i))
-        return edges, [i for i in range(len(R)) if i not in alias_rows]
+            terms = [_term(names[int(j)], coef.get((k, int(j)), ZERO)) for j in cs]
+            edges.append((look[int(i)], terms, c0[k]))
+            alias_rows.add(look[int(i)])
+        return edges, [i for i in range(n_r) if i not in alias_rows]
 
     def _round(self, edges, W):
         """One round: every alias set expressed in its best member. Returns the
         eliminated symbols, their replacements, and rows to keep: equations
         closing a cycle of aliases, and derivatives that cannot be eliminated
         directly (checked or used in the next round)."""
-        sym = {s.name(): s for s in self.unknown_symbols()}
+        sym = dict(self.unknowns())
         keys, vals, rows, eliminated = [], [], [], []
         for members, set_edges in _components(edges):
             by_node = {}
             for e in set_edges:
-                for name, _ in e[1]:
+                for name, *_ in e[1]:
                     by_node.setdefault(name, []).append(e)
             expr, tree = self._express(members, set_edges, by_node, sym)
             for name, value in expr.items():
@@ -132,7 +164,7 @@ class Aliases:
                 eliminated.append((name, value, W[by_node[name][0][0]]))
             for e in set_edges:          # equations closing a cycle: kept, checked later
                 if e[0] not in tree:
-                    rows.append((sum((c * sym[n] for n, c in e[1]), e[2]), W[e[0]]))
+                    rows.append((sum((c * sym[n] for n, c, _ in e[1]), e[2]), W[e[0]]))
         in_sets = {k.name() for k in keys} | {n for m, _ in _components(edges) for n in m}
         der_keys, der_vals = [], []
         for name, value, where in eliminated:
@@ -150,7 +182,7 @@ class Aliases:
                     der_vals.append(d)
         if der_keys and keys:            # derivatives in terms of this round's survivors
             dv = _subst(ca.vertcat(*der_vals), ca.vertcat(*keys), ca.vertcat(*vals))
-            der_vals = [dv[i] for i in range(dv.numel())]
+            der_vals = ca.vertsplit(dv, 1)
         return keys + der_keys, vals + der_vals, rows
 
     def _express(self, members, set_edges, by_node, sym):
@@ -160,9 +192,9 @@ class Aliases:
         fixed, tree = {}, set()
         for e in set_edges:              # members fixed by parameter expressions: all of them,
             if len(e[1]) == 1:           # so that a cycle is closed by a connection (named)
-                (name, a), = e[1]
-                if a.is_constant() and float(a) != 0.0 and name not in fixed:
-                    fixed[name] = -e[2] / float(a)
+                (name, a, f), = e[1]
+                if f and name not in fixed:
+                    fixed[name] = -e[2] / f
                     tree.add(e[0])
         if fixed:
             return _walk(fixed, by_node, tree)
@@ -177,6 +209,9 @@ class Aliases:
 
     def _derivative(self, value):
         """d/dt of a replacement (linear in kept members), through their der symbols."""
+        if value.is_symbolic() and value.name() in self.vars:      # the usual u = w
+            v = self._with_der(self.vars[value.name()])
+            return self.resolve(v.der)
         out = ca.jacobian(value, self.t)
         for s in ca.symvar(value):
             n = s.name()
@@ -186,24 +221,28 @@ class Aliases:
             v = self.vars.get(n)
             if v is None:
                 continue                 # a parameter
-            if v.der is None:
-                v.der = ca.SX.sym(f"der({v.name})")
-                self.der_owner[v.der.name()] = v
-            self.used_der.add(v.der.name())
-            out = out + ca.jacobian(value, s) * v.der
+            out = out + ca.jacobian(value, s) * self._with_der(v).der
         return self.resolve(out)         # der(w) may have been eliminated in an earlier round
 
-    def _apply(self, R, keys, vals):
-        """Record the eliminations and substitute them into R, once."""
+    def _with_der(self, v):
+        """v, with a der() symbol made and marked used."""
+        if v.der is None:
+            v.der = ca.SX.sym(f"der({v.name})")
+            self.der_owner[v.der.name()] = v
+        self.used_der.add(v.der.name())
+        return v
+
+    def _apply(self, R, keys, vals, K, V):
+        """Record the eliminations (K, V: keys and vals as columns) and
+        substitute them into the column R, once."""
         for k in keys:
             self.gone.add(k.name())
-        self.K += keys
-        self.V += vals
+        self.K.append(K)
+        self.V.append(V)
         self._KV = None
-        if not R or not keys:
+        if not R.numel() or not keys:
             return R
-        out = _subst(ca.vertcat(*R), ca.vertcat(*keys), ca.vertcat(*vals))
-        return [out[i] for i in range(out.numel())]
+        return _subst(R, K, V)
 
     def resolve(self, expr):
         if self._KV is None:
@@ -216,12 +255,28 @@ class Aliases:
         have eliminated what earlier replacements refer to)."""
         if not self.K:
             return ca.SX(0, 1), ca.SX(0, 1)
-        K, V = ca.vertcat(*self.K), ca.vertcat(*self.V)
+        K, V = ca.vertcat(*self.K), ca.vertcat(*self.V)     # one block per round
         for _ in range(len(self.K) + 1):
             if not ca.depends_on(V, K):
                 break
             V = _subst(V, K, V)
         return K, V
+
+
+ZERO = ca.SX(0)
+
+
+def _term(name, c):
+    """(name, coefficient, its value if it is a number else None)."""
+    return name, c, float(c) if c.is_constant() else None
+
+
+def _rows_with(R, K) -> list[int]:
+    """Indices of the rows of the column R that contain any of the symbols in K."""
+    if not R.numel() or not K.numel():
+        return []
+    rows, _ = ca.jacobian_sparsity(R, K).get_triplet()
+    return sorted(set(rows))
 
 
 def _is_symbol(value, name) -> bool:
@@ -239,40 +294,39 @@ def _walk(expr, by_node, tree):
         for e in by_node.get(w, ()):
             if e[0] in tree or len(e[1]) != 2:
                 continue
-            (n1, a1), (n2, a2) = e[1]
-            u, a_u, a_w = (n2, a2, a1) if n1 == w else (n1, a1, a2)
-            if u in expr or not (a_u.is_constant() and float(a_u) != 0.0):
+            (n1, a1, f1), (n2, a2, f2) = e[1]
+            u, a_u, f_u, a_w, f_w = (n2, a2, f2, a1, f1) if n1 == w else (n1, a1, f1, a2, f2)
+            if u in expr or not f_u or f_w == 0.0:
                 continue
-            if a_w.is_constant() and float(a_w) == 0.0:
-                continue
-            expr[u] = -(a_w * expr[w] + e[2]) / float(a_u)
+            if f_w is not None and e[2].is_zero():     # u = factor * w: most aliases
+                factor = -f_w / f_u
+                expr[u] = expr[w] if factor == 1.0 else factor * expr[w]
+            else:
+                expr[u] = -(a_w * expr[w] + e[2]) / f_u
             tree.add(e[0])
             queue.append(u)
     return expr, tree
 
 
 def _components(edges):
-    """Union-find over the members of the edges: [(members, edges)] per set."""
-    parent = {}
-
-    def find(a):
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
+    """The alias sets: [(members, edges)] per connected set (scipy's
+    connected components of the graph of the edges)."""
+    from scipy.sparse.csgraph import connected_components
+    index, a, b = {}, [], []
     for e in edges:
-        names = [n for n, _ in e[1]]
-        for n in names:
-            parent.setdefault(n, n)
-        for n in names[1:]:
-            ra, rb = find(names[0]), find(n)
-            if ra != rb:
-                parent[rb] = ra
+        names = [n for n, *_ in e[1]]
+        ks = [index.setdefault(n, len(index)) for n in names]
+        a.append(ks[0])
+        b.append(ks[-1])
+    n = len(index)
+    graph = csr_matrix((np.ones(len(a)), (a, b)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
     groups = {}
-    for e in edges:
-        groups.setdefault(find(e[1][0][0]), ([], []))[1].append(e)
-    for n in parent:
-        groups[find(n)][0].append(n)
+    names = list(index)
+    for k, lab in enumerate(label):
+        groups.setdefault(int(lab), ([], []))[0].append(names[k])
+    for e, i in zip(edges, a):
+        groups[int(label[i])][1].append(e)
     return list(groups.values())
 
 

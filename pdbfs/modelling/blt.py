@@ -56,23 +56,75 @@ def solve_blt(eqs, unknowns, labels):
             deps[lab[a]].add(lab[b])
     order = list(graphlib.TopologicalSorter(deps).static_order())
 
-    solved = []          # (unknown symbol, expression in x, z, p, t)
-    z_syms, z_labels, alg = [], [], []
+    members = np.argsort(lab, kind="stable")
+    starts = np.searchsorted(lab[members], np.arange(n_blocks + 1))
+    rows_of = lambda b: [int(i) for i in members[starts[b]:starts[b + 1]]]   # noqa: E731
+    # levels: a block comes after every block it needs; a level's blocks of one
+    # equation are solved together (a chain of masses is a few levels deep)
+    level = np.zeros(n_blocks, dtype=int)
     for b in order:
-        rows = [i for i in range(n_e) if lab[i] == b]
-        block_u = [unknowns[int(match[i])] for i in rows]
-        Rb = ca.vertcat(*[eqs[i][0] for i in rows])
-        if solved:
-            Rb = _subst(Rb, ca.vertcat(*[s for s, _ in solved]),
-                        ca.vertcat(*[e for _, e in solved]))
-        Ub = ca.vertcat(*block_u)
-        A = ca.jacobian(Rb, Ub)
-        if not ca.depends_on(A, Ub) and len(rows) <= 12:
-            rhs = -ca.substitute(Rb, Ub, ca.DM.zeros(len(rows)))
-            sol = rhs / A if len(rows) == 1 else ca.solve(A, rhs)
-            solved.extend((block_u[k], sol[k]) for k in range(len(rows)))
-        else:
-            z_syms.extend(block_u)
-            z_labels.extend(labels[int(match[i])] for i in rows)
-            alg.extend(Rb[k] for k in range(len(rows)))
+        level[b] = 1 + max((level[d] for d in deps[b]), default=-1)
+    known = {}           # name of a solved unknown -> its expression in x, z, p, t
+    solved, result = [], {}
+    for lv in range(int(level.max()) + 1 if n_blocks else 0):
+        blocks = [b for b in order if level[b] == lv]
+        single = [b for b in blocks if starts[b + 1] - starts[b] == 1]
+        for b in [b for b in blocks if starts[b + 1] - starts[b] > 1]:
+            result[b] = _solve_block(b, rows_of(b), eqs, unknowns, match, labels, known, solved)
+        if single:
+            _solve_singles(single, rows_of, eqs, unknowns, match, labels, known, solved, result)
+    z_syms, z_labels, alg = [], [], []
+    for b in order:                      # algebraic unknowns in the order of the blocks
+        zs, zl, al = result.get(b, ([], [], []))
+        z_syms += zs
+        z_labels += zl
+        alg += al
     return solved, z_syms, z_labels, alg
+
+
+def _known_in(R, known):
+    """R with the expressions of the unknowns solved earlier put in."""
+    inside = [s for s in ca.symvar(R) if s.name() in known]
+    if not inside:
+        return R
+    return _subst(R, ca.vertcat(*inside), ca.vertcat(*[known[s.name()] for s in inside]))
+
+
+def _solve_block(b, rows, eqs, unknowns, match, labels, known, solved):
+    """One block of several equations: solved if linear (and small), else algebraic."""
+    block_u = [unknowns[int(match[i])] for i in rows]
+    Rb = _known_in(ca.vertcat(*[eqs[i][0] for i in rows]), known)
+    Ub = ca.vertcat(*block_u)
+    A = ca.jacobian(Rb, Ub)
+    if not ca.depends_on(A, Ub) and len(rows) <= 12:
+        rhs = -ca.substitute(Rb, Ub, ca.DM.zeros(len(rows)))
+        sol = ca.solve(A, rhs)
+        for k in range(len(rows)):
+            solved.append((block_u[k], sol[k]))
+            known[block_u[k].name()] = sol[k]
+        return [], [], []
+    return block_u, [labels[int(match[i])] for i in rows], ca.vertsplit(Rb, 1)
+
+
+def _solve_singles(blocks, rows_of, eqs, unknowns, match, labels, known, solved, result):
+    """Blocks of one equation each, independent of each other: solved in bulk
+    where linear in their unknown, algebraic where not."""
+    rows = [rows_of(b)[0] for b in blocks]
+    us = [unknowns[int(match[i])] for i in rows]
+    R = _known_in(ca.vertcat(*[eqs[i][0] for i in rows]), known)
+    U = ca.vertcat(*us)
+    nonlinear = ca.which_depends(R, U, 2, True)
+    J = ca.jacobian(R, U)
+    diag = {}
+    for r, c, v in zip(*J.sparsity().get_triplet(), J.nonzeros()):
+        if r == c:
+            diag[r] = v
+    sol = ca.vertsplit(-ca.substitute(R, U, ca.DM.zeros(len(us))), 1)
+    Rs = ca.vertsplit(R, 1)
+    for k, b in enumerate(blocks):
+        if nonlinear[k] or k not in diag:
+            result[b] = ([us[k]], [labels[int(match[rows[k]])]], [Rs[k]])
+            continue
+        value = sol[k] / diag[k]
+        solved.append((us[k], value))
+        known[us[k].name()] = value

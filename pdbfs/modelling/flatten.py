@@ -88,40 +88,76 @@ def flatten(root) -> FlatSystem:
                 add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,
                         False, 1)
 
-    old_v, new_v = ca.vertcat(*old), ca.vertcat(*new)
-
-    def glob(expr):
-        if isinstance(expr, (int, float)):
-            return float(expr)
-        return ca.substitute(ca.SX(expr), old_v, new_v)
-
+    # every expression is renamed in one substitution (one per expression
+    # would make flattening quadratic in the size of the rig)
+    later = _Later()
     for p in flat.params:
         if isinstance(p.value, ca.SX):
-            p.value = glob(p.value)
+            later.add(p.value, lambda e, p=p: setattr(p, "value", e))
     for v, start in deferred:
-        v.start = None if start is None else glob(start)
+        if start is not None:
+            later.add(start, lambda e, v=v: setattr(v, "start", e))
 
     # component equations and events
     for comp, eqs, events in local_eqs:
         where = comp.label()
         for i, r in enumerate(eqs):
             r = ca.SX(r)
-            for k in range(r.numel()):
-                flat.equations.append((glob(r[k]), f"{where}, equation {i + 1}"))
+            for rk in (ca.vertsplit(ca.vec(r), 1) if r.numel() > 1 else [r]):
+                later.equation(flat.equations, rk, f"{where}, equation {i + 1}")
         for expr, label in events:
-            flat.events.append((glob(expr), _join(comp.path(), label)))
+            later.equation(flat.events, expr, _join(comp.path(), label))
 
-    _connection_equations(root, flat, glob)
+    _connection_equations(root, flat, later)
+    later.apply(ca.vertcat(*old), ca.vertcat(*new))
     _check_time_not_shadowed(flat)
     _check_foreign_symbols(flat)
     return flat
 
 
-def _connection_equations(root, flat, glob):
+class _Later:
+    """Expressions to rename, and where each result goes."""
+
+    def __init__(self):
+        self.exprs, self.puts = [], []
+
+    def add(self, expr, put):
+        if isinstance(expr, (int, float)):
+            put(float(expr))
+            return
+        self.exprs.append(expr if isinstance(expr, ca.SX) else ca.SX(expr))
+        self.puts.append(put)
+
+    def equation(self, target, expr, where):
+        """Append (renamed expr, where) to target, in this order."""
+        target.append(None)
+        k = len(target) - 1
+        self.add(expr, lambda e, k=k: target.__setitem__(k, (e, where)))
+
+    def apply(self, old, new):
+        if not self.exprs:
+            return
+        scalar = all(e.is_scalar() for e in self.exprs)
+        flat = ca.substitute(ca.vertcat(*(self.exprs if scalar else [ca.vec(e) for e in self.exprs])),
+                             old, new)
+        if scalar:                       # the usual case: one element each
+            for v, put in zip(ca.vertsplit(flat, 1), self.puts):
+                put(v)
+            return
+        k = 0
+        for e, put in zip(self.exprs, self.puts):
+            n = e.numel()
+            put(ca.reshape(flat[k:k + n], e.shape) if e.shape != (1, 1) else flat[k])
+            k += n
+
+
+def _connection_equations(root, flat, later):
+    """Equal across variables and a zero sum of flows per connection set, made
+    in bulk (one subtraction, one sparse product) in the order of the sets."""
     inside = set()   # connectors that appear as inside members of some set
+    same, flows = [], []   # (slot, a, b): a - b; (slot, [(sign, flow)])
     for comp in root.walk():
-        sets = _merge(comp._connections)
-        for members in sets:
+        for members in _merge(comp._connections):
             signs = []
             for c in members:
                 outside = c.owner is comp
@@ -132,8 +168,8 @@ def _connection_equations(root, flat, glob):
             first = members[0]
             if first.kind == "translational":
                 for c in members[1:]:
-                    flat.equations.append((glob(c.s - first.s), label))
-                flat.equations.append((glob(sum(s * c.f for s, c in zip(signs, members))), label))
+                    same.append((_slot(flat.equations, label), c.s, first.s))
+                flows.append((_slot(flat.equations, label), list(zip(signs, (c.f for c in members)))))
             else:
                 outs = [c for c, s in zip(members, signs) if c.is_output == (s > 0)]
                 if len(outs) > 1:
@@ -142,15 +178,41 @@ def _connection_equations(root, flat, glob):
                 if not outs:
                     raise ConnectError(f"{label}: no signal output drives these inputs")
                 for c in members[1:]:
-                    flat.equations.append((glob(c.value - first.value), label))
+                    same.append((_slot(flat.equations, label), c.value, first.value))
+    if same:
+        diff = ca.vertsplit(ca.vertcat(*[a for _, a, _ in same]) - ca.vertcat(*[b for _, _, b in same]), 1)
+        for (slot, _, _), e in zip(same, diff):
+            later.add(e, slot)
+    if flows:
+        syms, index, rows, cols, vals = [], {}, [], [], []
+        for r, (_, terms) in enumerate(flows):
+            for sign, f in terms:
+                k = index.setdefault(f.element_hash(), len(syms))
+                if k == len(syms):
+                    syms.append(f)
+                rows.append(r)
+                cols.append(k)
+                vals.append(sign)
+        from scipy.sparse import csc_matrix
+        M = ca.DM(csc_matrix((vals, (rows, cols)), shape=(len(flows), len(syms))))
+        sums = ca.vertsplit(ca.mtimes(M, ca.vertcat(*syms)), 1)
+        for (slot, _), e in zip(flows, sums):
+            later.add(e, slot)
     for comp in root.walk():
         for c in comp._connectors.values():
             if id(c) in inside:
                 continue
             if isinstance(c, Flange):
-                flat.equations.append((glob(c.f), f"{c.path()} is unconnected: zero force"))
+                later.equation(flat.equations, c.f, f"{c.path()} is unconnected: zero force")
             elif isinstance(c, SignalInput) and comp is not root:
                 raise ConnectError(f"signal input {c.path()} is not connected")
+
+
+def _slot(target, where):
+    """Reserve the next place in target; the returned setter fills it."""
+    target.append(None)
+    k = len(target) - 1
+    return lambda e: target.__setitem__(k, (e, where))
 
 
 def _check_balance(comp, n_eq):
@@ -173,17 +235,35 @@ def _check_balance(comp, n_eq):
                          f"for {need} unknowns: {what}")
 
 
+class _Set:
+    __slots__ = ("stamp", "members")
+
+    def __init__(self, stamp, members):
+        self.stamp, self.members = stamp, members
+
+
 def _merge(connections):
-    """Union connect() groups that share a connector into connection sets."""
-    sets: list[list] = []
-    for group in connections:
-        hit = [s for s in sets if any(any(c is m for m in s) for c in group)]
-        merged = [c for s in hit for c in s]
+    """Union connect() groups that share a connector into connection sets, in
+    the order of their last connect() (members: earlier sets first). A group
+    that touches one set grows it in place, so a frame connected to
+    thousands of parts costs no more than its connections."""
+    set_of = {}                          # connector id -> _Set
+    for stamp, group in enumerate(connections):
+        hit = sorted({id(set_of[id(c)]): set_of[id(c)] for c in group if id(c) in set_of}.values(),
+                     key=lambda st: st.stamp)
+        if len(hit) == 1:
+            target = hit[0]
+        else:
+            target = _Set(stamp, [c for st in hit for c in st.members])
+            for c in target.members:
+                set_of[id(c)] = target
+        target.stamp = stamp
         for c in group:
-            if not any(c is m for m in merged):
-                merged.append(c)
-        sets = [s for s in sets if not any(s is h for h in hit)] + [merged]
-    return sets
+            if id(c) not in set_of:
+                set_of[id(c)] = target
+                target.members.append(c)
+    unique = {id(st): st for st in set_of.values()}
+    return [st.members for st in sorted(unique.values(), key=lambda st: st.stamp)]
 
 
 def _check_time_not_shadowed(flat):
@@ -197,10 +277,12 @@ def _check_foreign_symbols(flat):
     """Every symbol in an equation must belong to this rig (or be time)."""
     known = {"time"} | {p.name for p in flat.params} | {v.name for v in flat.vars}
     known |= {f"der({v.name})" for v in flat.vars}
-    for what, items in (("equation", flat.equations), ("event indicator", flat.events)):
-        for expr, where in items:
-            strangers = sorted({s.name() for s in ca.symvar(expr)} - known)
-            if strangers:
-                raise ModelError(
-                    f"{where}: uses {', '.join(strangers)}, which belong(s) to no component of "
-                    f"this rig (a variable of another rig, or a symbol made outside declare())")
+    exprs = [e for e, _ in flat.equations] + [e for e, _ in flat.events]
+    if not exprs or not {s.name() for s in ca.symvar(ca.vertcat(*exprs))} - known:
+        return                           # the usual case, found in one pass
+    for expr, where in flat.equations + flat.events:      # name the first culprit
+        strangers = sorted({s.name() for s in ca.symvar(expr)} - known)
+        if strangers:
+            raise ModelError(
+                f"{where}: uses {', '.join(strangers)}, which belong(s) to no component of "
+                f"this rig (a variable of another rig, or a symbol made outside declare())")

@@ -23,11 +23,11 @@ from .symbolic import subst as _subst
 def simplify(flat: FlatSystem, name: str) -> DAE:
     t = flat.time
     free, calculated, p_old, p_new = _parameters(flat)
-    eqs = [(_subst(r, p_old, p_new), w) for r, w in flat.equations]
-    events = [(_subst(e, p_old, p_new), w) for e, w in flat.events]
-    for v in flat.vars:
-        if isinstance(v.start, ca.SX):
-            v.start = _subst(v.start, p_old, p_new)
+    eqs = list(zip(_each(flat.equations, p_old, p_new), [w for _, w in flat.equations]))
+    events = list(zip(_each(flat.events, p_old, p_new), [w for _, w in flat.events]))
+    starts = [v for v in flat.vars if isinstance(v.start, ca.SX)]
+    for v, e in zip(starts, _each([(v.start, None) for v in starts], p_old, p_new)):
+        v.start = e
     p_sym = ca.vertcat(*[p.sym for p in free])
 
     al = Aliases(flat, t)
@@ -58,11 +58,15 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         expr = al.resolve(expr)
         return _subst(expr, s_keys, s_vals)
 
+    # ode, outputs and events in terms of (t, x, z, p), in one substitution
     x = ca.vertcat(*[v.sym for v in states])
-    ode = ca.vertcat(*[final(v.der) for v in states]) if states else ca.SX(0, 1)
     y_vars = flat.vars
-    y = ca.vertcat(*[final(v.sym) for v in y_vars])
-    ev = ca.vertcat(*[final(e) for e, _ in events]) if events else ca.SX(0, 1)
+    parts = [[v.der for v in states], [v.sym for v in y_vars], [e for e, _ in events]]
+    done = final(ca.vertcat(*[e for part in parts for e in part]))
+    n_x, n_y = len(states), len(y_vars)
+    ode = done[:n_x] if states else ca.SX(0, 1)
+    y = done[n_x:n_x + n_y]
+    ev = done[n_x + n_y:] if events else ca.SX(0, 1)
     x0 = ca.vertcat(*[_start(v) for v in states]) if states else ca.SX(0, 1)
     _check_consistent_start(flat, al, states, x0, p_sym, free, final, t)
 
@@ -70,7 +74,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     by_name = {v.name: v for v in flat.vars}
     z0 = ca.vertcat(*[_start(by_name[n]) if n in by_name else ca.SX(0.0) for n in z_labels]) \
         if z_syms else ca.SX(0, 1)
-    alg_expr = ca.vertcat(*[final(r) for r in alg]) if alg else ca.SX(0, 1)
+    alg_expr = final(ca.vertcat(*alg)) if alg else ca.SX(0, 1)
 
     info = lambda v: VarInfo(v.name, v.unit, v.description, v.output)
     return DAE(name=name, t=t, x=x, z=z, p=p_sym, ode=ode, alg=alg_expr, x0=x0, y=y,
@@ -79,6 +83,14 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                                "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0)
+
+
+def _each(items, keys, vals) -> list:
+    """The expressions of (expr, where) items with keys -> vals, in one substitution."""
+    if not items:
+        return []
+    out = _subst(ca.vertcat(*[e for e, _ in items]), keys, vals)
+    return ca.vertsplit(out, 1)
 
 
 # -- parameters ------------------------------------------------------------------
@@ -126,7 +138,7 @@ def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
         return
     x = ca.vertcat(*[v.sym for v in states]) if states else ca.SX(0, 1)
     mine = ca.vertcat(*[_start(v) for v, _ in gone])
-    theirs = ca.vertcat(*[_subst(final(v.sym), x, x0) for v, _ in gone])
+    theirs = _subst(final(ca.vertcat(*[v.sym for v, _ in gone])), x, x0)
     f = ca.Function("start_check", [t, p_sym], [mine, theirs])
     a, b = (np.array(r).ravel() for r in f(0.0, [p.value for p in free]))
     for (v, where), s_mine, s_theirs in zip(gone, a, b):
