@@ -8,6 +8,7 @@ functions.
 
 May import: pdbfs.errors and pdbfs.modelling.
 """
+from .bar import BarResolutionWarning, ElasticBar, check_bar_resolution
 from .contact import HertzContact, HuntCrossleyDamper, ImpactContact
 from .friction import SealFriction
 from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,
@@ -27,4 +28,5 @@ __all__ = ["HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction"
            "damping_hunt_crossley", "damping_lankarani_nikravesh", "hertz_stiffness",
            "impact_velocity", "restitution_from_force", "Fixed", "Mass", "OilColumn",
            "ForceSensor", "PositionSensor", "PressureSensor", "SpeedSensor", "Force",
-           "Gravity", "Damper", "Spring"]
+           "Gravity", "Damper", "Spring", "ElasticBar", "BarResolutionWarning",
+           "check_bar_resolution"]

@@ -11,6 +11,8 @@ def positive_power(x, n):
 
 
 def signed_power(x, n):
-    """``sign(x) * |x|**n`` (symmetric power-law springs)."""
+    """``sign(x) * |x|**n`` (symmetric power-law springs). At x = 0 the value
+    is 0 and the slope that of the law: 1 for a linear law (n = 1), else 0,
+    so that Newton and stiffness estimates see a linear spring at rest."""
     return ca.if_else(x > 0, ca.fmax(x, 0.0) ** n,
-                      ca.if_else(x < 0, -(ca.fmax(-x, 0.0) ** n), 0.0))
+                      ca.if_else(x < 0, -(ca.fmax(-x, 0.0) ** n), x * (n == 1)))

@@ -3,6 +3,7 @@ command line accepts (``--rig NAME``) to functions that build them.
 
 May import: pdbfs.errors, pdbfs.modelling, pdbfs.components and pdbfs.rig.
 """
+from .bar_piston import BAR_SIGNALS, BarPistonRig, bar_piston_rig
 from .drop import DROP_SIGNALS, DropRig, drop_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
 from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig
@@ -29,10 +30,12 @@ RIGS = {
     **{f"paper-{s}": _paper_with_law(s) for s in LAW_RIGS},
     # the paper's conclusion: piston and seal split into several masses
     "split-piston": lambda: split_piston_rig(n=4),
+    # the piston as an elastic steel bar (issue 10)
+    "bar-piston": bar_piston_rig,
     # gravity and a drop height: repeated blows
     "drop": drop_rig,
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
            "SplitSeal", "SplitPistonRig", "split_piston_rig", "DropRig", "drop_rig",
-           "DROP_SIGNALS"]
+           "DROP_SIGNALS", "BarPistonRig", "bar_piston_rig", "BAR_SIGNALS"]

@@ -31,10 +31,10 @@ K_AXIAL = 3.5e9
 
 
 def _check_n(n, who):
+    # no upper limit: structural analysis is near-linear in n (thousands are fine);
+    # what the compilers cannot take is refused where they run, with its size
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ParameterError(f"{who}: n = {n!r} must be a whole number of piston pieces >= 1")
-    if n > 200:
-        raise ParameterError(f"{who}: n = {n} is too many piston pieces (at most 200)")
 
 
 class SplitPiston(Component):

@@ -21,7 +21,7 @@ void cosim_free(Inst *m) {
 
 /* (Re)start CVODE at (time, x); absolute tolerance = rtol * nominal */
 fmi2Status cosim_start(Inst *m) {
-    PdbfsCvodeSettings set;
+    PdbfsCvodeSettings set = {0};
     double atol[NX + 1];
     int i;
     if (!m->solver.ev) pdbfs_cvode_init(&m->solver, NX, NE, &m->ev, solver_log, m);

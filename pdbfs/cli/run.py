@@ -55,7 +55,8 @@ def add_parsers(sub):
     s.add_argument("--n-out", type=int, default=None,
                    help="output points (default 2001; the drop rig: 30001)")
     s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance")
-    s.add_argument("--method", default="adams", choices=["adams", "bdf"])
+    s.add_argument("--method", default="auto", choices=["auto", "adams", "bdf"],
+                   help="CVODE's method; auto: Adams unless the rig is stiff (default auto)")
     s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
                    help="casadi: SUNDIALS through CasADi (default); c: CVODE compiled "
                    "with the rig's generated C (ODE rigs, needs a C compiler; built once, cached)")

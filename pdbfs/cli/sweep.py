@@ -137,7 +137,8 @@ def add_parsers(sub):
     s.add_argument("--t-end", type=float, default=None, help="end time, s (default 0.02)")
     s.add_argument("--n-out", type=int, default=None, help="output points (default 2001)")
     s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance")
-    s.add_argument("--method", default="adams", choices=["adams", "bdf"])
+    s.add_argument("--method", default="adams", choices=["auto", "adams", "bdf"],
+                   help="CVODE's method; auto: Adams unless the rig is stiff (default adams)")
     s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
                    help="as for simulate (default: casadi; c: summaries in compiled C, fastest)")
     s.add_argument("--workers", type=int, default=None,

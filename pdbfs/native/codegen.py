@@ -45,8 +45,8 @@ FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc")
 
 def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()) -> list[ca.Function]:
     """CasADi Functions ``pdbfs_<name>`` of the DAE for code generation, in
-    the order of ``which``: ``ode`` (der x), ``jac`` (d ode / d x, dense,
-    column major), ``out`` (y), ``events`` (event indicators), ``start``
+    the order of ``which``: ``ode`` (der x), ``jac`` (d ode / d x, sparse:
+    its nonzeros in CasADi's column-compressed order), ``out`` (y), ``events`` (event indicators), ``start``
     (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters),
     ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
     derivatives for a state derivative v: (d/dx) v + d/dt, a function of
@@ -64,8 +64,9 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     args_q = [dae.t, xq, dae.z, dae.p]
     make = {
         "ode": lambda: ca.Function("pdbfs_ode", args, [ca.densify(dae.ode)], names, ["xdot"]),
-        "jac": lambda: ca.Function("pdbfs_jac", args, [ca.densify(ca.jacobian(dae.ode, dae.x))],
-                                   names, ["jac"]),
+        # sparse: the C reads the pattern from pdbfs_jac_sparsity_out (a chain's
+        # Jacobian is banded; dense code would grow as nx^2)
+        "jac": lambda: ca.Function("pdbfs_jac", args, [ca.jacobian(dae.ode, dae.x)], names, ["jac"]),
         "out": lambda: ca.Function("pdbfs_out", args, [ca.densify(dae.y)], names, ["y"]),
         "events": lambda: ca.Function("pdbfs_events", args, [ca.densify(dae.events)], names, ["e"]),
         "start": lambda: ca.Function("pdbfs_start", [dae.p], [ca.densify(dae.x0)], ["p"], ["x0"]),
@@ -78,8 +79,8 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
         "roles_dot": lambda: ca.Function("pdbfs_roles_dot", args, [ca.densify(r_dot)], names,
                                          ["r_dot"]),
         "ode_q": lambda: ca.Function("pdbfs_ode_q", args_q, [ca.densify(ode_q)], names, ["xdot"]),
-        "jac_q": lambda: ca.Function("pdbfs_jac_q", args_q, [ca.densify(ca.jacobian(ode_q, xq))],
-                                     names, ["jac"]),
+        "jac_q": lambda: ca.Function("pdbfs_jac_q", args_q, [ca.jacobian(ode_q, xq)], names,
+                                     ["jac"]),
     }
     unknown = [w for w in which if w not in make]
     if unknown:

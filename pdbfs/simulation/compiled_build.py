@@ -24,7 +24,7 @@ from pdbfs.native.sundials import find_sundials
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = (C_DIR / "pdbfs_batch.c", C_DIR / "pdbfs_summary.c")
 HEADER = "pdbfs_batch_model.h"
-ABI = 2
+ABI = 3
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")

@@ -25,15 +25,17 @@ from pdbfs.errors import ParameterError, SolverError
 from pdbfs.modelling import DAE, check_value
 
 from . import compiled as C
+from .failures import CAUSES, compiled_failure
+from .stiffness import choose_method
 from .vectorize import vectorize
 
-METHODS = ("adams", "bdf")
+METHODS = ("auto", "adams", "bdf")
 BACKENDS = ("casadi", "c")
 MAX_NUM_STEPS = 500000
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
-             start=None, rtol: float = 1e-8, atol: float = 1e-10, method: str = "adams",
+             start=None, rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
              max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
              backend: str = "casadi"):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
@@ -42,16 +44,18 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     params    {dotted name: value} overriding parameter defaults
     start     {state name: value} overriding start values
     rtol/atol relative and absolute tolerances of the integrator
-    method    'adams' (non-stiff, the default) or 'bdf' (stiff); rigs with
-              algebraic variables always use IDAS (BDF)
+    method    'auto' (the default: Adams unless a fast mode decays without
+              oscillating, see stiffness.py), 'adams' (non-stiff) or 'bdf'
+              (stiff); rigs with algebraic variables always use IDAS (BDF)
     max_step  largest internal step, s (None: no limit)
     max_num_steps  most internal steps between two output points (more is a
               SolverError)
     backend   'casadi' (default): SUNDIALS through casadi.integrator;
               'c': CVODE in a shared library compiled from the DAE (ODE rigs
               only; built once per rig, cached in ~/.cache/pdbfs/compiled;
-              needs a C compiler). Adams uses fixed-point iteration there,
-              BDF Newton with the exact Jacobian; the non-smooth points are
+              needs a C compiler). Newton there uses the exact sparse
+              Jacobian and a band LU for chains (fixed-point iteration for
+              Adams on small rigs); the non-smooth points are
               located as roots of the event indicators and CVODE restarts
               at each.
     Returns a pdbfs.Result.
@@ -116,6 +120,17 @@ class Simulator:
         return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
 
     # -- integrators -------------------------------------------------------------
+    def resolve_method(self, method, p, x0, span) -> str:
+        """``method``, or for "auto" the one stiffness.choose_method picks
+        for this start and time span (cached: repeated runs pay nothing)."""
+        if method != "auto":
+            return method
+        key = ("auto", np.asarray(p, float).tobytes(), np.asarray(x0, float).tobytes(),
+               float(span))
+        if key not in self._cache:
+            self._cache[key] = choose_method(self.dae, p, x0, span)
+        return self._cache[key][0]
+
     @staticmethod
     def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
                        backend="casadi"):
@@ -139,6 +154,8 @@ class Simulator:
         rigs) is IDAS's guess of der(x) at the start, which its consistent
         initialisation needs; such integrators are built per call."""
         self.check_settings(rtol, atol, method, max_step, max_num_steps)
+        if method == "auto":
+            raise ParameterError("method='auto' is resolved by the caller (resolve_method)")
         key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled,
                max_num_steps)
         if xdot0 is not None or key not in self._cache:
@@ -189,6 +206,7 @@ class Simulator:
     def step(self, x, p, t0, h, rtol, atol, method, max_step=None, backend="casadi",
              max_num_steps=MAX_NUM_STEPS):
         """State at t0 + h from state x at t0 (h > 0)."""
+        method = self.resolve_method(method, p, x, h)
         if backend == "c":
             grid = np.array([t0, t0 + h], dtype=float)
             if not grid[1] - grid[0] > 8 * np.finfo(float).eps * np.max(np.abs(grid)):
@@ -206,7 +224,7 @@ class Simulator:
 
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
-            rtol=1e-8, atol=1e-10, method="adams", max_step=None,
+            rtol=1e-8, atol=1e-10, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="casadi"):
         from .result import Result
         self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
@@ -215,6 +233,7 @@ class Simulator:
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
+        method = self.resolve_method(method, p, x0, grid[-1] - grid[0])
         if backend == "c":
             X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
             Z = np.zeros((0, grid.size))
@@ -269,33 +288,9 @@ class Simulator:
         """States on ``grid`` (nx x len(grid)) from the compiled driver."""
         X, st = self.compiled().run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
-            raise self._failure_c(grid, st)
+            raise compiled_failure(self.dae.name, grid, st)
         self._check_finite(grid, X)
         return X
-
-    def _failure_c(self, grid, st):
-        B = C
-        name = self.dae.name
-        if st.code == B.RC_BAD_INPUT:
-            return ParameterError(f"rig {name}: the compiled solver refused its input: {st.message}")
-        causes = {
-            B.RC_TOO_MUCH_WORK: _CAUSES["TOO_MUCH_WORK"],
-            B.RC_NOT_FINITE: "the solution became NaN or infinite; check parameter values (a "
-                             "stiffness or exponent far out of range?)",
-            -1: _CAUSES["TOO_MUCH_WORK"],                              # CV_TOO_MUCH_WORK
-            -2: "the tolerances are too small for double precision",  # CV_TOO_MUCH_ACC
-            -3: _CAUSES["ERR_FAIL"],                                   # CV_ERR_FAILURE
-            -4: _CAUSES["CONV_FAIL"],                                  # CV_CONV_FAILURE
-            -27: _CAUSES["TOO_CLOSE"],                                 # CV_TOO_CLOSE
-        }
-        if st.code in (-8, -9, -10, -11):       # CV_RHSFUNC_FAIL ... CV_UNREC_RHSFUNC_ERR
-            cause = ("the right-hand side became NaN or infinite (a force blowing up, or a "
-                     "parameter out of range)")
-        else:
-            cause = causes.get(st.code, "CVODE failed")
-        detail = f" (CVODE: {st.message})" if st.message else ""
-        return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
-                           f"(of {grid[-1]:.6g} s): {cause}{detail}")
 
     def outputs(self, grid, X, Z, p, rows=None) -> np.ndarray:
         """Outputs ``rows`` (indices into dae.y; all if None) on the grid."""
@@ -362,7 +357,7 @@ class Simulator:
                 break
             t_ok = b
         reason = str(err).strip().splitlines()[-1] if str(err).strip() else repr(err)
-        for code, cause in _CAUSES.items():
+        for code, cause in CAUSES.items():
             if code in str(err):
                 reason = cause
                 break
@@ -370,20 +365,6 @@ class Simulator:
                  f"before t = {grid[-1]:.6g} s (a retry interval by interval got through, so "
                  "the rig is at the edge of what these settings can do)")
         return SolverError(f"rig {self.dae.name}: the solver failed {where}: {reason}")
-
-
-_CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages
-    "TOO_MUCH_WORK": "too many steps: the solution may blow up (a force or parameter out of "
-                     "range), or the rig is very stiff (try method='bdf')",
-    "CONV_FAIL": "the corrector did not converge: stiffness or a discontinuity; try "
-                 "method='bdf' or a max_step",
-    "ERR_FAIL": "the error test failed repeatedly: a discontinuity or a parameter far out of "
-                "range",
-    "TOO_CLOSE": "the time span is too short",
-    "IDACalcIC": "IDAS found no consistent start for the algebraic variables: a nonlinear "
-                 "block that is singular at the start (e.g. power-law springs in series have "
-                 "zero stiffness at rest, where Newton cannot converge)",
-}
 
 
 class _Unbounded:

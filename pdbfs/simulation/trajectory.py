@@ -20,7 +20,7 @@ from .simulator import MAX_NUM_STEPS, Simulator
 
 def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,
                         t_out=None, inputs=None, params=None, rtol: float = 1e-8,
-                        atol: float = 1e-10, method: str = "adams",
+                        atol: float = 1e-10, method: str = "auto",
                         max_step: float | None = None) -> ca.Function:
     """casadi.Function ``p -> y``: ``outputs`` (dotted names) on the output
     grid, one row each, as functions of the parameters named in ``inputs``
@@ -48,6 +48,8 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     for k, name in enumerate(inputs):
         p[p_index[name]] = u[k]
     x0 = dae.function("start")(p)
+    method = sim.resolve_method(method, p0, dae.function("start")(p0).full().ravel(),
+                                grid[-1] - grid[0])
     F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)
     r = F(x0=x0, p=p, z0=sim.z_guess(p0))
     n = len(grid)

@@ -87,8 +87,10 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     sim.param_vector(fixed)
     sim.grid(t_end, n_out)
     sim.check_settings(rtol, atol, method, max_step, backend=backend)
-    if start:
-        sim.start_vector(sim.param_vector(fixed), start)
+    p_fixed = sim.param_vector(fixed)
+    x_fixed = sim.start_vector(p_fixed, start)
+    # "auto": one method for the whole sweep, judged at the fixed point
+    method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end))
     if trajectories and (client is not None or out is not None):
         raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
     settings = Settings(float(t_end), int(n_out), float(rtol), float(atol), method, max_step,

@@ -5,7 +5,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <stdlib.h>
+
+#include <sunlinsol/sunlinsol_band.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
@@ -55,10 +59,19 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *ud) {
 static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
                   N_Vector t1, N_Vector t2, N_Vector t3) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
-    double *jd = SUNDenseMatrix_Data(J);   /* column major, like CasADi */
+    const casadi_int *colind = s->jac_sp + 2, *row = s->jac_sp + 3 + s->nx;
+    casadi_int j, k, nnz = colind[s->nx];
+    int band = SUNMatGetID(J) == SUNMATRIX_BAND;
     (void)fy; (void)t1; (void)t2; (void)t3;
-    if (pdbfs_eval_txp(s->ev, s->jac, t, N_VGetArrayPointer(y), jd)) return -1;
-    return all_finite(jd, (long)s->nx * s->nx) ? 0 : 1;
+    if (pdbfs_eval_txp(s->ev, s->jac, t, N_VGetArrayPointer(y), s->jac_nz)) return -1;
+    if (!all_finite(s->jac_nz, (long)nnz)) return 1;
+    SUNMatZero(J);
+    for (j = 0; j < s->nx; j++)
+        for (k = colind[j]; k < colind[j + 1]; k++) {
+            if (band) SM_ELEMENT_B(J, row[k], j) = s->jac_nz[k];
+            else SM_ELEMENT_D(J, row[k], j) = s->jac_nz[k];
+        }
+    return 0;
 }
 
 static int cv_root(realtype t, N_Vector y, realtype *g, void *ud) {
@@ -86,6 +99,7 @@ void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn
     s->ev = ev;
     s->ode = pdbfs_ode;
     s->jac = pdbfs_jac;
+    s->jac_sp = pdbfs_jac_sparsity_out(0);
     s->log = log;
     s->env = env;
 }
@@ -99,8 +113,35 @@ void pdbfs_cvode_free(PdbfsCvode *s) {
     if (s->tmp) N_VDestroy(s->tmp);
     if (s->atol) N_VDestroy(s->atol);
     if (s->ctx) SUNContext_Free(&s->ctx);
+    free(s->jac_nz);
+    s->jac_nz = NULL;
     s->cv = NULL; s->LS = NULL; s->NLS = NULL; s->A = NULL;
     s->y = NULL; s->tmp = NULL; s->atol = NULL; s->ctx = NULL;
+}
+
+/* the Jacobian's bandwidths, from its pattern */
+static void bandwidths(PdbfsCvode *s) {
+    const casadi_int *colind = s->jac_sp + 2, *row = s->jac_sp + 3 + s->nx;
+    casadi_int j, k;
+    s->ml = s->mu = 0;
+    for (j = 0; j < s->nx; j++)
+        for (k = colind[j]; k < colind[j + 1]; k++) {
+            if (row[k] - j > s->ml) s->ml = (int)(row[k] - j);
+            if (j - row[k] > s->mu) s->mu = (int)(j - row[k]);
+        }
+}
+
+/* band LU costs about nx*ml*(ml+mu) against nx^3/3 dense, and stores
+ * nx*(2*ml+mu+1) numbers against nx^2: band when it stores under half */
+static int choose_linsol(PdbfsCvode *s, int asked) {
+    if (asked == PDBFS_LS_DENSE || asked == PDBFS_LS_BAND) return asked;
+    return 2 * (2 * s->ml + s->mu + 1) < s->nx ? PDBFS_LS_BAND : PDBFS_LS_DENSE;
+}
+
+static int choose_nls(const PdbfsCvodeSettings *set, int nx) {
+    if (set->method == PDBFS_BDF) return PDBFS_NLS_NEWTON;
+    if (set->nls == PDBFS_NLS_FIXED_POINT || set->nls == PDBFS_NLS_NEWTON) return set->nls;
+    return nx >= PDBFS_NEWTON_FROM ? PDBFS_NLS_NEWTON : PDBFS_NLS_FIXED_POINT;
 }
 
 /* a new CVODE memory for set->method, at (t0, y) */
@@ -109,16 +150,26 @@ static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
     s->cv = CVodeCreate(set->method == PDBFS_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
     if (!s->cv) return NO_MEMORY;
     s->method = set->method;
+    s->nls = choose_nls(set, s->nx);
     CVodeSetErrHandlerFn(s->cv, cv_err, s);
     flag = CVodeInit(s->cv, cv_rhs, t0, s->y);
     if (flag == CV_SUCCESS) flag = CVodeSetUserData(s->cv, s);
-    if (flag == CV_SUCCESS && set->method == PDBFS_ADAMS) {
+    if (flag == CV_SUCCESS && s->nls == PDBFS_NLS_FIXED_POINT) {
         s->NLS = SUNNonlinSol_FixedPoint(s->y, 0, s->ctx);
         if (!s->NLS) return NO_MEMORY;
         flag = CVodeSetNonlinearSolver(s->cv, s->NLS);
     } else if (flag == CV_SUCCESS) {
-        s->A = SUNDenseMatrix(s->nx, s->nx, s->ctx);
-        s->LS = s->A ? SUNLinSol_Dense(s->y, s->A, s->ctx) : NULL;
+        bandwidths(s);
+        s->linsol = choose_linsol(s, set->linsol);
+        s->jac_nz = malloc(sizeof(double) * (size_t)(s->jac_sp[2 + s->nx] + 1));
+        if (!s->jac_nz) return NO_MEMORY;
+        if (s->linsol == PDBFS_LS_BAND) {
+            s->A = SUNBandMatrix(s->nx, s->mu, s->ml, s->ctx);
+            s->LS = s->A ? SUNLinSol_Band(s->y, s->A, s->ctx) : NULL;
+        } else {
+            s->A = SUNDenseMatrix(s->nx, s->nx, s->ctx);
+            s->LS = s->A ? SUNLinSol_Dense(s->y, s->A, s->ctx) : NULL;
+        }
         if (!s->LS) return NO_MEMORY;
         flag = CVodeSetLinearSolver(s->cv, s->LS, s->A);
         if (flag == CV_SUCCESS) flag = CVodeSetJacFn(s->cv, cv_jac);
@@ -132,7 +183,9 @@ static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
 
 int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0) {
     int flag = CV_SUCCESS, i;
-    if (s->cv && s->method != set->method) pdbfs_cvode_free(s);
+    if (s->cv && (s->method != set->method || s->nls != choose_nls(set, s->nx)
+                  || (s->A && set->linsol && s->linsol != set->linsol)))
+        pdbfs_cvode_free(s);
     if (!s->ctx && SUNContext_Create(NULL, &s->ctx) != 0) return NO_MEMORY;
     if (!s->y) s->y = N_VNew_Serial(s->nx, s->ctx);
     if (!s->tmp) s->tmp = N_VNew_Serial(s->nx, s->ctx);

@@ -4,14 +4,16 @@
  * co-simulation (fmu/c/cosimulation.c).
  *
  * The model is the CasADi-generated C of pdbfs_ode, pdbfs_jac (d ode / dx,
- * dense, column major) and pdbfs_events, all functions of (t, x, z, p).
+ * sparse: its nonzeros, pattern from pdbfs_jac_sparsity_out) and
+ * pdbfs_events, all functions of (t, x, z, p).
  * CVODE runs in one-step mode; the event indicators are its root functions
  * and it is restarted at every root (the right-hand side is not smooth
  * there); states at requested times come from CVODE's dense output
  * (CVodeGetDky), so they do not depend on which times are requested.
  *
- * Methods: Adams-Moulton with fixed-point iteration, or BDF with Newton,
- * dense LU and the CasADi Jacobian.
+ * Methods: Adams-Moulton with fixed-point iteration, or Adams or BDF with
+ * Newton on the CasADi Jacobian: a band LU when the Jacobian is banded (a
+ * chain of masses: cost linear in the number of states), else dense LU.
  */
 #ifndef PDBFS_CVODE_H
 #define PDBFS_CVODE_H
@@ -26,6 +28,17 @@
 
 #define PDBFS_ADAMS 0
 #define PDBFS_BDF 1
+
+/* nonlinear iteration of Adams (BDF always uses Newton) */
+#define PDBFS_NLS_AUTO 0          /* Newton from PDBFS_NEWTON_FROM states on */
+#define PDBFS_NLS_FIXED_POINT 1
+#define PDBFS_NLS_NEWTON 2
+#define PDBFS_NEWTON_FROM 40      /* measured: below, fixed point is cheaper per step */
+
+/* linear solver of Newton */
+#define PDBFS_LS_AUTO 0           /* band if the band is narrow (see pdbfs_cvode.c), else dense */
+#define PDBFS_LS_DENSE 1
+#define PDBFS_LS_BAND 2
 
 /* pdbfs_cvode_advance's own failures (CVODE's are its negative flags) */
 #define PDBFS_CV_TOO_MUCH_WORK 3
@@ -57,13 +70,17 @@ typedef struct {
     const double *atol;   /* nx absolute tolerances */
     double max_step;      /* largest internal step, 0: no limit */
     double t_stop;        /* CVODE never steps past this time, if finite */
+    int nls;              /* PDBFS_NLS_* (0: auto) */
+    int linsol;           /* PDBFS_LS_* (0: auto) */
 } PdbfsCvodeSettings;
 
 typedef struct {
     int nx, ne;
     PdbfsEval *ev;
-    /* the right-hand side and its dense Jacobian (default pdbfs_ode, pdbfs_jac) */
+    /* the right-hand side and its sparse Jacobian with CasADi's pattern of it
+     * (default pdbfs_ode, pdbfs_jac, pdbfs_jac_sparsity_out(0)) */
     pdbfs_casadi_fn ode, jac;
+    const casadi_int *jac_sp;
     pdbfs_log_fn log;     /* may be NULL */
     void *env;
     /* CVODE and its memory */
@@ -73,7 +90,9 @@ typedef struct {
     SUNMatrix A;
     SUNLinearSolver LS;
     SUNNonlinearSolver NLS;
-    int method;           /* of the CVODE memory in cv */
+    double *jac_nz;       /* the Jacobian's nonzeros */
+    int method, nls, linsol;  /* of the CVODE memory in cv (linsol: the one chosen) */
+    int ml, mu;           /* the Jacobian's lower and upper bandwidths */
     double t_stop;        /* of the settings it was started with */
     /* where the integration is */
     double tn;            /* time CVODE has integrated to */
@@ -91,6 +110,14 @@ typedef struct {
     /* statistics since pdbfs_cvode_init */
     long steps, roots, rhs_evals;
 } PdbfsCvode;
+
+/* The solver code the compiled drivers take: method | nls << 4 | linsol << 8. */
+#define PDBFS_CODE_METHOD(c) ((c) & 15)
+#define PDBFS_CODE_NLS(c) (((c) >> 4) & 15)
+#define PDBFS_CODE_LINSOL(c) (((c) >> 8) & 15)
+#define PDBFS_CODE_VALID(c) ((c) >= 0 && (c) < 4096 && PDBFS_CODE_METHOD(c) <= PDBFS_BDF \
+                             && PDBFS_CODE_NLS(c) <= PDBFS_NLS_NEWTON \
+                             && PDBFS_CODE_LINSOL(c) <= PDBFS_LS_BAND)
 
 /* Prepare ``s`` (no allocation yet). */
 void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env);

@@ -32,11 +32,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 2
-
-/* methods */
-#define METHOD_ADAMS PDBFS_ADAMS
-#define METHOD_BDF PDBFS_BDF
+#define PDBFS_BATCH_ABI 3
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0
@@ -95,7 +91,9 @@ API void pdbfs_batch_sizes(long long *out) {
  *   nx, np        must equal the compiled sizes
  *   t             nt >= 2 finite, strictly increasing times
  *   rtol, atol    positive; atol applies to every state
- *   method        0 Adams (fixed point), 1 BDF (Newton, dense LU, exact Jacobian)
+ *   method        solver code: 0 Adams, 1 BDF, | nls << 4 (0 auto, 1 fixed
+ *                 point, 2 Newton; Adams only) | linsol << 8 (0 auto, 1 dense,
+ *                 2 band; see pdbfs_cvode.h)
  *   max_step      largest internal step (0: no limit)
  *   max_num_steps most internal steps between two output points
  *   info[5]       time reached, steps, roots, rhs evaluations, CVODE flag
@@ -111,7 +109,7 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
     Msg c;
     PdbfsEval ev;
     PdbfsCvode s;
-    PdbfsCvodeSettings set;
+    PdbfsCvodeSettings set = {0};
     double atolv[NX + 1], x[NX + 1];
     void *work = NULL;
     long long k, i;
@@ -153,8 +151,8 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         setmsg(&c, "max_num_steps = %lld: must be >= 1", max_num_steps);
         return RC_BAD_INPUT;
     }
-    if (method != METHOD_ADAMS && method != METHOD_BDF) {
-        setmsg(&c, "method = %d: 0 (Adams) or 1 (BDF)", method);
+    if (!PDBFS_CODE_VALID(method)) {
+        setmsg(&c, "solver code %d: method 0 (Adams) or 1 (BDF) | nls << 4 | linsol << 8", method);
         return RC_BAD_INPUT;
     }
     if (!all_finite(x0, NX) || !all_finite(p, NP)) {
@@ -183,7 +181,9 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
     ev.p = p;
 
     for (i = 0; i < NX; i++) atolv[i] = atol;
-    set.method = method;
+    set.method = PDBFS_CODE_METHOD(method);
+    set.nls = PDBFS_CODE_NLS(method);
+    set.linsol = PDBFS_CODE_LINSOL(method);
     set.rtol = rtol;
     set.atol = atolv;
     set.max_step = max_step;

@@ -243,7 +243,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     PdbfsCvodeSettings set;
     double atolv[NXQ], x0[NXQ], xe[NXQ];
     char *b = work;
-    if (!work || np != PDBFS_NP || n < 0 || !(t_end > 0)) {
+    if (!work || np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) {
         free(work);
         return -1;
     }
@@ -260,7 +260,9 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     H.set = &set;
     for (i = 0; i < NXQ; i++) atolv[i] = i < PDBFS_NX ? atol : 1e300;   /* impulses: no error test */
     memset(&set, 0, sizeof set);
-    set.method = method;
+    set.method = PDBFS_CODE_METHOD(method);
+    set.nls = PDBFS_CODE_NLS(method);
+    set.linsol = PDBFS_CODE_LINSOL(method);
     set.rtol = rtol;
     set.atol = atolv;
     set.max_step = max_step;
@@ -268,6 +270,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     pdbfs_cvode_init(&s, NXQ, PDBFS_NE, &ev, NULL, NULL);
     s.ode = pdbfs_ode_q;
     s.jac = pdbfs_jac_q;
+    s.jac_sp = pdbfs_jac_q_sparsity_out(0);
     for (i = 0; i < n; i++) {
         char *msg = msgs && msglen > 0 ? msgs + i * msglen : NULL;
         int k, code = 0;

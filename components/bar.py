@@ -1,0 +1,186 @@
+"""A 1-D elastic bar carrying axial (longitudinal) waves, lumped into masses
+and springs from the library's Mass and Spring, and the check that a chosen
+segment count resolves the waves at the output rate a user asks for."""
+from __future__ import annotations
+
+import math
+import operator
+import warnings
+from typing import NamedTuple
+
+import casadi as ca
+
+from pdbfs.errors import ParameterError
+from pdbfs.modelling import Component, Flange, Parameter, Variable, eq
+
+from .mass import Mass
+from .springs import Spring
+
+
+class BarResolutionWarning(UserWarning):
+    """The output interval asked for is finer than the bar's segments can
+    carry a wave: the output would show the chain, not the bar."""
+
+
+class ElasticBar(Component):
+    """A uniform elastic bar of length ``L``, area ``A``, Young's modulus
+    ``E`` and density ``rho``, moving along x (positive down).
+
+    Discretisation (cell-centred, as SplitPiston): ``n`` equal segments of
+    length h = L/n, each a rigid Mass ``seg{i}`` of rho*A*L/n at its centre;
+    neighbouring centres are joined by linear Springs ``link{i}`` (i = 1..n-1)
+    of stiffness E*A/h = n*E*A/L. ``flange_a`` (the struck end) is on
+    segment 1, ``flange_b`` on segment n; ``sides=True`` adds a flange
+    ``side{i}`` on each segment for forces along the bar (seal friction).
+    ``s`` is the position of the centre of mass.
+
+    Why not half masses at the ends (n+1 nodes, n springs)? Both lumpings
+    have the same free-free spectrum, omega_j = (2*c/h)*sin(j*pi/(2n)),
+    approximating the bar's j*pi*c/L; the cell-centred one has one mass
+    fewer, spreads a side load evenly, and for n = 1 is exactly the rigid
+    body. Its price: the end flanges sit half a segment inside the ends, so
+    a front takes (n-1)*h/c, not L/c, from flange_a to flange_b.
+
+    Waves: speed c = sqrt(E/rho), transit time L/c, impedance
+    Z = A*sqrt(E*rho). The chain is dispersive: omega = (2c/h)*sin(k*h/2),
+    group velocity c*cos(k*h/2); nothing above omega_max = 2*c*n/L rad/s
+    propagates. A segment's transit time tau = L/(n*c) is the shortest time
+    scale the chain represents: its front advances one segment per tau, its
+    cut-off period is pi*tau. Output every dt_out asks for features as short
+    as dt_out, so it shows the bar, not the chain's steps and ringing, when
+    tau <= dt_out, i.e. n >= L/(c*dt_out) (check_bar_resolution warns
+    otherwise). A front of rise time t_r is carried faithfully when tau << t_r.
+    Dispersion also spreads a step front: after i segments its 10-90 % rise
+    is about 1.1*tau*i^(1/3) (the Airy front of a discrete chain), so over
+    the whole length 1.1*(L/c)*n^(-2/3); to keep a pulse of rise time t_r
+    sharp after one transit, n >= (1.1*L/(c*t_r))^(3/2).
+    """
+
+    L = Parameter(1.3564, "m", "Length of the bar", positive=True, tunable=False)
+    A = Parameter(2.270e-2, "m2", "Cross-section area of the bar", positive=True,
+                  tunable=False)
+    E = Parameter(2.1e11, "Pa", "Young's modulus of the bar (steel: 2.1e11 Pa)", positive=True)
+    rho = Parameter(7850.0, "kg/m3", "Density of the bar (steel: 7850 kg/m3)", positive=True,
+                    tunable=False)
+
+    def __init__(self, n: int = 20, sides: bool = False, **params):
+        self._n = _segment_count(n)
+        self._sides = bool(sides)
+        super().__init__(**params)
+
+    @property
+    def n(self) -> int:
+        return self._n
+
+    def declare(self):
+        n = self._n
+        self.flange_a = Flange()
+        self.flange_b = Flange()
+        self.s = Variable("m", "Position of the bar's centre of mass (positive down)",
+                          output=True)
+        mass = self.rho * self.A * self.L
+        for i in range(1, n + 1):
+            setattr(self, f"seg{i}", Mass(m=mass / n if n > 1 else mass))
+            if self._sides:
+                setattr(self, f"side{i}", Flange())
+        for i in range(1, n):
+            setattr(self, f"link{i}", Spring(k=n * self.E * self.A / self.L, n=1.0))
+        for i in range(1, n + 1):
+            above = [self.flange_a] if i == 1 else [self.link(i - 1).flange_b]
+            if self._sides:
+                above.append(getattr(self, f"side{i}"))
+            self.connect(*above, self.segment(i).flange_a)
+            below = self.flange_b if i == n else self.link(i).flange_a
+            self.connect(self.segment(i).flange_b, below)
+
+    def segment(self, i: int) -> Mass:
+        """Segment ``i`` (1-based, 1 at flange_a)."""
+        return getattr(self, f"seg{i}")
+
+    def link(self, i: int) -> Spring:
+        """The spring between segments ``i`` and ``i+1``."""
+        return getattr(self, f"link{i}")
+
+    def equations(self):
+        n = self._n
+        return [eq(self.s, sum(self.segment(i).s for i in range(1, n + 1)) / n)]
+
+    def values(self, overrides=None) -> dict:
+        """The numbers L, A, E, rho (defaults, then ``overrides``) and n."""
+        out = {"n": self._n}
+        for name in ("L", "A", "E", "rho"):
+            value = (overrides or {}).get(name, self._params[name].value)
+            if isinstance(value, ca.SX):
+                raise ParameterError(f"ElasticBar '{self.path()}': {name} is computed from "
+                                     "other parameters; pass its value in overrides")
+            out[name] = self._params[name].decl.check(value, f"ElasticBar.{name}")
+        return out
+
+
+def _segment_count(n) -> int:
+    if not isinstance(n, bool):
+        try:
+            n = operator.index(n)
+        except TypeError:
+            pass
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ParameterError(f"ElasticBar: n = {n!r} must be a whole number of segments >= 1")
+    return n
+
+
+class BarResolution(NamedTuple):
+    """How well a bar of ``n`` segments resolves waves at output interval
+    ``dt_out``. ``factor`` = segment_time / dt_out: <= 1 is resolved."""
+
+    c: float              # wave speed, m/s
+    transit_time: float   # L/c, s
+    segment_time: float   # L/(n*c), s
+    factor: float         # segment_time / dt_out
+    n_min: int            # smallest n with segment_time <= dt_out
+
+    @property
+    def resolved(self) -> bool:
+        return self.factor <= 1.0
+
+
+def bar_resolution(L: float, E: float, rho: float, n: int, dt_out: float) -> BarResolution:
+    """Wave speed, transit times and the resolution factor of a bar (SI)."""
+    for name, value in (("L", L), ("E", E), ("rho", rho), ("dt_out", dt_out)):
+        try:
+            ok = math.isfinite(float(value)) and float(value) > 0
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ParameterError(f"bar_resolution: {name} = {value!r} must be a number > 0")
+    L, E, rho, dt_out = float(L), float(E), float(rho), float(dt_out)
+    n = _segment_count(n)
+    c = math.sqrt(E / rho)
+    transit = L / c
+    tau = transit / n
+    # a hair under 1 so that n exactly at the bound is not rounded up
+    return BarResolution(c, transit, tau, tau / dt_out, math.ceil(transit / dt_out - 1e-9))
+
+
+def check_bar_resolution(bar_or_params, dt_out: float, *, name: str | None = None,
+                         stacklevel: int = 2) -> BarResolution:
+    """Warn (BarResolutionWarning) when one segment's transit time
+    L/(n*c) is longer than the output interval ``dt_out``: the output then
+    resolves time scales the lumped chain does not carry, and shows its
+    discretisation. ``bar_or_params``: an ElasticBar (its parameter values)
+    or a mapping with L, E, rho and n. Returns the BarResolution."""
+    if isinstance(bar_or_params, ElasticBar):
+        values = bar_or_params.values()
+        name = name or bar_or_params.path()
+    else:
+        values = dict(bar_or_params)
+        missing = {"L", "E", "rho", "n"} - set(values)
+        if missing:
+            raise ParameterError(f"check_bar_resolution: missing {', '.join(sorted(missing))}")
+    r = bar_resolution(values["L"], values["E"], values["rho"], values["n"], dt_out)
+    if not r.resolved:
+        who = f"ElasticBar '{name}'" if name else "ElasticBar"
+        warnings.warn(f"{who}: a segment's transit time {r.segment_time:.3g} s is "
+                      f"{r.factor:.3g} times the output interval {dt_out:.3g} s; use "
+                      f"n >= {r.n_min} segments to resolve the wave at this output rate",
+                      BarResolutionWarning, stacklevel=stacklevel)
+    return r

@@ -1,0 +1,43 @@
+"""What a failed integration most likely means, for SolverError messages."""
+from __future__ import annotations
+
+from pdbfs.errors import ParameterError, SolverError
+
+from . import compiled as C
+
+CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages
+    "TOO_MUCH_WORK": "too many steps: the solution may blow up (a force or parameter out of "
+                     "range), or the rig is very stiff (try method='bdf')",
+    "CONV_FAIL": "the corrector did not converge: stiffness or a discontinuity; try "
+                 "method='bdf' or a max_step",
+    "ERR_FAIL": "the error test failed repeatedly: a discontinuity or a parameter far out of "
+                "range",
+    "TOO_CLOSE": "the time span is too short",
+    "IDACalcIC": "IDAS found no consistent start for the algebraic variables: a nonlinear "
+                 "block that is singular at the start (e.g. power-law springs in series have "
+                 "zero stiffness at rest, where Newton cannot converge)",
+}
+
+
+def compiled_failure(name, grid, st) -> Exception:
+    """The error to raise for a failed run of the compiled driver (a RunStatus)."""
+    if st.code == C.RC_BAD_INPUT:
+        return ParameterError(f"rig {name}: the compiled solver refused its input: {st.message}")
+    causes = {
+        C.RC_TOO_MUCH_WORK: CAUSES["TOO_MUCH_WORK"],
+        C.RC_NOT_FINITE: "the solution became NaN or infinite; check parameter values (a "
+                         "stiffness or exponent far out of range?)",
+        -1: CAUSES["TOO_MUCH_WORK"],                              # CV_TOO_MUCH_WORK
+        -2: "the tolerances are too small for double precision",  # CV_TOO_MUCH_ACC
+        -3: CAUSES["ERR_FAIL"],                                   # CV_ERR_FAILURE
+        -4: CAUSES["CONV_FAIL"],                                  # CV_CONV_FAILURE
+        -27: CAUSES["TOO_CLOSE"],                                 # CV_TOO_CLOSE
+    }
+    if st.code in (-8, -9, -10, -11):       # CV_RHSFUNC_FAIL ... CV_UNREC_RHSFUNC_ERR
+        cause = ("the right-hand side became NaN or infinite (a force blowing up, or a "
+                 "parameter out of range)")
+    else:
+        cause = causes.get(st.code, "CVODE failed")
+    detail = f" (CVODE: {st.message})" if st.message else ""
+    return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
+                       f"(of {grid[-1]:.6g} s): {cause}{detail}")
