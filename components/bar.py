@@ -105,6 +105,17 @@ class ElasticBar(Component):
         n = self._n
         return [eq(self.s, sum(self.segment(i).s for i in range(1, n + 1)) / n)]
 
+    def check_output(self, dt_out: float, params=None):
+        """Called by Rig.simulate with its output interval and ``params``
+        (dotted names): warn if the segments do not resolve the wave there."""
+        prefix = self.path() + "."
+        mine = {k[len(prefix):]: v for k, v in (params or {}).items() if k.startswith(prefix)}
+        try:
+            values = self.values(mine)
+        except ParameterError:
+            return None      # a bad value: simulate() reports it with the rig's names
+        return check_bar_resolution(values, dt_out, name=self.path(), stacklevel=5)
+
     def values(self, overrides=None) -> dict:
         """The numbers L, A, E, rho (defaults, then ``overrides``) and n."""
         out = {"n": self._n}

@@ -4,6 +4,8 @@ the back ends (simulation and FMU export), so that ``rig.simulate(...)`` and
 ``rig.export_fmu(...)`` read as they should."""
 from __future__ import annotations
 
+import numpy as np
+
 from pdbfs.modelling import Component
 
 
@@ -14,9 +16,27 @@ class Rig(Component):
     experiment)."""
 
     def simulate(self, t_end: float = 0.02, **kwargs):
-        """Simulate this rig; see ``pdbfs.simulate`` for the arguments."""
+        """Simulate this rig; see ``pdbfs.simulate`` for the arguments.
+        Components with a ``check_output(dt_out, params)`` method (e.g. an
+        ElasticBar, whose segments may be too coarse for the output rate)
+        are asked first."""
         from pdbfs.simulation import simulate
+        self._check_output(t_end, kwargs)
         return simulate(self, t_end, **kwargs)
+
+    def _check_output(self, t_end, kwargs):
+        t_out = kwargs.get("t_out")
+        try:
+            dt = float(np.min(np.diff(np.asarray(t_out, float)))) if t_out is not None else \
+                float(t_end) / (int(kwargs.get("n_out", 2001)) - 1)
+        except (TypeError, ValueError, ZeroDivisionError):
+            return                    # bad settings: simulate() says what is wrong
+        if not (np.isfinite(dt) and dt > 0):
+            return
+        for comp in self.walk():
+            check = getattr(comp, "check_output", None)
+            if check is not None:
+                check(dt, kwargs.get("params"))
 
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
         """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""

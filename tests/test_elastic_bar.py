@@ -67,6 +67,7 @@ def first_crossing(t, y, level):
 
 
 # ------------------------------------------------------------------ a. transit time
+@pytest.mark.filterwarnings("ignore::pdbfs.components.BarResolutionWarning")  # sampled finer on purpose
 def test_the_front_reaches_the_free_end_after_L_over_c_and_doubles_its_velocity():
     """A force step F on a free bar sends a front of particle velocity F/Z;
     at the free end it reflects and the end moves at 2F/Z from t = L/c on.
@@ -91,6 +92,7 @@ def test_the_front_reaches_the_free_end_after_L_over_c_and_doubles_its_velocity(
     assert errors[1] < errors[0]
 
 
+@pytest.mark.filterwarnings("ignore::pdbfs.components.BarResolutionWarning")  # sampled finer on purpose
 def test_the_front_crosses_each_link_in_one_segment_transit_time():
     n = 100
     res = StruckBar(n, 1e4).simulate(0.8 * T, n_out=801)
@@ -112,6 +114,7 @@ def _blow_error(n, M, v0):
     return float(np.max(np.abs(force - exact)[window]) / (Z * v0))
 
 
+@pytest.mark.filterwarnings("ignore::pdbfs.components.BarResolutionWarning")  # sampled finer on purpose
 def test_mass_striking_a_bar_gives_saint_venants_exponential_force():
     M, v0 = 0.25 * RHO * A * L, 3.0      # M/Z = L/(4c): 8 decay times before 2L/c
     err_coarse = _blow_error(50, M, v0)
@@ -165,7 +168,7 @@ def test_bar_piston_rig_is_close_to_the_rigid_piston_rig():
     bar = rig.simulate(t_end=0.02, n_out=401)
     rigid = paper_rig().simulate(0.02, n_out=401)
     assert bar.peak(key)[1] == pytest.approx(rigid.peak(key)[1], rel=0.03)
-    assert rig.rig_name() == "pdbfs_bar20" and RIGS["bar-piston"]().n == 20
+    assert rig.rig_name() == "pdbfs_bar20" and RIGS["bar-piston"]().n == 30
     # the segments add up to the paper's m2, and to rho*A*L
     dae = rig.compile()
     p = ca.DM(dae.p_default())
@@ -177,6 +180,7 @@ def test_bar_piston_rig_is_close_to_the_rigid_piston_rig():
     assert sum(masses) == pytest.approx(par["piston.rho"] * par["piston.A"] * par["piston.L"])
 
 
+@pytest.mark.filterwarnings("ignore::pdbfs.components.BarResolutionWarning")  # sampled finer on purpose
 def test_one_segment_bar_piston_is_the_paper_rig():
     a = paper_rig().simulate(0.02, n_out=401)
     b = bar_piston_rig(1).simulate(0.02, n_out=401)

@@ -71,9 +71,10 @@ def flatten(root) -> FlatSystem:
         return v
 
     # equations first: der() calls in them create the derivative symbols
-    local_eqs = [(comp, comp.equations(), comp.events()) for comp in root.walk()]
+    local_eqs = [(comp, [r if isinstance(r, ca.SX) else ca.SX(r) for r in comp.equations()],
+                  comp.events()) for comp in root.walk()]
     for comp, eqs, _ in local_eqs:
-        _check_balance(comp, sum(ca.SX(r).numel() for r in eqs))
+        _check_balance(comp, sum(r.numel() for r in eqs))
     for comp in root.walk():
         prefix = comp.path()
         for p in comp._params.values():
@@ -102,7 +103,6 @@ def flatten(root) -> FlatSystem:
     for comp, eqs, events in local_eqs:
         where = comp.label()
         for i, r in enumerate(eqs):
-            r = ca.SX(r)
             for rk in (ca.vertsplit(ca.vec(r), 1) if r.numel() > 1 else [r]):
                 later.equation(flat.equations, rk, f"{where}, equation {i + 1}")
         for expr, label in events:

@@ -17,8 +17,9 @@ import platform
 import tempfile
 from pathlib import Path
 
-from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, compile_command, compiler, generate,
-                                  model_functions, run_compiler, sizes_header_lines)
+from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
+                                  compiler, generate, model_functions, run_compiler,
+                                  size_flags, sizes_header_lines)
 from pdbfs.native.sundials import find_sundials
 
 C_DIR = Path(__file__).with_name("c")
@@ -75,8 +76,9 @@ def build(dae) -> Path:
         files = {f.name: f.read_text() for f in (*DRIVERS, *CVODE_DRIVER)}
         c_files = [n for n in files if n.endswith(".c")] + [f"{FUNCS}.c"]
         # the command with placeholders for the temporary paths: part of the key
+        flags = size_flags(src / f"{FUNCS}.c")
         cmd_key = compile_command([Path(f"@SRC@/{n}") for n in c_files], Path("@OUT@"),
-                                  [Path("@SRC@")], sd=sd, cc=cc)
+                                  [Path("@SRC@")], flags, sd=sd, cc=cc)
         h = hashlib.sha256()
         for part in (f"abi {ABI}", platform.machine(), *files.values(), hdr,
                      (src / f"{FUNCS}.c").read_text(), (src / f"{FUNCS}.h").read_text(),
@@ -92,8 +94,10 @@ def build(dae) -> Path:
         target.parent.mkdir(parents=True, exist_ok=True)
         part = Path(tempfile.mkstemp(prefix=f".{key}-", suffix=".so", dir=target.parent)[1])
         try:
-            cmd = compile_command([src / n for n in c_files], part, [src], sd=sd, cc=cc)
-            run_compiler(cmd, f"the compiled model of rig {dae.name}")
+            what = f"the compiled model of rig {dae.name}"
+            check_compiler_memory(src / f"{FUNCS}.c", what)
+            cmd = compile_command([src / n for n in c_files], part, [src], flags, sd=sd, cc=cc)
+            run_compiler(cmd, what)
             BUILDS += 1
             os.chmod(part, 0o755)
             os.replace(part, target)   # atomic: a concurrent build writes the same bytes

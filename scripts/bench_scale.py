@@ -1,0 +1,91 @@
+"""Benchmark: how the split-piston rig's costs grow with the number N of
+piston masses (2N + 4 states), on this machine, in one run:
+
+* build      split_piston_rig(N).compile(): flattening, structural analysis,
+             the CasADi DAE (what the first simulate adds to the others);
+* simulate   a further rig.simulate() (0-20 ms, 2001 points, rtol 1e-8,
+             atol 1e-10, method "auto"), best of ``--repeat``; with the
+             compiled backend too (``--c``, also its build: C generation
+             and compilation, once per rig structure);
+* FMU        rig.export_fmu(): C generation, compilation, zip (``--fmu``).
+
+Each column is also printed as a ratio to N = 1's (the baseline, in the
+same process), and fitted as c * N^k over N >= 10: k is the exponent.
+
+    python scripts/bench_scale.py [--n 1,10,100,1000,2000] [--c] [--fmu] [--repeat 2]
+
+Expect the simulate exponent above 1 at a fixed tolerance: the chain's
+highest mode (2 c N / L) is excited by the impact and carries more than
+the tolerance, so CVODE's steps grow with N (about N^0.6) on top of the
+cost of a step (linear in N: sparse or band LU).
+"""
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pdbfs.models import split_piston_rig
+from pdbfs.simulation import compiled_build
+
+
+def timed(f):
+    t = time.perf_counter()
+    out = f()
+    return time.perf_counter() - t, out
+
+
+def fit(ns, ts):
+    ns, ts = np.asarray(ns, float), np.asarray(ts, float)
+    keep = (ns >= 10) & np.isfinite(ts) & (ts > 0)
+    if keep.sum() < 2:
+        return float("nan")
+    return float(np.polyfit(np.log(ns[keep]), np.log(ts[keep]), 1)[0])
+
+
+def measure(n, args, tmp):
+    row = {}
+    rig = split_piston_rig(n)
+    row["build"], _ = timed(rig.compile)
+    rig.simulate()                          # the integrator's own set-up, once
+    row["simulate"] = min(timed(rig.simulate)[0] for _ in range(args.repeat))
+    if args.c:
+        row["c build"], _ = timed(lambda: rig.simulate(backend="c", t_end=1e-4, n_out=2))
+        row["c simulate"] = min(timed(lambda: rig.simulate(backend="c"))[0]
+                                for _ in range(args.repeat))
+    if args.fmu:
+        row["FMU export"], _ = timed(lambda: rig.export_fmu(Path(tmp) / f"split{n}.fmu"))
+    return row
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", default="1,10,100,1000,2000", help="numbers of piston masses")
+    ap.add_argument("--c", action="store_true", help="also the compiled backend")
+    ap.add_argument("--fmu", action="store_true", help="also FMU export")
+    ap.add_argument("--repeat", type=int, default=2)
+    args = ap.parse_args(argv)
+    ns = [int(v) for v in args.n.split(",")]
+    if args.c:   # a fresh cache of compiled rigs: compilation is measured, not looked up
+        fresh = Path(tempfile.mkdtemp(prefix="pdbfs-bench-compiled-"))
+        compiled_build.cache_dir = lambda: fresh
+    rows = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in ns:
+            rows[n] = measure(n, args, tmp)
+            print(f"N = {n:5d} ({2 * n + 4} states): " + ", ".join(
+                f"{k} {v:.3g} s" for k, v in rows[n].items()), flush=True)
+    cols = list(rows[ns[0]])
+    base = rows[ns[0]]
+    print(f"\nratio to N = {ns[0]} (same process), and exponent k of c*N^k over N >= 10")
+    print(f"{'N':>6} " + " ".join(f"{c:>12}" for c in cols))
+    for n in ns:
+        print(f"{n:>6} " + " ".join(f"{rows[n][c] / base[c]:>12.3g}" for c in cols))
+    print(f"{'k':>6} " + " ".join(f"{fit(ns, [rows[n][c] for n in ns]):>12.2f}" for c in cols))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,165 @@
+"""Large rigs (issue 10): no cap on the number of masses, the integrator
+chosen for the structure (method='auto'), the band linear solver of the
+compiled backend and the FMU, and clear errors where a rig is too large for
+the compiler. Times are benchmarks (scripts/bench_scale.py), not tests."""
+import ctypes
+import warnings
+
+import numpy as np
+import pytest
+
+import pdbfs
+from pdbfs.components import Damper, Fixed, Mass, Spring
+from pdbfs.errors import ExportError, ParameterError
+from pdbfs.models import paper_rig, split_piston_rig
+from pdbfs.native import codegen
+from pdbfs.simulation import Simulator
+from pdbfs.simulation import compiled as batch
+from pdbfs.simulation.stiffness import choose_method
+
+ADAMS, BDF = 0, 1
+NEWTON = 2 << 4
+DENSE, BAND = 1 << 8, 2 << 8
+
+
+class Overdamped(pdbfs.Rig):
+    """A mass on a soft spring behind a very strong damper: the damper's mode
+    decays at c/m = 1e8 1/s without oscillating, the spring's at k/c: stiff."""
+    name = "overdamped"
+
+    def declare(self):
+        self.frame = Fixed()
+        self.body = Mass(m=1e-3, v0=1.0)
+        self.spring = Spring(k=1e4)
+        self.damper = Damper(c=1e5)
+        self.connect(self.frame.flange, self.spring.flange_a, self.damper.flange_a)
+        self.connect(self.spring.flange_b, self.damper.flange_b, self.body.flange_a)
+
+
+@pytest.mark.parametrize("n", [0, -2, 2.5, True, "4"])
+def test_a_piece_count_below_one_is_refused(n):
+    with pytest.raises(ParameterError, match="n = .* whole number"):
+        split_piston_rig(n)
+
+
+def test_hundreds_of_pieces_build_and_reproduce_the_paper_pulse():
+    """No cap on n: 400 pieces (804 states) compile; the piston is 16 times
+    stiffer than the oil, so the pressure pulse stays the paper rig's."""
+    rig = split_piston_rig(400)
+    dae = rig.compile()
+    assert dae.x.numel() == 2 * 400 + 4 and dae.is_ode
+    r = rig.simulate(0.012, n_out=241)
+    ref = paper_rig().simulate(0.012, n_out=241)
+    assert r.peak("oil.pressure")[1] == pytest.approx(ref.peak("oil.pressure")[1], rel=0.03)
+    assert r.peak("oil.pressure")[0] == pytest.approx(ref.peak("oil.pressure")[0], rel=0.1)
+
+
+def test_auto_keeps_adams_on_the_paper_rig_and_its_results():
+    dae = paper_rig().compile()
+    sim = Simulator.of(dae)
+    p = sim.param_vector()
+    assert choose_method(dae, p, sim.start_vector(p), 0.02)[0] == "adams"
+    auto, adams = (pdbfs.simulate(dae, method=m)["oil.pressure"] for m in ("auto", "adams"))
+    assert np.array_equal(auto, adams)
+
+
+def test_auto_picks_bdf_for_a_fast_decaying_mode_and_bdf_is_cheaper_there():
+    dae = Overdamped().compile()
+    sim = Simulator.of(dae)
+    p = sim.param_vector()
+    x0 = sim.start_vector(p)
+    method, why = choose_method(dae, p, x0, 0.05)
+    assert method == "bdf" and "without oscillating" in why
+    grid = np.linspace(0.0, 0.05, 101)
+    c = batch.compiled(dae)
+    steps = {}
+    for name, code in (("adams", ADAMS | NEWTON), ("bdf", BDF)):
+        X, st = c.run(grid, x0, p, 1e-8, 1e-10, method=name)
+        assert st.ok
+        steps[name] = st.steps
+        # overdamped: x(t) -> 0 along the slow mode exp(-k t / c)
+        assert abs(X[0, -1]) < 1e-6
+    assert steps["bdf"] * 10 < steps["adams"]
+    r = pdbfs.simulate(dae, 0.05, n_out=101, method="auto")
+    assert r.settings["method"] == "bdf"
+
+
+def test_an_oscillating_chain_is_not_called_stiff():
+    """The split piston's fastest modes ring (|Im| >> |Re|): Adams."""
+    dae = split_piston_rig(50).compile()
+    sim = Simulator.of(dae)
+    p = sim.param_vector()
+    method, why = choose_method(dae, p, sim.start_vector(p), 0.02)
+    assert method == "adams" and "oscillates" in why
+
+
+def test_the_band_solver_of_the_compiled_backend_agrees_with_dense_lu():
+    """A chain's Jacobian is banded: the C driver picks a band LU by itself
+    (the same numbers as asking for it) and agrees with dense LU to the
+    tolerance."""
+    rig = split_piston_rig(30)
+    dae = rig.compile()
+    sim = Simulator.of(dae)
+    p = sim.param_vector()
+    x0 = sim.start_vector(p)
+    c = batch.compiled(dae)
+    grid = np.linspace(0.0, 0.012, 241)
+    out = {}
+    for name, code in (("auto", BDF), ("band", BDF | BAND), ("dense", BDF | DENSE),
+                       ("adams-band", ADAMS | NEWTON | BAND)):
+        X = np.empty((c.nx, grid.size))
+        info = np.zeros(5)
+        rc = c._run(c.nx, c.np, p.ctypes.data, x0.ctypes.data, grid.size, grid.ctypes.data,
+                    X.ctypes.data, 1e-8, 1e-10, code, 0.0, 500000, info.ctypes.data, None, 0)
+        assert rc == 0, name
+        out[name] = X
+    assert np.array_equal(out["auto"], out["band"])
+    i = dae.x_names.index("breech.s")
+    scale = np.abs(out["dense"][i]).max()
+    assert np.abs(out["band"][i] - out["dense"][i]).max() < 1e-5 * scale
+    assert np.abs(out["adams-band"][i] - out["dense"][i]).max() < 1e-5 * scale
+
+
+def test_the_compiled_driver_refuses_an_unknown_solver_code():
+    dae = paper_rig().compile()
+    c = batch.compiled(dae)
+    sim = Simulator.of(dae)
+    p = sim.param_vector()
+    x0 = sim.start_vector(p)
+    X, grid, info = np.empty((c.nx, 2)), np.array([0.0, 1e-3]), np.zeros(5)
+    msg = ctypes.create_string_buffer(200)
+    rc = c._run(c.nx, c.np, p.ctypes.data, x0.ctypes.data, 2, grid.ctypes.data, X.ctypes.data,
+                1e-8, 1e-10, 3 << 8, 0.0, 100, info.ctypes.data, msg, 200)
+    assert rc == batch.RC_BAD_INPUT and "solver code 768" in msg.value.decode()
+
+
+def test_c_too_large_for_the_free_memory_is_refused_before_compiling(tmp_path):
+    c = tmp_path / "big.c"
+    c.write_text("/* generated */\n" * 100_000)
+    with pytest.raises(ExportError, match=r"the FMU binary of rig big: the generated C is 1\.6 MB"
+                                          r".*GB of memory but .*fewer masses"):
+        codegen.check_compiler_memory(c, "the FMU binary of rig big", available=10**8)
+    codegen.check_compiler_memory(c, "the FMU binary of rig big", available=10**12)
+    assert codegen.size_flags(c) == ["-O1"]
+    small = tmp_path / "small.c"
+    small.write_text("int x;\n")
+    assert codegen.size_flags(small) == []
+
+
+def test_a_compiler_killed_midway_is_a_clear_error():
+    with pytest.raises(ExportError, match="killed by signal 9 .*out of memory"):
+        codegen.run_compiler(["sh", "-c", "kill -9 $$"], "the FMU binary of rig big")
+
+
+def test_simulate_warns_when_the_bar_segments_are_coarser_than_the_output():
+    from pdbfs.components import BarResolutionWarning
+    from pdbfs.models import RIGS, bar_piston_rig
+    with pytest.warns(BarResolutionWarning, match=r"'piston'.* 5\.24 times the output interval "
+                                                  r"5e-06 s; use n >= 53"):
+        bar_piston_rig(10).simulate(0.01, n_out=2001)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", BarResolutionWarning)
+        RIGS["bar-piston"]().simulate(0.012, n_out=1201)     # 30 segments: resolved
+        # a longer bar (params=) has slower segments: warned again
+        with pytest.raises(BarResolutionWarning, match="piston"):
+            RIGS["bar-piston"]().simulate(0.012, n_out=1201, params={"piston.L": 3.0})
