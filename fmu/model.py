@@ -153,8 +153,8 @@ class FmuModel:
         V.append(_Var("solver.max_step", self.vr_maxstep, "parameter", "fixed", "exact",
                       "Co-Simulation: maximum internal CVODE step (0: no limit)", start=0.0, unit="s", min=0.0))
         V.append(_Var("solver.method", self.vr_method, "parameter", "fixed", "exact",
-                      "Co-Simulation: CVODE method, 1 = BDF (Newton, dense LU, exact Jacobian), "
-                      "2 = Adams (fixed-point iteration)", type="Enumeration", start=1,
+                      "Co-Simulation: CVODE method, 1 = BDF (Newton, exact sparse Jacobian, "
+                      "band or dense LU), 2 = Adams (fixed point below 40 states, else Newton)", type="Enumeration", start=1,
                       declared_type="pdbfs.SolverMethod"))
         V.append(_Var("solver.max_num_steps", self.vr_maxnumsteps, "parameter", "fixed", "exact",
                       "Co-Simulation: most internal CVODE steps in one fmi2DoStep (more is a solver failure)",

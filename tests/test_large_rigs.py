@@ -141,6 +141,9 @@ def test_c_too_large_for_the_free_memory_is_refused_before_compiling(tmp_path):
         codegen.check_compiler_memory(c, "the FMU binary of rig big", available=10**8)
     codegen.check_compiler_memory(c, "the FMU binary of rig big", available=10**12)
     assert codegen.size_flags(c) == ["-O1"]
+    huge = tmp_path / "huge.c"
+    huge.write_text("/* generated */\n" * 150_000)
+    assert codegen.size_flags(huge) == ["-O0"]
     small = tmp_path / "small.c"
     small.write_text("int x;\n")
     assert codegen.size_flags(small) == []

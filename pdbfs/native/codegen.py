@@ -128,10 +128,12 @@ def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
             *map(str, sources), "-o", str(out), *sd.link_args(), *LDFLAGS]
 
 
-#: generated C above this size is compiled with -O1: GCC's -O2 passes grow
-#: faster than linearly on one huge function (measured on the split piston,
-#: N = 200, 1 MB of C: -O2 17 s and 520 MB, -O1 9 s and 400 MB, -O0 3 s)
+#: generated C above these sizes is compiled with -O1, then -O0: GCC's
+#: optimising passes grow faster than linearly on one huge function
+#: (measured on the split piston: N = 200, 1 MB of C: -O2 17 s and 520 MB,
+#: -O1 9 s and 400 MB, -O0 3 s; N = 1,000, 5 MB: -O1 over 5 minutes)
 O1_ABOVE_BYTES = 300_000
+O0_ABOVE_BYTES = 2_000_000
 
 #: peak memory of the compiler per byte of generated C (measured: 400-520)
 COMPILER_BYTES_PER_BYTE = 600
@@ -139,7 +141,8 @@ COMPILER_BYTES_PER_BYTE = 600
 
 def size_flags(generated_c: Path) -> list[str]:
     """Optimisation flags for a generated C file of this size."""
-    return ["-O1"] if generated_c.stat().st_size > O1_ABOVE_BYTES else []
+    size = generated_c.stat().st_size
+    return ["-O0"] if size > O0_ABOVE_BYTES else ["-O1"] if size > O1_ABOVE_BYTES else []
 
 
 def check_compiler_memory(generated_c: Path, what: str, available: int | None = None) -> None:
