@@ -17,11 +17,9 @@ rigid-piston rig's; what the bar adds is the stress wave through the piston
 """
 from __future__ import annotations
 
-from pdbfs.components import (ElasticBar, Fixed, ImpactContact, Mass, OilColumn, Spring,
-                              check_bar_resolution)
-from pdbfs.rig import Rig
+from pdbfs.components import ElasticBar, check_bar_resolution
 
-from .split_piston import SPLIT_SIGNALS, SplitSeal, _check_n
+from .split_piston import SPLIT_SIGNALS, SplitPistonRig
 
 #: the paper's piston and seal mass m2, kg, and the piston area, m^2
 PISTON_MASS = 241.7
@@ -34,43 +32,21 @@ PISTON_LENGTH = PISTON_MASS / (STEEL_RHO * PISTON_AREA)
 BAR_SIGNALS = dict(SPLIT_SIGNALS)
 
 
-class BarPistonRig(Rig):
+class BarPistonRig(SplitPistonRig):
     """The paper's rig (Table 1 values) with the piston an ElasticBar of
     ``n`` segments (``piston.L``, ``piston.A``, ``piston.E``,
-    ``piston.rho``) and the seal friction ``seal.c`` spread over them."""
+    ``piston.rho``) and the seal friction ``seal.c`` spread over them; the
+    rest of the rig is SplitPistonRig's."""
 
     summary_signals = BAR_SIGNALS
+    name_prefix, builder = "pdbfs_bar", "bar_piston_rig"
 
     def __init__(self, n: int = 30, law=None, **params):
-        _check_n(n, "bar_piston_rig")
-        self._n = n
-        self._law = law
-        self.name = f"pdbfs_bar{n}"
-        super().__init__(**params)
+        super().__init__(n=n, law=law, **params)
 
-    def declare(self):
-        n = self._n
-        self.frame = Fixed()
-        self.hammer = Mass(m=2948.4, v0=2.73)
-        self.piston = ElasticBar(n=n, sides=True, L=PISTON_LENGTH, A=PISTON_AREA,
-                                 E=STEEL_E, rho=STEEL_RHO)
-        self.breech = Mass(m=500.0)
-        self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6)
-        self.oil = OilColumn(k=2.228e8, n=1.0, A=PISTON_AREA)
-        self.seal = SplitSeal(n=n, c=2.556e4)
-        self.mount = Spring(k=2.5e10, n=1.0)
-        self.connect(self.hammer.flange_b, self.contact.flange_a)
-        self.connect(self.contact.flange_b, self.piston.flange_a)
-        for i in range(1, n + 1):
-            self.connect(getattr(self.piston, f"side{i}"), getattr(self.seal, f"flange{i}"))
-        self.connect(self.piston.flange_b, self.oil.flange_a)
-        self.connect(self.oil.flange_b, self.breech.flange_a)
-        self.connect(self.breech.flange_b, self.mount.flange_a)
-        self.connect(self.frame.flange, self.mount.flange_b, self.seal.frame)
-
-    @property
-    def n(self) -> int:
-        return self._n
+    def make_piston(self, n: int) -> ElasticBar:
+        return ElasticBar(n=n, sides=True, L=PISTON_LENGTH, A=PISTON_AREA, E=STEEL_E,
+                          rho=STEEL_RHO)
 
     def check_resolution(self, dt_out: float, params=None):
         """Warn (BarResolutionWarning) if output every ``dt_out`` s is finer
@@ -81,14 +57,6 @@ class BarPistonRig(Rig):
                 if k.startswith("piston.")}
         values = self.piston.values(mine)
         return check_bar_resolution(values, dt_out, name=self.piston.path(), stacklevel=3)
-
-    def force_chain(self, res) -> list:
-        """Compressive forces through the piston, top to bottom: contact,
-        links 1..n-1 (springs report tension, so negated), oil; a list of
-        (label, array) from a Result."""
-        out = [("contact", res["contact.fc"])]
-        out += [(f"link {i}", -res[f"piston.link{i}.f"]) for i in range(1, self._n)]
-        return out + [("oil", res["oil.fc"])]
 
 
 def bar_piston_rig(n: int = 30, **kw) -> BarPistonRig:

@@ -115,19 +115,26 @@ class SplitPistonRig(Rig):
     ``n`` masses. Parameters as in PaperRig, plus ``piston.k_axial``."""
 
     summary_signals = SPLIT_SIGNALS
+    #: the rig's name is this prefix and n; who checks n in error messages
+    name_prefix, builder = "pdbfs_split", "split_piston_rig"
 
     def __init__(self, n: int = 4, law=None, **params):
-        _check_n(n, "split_piston_rig")
+        _check_n(n, self.builder)
         self._n = n
         self._law = law
-        self.name = f"pdbfs_split{n}"
+        self.name = f"{self.name_prefix}{n}"
         super().__init__(**params)
+
+    def make_piston(self, n: int) -> Component:
+        """The piston: flanges flange_a (struck), flange_b (on the oil) and
+        side1..side{n} (the seal's). Subclasses put another piston here."""
+        return SplitPiston(n=n)
 
     def declare(self):
         n = self._n
         self.frame = Fixed()
         self.hammer = Mass(m=2948.4, v0=2.73)
-        self.piston = SplitPiston(n=n)
+        self.piston = self.make_piston(n)
         self.breech = Mass(m=500.0)
         self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6)
         self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
