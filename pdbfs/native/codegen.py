@@ -5,8 +5,9 @@
 Conventions (the same for every generated binary):
 
 * the model functions are CasADi Functions of ``(t, x, z, p)`` (``start``
-  and ``calc`` of ``(p)``) named ``pdbfs_<what>`` with dense outputs, and
-  are generated into one C file ``pdbfs_model_funcs.c`` (+ ``.h``) without
+  and ``calc`` of ``(p)``) named ``pdbfs_<what>`` with dense outputs (the
+  Jacobians ``jac`` and ``jac_q`` sparse: their nonzeros, the pattern in
+  ``pdbfs_<what>_sparsity_out``), and are generated into one C file ``pdbfs_model_funcs.c`` (+ ``.h``) without
   export attributes; the generic C driver calls them with work arrays of
   the sizes returned by :func:`generate` (``PDBFS_SZ_ARG`` ... in the
   generated header);
@@ -46,7 +47,8 @@ FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc")
 def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()) -> list[ca.Function]:
     """CasADi Functions ``pdbfs_<name>`` of the DAE for code generation, in
     the order of ``which``: ``ode`` (der x), ``jac`` (d ode / d x, sparse:
-    its nonzeros in CasADi's column-compressed order), ``out`` (y), ``events`` (event indicators), ``start``
+    its nonzeros in CasADi's column-compressed order), ``out`` (y),
+    ``events`` (event indicators), ``start``
     (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters),
     ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
     derivatives for a state derivative v: (d/dx) v + d/dt, a function of

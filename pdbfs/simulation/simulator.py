@@ -205,8 +205,10 @@ class Simulator:
 
     def step(self, x, p, t0, h, rtol, atol, method, max_step=None, backend="casadi",
              max_num_steps=MAX_NUM_STEPS):
-        """State at t0 + h from state x at t0 (h > 0)."""
-        method = self.resolve_method(method, p, x, h)
+        """State at t0 + h from state x at t0 (h > 0). "auto" is judged at
+        the rig's start, not at x: one choice for every step of a run."""
+        method = self.resolve_method(method, p, self.start_vector(p), h) \
+            if method == "auto" else method
         if backend == "c":
             grid = np.array([t0, t0 + h], dtype=float)
             if not grid[1] - grid[0] > 8 * np.finfo(float).eps * np.max(np.abs(grid)):

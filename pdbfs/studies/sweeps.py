@@ -84,10 +84,9 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     info = {p.name: p for p in sim.dae.params}
     # names first: an unknown name is an error of the whole sweep, not of a point
     sim.param_vector({n: info[n].value if n in info else 0.0 for n in points.names + list(fixed)})
-    sim.param_vector(fixed)
+    p_fixed = sim.param_vector(fixed)
     sim.grid(t_end, n_out)
     sim.check_settings(rtol, atol, method, max_step, backend=backend)
-    p_fixed = sim.param_vector(fixed)
     x_fixed = sim.start_vector(p_fixed, start)
     # "auto": one method for the whole sweep, judged at the fixed point
     method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end))
