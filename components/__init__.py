@@ -9,6 +9,7 @@ functions.
 May import: pdbfs.errors and pdbfs.modelling.
 """
 from .bar import BarResolutionWarning, ElasticBar, check_bar_resolution
+from .chain import MassChain
 from .contact import HertzContact, HuntCrossleyDamper, ImpactContact
 from .friction import SealFriction
 from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,
@@ -22,7 +23,7 @@ from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
 from .sources import Force, Gravity
 from .springs import Damper, Spring
 
-__all__ = ["HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
+__all__ = ["MassChain", "HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
            "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",
            "PartialOneFlange", "PartialTwoFlanges", "DAMPING_LAWS", "damping_flores",
            "damping_hunt_crossley", "damping_lankarani_nikravesh", "hertz_stiffness",

@@ -11,10 +11,10 @@ from typing import NamedTuple
 import casadi as ca
 
 from pdbfs.errors import ParameterError
-from pdbfs.modelling import Component, Flange, Parameter, Variable, eq
+from pdbfs.modelling import Parameter
 
+from .chain import MassChain
 from .mass import Mass
-from .springs import Spring
 
 
 class BarResolutionWarning(UserWarning):
@@ -22,7 +22,7 @@ class BarResolutionWarning(UserWarning):
     carry a wave: the output would show the chain, not the bar."""
 
 
-class ElasticBar(Component):
+class ElasticBar(MassChain):
     """A uniform elastic bar of length ``L``, area ``A``, Young's modulus
     ``E`` and density ``rho``, moving along x (positive down).
 
@@ -63,47 +63,20 @@ class ElasticBar(Component):
     rho = Parameter(7850.0, "kg/m3", "Density of the bar (steel: 7850 kg/m3)", positive=True,
                     tunable=False)
 
+    piece_prefix, body = "seg", "bar"
+
     def __init__(self, n: int = 20, sides: bool = False, **params):
-        self._n = _segment_count(n)
-        self._sides = bool(sides)
-        super().__init__(**params)
+        super().__init__(_segment_count(n), sides, **params)
 
-    @property
-    def n(self) -> int:
-        return self._n
+    def total_mass(self):
+        return self.rho * self.A * self.L
 
-    def declare(self):
-        n = self._n
-        self.flange_a = Flange()
-        self.flange_b = Flange()
-        self.s = Variable("m", "Position of the bar's centre of mass (positive down)",
-                          output=True)
-        mass = self.rho * self.A * self.L
-        for i in range(1, n + 1):
-            setattr(self, f"seg{i}", Mass(m=mass / n if n > 1 else mass))
-            if self._sides:
-                setattr(self, f"side{i}", Flange())
-        for i in range(1, n):
-            setattr(self, f"link{i}", Spring(k=n * self.E * self.A / self.L, n=1.0))
-        for i in range(1, n + 1):
-            above = [self.flange_a] if i == 1 else [self.link(i - 1).flange_b]
-            if self._sides:
-                above.append(getattr(self, f"side{i}"))
-            self.connect(*above, self.segment(i).flange_a)
-            below = self.flange_b if i == n else self.link(i).flange_a
-            self.connect(self.segment(i).flange_b, below)
+    def total_stiffness(self):
+        return self.E * self.A / self.L
 
     def segment(self, i: int) -> Mass:
         """Segment ``i`` (1-based, 1 at flange_a)."""
-        return getattr(self, f"seg{i}")
-
-    def link(self, i: int) -> Spring:
-        """The spring between segments ``i`` and ``i+1``."""
-        return getattr(self, f"link{i}")
-
-    def equations(self):
-        n = self._n
-        return [eq(self.s, sum(self.segment(i).s for i in range(1, n + 1)) / n)]
+        return self.piece(i)
 
     def check_output(self, dt_out: float, params=None):
         """Called by Rig.simulate with its output interval and ``params``

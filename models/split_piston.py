@@ -21,9 +21,10 @@ for equation (tests/test_variants.py checks the pressure to 1e-9).
 """
 from __future__ import annotations
 
-from pdbfs.components import Fixed, ImpactContact, Mass, OilColumn, SealFriction, Spring
+from pdbfs.components import (Fixed, ImpactContact, Mass, MassChain, OilColumn, SealFriction,
+                              Spring)
 from pdbfs.errors import ParameterError
-from pdbfs.modelling import Component, Flange, Parameter, Variable, eq
+from pdbfs.modelling import Component, Flange, Parameter
 from pdbfs.rig import Rig
 
 #: Axial stiffness EA/L of the whole piston, N/m (steel, see module docstring).
@@ -37,50 +38,28 @@ def _check_n(n, who):
         raise ParameterError(f"{who}: n = {n!r} must be a whole number of piston pieces >= 1")
 
 
-class SplitPiston(Component):
-    """A piston of mass ``m`` cut into ``n`` equal rigid pieces joined by
-    linear springs. ``flange_a`` is the struck face (piece 1), ``flange_b``
-    the face on the oil (piece n); ``side{i}`` is a flange on piece i
-    (1-based) for side forces such as seal friction. The variable ``s`` is
-    the position of the centre of mass."""
+class SplitPiston(MassChain):
+    """A piston of mass ``m`` cut into ``n`` equal rigid pieces ``p{i}``
+    joined by linear springs ``link{i}`` (a MassChain). ``flange_a`` is the
+    struck face (piece 1), ``flange_b`` the face on the oil (piece n);
+    ``side{i}`` is a flange on piece i (1-based) for side forces such as
+    seal friction. The variable ``s`` is the position of the centre of mass."""
 
     m = Parameter(241.7, "kg", "Total mass of the piston and seal assembly (the paper's m2)",
                   positive=True, tunable=False)
     k_axial = Parameter(K_AXIAL, "N/m", "Axial stiffness EA/L of the whole piston; each of "
                         "the n-1 links has n*k_axial", positive=True)
+    piece_prefix, body = "p", "piston"
 
     def __init__(self, n: int = 4, **params):
         _check_n(n, "SplitPiston")
-        self._n = n
-        super().__init__(**params)
+        super().__init__(n, sides=True, **params)
 
-    @property
-    def n(self) -> int:
-        return self._n
+    def total_mass(self):
+        return self.m
 
-    def declare(self):
-        n = self._n
-        self.flange_a = Flange()
-        self.flange_b = Flange()
-        self.s = Variable("m", "Position of the piston's centre of mass (positive down)",
-                          output=True)
-        for i in range(1, n + 1):
-            setattr(self, f"p{i}", Mass(m=self.m / n if n > 1 else self.m))
-            setattr(self, f"side{i}", Flange())
-        for i in range(1, n):
-            setattr(self, f"link{i}", Spring(k=self.k_axial * n, n=1.0))
-        for i in range(1, n + 1):
-            above = self.flange_a if i == 1 else getattr(self, f"link{i - 1}").flange_b
-            self.connect(above, self.piece(i).flange_a, getattr(self, f"side{i}"))
-            below = self.flange_b if i == n else getattr(self, f"link{i}").flange_a
-            self.connect(self.piece(i).flange_b, below)
-
-    def piece(self, i: int) -> Mass:
-        return getattr(self, f"p{i}")
-
-    def equations(self):
-        n = self._n
-        return [eq(self.s, sum(self.piece(i).s for i in range(1, n + 1)) / n)]
+    def total_stiffness(self):
+        return self.k_axial
 
 
 class SplitSeal(Component):

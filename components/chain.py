@@ -1,0 +1,72 @@
+"""MassChain: the shared part of a body cut into a row of masses (a split
+piston, an elastic bar): n equal rigid pieces joined by n-1 linear springs,
+composed from Mass and Spring. A subclass says what the whole body weighs
+and how stiff it is; the chain does the rest."""
+from __future__ import annotations
+
+from pdbfs.modelling import Component, Flange, Variable, eq
+
+from .mass import Mass
+from .springs import Spring
+
+
+class MassChain(Component):
+    """``n`` pieces ``{piece_prefix}{i}`` (i = 1..n, 1 at ``flange_a``), each
+    a Mass of total_mass()/n, joined by Springs ``link{i}`` of
+    n * total_stiffness() (a body of axial stiffness EA/L cut into pieces
+    of length L/n, joined centre to centre). ``flange_b`` is on piece n;
+    with ``sides`` a flange ``side{i}`` on each piece takes side forces
+    (seal friction). ``s`` is the position of the centre of mass."""
+
+    #: attribute prefix of the pieces, and what ``s`` is the centre of
+    piece_prefix = "p"
+    body = "body"
+
+    def __init__(self, n: int, sides: bool = True, **params):
+        self._n = n
+        self._sides = bool(sides)
+        super().__init__(**params)
+
+    @property
+    def n(self) -> int:
+        return self._n
+
+    def total_mass(self):
+        """Mass of the whole body (an expression of the parameters), kg."""
+        raise NotImplementedError
+
+    def total_stiffness(self):
+        """Axial stiffness EA/L of the whole body, N/m."""
+        raise NotImplementedError
+
+    def declare(self):
+        n = self._n
+        self.flange_a = Flange()
+        self.flange_b = Flange()
+        self.s = Variable("m", f"Position of the {self.body}'s centre of mass (positive down)",
+                          output=True)
+        mass = self.total_mass()
+        for i in range(1, n + 1):
+            setattr(self, f"{self.piece_prefix}{i}", Mass(m=mass / n if n > 1 else mass))
+            if self._sides:
+                setattr(self, f"side{i}", Flange())
+        for i in range(1, n):
+            setattr(self, f"link{i}", Spring(k=self.total_stiffness() * n, n=1.0))
+        for i in range(1, n + 1):
+            above = self.flange_a if i == 1 else self.link(i - 1).flange_b
+            sides = [getattr(self, f"side{i}")] if self._sides else []
+            self.connect(above, self.piece(i).flange_a, *sides)
+            below = self.flange_b if i == n else self.link(i).flange_a
+            self.connect(self.piece(i).flange_b, below)
+
+    def piece(self, i: int) -> Mass:
+        """Piece ``i`` (1-based, 1 at flange_a)."""
+        return getattr(self, f"{self.piece_prefix}{i}")
+
+    def link(self, i: int) -> Spring:
+        """The spring between pieces ``i`` and ``i+1``."""
+        return getattr(self, f"link{i}")
+
+    def equations(self):
+        n = self._n
+        return [eq(self.s, sum(self.piece(i).s for i in range(1, n + 1)) / n)]
