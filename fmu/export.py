@@ -24,7 +24,7 @@ import casadi as ca
 from pdbfs.errors import ExportError
 from pdbfs.modelling import DAE
 from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
-                                  generate, run_compiler, size_flags, sizes_header_lines)
+                                  generate, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import find_sundials
 
 from .description import model_description
@@ -178,8 +178,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         binary = Path(tmp) / f"{ident}.so"
         sources = [src / f.name for f in WRAPPER_FILES if f.suffix == ".c"] + [src / f"{FUNCS}.c"]
         check_compiler_memory(src / f"{FUNCS}.c", f"the FMU binary of rig {model.dae.name}")
-        flags = size_flags(src / f"{FUNCS}.c") + list(cflags or [])   # the caller's flags last: they win
-        run_compiler(compile_command(sources, binary, [src], flags, sd=sd),
+        run_compiler(compile_command(sources, binary, [src], cflags, sd=sd),
                      f"the FMU binary of rig {model.dae.name}")
         if keep_build_dir is not None:
             kb = Path(keep_build_dir)

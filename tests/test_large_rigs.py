@@ -5,6 +5,7 @@ the compiler. Times are benchmarks (scripts/bench_scale.py), not tests."""
 import ctypes
 import warnings
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -140,13 +141,27 @@ def test_c_too_large_for_the_free_memory_is_refused_before_compiling(tmp_path):
                                           r".*GB of memory but .*fewer masses"):
         codegen.check_compiler_memory(c, "the FMU binary of rig big", available=10**8)
     codegen.check_compiler_memory(c, "the FMU binary of rig big", available=10**12)
-    assert codegen.size_flags(c) == ["-O1"]
-    huge = tmp_path / "huge.c"
-    huge.write_text("/* generated */\n" * 150_000)
-    assert codegen.size_flags(huge) == ["-O0"]
-    small = tmp_path / "small.c"
-    small.write_text("int x;\n")
-    assert codegen.size_flags(small) == []
+
+
+@pytest.mark.parametrize("which", ["ode", "jac", "out"])
+def test_large_functions_are_generated_in_parts_that_compute_the_same(which):
+    """GCC's optimisation grows faster than linearly with one function's
+    size: a large model function becomes parts of bounded size, called by a
+    function of the same name, inputs and output sparsity."""
+    dae = split_piston_rig(60).compile()
+    (f,) = codegen.model_functions(dae, (which,))
+    g = codegen.split(f, size=500)
+    assert f.n_instructions() > 2000
+    parts = [g.instruction_MX(k) for k in range(g.n_instructions())
+             if g.instruction_id(k) == ca.OP_CALL]
+    assert len(parts) >= f.n_instructions() // 500
+    assert all(p.which_function().n_instructions() <= 2 * 500 for p in parts)
+    assert g.name() == f.name() and g.sparsity_out(0) == f.sparsity_out(0)
+    rng = np.random.default_rng(1)
+    args = [rng.normal(size=f.sparsity_in(i).shape) for i in range(f.n_in())]
+    assert np.allclose(g(*args).full(), f(*args).full(), rtol=1e-14, atol=0)
+    assert codegen.split(codegen.model_functions(paper_rig().compile(), ("ode",))[0]).is_a(
+        "SXFunction")                                   # small: left whole
 
 
 def test_a_compiler_killed_midway_is_a_clear_error():

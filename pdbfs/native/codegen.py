@@ -92,13 +92,50 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
 
 def generate(funcs: list[ca.Function], directory: str | os.PathLike,
              name: str = FUNCS) -> tuple[int, int, int, int]:
-    """Write ``<name>.c`` and ``<name>.h`` of ``funcs`` into ``directory``;
-    return the work sizes (arg, res, iw, w) a caller must provide."""
+    """Write ``<name>.c`` and ``<name>.h`` of ``funcs`` into ``directory``
+    (large functions split into parts, see :func:`split`); return the work
+    sizes (arg, res, iw, w) a caller must provide."""
     cg = ca.CodeGenerator(f"{name}.c", {"with_header": True, "with_export": False, "verbose": False})
+    funcs = [split(f) for f in funcs]
     for f in funcs:
         cg.add(f)
     cg.generate(str(directory) + os.sep)
     return work_sizes(funcs)
+
+
+#: instructions per generated C function at most (about 35 kB of C): GCC's
+#: optimisation grows faster than linearly with the size of one function
+#: (measured on the split piston, N = 200: one function per output, 17 s
+#: and 520 MB at -O2; in parts of 2,000 instructions, 5.7 s and 295 MB;
+#: N = 1,000: 30 s and 760 MB)
+PART_INSTRUCTIONS = 2000
+#: and output rows at most: each written output is a branch in the C, and
+#: many branches in one function cost GCC as much as many instructions
+PART_ROWS = 256
+
+
+def split(f: ca.Function, size: int = PART_INSTRUCTIONS) -> ca.Function:
+    """``f`` (an SX Function with one output) as a Function of the same
+    name, inputs and output sparsity that calls parts computing blocks of
+    the output's rows; ``f`` itself when it is small."""
+    if not f.is_a("SXFunction") or f.n_out() != 1 or (f.n_instructions() <= size
+                                                        and f.size1_out(0) <= PART_ROWS):
+        return f
+    ins = f.sx_in()
+    out = f.call(ins, True, False)[0]
+    blocks, todo = [], [(0, out.size1())]
+    while todo:             # halve row blocks until each is small (rows differ in cost)
+        r0, r1 = todo.pop()
+        if r1 - r0 > PART_ROWS or (r1 - r0 > 1 and ca.Function(
+                "part", ins, [out[r0:r1, :]]).n_instructions() > size):
+            todo += [((r0 + r1) // 2, r1), (r0, (r0 + r1) // 2)]
+        else:
+            blocks.append((r0, r1))
+    parts = [ca.Function(f"{f.name()}_part{k}", ins, [out[r0:r1, :]])
+             for k, (r0, r1) in enumerate(blocks)]
+    mx = [ca.MX.sym(f.name_in(i), f.sparsity_in(i)) for i in range(f.n_in())]
+    return ca.Function(f.name(), mx, [ca.vertcat(*[g(*mx) for g in parts])], f.name_in(),
+                       f.name_out())
 
 
 def work_sizes(funcs: list[ca.Function]) -> tuple[int, int, int, int]:
@@ -130,28 +167,17 @@ def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
             *map(str, sources), "-o", str(out), *sd.link_args(), *LDFLAGS]
 
 
-#: generated C above these sizes is compiled with -O1, then -O0: GCC's
-#: optimising passes grow faster than linearly on one huge function
-#: (measured on the split piston: N = 200, 1 MB of C: -O2 17 s and 520 MB,
-#: -O1 9 s and 400 MB, -O0 3 s; N = 1,000, 5 MB: -O1 over 5 minutes)
-O1_ABOVE_BYTES = 300_000
-O0_ABOVE_BYTES = 2_000_000
-
-#: peak memory of the compiler per byte of generated C (measured: 400-520)
-COMPILER_BYTES_PER_BYTE = 600
-
-
-def size_flags(generated_c: Path) -> list[str]:
-    """Optimisation flags for a generated C file of this size."""
-    size = generated_c.stat().st_size
-    return ["-O0"] if size > O0_ABOVE_BYTES else ["-O1"] if size > O1_ABOVE_BYTES else []
+#: peak memory of the compiler: a base and so much per byte of generated C
+#: (measured at -O2 on split C: 295 MB for 1.1 MB, 760 MB for 5.9 MB)
+COMPILER_BASE_BYTES = 300_000_000
+COMPILER_BYTES_PER_BYTE = 150
 
 
 def check_compiler_memory(generated_c: Path, what: str, available: int | None = None) -> None:
     """Refuse, before the compiler is started, C that the machine's free
     memory cannot compile (the kernel would kill the compiler midway)."""
     size = generated_c.stat().st_size
-    need = size * COMPILER_BYTES_PER_BYTE
+    need = COMPILER_BASE_BYTES + size * COMPILER_BYTES_PER_BYTE
     free = available if available is not None else _available_memory()
     if free is not None and need > free:
         raise ExportError(

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
                                   compiler, generate, model_functions, run_compiler,
-                                  size_flags, sizes_header_lines)
+                                  sizes_header_lines)
 from pdbfs.native.sundials import find_sundials
 
 C_DIR = Path(__file__).with_name("c")
@@ -76,9 +76,8 @@ def build(dae) -> Path:
         files = {f.name: f.read_text() for f in (*DRIVERS, *CVODE_DRIVER)}
         c_files = [n for n in files if n.endswith(".c")] + [f"{FUNCS}.c"]
         # the command with placeholders for the temporary paths: part of the key
-        flags = size_flags(src / f"{FUNCS}.c")
         cmd_key = compile_command([Path(f"@SRC@/{n}") for n in c_files], Path("@OUT@"),
-                                  [Path("@SRC@")], flags, sd=sd, cc=cc)
+                                  [Path("@SRC@")], sd=sd, cc=cc)
         h = hashlib.sha256()
         for part in (f"abi {ABI}", platform.machine(), *files.values(), hdr,
                      (src / f"{FUNCS}.c").read_text(), (src / f"{FUNCS}.h").read_text(),
@@ -96,7 +95,7 @@ def build(dae) -> Path:
         try:
             what = f"the compiled model of rig {dae.name}"
             check_compiler_memory(src / f"{FUNCS}.c", what)
-            cmd = compile_command([src / n for n in c_files], part, [src], flags, sd=sd, cc=cc)
+            cmd = compile_command([src / n for n in c_files], part, [src], sd=sd, cc=cc)
             run_compiler(cmd, what)
             BUILDS += 1
             os.chmod(part, 0o755)
