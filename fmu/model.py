@@ -36,14 +36,14 @@ class _Var:
     nominal: float | None = None
 
 
-def _deps(jac_sparsity: ca.Sparsity, row: int, cols_to_index: list[int]) -> list[int]:
-    sp = jac_sparsity
-    colind, rowind = sp.colind(), sp.row()
-    out = []
-    for j in range(sp.size2()):
-        if row in rowind[colind[j]:colind[j + 1]]:
-            out.append(cols_to_index[j])
-    return sorted(out)
+def _deps(jac_sparsity: ca.Sparsity, cols_to_index: list[int]) -> list[list[int]]:
+    """For each row of a Jacobian's pattern, the sorted indices of the
+    columns it depends on (one pass over the nonzeros)."""
+    out = [[] for _ in range(jac_sparsity.size1())]
+    rows, cols = jac_sparsity.get_triplet()
+    for r, c in zip(rows, cols):
+        out[r].append(cols_to_index[c])
+    return [sorted(o) for o in out]
 
 
 def _check_dae(dae: DAE) -> None:
@@ -160,10 +160,11 @@ class FmuModel:
                       "Co-Simulation: most internal CVODE steps in one fmi2DoStep (more is a solver failure)",
                       type="Integer", start=DEFAULT_MAX_NUM_STEPS, min=1))
         p_tunable = [prm.tunable for prm in d.params]
-        jc = ca.jacobian(self.calc_expr, d.p).sparsity() if self.nc else None
+        jc = _deps(ca.jacobian_sparsity(self.calc_expr, d.p), list(range(self.np))) \
+            if self.nc else None
         for k, n in enumerate(self.calc_names):
             vi = d.calculated[n][1]
-            dep = _deps(jc, k, list(range(self.np)))
+            dep = jc[k]
             tun = any(p_tunable[j] for j in dep)
             V.append(_Var(n, self.vr_c + k, "calculatedParameter", "tunable" if tun else "fixed", "calculated",
                           vi.description, unit=vi.unit))
@@ -204,36 +205,43 @@ class FmuModel:
 
     # -- model structure --------------------------------------------------------
     def structure(self):
+        """(outputs, derivatives, initial unknowns) with their dependencies;
+        computed once (modelDescription.xml is written twice: for the GUID)."""
+        if getattr(self, "_structure", None) is None:
+            self._structure = self._find_structure()
+        return self._structure
+
+    def _find_structure(self):
         d = self.dae
         x_idx = self.x_index
         p_idx = [self.index[n] for n in d.p_names]
-        jy = ca.jacobian(d.y, d.x).sparsity()
-        jf = ca.jacobian(d.ode, d.x).sparsity()
+        jy = _deps(ca.jacobian_sparsity(d.y, d.x), x_idx)
+        jf = _deps(ca.jacobian_sparsity(d.ode, d.x), x_idx)
         outputs = []  # (index, deps)
         for k in range(self.nx):
             if self.state_is_output[k]:
                 outputs.append((x_idx[k], [x_idx[k]]))
         for k, yi in enumerate(self.y_exposed):
             if d.y_info[yi].output:
-                outputs.append((self.index[d.y_info[yi].name], _deps(jy, yi, x_idx)))
+                outputs.append((self.index[d.y_info[yi].name], jy[yi]))
         outputs.sort()
-        derivs = [(self.index[f"der({n})"], _deps(jf, k, x_idx)) for k, n in enumerate(d.x_names)]
+        derivs = [(self.index[f"der({n})"], jf[k]) for k, n in enumerate(d.x_names)]
         # initial unknowns: dependencies on the parameters, with x = x0(p)
         sub = lambda e: ca.substitute(e, d.x, d.x0)  # noqa: E731
         init = []
-        jx0 = ca.jacobian(d.x0, d.p).sparsity()
-        jy0 = ca.jacobian(sub(d.y), d.p).sparsity()
-        jf0 = ca.jacobian(sub(d.ode), d.p).sparsity()
+        jx0 = _deps(ca.jacobian_sparsity(d.x0, d.p), p_idx)
+        jy0 = _deps(ca.jacobian_sparsity(sub(d.y), d.p), p_idx)
+        jf0 = _deps(ca.jacobian_sparsity(sub(d.ode), d.p), p_idx)
         for k in range(self.nx):
-            init.append((x_idx[k], _deps(jx0, k, p_idx)))
-            init.append((self.index[f"der({d.x_names[k]})"], _deps(jf0, k, p_idx)))
+            init.append((x_idx[k], jx0[k]))
+            init.append((self.index[f"der({d.x_names[k]})"], jf0[k]))
         for k, yi in enumerate(self.y_exposed):
             if d.y_info[yi].output:
-                init.append((self.index[d.y_info[yi].name], _deps(jy0, yi, p_idx)))
+                init.append((self.index[d.y_info[yi].name], jy0[yi]))
         if self.nc:
-            jc = ca.jacobian(self.calc_expr, d.p).sparsity()
+            jc = _deps(ca.jacobian_sparsity(self.calc_expr, d.p), p_idx)
             for k, n in enumerate(self.calc_names):
-                init.append((self.index[n], _deps(jc, k, p_idx)))
+                init.append((self.index[n], jc[k]))
         init.sort()
         return outputs, derivs, init
 
