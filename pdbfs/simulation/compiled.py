@@ -47,7 +47,7 @@ class RunStatus:
     code: int            # 0 ok, RC_* > 0, or CVODE's negative flag
     t_reached: float     # last successful step (t_end on success)
     steps: int           # internal CVODE steps
-    roots: int           # restarts at event-indicator roots
+    roots: int           # event-indicator roots (restarts on rigs under 40 states)
     rhs_evals: int
     cvode_flag: int
     message: str         # CVODE's (or the driver's) message on failure

@@ -256,9 +256,12 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
         }
         s->steps++;
         s->steps_since_start++;
-        if (flag == CV_ROOT_RETURN) {
+        if (flag == CV_ROOT_RETURN && s->nx < PDBFS_RESTART_BELOW) {
             s->root_pending = 1;
             s->t_root = tret;
+        } else if (flag == CV_ROOT_RETURN) {   /* integrated through, under error control */
+            say(s, PDBFS_LOG_EVENT, "event at t=%.17g, integrated through", tret);
+            s->roots++;
         }
         CVodeGetCurrentTime(s->cv, &s->tn);
         if (s->on_step && s->on_step(s->step_env, tret, N_VGetArrayPointer(s->y))) {
