@@ -4,7 +4,7 @@ Co-Simulation (CVODE inside), validated by fmpy, simulated by any importer.
     from pdbfs.fmu import export_fmu
     export_fmu(rig.compile(), "rig.fmu")        # or rig.export_fmu("rig.fmu")
 
-    model.py        the FMU's variables, value references and model structure
+    variables.py    the FMU's variables, value references and model structure
     description.py  modelDescription.xml
     units.py        unit strings -> FMI base units
     export.py       pdbfs_model.h, compile, zip

@@ -5,7 +5,7 @@ from __future__ import annotations
 from xml.sax.saxutils import quoteattr
 
 from . import units as _units
-from .model import FmuModel
+from .variables import FmuModel
 
 
 def _x(v: float) -> str:

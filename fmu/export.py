@@ -28,7 +28,7 @@ from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, co
 from pdbfs.native.sundials import find_sundials
 
 from .description import model_description
-from .model import DEFAULT_MAX_NUM_STEPS, FmuModel
+from .variables import DEFAULT_MAX_NUM_STEPS, FmuModel
 
 C_DIR = Path(__file__).with_name("c")
 #: the generic C of every pdbfs FMU: FMI plumbing and the CVODE driver

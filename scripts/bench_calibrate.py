@@ -19,10 +19,10 @@ from scipy.optimize import least_squares, minimize
 import pdbfs
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
-from pdbfs.studies.problems import CurveProblem
-from pdbfs.studies.signal_model import SignalModel
-from pdbfs.studies.traces import check_trace
-from pdbfs.studies.unknowns import rig_unknowns
+from pdbfs.studies.fitting.objectives import CurveProblem
+from pdbfs.studies.fitting.signal_model import SignalModel
+from pdbfs.studies.fitting.traces import check_trace
+from pdbfs.studies.fitting.free_parameters import rig_unknowns
 
 TRUE = {"oil.k": 3.1e8, "seal.c": 6.0e4, "hammer.v0": 3.2}
 FREE = list(TRUE)

@@ -4,12 +4,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+source scripts/env.sh
 pdbfs simulate --out out
 pdbfs export-fmu -o pdbfs.fmu
-python3 -m fmpy.cli validate pdbfs.fmu
-python3 -m fmpy.cli simulate pdbfs.fmu --interface-type CoSimulation --output-interval 1e-5 \
+python -m fmpy.cli validate pdbfs.fmu
+python -m fmpy.cli simulate pdbfs.fmu --interface-type CoSimulation --output-interval 1e-5 \
     --output-file out/fmu_results.csv
-python3 - <<'PY'
+python - <<'PY'
 import numpy as np
 py = np.genfromtxt("out/results.csv", delimiter=",", names=True)
 fmu = np.genfromtxt("out/fmu_results.csv", delimiter=",", names=True)

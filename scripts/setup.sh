@@ -1,22 +1,37 @@
 #!/usr/bin/env bash
 # Install pdbfs and what it needs on a fresh machine (idempotent).
-# Python packages from PyPI; SUNDIALS' CVODE built once with SUNDIALS' own
-# CMake from Debian's source (pdbfs/native/build_sundials.sh, cached in
-# ~/.cache/pdbfs/sundials-cmake).
+# Without an active virtual environment, one is made in .venv (a stock Debian
+# Python refuses pip installs into itself: PEP 668). Python packages come from
+# PyPI; Debian packages (cmake, the venv module) with apt-get when root;
+# SUNDIALS' CVODE is built once with its own CMake from Debian's source
+# (pdbfs/native/build_sundials.sh, cached in ${XDG_CACHE_HOME:-~/.cache}/pdbfs).
+# Source scripts/env.sh afterwards to use the environment (test.sh, main.sh do).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-python3 -m pip install --quiet --disable-pip-version-check -e ".[test]"
 
 as_root_apt() {   # apt-get needs root; CI runs as root
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then "$@"; else return 1; fi
 }
-# the build needs cmake and a C compiler; the source comes through apt's lists
-if ! command -v cmake >/dev/null; then
-    as_root_apt apt-get update -qq || true
-    as_root_apt apt-get install -y -qq cmake >/dev/null || python3 -m pip install --quiet cmake
+apt_install() {
+    if ! ls /var/lib/apt/lists/*Packages* >/dev/null 2>&1; then as_root_apt apt-get update -qq || true; fi
+    as_root_apt env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null \
+        || { as_root_apt apt-get update -qq && as_root_apt env DEBIAN_FRONTEND=noninteractive \
+             apt-get install -y -qq "$@" >/dev/null; }
+}
+
+if [ -z "${VIRTUAL_ENV:-}" ] && [ ! -x .venv/bin/python ]; then
+    python3 -m venv .venv 2>/dev/null || { rm -rf .venv; apt_install python3-venv && python3 -m venv .venv; }
 fi
+source scripts/env.sh
+python -m pip install --quiet --disable-pip-version-check -e ".[test]"
+
+# the build needs cmake and a C compiler; the source comes through apt's lists
+if ! command -v cmake >/dev/null; then apt_install cmake || python -m pip install --quiet cmake; fi
 if ! ls /var/lib/apt/lists/*Packages* >/dev/null 2>&1; then as_root_apt apt-get update -qq || true; fi
 sundials() {
-    python3 -c "from pdbfs.native.sundials import find_sundials; print('SUNDIALS:', find_sundials())"
+    python -c "from pdbfs.native.sundials import find_sundials; print('SUNDIALS:', find_sundials())"
 }
-sundials || { as_root_apt apt-get update -qq && rm -f ~/.cache/pdbfs/sundials-cmake.failed && sundials; }
+failed_marker() {
+    python -c "from pdbfs.native.sundials import failed_marker; print(failed_marker())"
+}
+sundials || { as_root_apt apt-get update -qq && rm -f "$(failed_marker)" && sundials; }

@@ -8,7 +8,7 @@ import pdbfs
 from pdbfs.components import Fixed, Force, Mass, Spring
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
-from pdbfs.studies.signal_model import SignalModel
+from pdbfs.studies.fitting.signal_model import SignalModel
 
 TRUE = {"oil.k": 3.1e8, "seal.c": 6.0e4, "hammer.v0": 3.2}
 NOISE = 0.5e6   # Pa, about 0.4 % of the peak

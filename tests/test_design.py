@@ -9,8 +9,8 @@ import pdbfs
 from pdbfs.components.laws import impact_velocity
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
-from pdbfs.studies.features import pulse_features
-from pdbfs.studies.signal_model import SignalModel
+from pdbfs.studies.fitting.features import pulse_features
+from pdbfs.studies.fitting.signal_model import SignalModel
 
 
 def test_features_and_their_gradients_match_the_summary_and_finite_differences():

@@ -103,8 +103,8 @@ def test_the_binaries_link_the_cmake_build_when_there_is_one():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         s = S.find_sundials()  # as export_fmu does: builds it if needed
-    if S._failure_marker().exists():
-        pytest.fail(f"the SUNDIALS build failed here: {S._failure_marker().read_text().strip()}")
+    if S.failed_marker().exists():
+        pytest.fail(f"the SUNDIALS build failed here: {S.failed_marker().read_text().strip()}")
     if os.environ.get("PDBFS_SUNDIALS_DIR") or os.environ.get("PDBFS_SUNDIALS_BUILD") == "0":
         pytest.skip("SUNDIALS chosen by the environment")
     assert s.include_dir == S.opt_cache_dir() / "include", s.origin

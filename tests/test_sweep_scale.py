@@ -18,7 +18,8 @@ import pdbfs
 from pdbfs.cli import main
 from pdbfs.errors import ParameterError
 from pdbfs.models import paper_rig
-from pdbfs.studies import Grid, Sample, SweepResult, sweep_runner
+from pdbfs.studies import Grid, Sample, SweepResult
+from pdbfs.studies.sweeps import runner as sweep_runner
 
 RANGES = {"hammer.v0": (1.5, 5.5), "oil.k": (1e8, 1e9), "seal.c": (2.5e3, 2.5e6, "log")}
 

@@ -14,9 +14,9 @@ import sys
 
 from pdbfs.errors import PdbfsError
 
-from . import calibrate, design, reproduce, run, sensitivity, sweep
+from . import calibrate, design, reproduce, sensitivity, simulate, sweep
 
-COMMANDS = (run, sweep, sensitivity, reproduce, calibrate, design)
+COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design)
 
 
 def build_parser():

@@ -9,8 +9,8 @@ from .common import parse_sets, rig_by_name
 
 def cmd_sensitivity(args):
     from pdbfs.studies import sensitivity
-    from pdbfs.studies.cluster import close, connect
-    from pdbfs.studies.sampling import parse_range
+    from pdbfs.studies.sweeps.cluster import close, connect
+    from pdbfs.studies.sweeps.sampling import parse_range
     rig = rig_by_name(args.rig)
     ranges = dict(parse_range(r) for r in args.range or [])
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()]

@@ -49,7 +49,7 @@ CSV_MAX_POINTS = 100_000
 def points_from_args(args):
     """The sweep's points: --set lists (a grid, or --zip), or --sample KIND:N over
     --range / --dist."""
-    from pdbfs.studies.sampling import Grid, Sample, parse_dist, parse_range, parse_sample
+    from pdbfs.studies.sweeps.sampling import Grid, Sample, parse_dist, parse_range, parse_sample
     if args.sample:
         if args.set:
             raise ParameterError("give --set lists or --sample with --range/--dist, not both")
@@ -64,7 +64,7 @@ def points_from_args(args):
 
 def cmd_sweep(args):
     from pdbfs.studies import sweep
-    from pdbfs.studies.cluster import close, connect
+    from pdbfs.studies.sweeps.cluster import close, connect
     rig = rig_by_name(args.rig)
     points = points_from_args(args)
     t_end = args.t_end if args.t_end is not None else getattr(rig, "default_t_end", 0.02)
@@ -74,7 +74,7 @@ def cmd_sweep(args):
     plot = not args.no_plot and not args.sample and points.n <= PLOT_MAX_POINTS and not args.dask
     out = Path(args.out)
     if plot:
-        from pdbfs.studies.sweep_store import refuse_other_sweep
+        from pdbfs.studies.sweeps.store import refuse_other_sweep
         refuse_other_sweep(out, args.overwrite)
     client = connect(args.dask) if args.dask else None
     try:

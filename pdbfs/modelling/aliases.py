@@ -24,7 +24,7 @@ from scipy.sparse import csr_matrix
 
 from pdbfs.errors import ModelError
 
-from .symbolic import subst as _subst
+from .casadi_helpers import subst as _subst
 
 
 class Aliases:

@@ -17,7 +17,7 @@ from .aliases import Aliases
 from .blt import solve_blt
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
-from .symbolic import subst as _subst
+from .casadi_helpers import subst as _subst
 
 
 def simplify(flat: FlatSystem, name: str) -> DAE:

@@ -29,6 +29,8 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+import platformdirs
+
 BUILD_SCRIPT = Path(__file__).with_name("build_sundials.sh")
 #: link order; a CMake build puts everything CVODE needs into the first one
 _ARCHIVES = ["libsundials_cvode.a", "libsundials_nvecserial.a", "libsundials_sunmatrixdense.a",
@@ -55,15 +57,15 @@ class Sundials:
 
 
 def cache_root() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "pdbfs"
+    """pdbfs's cache folder: ``$XDG_CACHE_HOME/pdbfs`` (default ``~/.cache/pdbfs``)."""
+    return Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
 
 
 def opt_cache_dir() -> Path:
     return cache_root() / "sundials-cmake"
 
 
-def _failure_marker() -> Path:
+def failed_marker() -> Path:
     return cache_root() / "sundials-cmake.failed"
 
 
@@ -114,7 +116,7 @@ def _cached(fetch: bool) -> Sundials | None:
     s = from_prefix(dest, origin)
     if s is not None or not fetch or os.environ.get("PDBFS_SUNDIALS_BUILD", "1") in ("0", "no", "false"):
         return s
-    marker = _failure_marker()
+    marker = failed_marker()
     if _recent_failure(marker):
         return None
     import fcntl
@@ -150,7 +152,7 @@ def find_sundials(fetch: bool = True) -> Sundials:
         return s
     s = _cached(fetch) or _system()
     if s is None:
-        why = _failure_marker().read_text().strip() if _failure_marker().exists() else \
+        why = failed_marker().read_text().strip() if failed_marker().exists() else \
             "the build is switched off" if not fetch else "no build was attempted"
         raise SundialsNotFound(
             f"no SUNDIALS 6.x static archives: not in $PDBFS_SUNDIALS_DIR, {opt_cache_dir()} or "

@@ -20,7 +20,7 @@ from pathlib import Path
 from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
                                   compiler, generate, model_functions, run_compiler,
                                   sizes_header_lines)
-from pdbfs.native.sundials import find_sundials
+from pdbfs.native.sundials import cache_root, find_sundials
 
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = (C_DIR / "pdbfs_batch.c", C_DIR / "pdbfs_summary.c")
@@ -36,8 +36,7 @@ BUILDS = 0
 
 
 def cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "pdbfs" / "compiled"
+    return cache_root() / "compiled"
 
 
 def roles_of(dae) -> list[str]:

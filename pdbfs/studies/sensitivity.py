@@ -18,7 +18,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError
 
-from .sampling import Points, _check_range
+from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
 
 OUTPUTS = ("peak_pressure", "time_of_peak", "pulse_duration")
@@ -72,7 +72,7 @@ class Sensitivity:
         fig.suptitle(f"Sensitivity from {self.points} simulations", fontsize=10)
         fig.tight_layout()
         if path is not None:
-            from .reports import save_figure
+            from .fitting.reports import save_figure
             save_figure(fig, path)
         return fig
 

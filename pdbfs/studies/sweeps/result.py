@@ -15,7 +15,7 @@ import numpy as np
 from pdbfs.errors import PdbfsError
 from pdbfs.simulation import SUMMARY_UNITS as UNITS
 
-from .sweep_runner import LIST_KEYS
+from .runner import LIST_KEYS
 
 
 @dataclass
@@ -59,7 +59,7 @@ class SweepResult:
     @classmethod
     def load(cls, path) -> "SweepResult":
         """The sweep written to the folder ``path`` (as far as it got)."""
-        from .sweep_store import Store
+        from .store import Store
         store = Store.open(path)
         spec = store.spec
         names = list(spec["points"].get("values") or spec["points"].get("ranges", {})) + \

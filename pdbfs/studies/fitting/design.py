@@ -22,11 +22,11 @@ from pdbfs.simulation import Simulator
 
 from .calibration import _rig
 from .features import FEATURES, UNITS
-from .fitting import solve
-from .problems import CurveProblem, FeatureProblem
+from .least_squares import solve
+from .objectives import CurveProblem, FeatureProblem
 from .signal_model import DT, SignalModel, signal_of
 from .traces import as_trace
-from .unknowns import DESIGN_RANGE, parse_bounds, rig_unknowns
+from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
 
 #: relative miss of a feature target below which it counts as reached
 REACHED = 1e-4

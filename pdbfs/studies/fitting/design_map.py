@@ -18,7 +18,7 @@ from pdbfs.simulation import Simulator
 
 from .calibration import _rig
 from .reports import save_figure, write_columns
-from .sweeps import sweep
+from ..sweeps import sweep
 
 MAPPED = ("peak_pressure", "pulse_duration", "time_of_peak")
 

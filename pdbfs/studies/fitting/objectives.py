@@ -13,7 +13,7 @@ import numpy as np
 
 from .features import pulse_features
 from .signal_model import SignalModel
-from .unknowns import Unknown
+from .free_parameters import Unknown
 
 SHIFT, OFFSET = "trace.shift", "trace.offset"
 

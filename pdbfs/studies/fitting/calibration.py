@@ -19,11 +19,11 @@ import numpy as np
 from pdbfs.errors import DataError, ParameterError, PdbfsError
 from pdbfs.simulation import Simulator
 
-from .fitting import distinct_optima, solve, statistics
-from .problems import OFFSET, SHIFT, CurveProblem, offset_unknowns
+from .least_squares import distinct_optima, solve, statistics
+from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
 from .signal_model import DT, SignalModel, signal_of
 from .traces import as_trace
-from .unknowns import CALIBRATION_RANGE, parse_bounds, rig_unknowns
+from .free_parameters import CALIBRATION_RANGE, parse_bounds, rig_unknowns
 
 
 @dataclass

@@ -27,9 +27,9 @@ from pdbfs.errors import ParameterError
 from pdbfs.simulation import Result, Simulator
 
 from .sampling import Grid, PointSet
-from .sweep_result import SweepResult
-from .sweep_runner import Runner, Settings, payload, run_remote
-from .sweep_store import Store, chunk_columns
+from .result import SweepResult
+from .runner import Runner, Settings, payload, run_remote
+from .store import Store, chunk_columns
 
 #: below this many points a sweep runs in one process
 PARALLEL_MIN_POINTS = 8
