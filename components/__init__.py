@@ -15,19 +15,18 @@ from .friction import SealFriction
 from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,
                          PartialOneFlange, PartialTwoFlanges)
 from .laws import (DAMPING_LAWS, damping_flores, damping_hunt_crossley,
-                   damping_lankarani_nikravesh, hertz_stiffness, impact_velocity,
-                   restitution_from_force)
+                   damping_lankarani_nikravesh, hertz_stiffness, impact_velocity)
 from .mass import Fixed, Mass
 from .oil import OilColumn
 from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
-from .sources import Force, Gravity
+from .sources import Force, Gravity, Position
 from .springs import Damper, Spring
 
 __all__ = ["MassChain", "HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
            "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",
            "PartialOneFlange", "PartialTwoFlanges", "DAMPING_LAWS", "damping_flores",
            "damping_hunt_crossley", "damping_lankarani_nikravesh", "hertz_stiffness",
-           "impact_velocity", "restitution_from_force", "Fixed", "Mass", "OilColumn",
+           "impact_velocity", "Fixed", "Mass", "OilColumn",
            "ForceSensor", "PositionSensor", "PressureSensor", "SpeedSensor", "Force",
-           "Gravity", "Damper", "Spring", "ElasticBar", "BarResolutionWarning",
+           "Gravity", "Position", "Damper", "Spring", "ElasticBar", "BarResolutionWarning",
            "check_bar_resolution"]

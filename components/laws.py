@@ -2,13 +2,12 @@
 
 References: Hertz stiffness of two spheres (paper eq. 2-3), damping factors
 of Lankarani & Nikravesh (paper eq. 6), Hunt & Crossley, Flores et al.;
-restitution estimated from a force history after Guo & Batzer (paper eq. 8).
+(restitution estimated from a force history after Guo & Batzer, paper eq. 8,
+is post-processing: pdbfs.simulation.impulse).
 """
 from __future__ import annotations
 
 import math
-
-import numpy as np
 
 STANDARD_GRAVITY = 9.80665   # m/s^2
 
@@ -55,33 +54,3 @@ def impact_velocity(h: float, g: float = STANDARD_GRAVITY) -> float:
     if not h >= 0:
         raise ValueError(f"impact_velocity: drop height h = {h} must be >= 0")
     return math.sqrt(2.0 * g * h)
-
-
-def restitution_from_force(t, force, t_split=None) -> float:
-    """Coefficient of restitution from a contact-force history (Guo & Batzer,
-    paper eq. 8): the impulse after the force peak divided by the impulse
-    before it, for a body initially at rest. Uses the first contact only (the
-    first run of positive force), since the hammer may strike again.
-
-    ``t_split`` splits at another instant instead, e.g. that of maximum
-    indentation, which turns the ratio into Poisson's restitution. With
-    hysteresis damping the force peaks before maximum indentation, so the
-    split at the peak gives a larger ratio than the velocities do."""
-    t = np.asarray(t, float)
-    f = np.asarray(force, float)
-    if t.shape != f.shape or t.size < 3:
-        raise ValueError("restitution_from_force: t and force must be equal-length arrays")
-    on = np.flatnonzero(f > 0)
-    if on.size == 0:
-        raise ValueError("restitution_from_force: the force is never positive: no contact")
-    start = max(on[0] - 1, 0)
-    gaps = np.flatnonzero(f[on[0]:] <= 0)
-    stop = on[0] + gaps[0] if gaps.size else f.size - 1
-    tt, ff = t[start:stop + 1], np.clip(f[start:stop + 1], 0.0, None)
-    if t_split is None:
-        k = int(np.argmax(ff))
-    else:
-        k = int(np.argmin(np.abs(tt - t_split)))
-    before = np.trapezoid(ff[:k + 1], tt[:k + 1])
-    after = np.trapezoid(ff[k:], tt[k:])
-    return float(after / before)

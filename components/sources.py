@@ -34,3 +34,19 @@ class Gravity(PartialOneFlange):
 
     def equations(self):
         return [eq(self.flange.f, -self.m * self.g)]
+
+
+class Position(PartialOneFlange):
+    """A prescribed position of the attached flange: the parameter ``s0``, or
+    ``function(t)`` returning a CasADi expression of time. A body driven by
+    it has no motion of its own left (no state)."""
+
+    s0 = Parameter(0.0, "m", "Constant position, positive down")
+
+    def __init__(self, function=None, **params):
+        self._function = function
+        super().__init__(**params)
+
+    def equations(self):
+        value = self.s0 if self._function is None else self._function(time)
+        return [eq(self.flange.s, value)]

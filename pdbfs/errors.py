@@ -29,3 +29,16 @@ class ExportError(PdbfsError, ValueError):
 class DataError(PdbfsError, ValueError):
     """A data file (a measured trace, a target curve) is missing or malformed;
     the message names the file and what is wrong with it."""
+
+
+class PdbfsWarning(UserWarning):
+    """Base of pdbfs's warnings; the CLI prints each as one line on stderr."""
+
+
+class PulseIncompleteWarning(PdbfsWarning):
+    """A pulse is still running at the end of the run: figures that need its
+    end are not reported; the message names a horizon that would hold it."""
+
+
+class SampleTooSmallWarning(PdbfsWarning):
+    """A sample is too small for the statistics computed from it to mean anything."""

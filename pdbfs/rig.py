@@ -40,7 +40,12 @@ class Rig(Component):
 
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
         """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""
+        from pathlib import Path
+
+        from pdbfs.errors import ExportError
         from pdbfs.fmu import export_fmu
+        if Path(path).is_dir():
+            raise ExportError(f"{path}: is a folder; name the FMU file to write")
         t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)
         kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))

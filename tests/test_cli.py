@@ -10,7 +10,7 @@ import pytest
 from pdbfs.models import paper_rig
 
 KEYS = ["peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
-        "max_piston_displacement", "restitution_coefficient"]
+        "max_piston_displacement", "restitution_coefficient", "complete"]
 
 
 def run(*args):
@@ -23,7 +23,8 @@ def test_simulate_json_writes_results_and_plot(tmp_path):
             "--json")
     assert r.returncode == 0, r.stderr
     summary = json.loads(r.stdout)
-    assert list(summary) == KEYS
+    assert list(summary) == KEYS + ["stats"]
+    assert summary["complete"] is True and summary["stats"]["steps"] > 100
     direct = paper_rig().simulate(0.015, params={"hammer.v0": 4.23}).summary()
     for k in KEYS:
         assert summary[k] == pytest.approx(direct[k], rel=1e-9)
@@ -70,5 +71,7 @@ def test_undefined_summary_values_are_null_not_nan(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "NaN" not in r.stdout
     summary = json.loads(r.stdout)
-    assert summary["restitution_coefficient"] is None
-    assert summary["peak_pressure"] > 0
+    assert summary["restitution_coefficient"] is None and summary["pulse_duration"] is None
+    assert summary["complete"] is False and summary["peak_pressure"] > 0
+    warning = [l for l in r.stderr.splitlines() if l.startswith("pdbfs: warning:")]
+    assert len(warning) == 1 and "still running at t_end = 0.003 s" in warning[0]

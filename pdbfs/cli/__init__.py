@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
 from pdbfs.errors import PdbfsError
 
@@ -33,13 +34,22 @@ def build_parser():
     return ap
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Warnings as one line on stderr, without the source line."""
+    print(f"pdbfs: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    warnings.showwarning = _show_warning
     try:
         status = args.func(args)
     except PdbfsError as err:
         print(f"pdbfs: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as stop:  # Ctrl-C: one line, what was kept (a sweep says more)
+        print(f"pdbfs: interrupted{': ' + str(stop) if str(stop) else ''}", file=sys.stderr)
+        return 130
     except BrokenPipeError:          # e.g. piped into head: not an error of pdbfs
         sys.stderr.close()
         return 0

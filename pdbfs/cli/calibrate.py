@@ -4,7 +4,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .common import parse_sets, rig_by_name
+from .common import parse_sets, prepare_out, rig_by_name
 
 
 def free_list(text):
@@ -26,6 +26,7 @@ def write_outputs(out, stem, result):
 def cmd_calibrate(args):
     from pdbfs.studies import calibrate
     rig = rig_by_name(args.rig)
+    prepare_out(args.out)                  # before the fit: no work lost on a bad --out
     cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
                     fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
                     params=parse_sets(args.set), starts=args.starts, seed=args.seed)

@@ -1,9 +1,100 @@
-"""What every command shares: rig names, --set parsing, printing a summary."""
+"""What every command shares: one set of options (the same name for the same
+thing everywhere), rig names, --set parsing, output folders checked before
+any work, printing a summary."""
 from __future__ import annotations
+
+import tempfile
+from pathlib import Path
 
 from pdbfs.errors import ParameterError
 
 
+# -- options ---------------------------------------------------------------------------
+def add_rig_options(s, sets=True, set_help=None):
+    """--rig NAME, and --set NAME=VALUE (parameters held at a value)."""
+    s.add_argument("--rig", default="paper", help="rig name (default: paper; `pdbfs params "
+                   "--rig NAME` lists a rig's parameters)")
+    if sets:
+        s.add_argument("--set", action="append", metavar="NAME=VALUE",
+                       help=set_help or "hold a parameter at a value, e.g. --set hammer.v0=4.23 "
+                       "(repeatable)")
+
+
+def add_run_options(s, t_end=None, n_out=True, backend="casadi", method="auto", rtol=True):
+    """How a rig is simulated: horizon, output points, tolerance, method, back end."""
+    default = f"default {t_end}" if t_end is not None else "default: the rig's own, 0.02 for " \
+        "the paper rig, 1.5 for the drop rig"
+    s.add_argument("--t-end", type=float, default=t_end, help=f"simulated time, s ({default})")
+    if n_out:
+        s.add_argument("--n-out", type=int, default=None,
+                       help="output points (default: the rig's own, 2001; the drop rig: 30001)")
+    if rtol:
+        s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
+    if method:
+        s.add_argument("--method", default=method, choices=["auto", "adams", "bdf"],
+                       help="CVODE's method; auto: Adams unless the rig is stiff "
+                       f"(default {method})")
+    s.add_argument("--backend", default=backend, choices=["casadi", "c"],
+                   help="casadi: SUNDIALS through CasADi; c: CVODE compiled with the rig's "
+                   f"generated C (ODE rigs, needs a C compiler; built once, cached) (default {backend})")
+
+
+def add_output_options(s, out="out", what="results", json_help="print the result as JSON"):
+    s.add_argument("--out", default=out, help=f"output folder for the {what}"
+                   + (f" (default: {out})" if out else " (default: none)"))
+    s.add_argument("--json", action="store_true", help=json_help)
+
+
+def horizon(args, rig):
+    """--t-end and --n-out, or the rig's own experiment."""
+    t_end = args.t_end if args.t_end is not None else getattr(rig, "default_t_end", 0.02)
+    n_out = getattr(args, "n_out", None)
+    n_out = n_out if n_out is not None else getattr(rig, "default_n_out", 2001)
+    return t_end, n_out
+
+
+# -- checks before any work --------------------------------------------------------------
+def prepare_out(path, option="--out") -> Path | None:
+    """The output folder, checked now but made only when something is
+    written: refused with one line if it is a file or cannot be made or
+    written, so that no work is lost later and a refused run leaves nothing."""
+    if path is None:
+        return None
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise ParameterError(f"{option} {path}: exists and is not a folder")
+    base = out
+    while not base.exists():                       # the nearest folder that exists
+        base = base.parent
+    if not base.is_dir():
+        raise ParameterError(f"{option} {path}: {base} is not a folder")
+    try:                                           # root passes os.access everywhere: try it
+        with tempfile.TemporaryFile(dir=base):
+            pass
+    except OSError as err:
+        raise ParameterError(f"{option} {path}: cannot write in {base} "
+                             f"({err.strerror or err})") from None
+    return out
+
+
+def check_output_file(path, option="-o") -> Path:
+    """A file about to be written: not a folder, in a writable folder."""
+    p = Path(path)
+    if p.is_dir():
+        raise ParameterError(f"{option} {path}: is a folder; name the file to write")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise ParameterError(f"{option} {path}: the folder {parent} does not exist")
+    try:                                 # root passes os.access everywhere: try it
+        with tempfile.TemporaryFile(dir=parent):
+            pass
+    except OSError as err:
+        raise ParameterError(f"{option} {path}: cannot write in {parent} "
+                             f"({err.strerror or err})") from None
+    return p
+
+
+# -- values ---------------------------------------------------------------------------
 def rig_by_name(name):
     from pdbfs.models import RIGS
     if name not in RIGS:
@@ -27,9 +118,13 @@ def parse_sets(items):
 def print_summary(summary):
     from pdbfs.simulation import SUMMARY_UNITS as UNITS
     for k, v in summary.items():
-        if isinstance(v, (list, tuple)):   # one value per blow (rigs with repeated impacts)
-            vals = ", ".join(f"{x:.6g}" for x in v)
+        if isinstance(v, bool):
+            print(f"  {k:<26} {'yes' if v else 'no':>14}")
+        elif isinstance(v, (list, tuple)):   # one value per blow (rigs with repeated impacts)
+            vals = ", ".join("n/a" if x is None else f"{x:.6g}" for x in v)
             print(f"  {k:<26} [{vals}] {UNITS.get(k, '')}")
+        elif isinstance(v, dict):
+            continue
         elif v is None:                    # not defined for this run (e.g. no contact)
             print(f"  {k:<26} {'n/a':>14}")
         else:

@@ -7,12 +7,13 @@ from pathlib import Path
 from pdbfs.errors import PdbfsError
 
 from .calibrate import free_list, write_outputs
-from .common import parse_sets, rig_by_name
+from .common import parse_sets, prepare_out, rig_by_name
 
 
 def cmd_design(args):
     from pdbfs.studies import design
     rig = rig_by_name(args.rig)
+    prepare_out(args.out)
     features = {"peak_pressure": args.peak, "pulse_duration": args.duration,
                 "time_of_peak": args.time_of_peak}
     given = {k: v for k, v in features.items() if v is not None}
@@ -38,6 +39,7 @@ def cmd_design(args):
 def cmd_design_map(args):
     from pdbfs.studies import design_map
     rig = rig_by_name(args.rig)
+    prepare_out(args.out)
     m = design_map(rig, args.x, args.y, n=args.n, params=parse_sets(args.set),
                    t_end=args.t_end, backend=args.backend,
                    progress=None if not args.quiet else False)

@@ -1,10 +1,13 @@
 """pdbfs reproduce: the paper's figures."""
 from __future__ import annotations
 
+from .common import prepare_out
+
 
 def cmd_reproduce(args):
     from pdbfs.studies.paper import reproduce
     figs = [f.strip() for f in args.figures.split(",")] if args.figures else None
+    prepare_out(args.out)
     rep = reproduce(args.out, figures=figs, progress=None if not args.quiet else False)
     for name, path in rep.figures.items():
         print(f"wrote {path}")

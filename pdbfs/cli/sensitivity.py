@@ -2,9 +2,9 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
-from .common import parse_sets, rig_by_name
+from .common import (add_output_options, add_rig_options, add_run_options, parse_sets,
+                     prepare_out, rig_by_name)
 
 
 def cmd_sensitivity(args):
@@ -12,17 +12,17 @@ def cmd_sensitivity(args):
     from pdbfs.studies.sweeps.cluster import close, connect
     from pdbfs.studies.sweeps.sampling import parse_range
     rig = rig_by_name(args.rig)
+    out = prepare_out(args.out)
     ranges = dict(parse_range(r) for r in args.range or [])
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()]
     client = connect(args.dask) if args.dask else None
     try:
-        s = sensitivity(rig, ranges, n=args.n, outputs=outputs, params=parse_sets(args.fix),
+        s = sensitivity(rig, ranges, n=args.n, outputs=outputs, params=parse_sets(args.set),
                         backend=args.backend, client=client, seed=args.seed, t_end=args.t_end,
                         progress=None if not args.quiet else False)
     finally:
         if client is not None:
             close(client)
-    out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     s.plot(out / "sensitivity.png")
     (out / "sensitivity.json").write_text(json.dumps(s.to_dict(), indent=1) + "\n")
@@ -37,21 +37,17 @@ def cmd_sensitivity(args):
 def add_parsers(sub):
     s = sub.add_parser("sensitivity", help="Sobol' indices (SALib) of peak pressure, time of "
                        "peak and pulse duration over parameter ranges")
-    s.add_argument("--rig", default="paper", help="rig name (default: paper)")
+    add_rig_options(s)
     s.add_argument("--range", action="append", metavar="NAME=LO:HI[:log]",
                    help="a parameter's range (repeatable; :log samples its logarithm)")
     s.add_argument("--n", type=int, default=4096,
                    help="base sample size N, a power of 2: N (D + 2) simulations (default 4096)")
     s.add_argument("--outputs", default="peak_pressure,time_of_peak,pulse_duration",
                    help="summary values to analyse (comma separated)")
-    s.add_argument("--fix", action="append", metavar="NAME=VALUE",
-                   help="a parameter held at VALUE (repeatable)")
-    s.add_argument("--t-end", type=float, default=0.03, help="simulated time, s (default 0.03)")
-    s.add_argument("--backend", default="c", choices=["casadi", "c"],
-                   help="c: compiled summaries (default), casadi: SUNDIALS through CasADi")
+    add_run_options(s, t_end=0.03, n_out=False, backend="c", method=False, rtol=False)
     s.add_argument("--dask", metavar="ADDRESS", help="a Dask scheduler, or 'local'")
     s.add_argument("--seed", type=int, default=0, help="seed of the sample")
-    s.add_argument("--out", default="out", help="folder for sensitivity.png/.json/.txt")
-    s.add_argument("--json", action="store_true", help="print the indices as JSON")
+    add_output_options(s, what="sensitivity.png, .json and .txt",
+                       json_help="print the indices as JSON")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_sensitivity)

@@ -2,14 +2,14 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 from pdbfs.errors import ParameterError
 
-from .common import parse_sets, rig_by_name
+from .common import (add_output_options, add_rig_options, add_run_options, horizon,
+                     prepare_out, rig_by_name)
 
 
-def parse_sweep_sets(items):
+def parse_sweep_sets(items, required=True):
     """--set NAME=V1,V2,... or NAME=START:STOP:NUM (NUM points, ends included)."""
     import numpy as np
     out = {}
@@ -35,7 +35,7 @@ def parse_sweep_sets(items):
         if not vals:
             raise ParameterError(f"--set {item!r}: no values")
         out[name] = vals
-    if not out:
+    if not out and required:
         raise ParameterError("sweep: give at least one --set NAME=V1,V2,...")
     return out
 
@@ -47,42 +47,48 @@ CSV_MAX_POINTS = 100_000
 
 
 def points_from_args(args):
-    """The sweep's points: --set lists (a grid, or --zip), or --sample KIND:N over
-    --range / --dist."""
+    """The sweep's points and the parameters held fixed: --set lists (a grid,
+    or --zip; a single value holds a parameter), or --sample KIND:N over
+    --range / --dist (--set NAME=VALUE then holds parameters)."""
     from pdbfs.studies.sweeps.sampling import Grid, Sample, parse_dist, parse_range, parse_sample
     if args.sample:
-        if args.set:
-            raise ParameterError("give --set lists or --sample with --range/--dist, not both")
+        fixed = {}
+        for name, vals in (parse_sweep_sets(args.set, required=False)).items():
+            if len(vals) != 1:
+                raise ParameterError(f"--set {name}: with --sample, --set holds a parameter at "
+                                     "one value; sample it with --range or --dist instead")
+            fixed[name] = vals[0]
         kind, n = parse_sample(args.sample)
         ranges = dict(parse_range(r) for r in args.range or [])
         dists = dict(parse_dist(d) for d in args.dist or [])
-        return Sample(kind, n, ranges, dists, seed=args.seed)
+        return Sample(kind, n, ranges, dists, seed=args.seed), fixed
     if args.range or args.dist:
         raise ParameterError("--range and --dist need --sample (lhs:N, sobol:N or mc:N)")
-    return Grid(parse_sweep_sets(args.set), zip=args.zip)
+    return Grid(parse_sweep_sets(args.set), zip=args.zip), {}
 
 
 def cmd_sweep(args):
     from pdbfs.studies import sweep
     from pdbfs.studies.sweeps.cluster import close, connect
     rig = rig_by_name(args.rig)
-    points = points_from_args(args)
-    t_end = args.t_end if args.t_end is not None else getattr(rig, "default_t_end", 0.02)
-    n_out = args.n_out if args.n_out is not None else getattr(rig, "default_n_out", 2001)
+    points, fixed = points_from_args(args)
+    t_end, n_out = horizon(args, rig)
     # a small grid keeps its trajectories for the overlay plot, in memory; the rest
     # streams its chunks to --out (and resumes)
     plot = not args.no_plot and not args.sample and points.n <= PLOT_MAX_POINTS and not args.dask
-    out = Path(args.out)
+    out = prepare_out(args.out)
     if plot:
         from pdbfs.studies.sweeps.store import refuse_other_sweep
         refuse_other_sweep(out, args.overwrite)
     client = connect(args.dask) if args.dask else None
     try:
         res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
-                    params=parse_sets(args.fix), rtol=args.rtol, method=args.method,
+                    params=fixed, rtol=args.rtol, method=args.method,
                     backend=args.backend, workers=args.workers, client=client,
                     out=None if plot else out, format=args.format, chunk_size=args.chunk,
                     overwrite=args.overwrite, progress=None if not args.quiet else False)
+    except KeyboardInterrupt:
+        raise KeyboardInterrupt(interrupted(out, plot, points.n)) from None
     finally:
         if client is not None:
             close(client)
@@ -115,13 +121,21 @@ def cmd_sweep(args):
     return 1 if failed and args.strict else 0
 
 
+def interrupted(out, in_memory, n) -> str:
+    """What a Ctrl-C leaves: the points saved in --out, and how to go on."""
+    if in_memory:
+        return f"the sweep of {n} points kept nothing (small sweeps run in memory)"
+    from pdbfs.studies.sweeps.store import saved_points
+    done = saved_points(out)
+    return (f"{done} of {n} points are saved in {out}; the same command resumes "
+            "from there")
+
+
 def add_parsers(sub):
     s = sub.add_parser("sweep", help="simulate a rig over a grid or a sample of parameter "
                        "values, locally or on a Dask cluster; summaries to CSV/Parquet")
-    s.add_argument("--rig", default="paper", help="rig name (default: paper)")
-    s.add_argument("--set", action="append", metavar="NAME=V1,V2,...",
-                   help="values of a parameter, comma separated or START:STOP:NUM "
-                   "(repeatable; every combination is run)")
+    add_rig_options(s, set_help="values of a parameter, comma separated or START:STOP:NUM "
+                    "(repeatable; every combination is run); one value holds it there")
     s.add_argument("--zip", action="store_true",
                    help="pair the lists point by point instead of every combination")
     s.add_argument("--sample", metavar="KIND:N",
@@ -132,30 +146,20 @@ def add_parsers(sub):
                    help="a Monte Carlo parameter's distribution: normal:MEAN:SD, "
                    "uniform:LO:HI or lognormal:MEDIAN:SIGMA (with --sample mc:N)")
     s.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
-    s.add_argument("--fix", action="append", metavar="NAME=VALUE",
-                   help="a parameter held at VALUE for every point (repeatable)")
-    s.add_argument("--t-end", type=float, default=None, help="end time, s (default 0.02)")
-    s.add_argument("--n-out", type=int, default=None, help="output points (default 2001)")
-    s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance")
-    s.add_argument("--method", default="adams", choices=["auto", "adams", "bdf"],
-                   help="CVODE's method; auto: Adams unless the rig is stiff (default adams)")
-    s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
-                   help="as for simulate (default: casadi; c: summaries in compiled C, fastest)")
+    add_run_options(s)
     s.add_argument("--workers", type=int, default=None,
                    help="threads or processes on this machine (default: one per core)")
     s.add_argument("--dask", metavar="ADDRESS",
                    help="run on the Dask scheduler at ADDRESS (tcp://HOST:8786), or 'local' "
                    "for a LocalCluster here")
-    s.add_argument("--out", default="out",
-                   help="output folder (default: out): manifest and chunk files of the sweep "
-                   "(rerun the same command to resume), sweep.csv, sweep.png")
+    add_output_options(s, what="manifest and chunk files of the sweep (rerun the same "
+                       "command to resume), sweep.csv, sweep.png")
     s.add_argument("--format", default="parquet", choices=["parquet", "csv"],
                    help="format of the chunk files (default: parquet)")
     s.add_argument("--chunk", type=int, default=None, help="points per chunk (default: automatic)")
     s.add_argument("--overwrite", action="store_true",
                    help="replace another sweep found in --out instead of refusing")
     s.add_argument("--no-plot", action="store_true", help="no overlay plot of the pressure")
-    s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.add_argument("--strict", action="store_true",
                    help="exit with status 1 if any point failed")

@@ -7,15 +7,18 @@
     result.py      Result: arrays by dotted name, values off the grid, peaks
                    and crossings located on the solution, CSV, pandas, plot
     summary.py     what a test engineer reads off a pulse (peak pressure,
-                   duration, restitution, ...)
+                   duration, restitution, complete or not, each blow)
+    summary_run.py the summary's own solution: a fixed grid, until the pulse is over
+    impulse.py     impulses and Guo & Batzer's restitution (the one implementation)
+    stats.py       solver statistics under one set of names
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows
     plotting.py    matplotlib plots of a Result
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
-generation, SUNDIALS) and pdbfs.components.laws (formulas). Never the
-studies, the FMU exporter or the rigs in pdbfs.models.
+generation, SUNDIALS). Never the component library, the studies, the FMU
+exporter or the rigs in pdbfs.models.
 """
 from .result import Result
 from .simulator import MAX_NUM_STEPS, Simulator, simulate

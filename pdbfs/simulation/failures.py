@@ -1,6 +1,8 @@
 """What a failed integration most likely means, for SolverError messages."""
 from __future__ import annotations
 
+import numpy as np
+
 from pdbfs.errors import ParameterError, SolverError
 
 from . import compiled as C
@@ -41,3 +43,26 @@ def compiled_failure(name, grid, st) -> Exception:
     detail = f" (CVODE: {st.message})" if st.message else ""
     return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
                        f"(of {grid[-1]:.6g} s): {cause}{detail}")
+
+
+def walk_failure(sim, grid, x0, p, rtol, atol, method, max_step, err, max_num_steps):
+    """Walk the grid interval by interval to report where the solver stopped."""
+    x, t_ok = x0, grid[0]
+    for a, b in zip(grid[:-1], grid[1:]):
+        try:
+            x, _ = sim.step(x, p, a, b - a, rtol, atol, method, max_step,
+                            max_num_steps=max_num_steps)
+        except RuntimeError:
+            break
+        if not np.all(np.isfinite(x)):
+            break
+        t_ok = b
+    reason = str(err).strip().splitlines()[-1] if str(err).strip() else repr(err)
+    for code, cause in CAUSES.items():
+        if code in str(err):
+            reason = cause
+            break
+    where = (f"after t = {t_ok:.6g} s (of {grid[-1]:.6g} s)" if t_ok < grid[-1] else
+             f"before t = {grid[-1]:.6g} s (a retry interval by interval got through, so "
+             "the rig is at the edge of what these settings can do)")
+    return SolverError(f"rig {sim.dae.name}: the solver failed {where}: {reason}")

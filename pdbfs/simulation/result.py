@@ -15,8 +15,11 @@ from pdbfs.errors import PdbfsError
 
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings):
+    def __init__(self, sim, t, p, X, Z, settings, stats=None):
         self._sim = sim
+        #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
+        #: method, wall_time (s), backend
+        self.stats = dict(stats or {})
         self.t = t
         self._Y = None        # all outputs, computed on first need
         self._rows = {}       # single outputs computed so far
@@ -161,6 +164,19 @@ class Result:
         return plot_result(self, names, path, title)
 
     def summary(self) -> dict:
-        """Peak pressure, pulse duration, ... (see pdbfs.summary)."""
-        from .summary import summarize
-        return summarize(self)
+        """Peak pressure, time of peak, pulse duration, ..., and whether the
+        pulse ended inside the run (``complete``): located on the summary's
+        own solution, the same whatever the output grid (see summary.py).
+        Warns (PulseIncompleteWarning) when the pulse outlasts the run.
+        Computed once per Result."""
+        if "_summary" not in self.__dict__:
+            import warnings
+            from .summary import summarize
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                self._summary = summarize(self, warn=True)
+            self._summary_warnings = caught
+        for w in self._summary_warnings:
+            import warnings
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return dict(self._summary)

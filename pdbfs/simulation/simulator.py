@@ -7,16 +7,13 @@ Tolerances, output grid, start values and parameters are arguments of each
 call; the DAE is never rebuilt, and integrators are cached per setting.
 
 Non-smooth points (contact onset and separation, a slack oil column) are
-integrated through with error control: the forces there are continuous (the
-Hertz force is C1 at onset, the clamped and compression-only forces have a
-kink), so the error test shrinks the step locally; tests/test_accuracy.py
-checks the result against a tight event-located reference. Peaks and
-crossing times reported by a Result are located by root finding on the
-solution itself, not read off the output grid.
+integrated through with error control (the forces there are continuous);
+tests/test_accuracy.py checks against a tight event-located reference.
 """
 from __future__ import annotations
 
 import difflib
+import time
 
 import casadi as ca
 import numpy as np
@@ -25,7 +22,8 @@ from pdbfs.errors import ParameterError, SolverError
 from pdbfs.modelling import DAE, check_value
 
 from . import compiled as C
-from .failures import CAUSES, compiled_failure
+from .failures import compiled_failure, walk_failure
+from .stats import casadi_stats
 from .stiffness import choose_method
 from .vectorize import vectorize
 
@@ -72,6 +70,7 @@ class Simulator:
     def __init__(self, dae: DAE):
         self.dae = dae
         self._cache = {}
+        self._last_stats = {}
 
     @staticmethod
     def of(model) -> "Simulator":
@@ -207,6 +206,8 @@ class Simulator:
              max_num_steps=MAX_NUM_STEPS):
         """State at t0 + h from state x at t0 (h > 0). "auto" is judged at
         the rig's start, not at x: one choice for every step of a run."""
+        if self.dae.x.numel() == 0:
+            return np.zeros(0), self.prescribed(np.array([t0 + h]), p)[1][:, -1]
         method = self.resolve_method(method, p, self.start_vector(p), h) \
             if method == "auto" else method
         if backend == "c":
@@ -230,20 +231,22 @@ class Simulator:
             max_num_steps=MAX_NUM_STEPS, backend="casadi"):
         from .result import Result
         self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
-        if backend == "c":
+        if backend == "c" and self.dae.x.numel():
             self.compiled()          # a DAE rig is refused before anything else
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0])
+        wall = time.perf_counter()
         if backend == "c":
             X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
                         max_num_steps=max_num_steps, backend=backend)
-        return Result(self, grid, p, X, Z, settings)
+        return Result(self, grid, p, X, Z, settings, stats)
 
     @staticmethod
     def grid(t_end, n_out, t_out=None) -> np.ndarray:
@@ -259,6 +262,8 @@ class Simulator:
         return g
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
+        if self.dae.x.numel() == 0:
+            return self.prescribed(grid, p)
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(grid[0], x0, p)
         F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
@@ -271,8 +276,42 @@ class Simulator:
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
                                 max_num_steps) from None
+        self._last_stats = casadi_stats(F.stats(), method if self.dae.is_ode else "bdf")
         self._check_finite(grid, X)
         return X, Z
+
+    def integrate_shifted(self, grid, x0, p, rtol, atol, method, max_step,
+                          max_num_steps=MAX_NUM_STEPS):
+        """As integrate(), from x0 at grid[0] > 0, on one time-scaled
+        integrator for every grid of the same shape (no rebuild per window)."""
+        if self.dae.x.numel() == 0:
+            return self.prescribed(grid, p)
+        t0, span = float(grid[0]), float(grid[-1] - grid[0])
+        tau = (np.asarray(grid, float) - t0) / span
+        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
+            self.consistent_start(t0, x0, p)
+        F = self.integrator(tau, rtol, atol, method, max_step, scaled=True,
+                            max_num_steps=max_num_steps,
+                            xdot0=None if xdot0 is None else span * xdot0)
+        try:
+            r = F(x0=x0, p=np.concatenate([p, [t0, span]]), z0=z0)
+        except RuntimeError as err:
+            raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
+                                max_num_steps) from None
+        X = r["xf"].full()
+        Z = r["zf"].full().reshape(self.dae.z.numel(), X.shape[1])
+        self._check_finite(grid, X)
+        return X, Z
+
+    def prescribed(self, grid, p):
+        """A rig whose motion is prescribed (no state): nothing to integrate;
+        algebraic variables are solved point by point."""
+        n = len(grid)
+        Z = np.column_stack([self.consistent_start(t, np.zeros(0), p)[0] for t in grid]) \
+            if self.dae.z.numel() else np.zeros((0, n))
+        self._last_stats = {"steps": 0, "rhs_evals": 0, "jac_evals": 0, "root_events": 0,
+                            "method": "none (no state)"}
+        return np.zeros((0, n)), Z
 
     def _check_finite(self, grid, X):
         if not np.all(np.isfinite(X)):
@@ -281,16 +320,19 @@ class Simulator:
                               f"t = {grid[k]:.6g} s; check parameter values (a stiffness or "
                               "exponent far out of range?)")
 
-    # -- the compiled backend -----------------------------------------------------
     def compiled(self):
         """The DAE compiled to a shared library (compiled.py), built once."""
         return C.compiled(self.dae)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
         """States on ``grid`` (nx x len(grid)) from the compiled driver."""
+        if self.dae.x.numel() == 0:
+            return self.prescribed(grid, p)[0]
         X, st = self.compiled().run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
             raise compiled_failure(self.dae.name, grid, st)
+        self._last_stats = {k: v for k, v in (getattr(st, "stats", None) or {}).items()
+                            if k != "wall_time"} or {"method": method}
         self._check_finite(grid, X)
         return X
 
@@ -347,26 +389,7 @@ class Simulator:
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
                  max_num_steps=MAX_NUM_STEPS):
-        """Walk the grid interval by interval to report where the solver stopped."""
-        x, t_ok = x0, grid[0]
-        for a, b in zip(grid[:-1], grid[1:]):
-            try:
-                x, _ = self.step(x, p, a, b - a, rtol, atol, method, max_step,
-                                 max_num_steps=max_num_steps)
-            except RuntimeError:
-                break
-            if not np.all(np.isfinite(x)):
-                break
-            t_ok = b
-        reason = str(err).strip().splitlines()[-1] if str(err).strip() else repr(err)
-        for code, cause in CAUSES.items():
-            if code in str(err):
-                reason = cause
-                break
-        where = (f"after t = {t_ok:.6g} s (of {grid[-1]:.6g} s)" if t_ok < grid[-1] else
-                 f"before t = {grid[-1]:.6g} s (a retry interval by interval got through, so "
-                 "the rig is at the edge of what these settings can do)")
-        return SolverError(f"rig {self.dae.name}: the solver failed {where}: {reason}")
+        return walk_failure(self, grid, x0, p, rtol, atol, method, max_step, err, max_num_steps)
 
 
 class _Unbounded:

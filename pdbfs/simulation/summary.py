@@ -3,24 +3,39 @@
 A rig names the variables that play each role in ``summary_signals``
 (``pressure``, ``contact_force``, ``piston_displacement``,
 ``striker_velocity``, and for rigs whose hammer strikes more than once
-``impact_indentation``); the compiled DAE
-carries that mapping as ``dae.signals``.
+``impact_indentation``); the compiled DAE carries that mapping as
+``dae.signals``.
+
+Every figure is located on the summary's own solution (summary_run.py),
+never read off the caller's output grid, and belongs to the first blow:
+from t = 0 until the pulse is over (the pressure back under PULSE_LEVEL of
+its peak and the bodies apart) or the horizon. ``complete`` says whether the
+pulse ended inside the horizon; where it did not, the figures that need its
+end (duration, restitution) are None and a PulseIncompleteWarning names the
+horizon that would hold it. Rigs that strike repeatedly also list every
+blow (impact_times, impact_peak_pressures, impact_durations).
 """
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from pdbfs.components.laws import restitution_from_force
+from pdbfs.errors import PulseIncompleteWarning
+
+from .impulse import impulse_ratio
+from .summary_run import PULSE_LEVEL, summary_run
 
 KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
-        "max_piston_displacement", "restitution_coefficient")
+        "max_piston_displacement", "restitution_coefficient", "complete")
 UNITS = {"peak_pressure": "Pa", "time_of_peak": "s", "pulse_duration": "s",
          "peak_contact_force": "N", "max_piston_displacement": "m",
-         "restitution_coefficient": "1",
+         "restitution_coefficient": "1", "complete": "",
          # rigs with the role impact_indentation (repeated blows): lists, one per blow
-         "impact_count": "1", "impact_times": "s", "impact_peak_pressures": "Pa"}
+         "impact_count": "1", "impact_times": "s", "impact_peak_pressures": "Pa",
+         "impact_durations": "s"}
 
-PULSE_LEVEL = 0.01   # the pulse lasts while the pressure exceeds 1 % of its peak
+__all__ = ["KEYS", "UNITS", "PULSE_LEVEL", "keys_for", "summarize"]
 
 
 def keys_for(dae) -> list[str]:
@@ -35,56 +50,143 @@ def keys_for(dae) -> list[str]:
         keys.append("max_piston_displacement")
     if roles.get("contact_force"):
         keys.append("restitution_coefficient")
+    if roles.get("pressure") or roles.get("contact_force"):
+        keys.append("complete")
     if roles.get("impact_indentation"):
-        keys += ["impact_count", "impact_times"] + (["impact_peak_pressures"]
+        keys += ["impact_count", "impact_times"] + (["impact_peak_pressures", "impact_durations"]
                                                    if roles.get("pressure") else [])
     return keys
 
 
-def summarize(res) -> dict:
+def summarize(res, warn: bool = True) -> dict:
     roles = getattr(res._sim.dae, "signals", {}) or {}
-    out = {}
-    p = roles.get("pressure")
-    if p:
-        t_pk, p_pk = res.peak(p)
-        out["peak_pressure"] = p_pk
-        out["time_of_peak"] = t_pk
-        out["pulse_duration"] = time_above(res, p, PULSE_LEVEL * p_pk)
-    f = roles.get("contact_force")
-    if f:
-        out["peak_contact_force"] = res.peak(f)[1]
-    s = roles.get("piston_displacement")
-    if s:
-        out["max_piston_displacement"] = res.peak(s)[1]
-    if f:
-        out["restitution_coefficient"] = restitution(res, f, roles.get("striker_velocity"))
+    run = summary_run(res)
+    R = run.trajectory
+    p, f = roles.get("pressure"), roles.get("contact_force")
+    blow = (0.0, R.t[-1])
+    blow_list = None
     d = roles.get("impact_indentation")
     if d:
-        out.update(blows(res, d, p))
+        blow_list = blows(R, d, p)
+        if blow_list["impact_count"] > 1:
+            blow = (0.0, blow_list["impact_times"][1])
+    out = {}
+    if p:
+        t_pk, p_pk = R.peak(p, window=blow)
+        has_pulse = p_pk > 0
+        out["peak_pressure"] = p_pk if has_pulse else 0.0
+        out["time_of_peak"] = t_pk if has_pulse else None
+        out["pulse_duration"] = time_above(R, p, PULSE_LEVEL * p_pk, blow) \
+            if has_pulse and run.complete else None
+    if f:
+        out["peak_contact_force"] = max(R.peak(f, window=blow)[1], 0.0)
+    s = roles.get("piston_displacement")
+    if s:
+        out["max_piston_displacement"] = R.peak(s, window=blow)[1]
+    if f:
+        out["restitution_coefficient"] = restitution(R, f, roles.get("striker_velocity"),
+                                                     blow) if run.complete else None
+    if run.complete is not None:
+        out["complete"] = bool(run.complete)
+    if blow_list is not None:
+        out.update(blow_list)
+    if warn and run.complete is False:
+        warnings.warn(incomplete_message(res, run), PulseIncompleteWarning, stacklevel=3)
     return out
 
 
-def blows(res, indentation, pressure=None) -> dict:
+def incomplete_message(res, run) -> str:
+    where = f"rig {res._sim.dae.name}: the pulse is still running at t_end = {run.t_end:.6g} s"
+    if run.t_done is not None:
+        need = _round_up(1.2 * run.t_done)
+        return (f"{where}: it ends at about {run.t_done:.4g} s; use t_end >= {need:.3g} s "
+                "(duration and restitution are not reported)")
+    return (f"{where} and has not ended by {run.looked_until:.4g} s "
+            "(duration and restitution are not reported)")
+
+
+def _round_up(x: float) -> float:
+    e = 10.0 ** np.floor(np.log10(x))
+    return float(np.ceil(x / e * 10) / 10 * e)
+
+
+def time_above(R, name, level, window) -> float:
+    """Total time within ``window`` during which ``name`` exceeds ``level``:
+    crossings located on the solution, paired by direction."""
+    a, b = window
+    y = R[name]
+    # the sample after a crossing tells its direction (crossings lie between samples)
+    up = lambda tc: y[min(int(np.searchsorted(R.t, tc)), len(y) - 1)] > level  # noqa: E731
+    total, start = 0.0, (a if R.value_at(name, a) > level else None)
+    for tc in R.crossings(name, level):
+        if not a < tc < b:
+            continue
+        if start is None and up(tc):
+            start = tc
+        elif start is not None and not up(tc):
+            total += tc - start
+            start = None
+    if start is not None:
+        total += b - start
+    return float(total)
+
+
+def restitution(R, force, striker_velocity=None, window=None) -> float | None:
+    """Guo & Batzer's impulse ratio (paper eq. 8) for the first blow.
+
+    The paper's restitution phase starts at maximum indentation; Guo & Batzer
+    take the force peak for that instant, which holds for a single hump. The
+    PDBFS blow is many humps, and its force peaks well before the hammer
+    stops, so with a ``striker_velocity`` role the split is where the striker
+    stops, over every contact until it turns back (or the blow ends). Without
+    it: the first contact, split at its force peak. None where not defined
+    (no contact, or the striker has not stopped)."""
+    a, b = window if window is not None else (R.t[0], R.t[-1])
+    f = R[force]
+    if not np.any(f > 0):
+        return None
+    rate = R._sim.rates_on(R.t, R._X, R._Z, R.p, force)
+    fc = np.clip(f, 0.0, None)
+    if striker_velocity:
+        v = R[striker_velocity]
+        turns = [tt for tt in R.crossings(striker_velocity, 0.0) if a < tt < b]
+        after = lambda tt: v[min(np.searchsorted(R.t, tt), len(v) - 1)]   # noqa: E731
+        stops = [tt for tt in turns if after(tt) < 0]
+        if not stops:
+            return None
+        t_stop = float(stops[0])
+        back = [tt for tt in turns if tt > t_stop]
+        t_back = float(back[0]) if back else float(b)   # the apex of the rebound
+        return impulse_ratio(R.t, fc, t_stop, t_back, rate)
+    on = np.flatnonzero(f > 0)
+    gap = np.flatnonzero(f[on[0]:] <= 0)
+    k_end = on[0] + gap[0] if gap.size else len(f) - 1
+    t_pk = R.peak(force, window=(R.t[max(on[0] - 1, 0)], R.t[k_end]))[0]
+    return impulse_ratio(R.t[:k_end + 1], fc[:k_end + 1], t_pk, None,
+                         None if rate is None else rate[:k_end + 1])
+
+
+def blows(R, indentation, pressure=None) -> dict:
     """Every blow of a hammer that strikes repeatedly. Contacts start where
-    ``indentation`` crosses 0 upwards (located by root finding); contacts
-    follow one another within one blow (the hammer chatters on the piston);
-    once the pressure has risen above PULSE_LEVEL of its overall peak and
-    fallen below it again, the next contact starts a new blow. Returns impact_count,
-    impact_times (first contact of each blow) and impact_peak_pressures."""
-    d = res[indentation]
-    # a crossing lies between two samples of opposite sign: upwards if the later one is > 0
-    onsets = [float(tt) for tt in res.crossings(indentation, 0.0)
-              if d[min(int(np.searchsorted(res.t, tt)), len(d) - 1)] > 0]
+    ``indentation`` crosses 0 upwards; contacts follow one another within
+    one blow (the hammer chatters on the piston); once the pressure has risen
+    above PULSE_LEVEL of its overall peak and fallen below it again, the next
+    contact starts a new blow. Returns impact_count, impact_times (first
+    contact of each blow), and with a pressure impact_peak_pressures and
+    impact_durations (None for a blow cut off by the horizon)."""
+    d = R[indentation]
+    onsets = [float(tt) for tt in R.crossings(indentation, 0.0)
+              if d[min(int(np.searchsorted(R.t, tt)), len(d) - 1)] > 0]
     if d[0] > 0:
-        onsets.insert(0, float(res.t[0]))
+        onsets.insert(0, float(R.t[0]))
     if not pressure:
         return {"impact_count": len(onsets), "impact_times": onsets}
-    y = res[pressure]
+    y = R[pressure]
     level = PULSE_LEVEL * float(np.max(y))
     starts, prev = [], None
     for tt in onsets:
         if prev is not None:   # a new blow only once the previous pulse has risen and fallen
-            k0, k1 = np.searchsorted(res.t, [prev, tt])
+            k0, k1 = np.searchsorted(R.t, [prev, tt])
             above = y[k0:k1] >= level
             ended = above.any() and not above[int(np.argmax(above)):].all()
             prev = tt
@@ -92,74 +194,14 @@ def blows(res, indentation, pressure=None) -> dict:
                 continue
         starts.append(tt)
         prev = tt
-    edges = np.searchsorted(res.t, starts + [res.t[-1] + 1.0])
-    peaks = []
-    for k0, k1 in zip(edges[:-1], edges[1:]):
-        k1 = max(min(k1, len(y)), k0 + 1)
-        peaks.append(_local_peak(res, pressure, k0, k1))
+    ends = starts[1:] + [float(R.t[-1])]
+    peaks, durations = [], []
+    for i, (a, b) in enumerate(zip(starts, ends)):
+        t_pk, p_pk = R.peak(pressure, window=(a, b))
+        peaks.append(p_pk)
+        last = i == len(starts) - 1
+        cut = last and y[-1] >= PULSE_LEVEL * p_pk
+        durations.append(None if cut or not p_pk > 0 else
+                         time_above(R, pressure, PULSE_LEVEL * p_pk, (a, b)))
     return {"impact_count": len(starts), "impact_times": [float(s) for s in starts],
-            "impact_peak_pressures": peaks}
-
-
-def _local_peak(res, name, k0, k1) -> float:
-    """Maximum of ``name`` over output samples k0..k1-1, refined on the solution."""
-    return res.peak(name, window=(res.t[k0], res.t[k1 - 1]))[1]
-
-
-def time_above(res, name, level) -> float:
-    """Total time during which ``name`` exceeds ``level`` (crossings located
-    by root finding)."""
-    y = res[name]
-    times = [res.t[0]] if y[0] > level else []
-    times += list(res.crossings(name, level))
-    if y[-1] > level:
-        times.append(res.t[-1])
-    times = np.asarray(times)
-    return float(np.sum(times[1::2] - times[0::2])) if times.size else 0.0
-
-
-def restitution(res, name, striker_velocity=None) -> float | None:
-    """Guo & Batzer's impulse ratio (paper eq. 8) for the first blow.
-
-    The paper's restitution phase starts at maximum indentation; Guo & Batzer
-    take the force peak for that instant, which holds for a single hump. The
-    PDBFS blow is many humps, and its force peaks well before the hammer
-    stops, so with a ``striker_velocity`` role the split is where the striker
-    stops, over every contact until it turns back (or the run ends). Without
-    it: the first contact, split at its force peak. None where not defined
-    (no contact, or the striker has not stopped by the end of the run)."""
-    f = res[name]
-    if not np.any(f > 0):
-        return None          # no contact: not defined
-    if striker_velocity:
-        v = res[striker_velocity]
-        turns = res.crossings(striker_velocity, 0.0)
-        down_up = [tt for tt in turns if v[min(np.searchsorted(res.t, tt), len(v) - 1)] < 0]
-        if not down_up:
-            return None
-        t_stop = float(down_up[0])
-        later = [tt for tt in turns if tt > t_stop]
-        t_back = float(later[0]) if later else float(res.t[-1])   # the apex of the rebound
-        before = res.curves.integral(name, res.t[0], t_stop)
-        if before is not None:            # on the Hermite interpolant: no grid error
-            after = res.curves.integral(name, t_stop, t_back)
-            return float(after / before) if before > 0 else None
-        t, y = _with_point(res, name, t_stop)
-        k = int(np.searchsorted(t, t_stop))            # the inserted sample
-        j = int(np.searchsorted(t, t_back, side="right"))
-        before = np.trapezoid(y[:k + 1], t[:k + 1])
-        after = np.trapezoid(y[k:j], t[k:j])
-        return float(after / before) if before > 0 else None
-    on = np.flatnonzero(f > 0)
-    gap = np.flatnonzero(f[on[0]:] <= 0)
-    k_end = on[0] + gap[0] if gap.size else len(f) - 1
-    t_pk = res.peak(name, window=(res.t[on[0]], res.t[k_end]))[0]
-    t, y = _with_point(res, name, t_pk)
-    return restitution_from_force(t, y, t_split=t_pk)
-
-
-def _with_point(res, name, tt):
-    """The sampled history of ``name`` with its exact value at ``tt`` inserted."""
-    k = int(np.searchsorted(res.t, tt))
-    return (np.insert(res.t, k, tt),
-            np.insert(res[name], k, max(res.value_at(name, tt), 0.0)))
+            "impact_peak_pressures": peaks, "impact_durations": durations}

@@ -12,11 +12,12 @@ logarithm of that parameter.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError
+from pdbfs.errors import ParameterError, PdbfsError, SampleTooSmallWarning
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -36,8 +37,29 @@ class Sensitivity:
     points: int                # simulations: N (D + 2)
     ranges: dict
 
+    #: a confidence half-width above this leaves an index meaningless
+    MAX_CONF = 0.1
+
+    def problems(self) -> list[str]:
+        """Why the sample is too small for the indices to mean anything
+        (empty if it is not): a first-order index below 0 or above the total
+        one, or a 95 % interval wider than +-MAX_CONF."""
+        out = []
+        for o in self.outputs:
+            for i, p in enumerate(self.names):
+                s1, st = float(self.S1[o][i]), float(self.ST[o][i])
+                c1, ct = float(self.S1_conf[o][i]), float(self.ST_conf[o][i])
+                if s1 < 0:
+                    out.append(f"{o}/{p}: first-order index {s1:.3f} < 0")
+                elif s1 > st:
+                    out.append(f"{o}/{p}: first-order index {s1:.3f} > total {st:.3f}")
+                elif max(c1, ct) > self.MAX_CONF:
+                    out.append(f"{o}/{p}: 95 % interval +-{max(c1, ct):.3f}")
+        return out
+
     def to_dict(self) -> dict:
         return {"parameters": self.names, "n": self.n, "points": self.points,
+                "reliable": not self.problems(), "problems": self.problems(),
                 "ranges": {k: list(v) for k, v in self.ranges.items()},
                 "indices": {o: {p: {"S1": float(self.S1[o][i]), "S1_conf": float(self.S1_conf[o][i]),
                                     "ST": float(self.ST[o][i]), "ST_conf": float(self.ST_conf[o][i])}
@@ -50,7 +72,15 @@ class Sensitivity:
             for i, p in enumerate(self.names):
                 lines.append(f"{o:<16} {p:<14} {self.S1[o][i]:>9.3f} ± {self.S1_conf[o][i]:<6.3f}"
                              f" {self.ST[o][i]:>9.3f} ± {self.ST_conf[o][i]:<6.3f}")
+        if self.problems():
+            lines.append(self.warning())
         return "\n".join(lines)
+
+    def warning(self) -> str:
+        found = self.problems()
+        return (f"the sample (N = {self.n}) is too small for these indices to mean anything "
+                f"({found[0]}{f', and {len(found) - 1} more' if len(found) > 1 else ''}); "
+                f"run again with a larger N, e.g. --n {self.n * 4}")
 
     def plot(self, path=None):
         import matplotlib
@@ -119,4 +149,7 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
                              f"{dict(zip(names, X[bad[0]].round(6)))}: {why}); narrow the ranges")
         Si = analyze.analyze(problem, y, calc_second_order=False, seed=seed)
         S1[o], S1c[o], ST[o], STc[o] = Si["S1"], Si["S1_conf"], Si["ST"], Si["ST_conf"]
-    return Sensitivity(names, list(outputs), S1, S1c, ST, STc, int(n), len(X), ranges)
+    result = Sensitivity(names, list(outputs), S1, S1c, ST, STc, int(n), len(X), ranges)
+    if result.problems():
+        warnings.warn(result.warning(), SampleTooSmallWarning, stacklevel=2)
+    return result

@@ -21,7 +21,7 @@ from pdbfs.simulation import Simulator
 
 from .least_squares import distinct_optima, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
-from .signal_model import DT, SignalModel, signal_of
+from .signal_model import DT, SignalModel, pulse_end, signal_of
 from .traces import as_trace
 from .free_parameters import CALIBRATION_RANGE, parse_bounds, rig_unknowns
 
@@ -96,17 +96,21 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     """
     sim = Simulator.of(_rig(rig))
     dae = sim.dae
-    trace = as_trace(trace)
     signal = signal_of(dae, signal)
+    trace = as_trace(trace, signal=signal)
     bounds = parse_bounds(bounds)
     own = {k: bounds.pop(k) for k in (SHIFT, OFFSET) if k in bounds}
     unknowns, p0 = rig_unknowns(sim, free, bounds=bounds, start=start, fixed=params,
                                 factor=CALIBRATION_RANGE)
     targets = [u.target for u in unknowns]
     unit = next(v.unit for v in dae.y_info if v.name == signal)
+    check_trace_fits(trace, unit, signal, getattr(_rig(rig), "default_t_end", 0.02))
+    done = pulse_end(sim, p0, float(trace.t[-1]))
+    fine = None if done is None else max(5.0 * done, 0.02)
     horizon = float(trace.t[-1])
     if fit_offset:
-        probe = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol)
+        probe = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
+                            fine_until=fine)
         s0 = probe(np.array([u.rig_value(u.ref) for u in unknowns]), sens=False)
         extra = offset_unknowns(trace, (s0.t, s0.y), unit)
         for u in extra:
@@ -120,9 +124,21 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     if horizon <= 0:
         raise DataError(f"{trace.source}: every sample lies before the impact (t <= 0)")
     model = SignalModel(sim, signal, targets, max(horizon, t_end or 0.0), p0, dt=dt, rtol=rtol,
-                        atol=atol)
+                        atol=atol, fine_until=fine)
     scale = float(np.max(np.abs(trace.y))) or 1.0
     return _fit(dae.name, signal, unit, model, unknowns, trace, scale, starts, seed)
+
+
+def check_trace_fits(trace, unit, signal, pulse_horizon):
+    """Refuse a trace whose units cannot be the signal's, or whose times,
+    given without a unit, are implausible for the rig (ms read as s)."""
+    if trace.unit and unit and trace.unit != unit:
+        raise DataError(f"{trace.source}: the signal is in {trace.unit}, but {signal} is in "
+                        f"{unit}; choose the matching column (--signal) or rig variable")
+    if not trace.time_unit and trace.span > 100 * pulse_horizon:
+        raise DataError(f"{trace.source}: its times span {trace.span:.6g} s without a unit, "
+                        f"for a pulse of about {pulse_horizon * 1e3:.0f} ms; if they are ms, "
+                        "say so in the header (time [ms])")
 
 
 def _rig(rig):

@@ -34,6 +34,9 @@ def pulse_features(s, want=FEATURES) -> tuple[dict, dict]:
     """({feature: value}, {feature: gradient over the parameters}) of Samples
     ``s``, for the features in ``want`` (the peak always)."""
     k = int(np.argmax(s.y))
+    if k == len(s.y) - 1:
+        raise PdbfsError(f"the pulse is still rising at t = {s.t[-1]:.6g} s: its peak is not "
+                         "reached inside the horizon; raise t_end")
     t_pk = _refine_peak(s, k)
     y_pk, _, dy_pk = (a[0] for a in s.at([t_pk]))
     _, dydot_pk, yddot_pk = (a[0] for a in s.slope_at([t_pk]))

@@ -78,12 +78,40 @@ class Samples:
         return d[:, 0], d[:, 1:], self.spline(tt, 2)[:, 0]
 
 
+#: most points of the fine grid, and of the coarse grid after it
+MAX_FINE, MAX_COARSE = 40_000, 20_000
+
+
+def model_grid(t_end, dt=DT, fine_until=None) -> np.ndarray:
+    """Spacing ``dt`` over [0, fine_until] (where the pulse is; at most
+    MAX_FINE points), then at most MAX_COARSE even steps to ``t_end``: the
+    cost follows the pulse and the trace, not the horizon / dt."""
+    fine_end = min(t_end, fine_until if fine_until is not None else t_end, MAX_FINE * dt)
+    n = max(int(np.ceil(fine_end / dt)), 2) + 1
+    fine = np.linspace(0.0, fine_end, n)
+    if t_end <= fine_end * (1 + 1e-12):
+        return fine
+    m = int(min(MAX_COARSE, np.ceil((t_end - fine_end) / dt)))
+    return np.concatenate([fine, np.linspace(fine_end, t_end, m + 1)[1:]])
+
+
+def pulse_end(sim, p0, horizon) -> float | None:
+    """Where the rig's pulse ends at the parameters ``p0`` (None if it has no
+    pulse role or does not end within the look-ahead)."""
+    from pdbfs.simulation.summary_run import summary_run
+    if not (getattr(sim.dae, "signals", {}) or {}).get("pressure"):
+        return None
+    res = sim.run(min(horizon, 0.02), 2001, params=dict(zip(sim.dae.p_names, p0)))
+    return summary_run(res).t_done
+
+
 class SignalModel:
     """``signal`` of ``rig`` on [0, t_end] as a function of the parameters
     ``targets`` (values in SI units); the others keep the values of ``p0``."""
 
     def __init__(self, sim: Simulator, signal: str, targets: list[str], t_end: float, p0,
-                 *, dt: float = DT, rtol: float = 1e-8, atol: float = 1e-10):
+                 *, dt: float = DT, rtol: float = 1e-8, atol: float = 1e-10,
+                 fine_until: float | None = None):
         dae = sim.dae
         if not dae.is_ode:
             raise ParameterError(f"rig {dae.name} keeps algebraic variables; fitting needs an "
@@ -91,9 +119,9 @@ class SignalModel:
         if not (np.isfinite(t_end) and t_end > 0):
             raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
         self.sim, self.signal, self.targets = sim, signal, list(targets)
-        n = max(int(np.ceil(t_end / dt)), 2) + 1
-        self.grid = np.linspace(0.0, t_end, n)
         self.p0 = np.asarray(p0, dtype=float)
+        self.grid = model_grid(t_end, dt, fine_until)
+        n = self.grid.size
         index = {name: i for i, name in enumerate(dae.p_names)}
         y = dae.y[dae.y_names.index(signal)]
         ydot = ca.jtimes(y, dae.x, dae.ode) + ca.jacobian(y, dae.t)

@@ -1,8 +1,9 @@
-"""Measured traces and target curves: a time column (s) and a signal column
-(SI units, Pa for a pressure), read from a CSV file with a header, checked
-before anything is fitted to them."""
+"""Measured traces and target curves: a time column and a signal column,
+read from a CSV file (units in the header converted to SI, the column chosen
+by name), checked before anything is fitted to them."""
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -14,6 +15,18 @@ from pdbfs.errors import DataError
 MIN_POINTS = 10
 
 
+#: units a trace's header may give, to SI: (factor, SI unit)
+UNITS = {
+    "s": (1.0, "s"), "ms": (1e-3, "s"), "us": (1e-6, "s"), "µs": (1e-6, "s"), "μs": (1e-6, "s"),
+    "Pa": (1.0, "Pa"), "kPa": (1e3, "Pa"), "MPa": (1e6, "Pa"), "GPa": (1e9, "Pa"),
+    "bar": (1e5, "Pa"), "psi": (6894.757293168361, "Pa"),
+    "N": (1.0, "N"), "kN": (1e3, "N"), "MN": (1e6, "N"),
+    "m": (1.0, "m"), "mm": (1e-3, "m"), "um": (1e-6, "m"), "µm": (1e-6, "m"),
+    "m/s": (1.0, "m/s"), "1": (1.0, "1"),
+}
+_UNIT_IN_NAME = re.compile(r"^\s*(?P<name>.*?)\s*[\[(](?P<unit>[^\])]*)[\])]\s*$")
+
+
 @dataclass(frozen=True)
 class Trace:
     """Samples ``y`` (in the signal's SI unit) at strictly increasing times ``t`` (s)."""
@@ -21,7 +34,9 @@ class Trace:
     t: np.ndarray
     y: np.ndarray
     source: str = "trace"
-    name: str = ""          # the signal column's header, if read from a file
+    name: str = ""          # the signal column's name (its unit stripped), if read from a file
+    unit: str = ""          # the signal's SI unit, if the header gave one
+    time_unit: str = "s"    # the unit a file's header gave the time in ("" if none)
 
     def __len__(self):
         return len(self.t)
@@ -31,10 +46,31 @@ class Trace:
         return float(self.t[-1] - self.t[0])
 
 
-def read_trace(path, what: str = "trace") -> Trace:
-    """Read a CSV trace: a header line, then rows of time (s) and signal; the
-    delimiter is sniffed (comma, semicolon, tab or spaces). Extra columns
-    are ignored. DataError, naming the file, for anything else."""
+def split_header(label) -> tuple[str, str | None]:
+    """'oil.pressure [kPa]' -> ('oil.pressure', 'kPa'); no unit -> (label, None)."""
+    m = _UNIT_IN_NAME.match(str(label))
+    if m:
+        return m.group("name").strip(), m.group("unit").strip()
+    return str(label).strip(), None
+
+
+def to_si(unit, where, column) -> tuple[float, str]:
+    if unit is None:
+        return 1.0, ""
+    if unit not in UNITS:
+        raise DataError(f"{where}: column {column!r}: unknown unit {unit!r}; known units: "
+                        f"{', '.join(UNITS)}")
+    return UNITS[unit]
+
+
+def read_trace(path, what: str = "trace", signal: str | None = None) -> Trace:
+    """Read a CSV trace: time in the first column, then the signal. The
+    delimiter is sniffed (comma, semicolon, tab or spaces). A header is
+    optional; where it gives units (``time [ms]``, ``oil.pressure [kPa]``)
+    they are converted to SI, and an unknown unit is refused. With more than
+    two columns, ``signal`` names the one to use (pdbfs's own results.csv
+    works: its header is ``name [unit]``). DataError, naming the file, for
+    anything else."""
     import pandas as pd
     p = Path(path)
     where = f"{what} file {str(path)!r}"
@@ -42,26 +78,65 @@ def read_trace(path, what: str = "trace") -> Trace:
         raise DataError(f"{where}: no such file")
     if p.stat().st_size == 0:
         raise DataError(f"{where}: the file is empty")
+    sep = _delimiter(p)
     try:
-        df = pd.read_csv(p, sep=_delimiter(p), engine="python", skipinitialspace=True)
+        header = 0 if _has_header(p, sep) else None
+        df = pd.read_csv(p, sep=sep, engine="python", skipinitialspace=True, header=header)
     except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as err:
         first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise DataError(f"{where}: not a CSV table ({first})") from None
+    if header is None:
+        df.columns = [f"column {j + 1}" for j in range(df.shape[1])]
     if df.shape[1] < 2:
         raise DataError(f"{where}: needs two columns, time (s) and the signal; found "
                         f"{df.shape[1]} ({', '.join(map(str, df.columns)) or 'none'})")
     if len(df) == 0:
         raise DataError(f"{where}: a header but no data rows")
+    j = _signal_column(df, signal, where)
     cols = []
-    for j in (0, 1):
-        col = pd.to_numeric(df.iloc[:, j], errors="coerce")
-        bad = col.isna() & df.iloc[:, j].notna() & (df.iloc[:, j].astype(str).str.strip() != "")
+    for k in (0, j):
+        col = pd.to_numeric(df.iloc[:, k], errors="coerce")
+        bad = col.isna() & df.iloc[:, k].notna() & (df.iloc[:, k].astype(str).str.strip() != "")
         if bad.any():
             row = int(np.flatnonzero(bad.to_numpy())[0])
-            raise DataError(f"{where}: column {df.columns[j]!r}, data row {row + 1}: "
-                            f"{df.iloc[row, j]!r} is not a number")
+            raise DataError(f"{where}: column {df.columns[k]!r}, data row {row + 1}: "
+                            f"{df.iloc[row, k]!r} is not a number")
         cols.append(col.to_numpy(dtype=float))
-    return check_trace(cols[0], cols[1], f"{where}", name=str(df.columns[1]))
+    t_name, t_unit = split_header(df.columns[0])
+    y_name, y_unit = split_header(df.columns[j])
+    t_factor, t_si = to_si(t_unit, where, df.columns[0])
+    if t_unit is not None and t_si != "s":
+        raise DataError(f"{where}: the first column {df.columns[0]!r} must be time; its unit "
+                        f"{t_unit!r} is not one of time (s, ms, us)")
+    y_factor, y_si = to_si(y_unit, where, df.columns[j])
+    trace = check_trace(cols[0] * t_factor, cols[1] * y_factor, where, name=y_name)
+    return Trace(trace.t, trace.y, where, y_name, y_si, t_unit or "")
+
+
+def _has_header(path, sep) -> bool:
+    """A first line of numbers only is data, not a header."""
+    with open(path, newline="", errors="replace") as fh:
+        first = fh.readline().strip()
+    fields = re.split(sep if sep != r"\s+" else r"\s+", first) if first else []
+    try:
+        [float(f) for f in fields if f.strip()]
+    except ValueError:
+        return True
+    return not fields
+
+
+def _signal_column(df, signal, where) -> int:
+    """The signal's column: the second of two, or the one named ``signal``."""
+    names = [split_header(c)[0] for c in df.columns]
+    if signal is not None and signal in names[1:]:
+        return names.index(signal, 1)
+    if df.shape[1] == 2:
+        return 1
+    listed = ", ".join(repr(n) for n in names[1:9]) + (", ..." if len(names) > 9 else "")
+    if signal is None:
+        raise DataError(f"{where}: {df.shape[1] - 1} signal columns ({listed}); name the one "
+                        "to use (--signal NAME)")
+    raise DataError(f"{where}: no column {signal!r} among {listed}")
 
 
 def _delimiter(path) -> str:
@@ -98,12 +173,12 @@ def check_trace(t, y, where: str = "trace", name: str = "") -> Trace:
     return Trace(t, y, where, name)
 
 
-def as_trace(data, what: str = "trace") -> Trace:
+def as_trace(data, what: str = "trace", signal: str | None = None) -> Trace:
     """A Trace from a Trace, a CSV path, or a pair (t, y)."""
     if isinstance(data, Trace):
         return data
     if isinstance(data, (str, Path)):
-        return read_trace(data, what)
+        return read_trace(data, what, signal)
     try:
         t, y = data
     except (TypeError, ValueError):

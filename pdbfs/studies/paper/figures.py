@@ -68,7 +68,7 @@ def _pressure_study(ctx, rep, path, *, figure, param, values, label, xlim, ylim,
 def fig4(ctx, rep, path):
     """Contact force hammer -> piston at 2.73 m/s, 0-14 ms, impulses shaded."""
     import matplotlib.pyplot as plt
-    from pdbfs.components.laws import restitution_from_force
+    from pdbfs.simulation.impulse import impulse_ratio, integral, restitution_from_force
     from pdbfs.simulation.summary import restitution
     # impulses are integrated on the output grid: always the fine one (1 run)
     res = ctx.rig.simulate(0.02, n_out=int(0.02e3 * N_PER_MS) + 1)
@@ -81,10 +81,8 @@ def fig4(ctx, rep, path):
     e_first = restitution(res, "contact.fc")          # no striker role: first contact
     # the whole blow (every contact hump), split at the overall force peak
     tt, ff = _with_point(t, f, t_pk, f_pk)
-    k = int(np.searchsorted(tt, t_pk))
-    before = np.trapezoid(ff[:k + 1], tt[:k + 1])
-    after = np.trapezoid(ff[k:], tt[k:])
-    e_blow_peak = after / before
+    before, after = integral(tt, ff, tt[0], t_pk), integral(tt, ff, t_pk, tt[-1])
+    e_blow_peak = impulse_ratio(tt, ff, t_pk)
     # the whole blow, split where the hammer stops: what summary() reports
     t_stop = float(res.crossings("hammer.v")[0])
     v_end = res["hammer.v"][-1]
@@ -95,7 +93,7 @@ def fig4(ctx, rep, path):
     rep.notes.update(e_first_peak=e_first, e_blow_peak=e_blow_peak, e_blow_stop=e_blow_stop,
                      e_first_dmax=e_first_dmax, t_force_peak=t_pk, t_hammer_stop=t_stop,
                      force_peak=f_pk, hammer_rebound=-v_end / V_TABLE1,
-                     contacts=[float(x) for x in sep], impulse_total=np.trapezoid(f, t))
+                     contacts=[float(x) for x in sep], impulse_total=integral(t, f, t[0], t[-1]))
 
     fig, (ax, axz) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [2.2, 1]})
     ms, MN = tt * 1e3, ff / 1e6

@@ -228,6 +228,8 @@ def _value(key, v):
     v = float(v)
     if np.isnan(v):
         return None
+    if key == "complete":
+        return bool(v)
     return int(v) if key == "impact_count" else v
 
 

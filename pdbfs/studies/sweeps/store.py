@@ -20,6 +20,7 @@ import numpy as np
 from pdbfs.errors import ParameterError
 
 MANIFEST = "manifest.json"
+CHUNKS = "chunks"
 FORMATS = ("parquet", "csv")
 
 
@@ -53,7 +54,7 @@ class Store:
                 raise ParameterError(f"{self.dir} holds chunk files but no {MANIFEST}: not a sweep "
                                      "this can resume; choose another output folder")
             self._clear()
-        self.dir.mkdir(parents=True, exist_ok=True)
+        self.chunk_dir.mkdir(parents=True, exist_ok=True)
         if old is None:
             _write_atomic(manifest, json.dumps(
                 {"hash": self.hash, "started": time.strftime("%Y-%m-%d %H:%M:%S"),
@@ -85,13 +86,19 @@ class Store:
             f.unlink()
         (self.dir / MANIFEST).unlink(missing_ok=True)
 
+    @property
+    def chunk_dir(self) -> Path:
+        """The chunk files, alone in their folder: ``pandas.read_parquet`` reads it whole."""
+        return self.dir / CHUNKS
+
     def chunk_files(self) -> list[Path]:
-        if not self.dir.is_dir():
+        if not self.chunk_dir.is_dir():
             return []
-        return sorted(p for p in self.dir.glob("chunk-*.*") if p.suffix in (".parquet", ".csv"))
+        return sorted(p for p in self.chunk_dir.glob("chunk-*.*")
+                      if p.suffix in (".parquet", ".csv"))
 
     def path_of(self, chunk_id: int) -> Path:
-        return self.dir / f"chunk-{chunk_id:06d}.{self.fmt}"
+        return self.chunk_dir / f"chunk-{chunk_id:06d}.{self.fmt}"
 
     def done(self) -> set[int]:
         return {int(p.stem.split("-")[1]) for p in self.chunk_files() if p.suffix == f".{self.fmt}"}
@@ -122,6 +129,16 @@ class Store:
         if "error" in df:
             df["error"] = df["error"].fillna("")
         return df.sort_values("point", kind="stable").reset_index(drop=True)
+
+
+def saved_points(path) -> int:
+    """How many points of the sweep in ``path`` are saved (0 if none)."""
+    try:
+        store = Store.open(path)
+    except ParameterError:
+        return 0
+    df = store.read()
+    return int(len(df))
 
 
 def refuse_other_sweep(path, overwrite: bool = False):

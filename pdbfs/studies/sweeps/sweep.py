@@ -46,7 +46,7 @@ def points_of(values: dict, grid: bool = True) -> list[dict]:
 
 def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
-          rtol: float = 1e-8, atol: float = 1e-10, method: str = "adams",
+          rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
           max_step: float | None = None, backend: str = "casadi", workers: int | None = None,
           progress: bool | None = None, client=None, out=None, format: str = "parquet",
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
@@ -176,7 +176,12 @@ def _can_fork() -> bool:
     return "fork" in mp.get_all_start_methods()
 
 
-_FORKED = None   # (runner, points): inherited by forked workers
+_FORKED = None   # (runner, points) of this worker process, set by its pool's initializer
+
+
+def _forked_init(runner, points):
+    global _FORKED
+    _FORKED = (runner, points)
 
 
 def _forked_chunk(job):
@@ -185,21 +190,20 @@ def _forked_chunk(job):
     chunk = runner.run(np.arange(a, b), points.block(a, b))
     # Results travel without their Simulator; the parent gives them its own
     chunk.results = [None if r is None else {k: v for k, v in vars(r).items()
-                                             if k not in ("_sim", "_curves")}
+                                             if k not in ("_sim", "_curves", "_summary_warnings")}
                      for r in chunk.results]
     return cid, chunk
 
 
 def _run_forked(runner, points, chunks, workers, finish) -> str:
-    global _FORKED
+    """Chunks in forked worker processes; each pool hands its workers its own
+    job through the initializer (inherited by fork, never pickled), so two
+    sweeps at once cannot swap jobs."""
     import multiprocessing as mp
-    _FORKED = (runner, points)
-    try:
-        with mp.get_context("fork").Pool(workers) as pool:
-            for cid, chunk in pool.imap_unordered(_forked_chunk, chunks):
-                finish(cid, chunk)
-    finally:
-        _FORKED = None
+    with mp.get_context("fork").Pool(workers, initializer=_forked_init,
+                                      initargs=(runner, points)) as pool:
+        for cid, chunk in pool.imap_unordered(_forked_chunk, chunks):
+            finish(cid, chunk)
     return f"{workers} processes"
 
 

@@ -1,0 +1,131 @@
+"""The summary's own solution: the run integrated again on a grid of its
+own, so that what the summary reports does not depend on the caller's
+output grid or horizon.
+
+The grid is fixed: spacing ``SUMMARY_STEP`` (or the rig's ``summary_step``)
+from t = 0, in windows of ``WINDOW`` steps, each integrated from the end
+state of the one before. A run is followed window by window until its
+horizon, or, for rigs that strike once, until the pulse is over (the
+pressure back under its level, the bodies apart): what happens later
+changes no reported figure. A pulse still running at the horizon is
+followed on (at most ``LOOK_AHEAD`` further) to say which horizon would
+have held it. Peaks and crossings are then located on this solution
+(Result.peak / crossings: Hermite interpolation where it is trusted, root
+finding on the solution elsewhere).
+
+When the caller's grid is this grid's first window (the default 2001 points
+over 20 ms), its solution is reused: the default summary costs no
+integration.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: spacing of the summary's grid, s (a rig may set ``summary_step``)
+SUMMARY_STEP = 1e-5
+#: steps per window
+WINDOW = 2000
+#: how far past the horizon an unfinished pulse is followed, in horizons (and windows at most)
+LOOK_AHEAD = 20.0
+MAX_WINDOWS_AHEAD = 100
+
+PULSE_LEVEL = 0.01   # the pulse lasts while the pressure exceeds 1 % of its peak
+
+
+@dataclass
+class SummaryRun:
+    trajectory: object          # a Result on the summary's grid, over [0, min(t_end, stop)]
+    t_end: float                # the caller's horizon
+    complete: bool | None       # the pulse ended inside the horizon (None: no pulse role)
+    t_done: float | None        # where the pulse ended (also past the horizon), if it did
+    looked_until: float         # how far the run was followed
+
+
+def summary_step(dae) -> float:
+    return float(getattr(dae, "summary_step", None) or SUMMARY_STEP)
+
+
+def pulse_over(roles, P, F) -> bool:
+    """The pulse is over at the last sample: the pressure rose and is back
+    under PULSE_LEVEL of its peak, and the contact force is zero."""
+    if P is None and F is None:
+        return True
+    if P is not None:
+        peak = float(np.max(P))
+        if not peak > 0 or not P[-1] < PULSE_LEVEL * peak:
+            return False
+    if F is not None and F[-1] > 0:
+        return False
+    return True
+
+
+def summary_run(res) -> SummaryRun:
+    from .result import Result
+    sim, s = res._sim, res.settings
+    dae = sim.dae
+    roles = getattr(dae, "signals", {}) or {}
+    h = summary_step(dae)
+    t_end = float(res.t[-1])
+    follow_all = bool(roles.get("impact_indentation"))      # every blow counts
+    p_name, f_name = roles.get("pressure"), roles.get("contact_force")
+    watch = [n for n in (p_name, f_name) if n]
+    rows = [dae.y_names.index(n) for n in watch]
+    limit = t_end + min(LOOK_AHEAD * t_end, MAX_WINDOWS_AHEAD * WINDOW * h)
+
+    ts, Xs, Zs = [], [], []
+    x, t_last = res._X[:, 0], 0.0
+    p_peak, t_done, t_busy = 0.0, None, 0.0       # t_busy: last sample inside the pulse
+    while True:
+        k = int(np.floor(t_last / h + 1e-6)) + 1              # the next point of the fixed grid
+        grid = np.concatenate([[t_last], h * np.arange(k, k + WINDOW)])
+        end = t_end if t_last < t_end else limit
+        if grid[-1] >= end:
+            grid = np.append(grid[grid < end - 1e-6 * h], end)
+        if t_last == 0.0 and np.array_equal(grid, res.t):
+            X, Z = res._X, res._Z                                 # the caller's own run
+        else:
+            X, Z = _integrate(sim, grid, x, res.p, s)
+        first = 0 if not ts else 1
+        ts.append(grid[first:])
+        Xs.append(X[:, first:])
+        Zs.append(Z[:, first:])
+        t_last, x = float(grid[-1]), X[:, -1]
+        if watch:
+            Y = np.atleast_2d(sim.outputs(grid, X, Z, res.p, rows))
+            P = Y[watch.index(p_name)] if p_name else None
+            F = Y[watch.index(f_name)] if f_name else None
+            if P is not None:
+                p_peak = max(p_peak, float(np.max(P)))
+            busy = np.zeros(grid.size, dtype=bool)
+            if P is not None:
+                busy |= P >= PULSE_LEVEL * p_peak
+            if F is not None:
+                busy |= F > 0
+            if busy.any():
+                t_busy = float(grid[np.flatnonzero(busy)[-1]])
+            over = (p_peak > 0 or P is None) and not busy[-1]
+        else:
+            over = True
+        if over and t_done is None:
+            t_done = t_busy if t_busy > 0 else t_last
+        if t_last >= limit or (over and (t_last >= t_end or not follow_all)):
+            break
+    t_all, X_all, Z_all = np.concatenate(ts), np.hstack(Xs), np.hstack(Zs)
+    inside = t_all <= t_end
+    traj = Result(sim, t_all[inside], res.p, X_all[:, inside], Z_all[:, inside], dict(s))
+    complete = (t_done is not None and t_done <= t_end and p_peak > 0 if p_name else
+                t_done is not None and t_done <= t_end) if watch else None
+    return SummaryRun(traj, t_end, complete, t_done, t_last)
+
+
+def _integrate(sim, grid, x, p, s):
+    """States on ``grid`` from x at grid[0], with the run's settings (one
+    CasADi integrator, built once, serves every full window)."""
+    if s.get("backend") == "c":
+        X = sim.integrate_c(grid, x, p, s["rtol"], s["atol"], s["method"], s["max_step"],
+                            s["max_num_steps"])
+        return X, np.zeros((0, grid.size))
+    return sim.integrate_shifted(grid, x, p, s["rtol"], s["atol"], s["method"], s["max_step"],
+                                 s["max_num_steps"])
