@@ -141,10 +141,13 @@ class Component:
         for c in connectors:
             if not isinstance(c, Connector):
                 raise ConnectError(
-                    f"connect() in {self.label()}: {c!r} is not a connector "
+                    f"connect() in {self.label()}: {_describe(c)} is not a connector "
                     "(connect flanges, e.g. hammer.flange_b, not components or variables)")
             if not self._owns(c):
-                raise ConnectError(f"connect() in {self.label()}: {c.path()} belongs to another rig")
+                owner = c.owner.label() if c.owner is not None and c.owner.path() else \
+                    f"a {type(c.owner).__name__}"
+                raise ConnectError(f"connect() in {self.label()}: {c.name} of {owner} is not part "
+                                   "of this rig (assign the component to an attribute of the rig)")
         seen = set()
         for c in connectors:
             if id(c) in seen:
@@ -176,3 +179,11 @@ class Component:
 
     def rig_name(self) -> str:
         return getattr(self, "name", None) or type(self).__name__
+
+
+def _describe(obj) -> str:
+    """A thing passed to connect(), named as the rig knows it."""
+    if isinstance(obj, Component):
+        return f"component {obj.label()}" if obj.path() else \
+            f"a {type(obj).__name__} that is not part of the rig"
+    return f"{type(obj).__name__} {obj!r}"[:80]

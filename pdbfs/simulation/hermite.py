@@ -14,6 +14,9 @@ this way they cost a few numpy operations instead of tens of integrations.
 from __future__ import annotations
 
 import numpy as np
+from scipy.interpolate import CubicHermiteSpline
+
+from .impulse import integral
 
 #: relative interpolation error (of the signal's scale) accepted without checking
 TRUST = 1e-8
@@ -96,19 +99,15 @@ class Curves:
         d = self.data(name)
         if d is None:
             return None
-        t, c = self.t, d[2]
-        h = np.diff(t)
-        lo = np.clip((a - t[:-1]) / h, 0.0, 1.0)
-        hi = np.clip((b - t[:-1]) / h, 0.0, 1.0)
-        F = lambda s: s * (c[0] + s * (c[1] / 2 + s * (c[2] / 3 + s * c[3] / 4)))   # noqa: E731
-        return float(np.sum(h * (F(hi) - F(lo))))
+        return integral(self.t, d[0], a, b, d[1])
 
 
 def coefficients(t, y, rate):
-    """Per interval, the Hermite cubic a + b s + c s^2 + d s^3 in s = (t - t_k) / h."""
+    """Per interval, the Hermite cubic a + b s + c s^2 + d s^3 in s = (t - t_k) / h
+    (scipy's CubicHermiteSpline, rescaled to the unit interval)."""
     h = np.diff(t)
-    y0, y1, m0, m1 = y[:-1], y[1:], rate[:-1] * h, rate[1:] * h
-    return (y0, m0, 3 * (y1 - y0) - 2 * m0 - m1, 2 * (y0 - y1) + m0 + m1)
+    c = CubicHermiteSpline(t, y, rate).c           # powers of (t - t_k), highest first
+    return (c[3], c[2] * h, c[1] * h ** 2, c[0] * h ** 3)
 
 
 def _quadratic_roots(A, B, C):

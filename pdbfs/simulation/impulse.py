@@ -14,19 +14,13 @@ import numpy as np
 def integral(t, y, a, b, rate=None) -> float:
     """The integral of the sampled ``y`` over [a, b]: on the cubic Hermite
     interpolant when the time derivatives ``rate`` are given (error O(h^4)),
-    else on the piecewise-linear one (the trapezoidal rule)."""
+    else on the piecewise-linear one (the trapezoidal rule). scipy's splines
+    (about 0.1 ms per call at 2,000 samples: nothing beside a simulation)."""
+    from scipy.interpolate import CubicHermiteSpline, make_interp_spline
     t, y = np.asarray(t, float), np.asarray(y, float)
-    h = np.diff(t)
-    y0, y1 = y[:-1], y[1:]
-    if rate is None:
-        c = (y0, y1 - y0, np.zeros_like(h), np.zeros_like(h))
-    else:
-        m0, m1 = np.asarray(rate, float)[:-1] * h, np.asarray(rate, float)[1:] * h
-        c = (y0, m0, 3 * (y1 - y0) - 2 * m0 - m1, 2 * (y0 - y1) + m0 + m1)
-    lo = np.clip((a - t[:-1]) / h, 0.0, 1.0)
-    hi = np.clip((b - t[:-1]) / h, 0.0, 1.0)
-    F = lambda s: s * (c[0] + s * (c[1] / 2 + s * (c[2] / 3 + s * c[3] / 4)))   # noqa: E731
-    return float(np.sum(h * (F(hi) - F(lo))))
+    spline = make_interp_spline(t, y, k=1) if rate is None else \
+        CubicHermiteSpline(t, y, np.asarray(rate, float))
+    return float(spline.integrate(max(a, t[0]), min(b, t[-1])))
 
 
 def impulse_ratio(t, force, t_split, t_end=None, rate=None) -> float | None:

@@ -27,9 +27,7 @@ from .stats import casadi_stats
 from .stiffness import choose_method
 from .vectorize import vectorize
 
-METHODS = ("auto", "adams", "bdf")
-BACKENDS = ("casadi", "c")
-MAX_NUM_STEPS = 500000
+from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, output_grid  # noqa: F401
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
@@ -130,22 +128,7 @@ class Simulator:
             self._cache[key] = choose_method(self.dae, p, x0, span)
         return self._cache[key][0]
 
-    @staticmethod
-    def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
-                       backend="casadi"):
-        if backend not in BACKENDS:
-            raise ParameterError(f"unknown backend {backend!r}; choose one of "
-                                 f"{', '.join(BACKENDS)}")
-        if method not in METHODS:
-            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
-        for name, v in (("rtol", rtol), ("atol", atol)):
-            if not (np.isfinite(v) and v > 0):
-                raise ParameterError(f"{name} = {v}: must be a positive number")
-        if max_step is not None and not (np.isfinite(max_step) and max_step > 0):
-            raise ParameterError(f"max_step = {max_step}: must be a positive number")
-        if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \
-                or not 1 <= max_num_steps < 2 ** 62:
-            raise ParameterError(f"max_num_steps = {max_num_steps!r}: must be a whole number >= 1")
+    check_settings = staticmethod(check_settings)
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
                    max_num_steps=MAX_NUM_STEPS, xdot0=None):
@@ -222,7 +205,7 @@ class Simulator:
         F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True,
                             max_num_steps=max_num_steps,
                             xdot0=None if xdot0 is None else h * xdot0)   # d/dtau = h d/dt
-        r = F(x0=x, p=np.concatenate([p, [t0, h]]), z0=z0)
+        r = _call(F, x0=x, p=np.concatenate([p, [t0, h]]), z0=z0)
         return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
 
     # -- one simulation -----------------------------------------------------------
@@ -248,18 +231,7 @@ class Simulator:
                         max_num_steps=max_num_steps, backend=backend)
         return Result(self, grid, p, X, Z, settings, stats)
 
-    @staticmethod
-    def grid(t_end, n_out, t_out=None) -> np.ndarray:
-        if t_out is None:
-            if not (np.isfinite(t_end) and t_end > 0):
-                raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
-            if int(n_out) < 2:
-                raise ParameterError(f"n_out = {n_out}: need at least 2 output points")
-            return np.linspace(0.0, float(t_end), int(n_out))
-        g = np.asarray(t_out, dtype=float).ravel()
-        if g.size < 2 or g[0] != 0.0 or not np.all(np.diff(g) > 0) or not np.all(np.isfinite(g)):
-            raise ParameterError("t_out must start at 0 and increase strictly, with 2+ points")
-        return g
+    grid = staticmethod(output_grid)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         if self.dae.x.numel() == 0:
@@ -270,7 +242,7 @@ class Simulator:
                             xdot0=xdot0)
         nz = self.dae.z.numel()
         try:
-            r = F(x0=x0, p=p, z0=z0)
+            r = _call(F, x0=x0, p=p, z0=z0)
             X = r["xf"].full()
             Z = r["zf"].full().reshape(nz, X.shape[1])
         except RuntimeError as err:
@@ -294,7 +266,7 @@ class Simulator:
                             max_num_steps=max_num_steps,
                             xdot0=None if xdot0 is None else span * xdot0)
         try:
-            r = F(x0=x0, p=np.concatenate([p, [t0, span]]), z0=z0)
+            r = _call(F, x0=x0, p=np.concatenate([p, [t0, span]]), z0=z0)
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
                                 max_num_steps) from None
@@ -390,6 +362,20 @@ class Simulator:
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
                  max_num_steps=MAX_NUM_STEPS):
         return walk_failure(self, grid, x0, p, rtol, atol, method, max_step, err, max_num_steps)
+
+
+def _call(F, **args):
+    """F(**args); CasADi answers Ctrl-C with empty results or a RuntimeError
+    naming it: raise it as Python would."""
+    try:
+        r = F(**args)
+    except RuntimeError as err:
+        if "KeyboardInterrupt" in str(err):
+            raise KeyboardInterrupt from None
+        raise
+    if r.get("xf") is None:
+        raise KeyboardInterrupt
+    return r
 
 
 class _Unbounded:

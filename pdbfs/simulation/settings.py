@@ -1,0 +1,41 @@
+"""The settings of a run, checked before anything is integrated: tolerances,
+method, back end, step limits, and the output grid."""
+from __future__ import annotations
+
+import numpy as np
+
+from pdbfs.errors import ParameterError
+
+METHODS = ("auto", "adams", "bdf")
+BACKENDS = ("casadi", "c")
+MAX_NUM_STEPS = 500000
+
+
+def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
+                   backend="casadi"):
+    if backend not in BACKENDS:
+        raise ParameterError(f"unknown backend {backend!r}; choose one of "
+                             f"{', '.join(BACKENDS)}")
+    if method not in METHODS:
+        raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+    for name, v in (("rtol", rtol), ("atol", atol)):
+        if not (np.isfinite(v) and v > 0):
+            raise ParameterError(f"{name} = {v}: must be a positive number")
+    if max_step is not None and not (np.isfinite(max_step) and max_step > 0):
+        raise ParameterError(f"max_step = {max_step}: must be a positive number")
+    if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \
+            or not 1 <= max_num_steps < 2 ** 62:
+        raise ParameterError(f"max_num_steps = {max_num_steps!r}: must be a whole number >= 1")
+
+
+def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
+    if t_out is None:
+        if not (np.isfinite(t_end) and t_end > 0):
+            raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
+        if int(n_out) < 2:
+            raise ParameterError(f"n_out = {n_out}: need at least 2 output points")
+        return np.linspace(0.0, float(t_end), int(n_out))
+    g = np.asarray(t_out, dtype=float).ravel()
+    if g.size < 2 or g[0] != 0.0 or not np.all(np.diff(g) > 0) or not np.all(np.isfinite(g)):
+        raise ParameterError("t_out must start at 0 and increase strictly, with 2+ points")
+    return g
