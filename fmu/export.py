@@ -43,6 +43,10 @@ VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c"),
 VERSION_HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                    3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 
+#: the binaries/ folder of a platform in each FMI version (3.0 names them by platform tuple)
+BINARY_DIRS = {2: {"linux64": "linux64", "win64": "win64"},
+               3: {"linux64": "x86_64-linux", "win64": "x86_64-windows"}}
+
 
 def wrapper_files(fmi_version: int = 2) -> list[Path]:
     """The generic C of a pdbfs FMU of ``fmi_version`` (in the package): the
@@ -227,7 +231,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         tmpzip = path.with_name(path.name + ".part")
         with zipfile.ZipFile(tmpzip, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("modelDescription.xml", xml)
-            z.write(binary, f"binaries/linux64/{ident}.so")
+            z.write(binary, f"binaries/{BINARY_DIRS[fmi_version]['linux64']}/{ident}.so")
             for f in sorted(src.iterdir()):
                 z.write(f, f"sources/{f.name}")
         os.replace(tmpzip, path)

@@ -47,7 +47,7 @@
 #define FMU_DISCARD 2
 #define FMU_ERROR 3
 
-/* interface types: the numbers of fmi2Type and fmi3InterfaceType */
+/* interface types: the numbers of fmi2Type (FMI 3.0 has one call per type) */
 #define FMU_ME 0
 #define FMU_CS 1
 
