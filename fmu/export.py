@@ -81,7 +81,8 @@ def _fmi_header_dir(fmi_version: int = 2) -> Path:
 def check_fmi_version(fmi_version) -> int:
     """``fmi_version`` as 2 or 3, else an ExportError naming it."""
     if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
-        raise ExportError(f"fmi_version {fmi_version!r}: pdbfs writes FMI 2 or 3")
+        raise ExportError(f"FMI version {fmi_version!r}: pdbfs writes FMI 2.0 or 3.0 "
+                          "(fmi_version or --fmi-version 2 or 3)")
     return int(fmi_version)
 
 

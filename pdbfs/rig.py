@@ -39,8 +39,10 @@ class Rig(Component):
                 check(dt, kwargs.get("params"))
 
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
-        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""
-        from pdbfs.fmu import export_fmu
+        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig;
+        ``fmi_version=3`` writes FMI 3.0."""
+        from pdbfs.fmu import check_fmi_version, export_fmu
+        check_fmi_version(kwargs.get("fmi_version", 2))   # before the rig is compiled
         t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)
         kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))

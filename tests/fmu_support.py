@@ -43,6 +43,17 @@ def built_fmu(kind: str = "paper") -> str:
     return entry["path"]
 
 
+def built_fmu3(kind: str = "paper") -> str:
+    """The FMI 3.0 FMU of the rig, exported once per process."""
+    dae, _ = built_model(kind)
+    entry = _CACHE[kind]
+    if "path3" not in entry:
+        d = tempfile.mkdtemp(prefix=f"pdbfs-test3-{kind}-")
+        atexit.register(shutil.rmtree, d, True)
+        entry["path3"] = str(export_fmu(dae, f"{d}/{kind}.fmu", fmi_version=3))
+    return entry["path3"]
+
+
 def reference_pressure(rig, params: dict | None = None, t_end: float = 0.02, n_out: int = 2001,
                        rtol: float = 1e-8, atol: float = 1e-10):
     """(t, oil pressure) of the CasADi path (``rig.simulate``)."""
