@@ -42,6 +42,25 @@ def unit_lines(model: FmuModel) -> list[str]:
     return L
 
 
+def type_attrs(v) -> list[str]:
+    """The attributes of a variable's type (FMI 2.0 and 3.0 alike): declared
+    type, start, unit, bounds, nominal."""
+    a = []
+    if v.declared_type:
+        a.append(f'declaredType="{v.declared_type}"')
+    if v.start is not None:
+        a.append(f'start="{v.start if v.type != "Real" else _x(v.start)}"')
+    if v.unit:
+        a.append(f"unit={quoteattr(v.unit)}")
+    if v.min is not None:
+        a.append(f'min="{_x(v.min) if v.type == "Real" else v.min}"')
+    if v.max is not None:
+        a.append(f'max="{_x(v.max)}"')
+    if v.nominal is not None:
+        a.append(f'nominal="{_x(v.nominal)}"')
+    return a
+
+
 def model_description(model: FmuModel, guid: str) -> str:
     """modelDescription.xml of ``model`` with ``guid``."""
     d = model.dae
@@ -83,19 +102,7 @@ def model_description(model: FmuModel, guid: str) -> str:
         head = (f'    <ScalarVariable name={quoteattr(v.name)} valueReference="{v.vr}" '
                 f'description={quoteattr(v.description)} causality="{v.causality}" '
                 f'variability="{v.variability}"' + (f' initial="{v.initial}"' if v.initial else "") + ">")
-        a = []
-        if v.declared_type:
-            a.append(f'declaredType="{v.declared_type}"')
-        if v.start is not None:
-            a.append(f'start="{v.start if v.type != "Real" else _x(v.start)}"')
-        if v.unit:
-            a.append(f"unit={quoteattr(v.unit)}")
-        if v.min is not None:
-            a.append(f'min="{_x(v.min) if v.type == "Real" else v.min}"')
-        if v.max is not None:
-            a.append(f'max="{_x(v.max)}"')
-        if v.nominal is not None:
-            a.append(f'nominal="{_x(v.nominal)}"')
+        a = type_attrs(v)
         if v.derivative is not None:
             a.append(f'derivative="{v.derivative}"')
         L.append(head + f'<{v.type} {" ".join(a)}/></ScalarVariable>')

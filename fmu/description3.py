@@ -11,7 +11,7 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 
-from .description import LOG_CATEGORIES, _x, unit_lines
+from .description import LOG_CATEGORIES, _x, type_attrs, unit_lines
 from .variables import FmuModel, _deps
 
 #: FMI 2.0 type -> FMI 3.0 element
@@ -52,18 +52,7 @@ def _variable(v, vr_of_index) -> str:
          f'causality="{v.causality}"', f'variability="{v.variability}"']
     if v.initial:
         a.append(f'initial="{v.initial}"')
-    if v.declared_type:
-        a.append(f'declaredType="{v.declared_type}"')
-    if v.start is not None:
-        a.append(f'start="{v.start if v.type != "Real" else _x(v.start)}"')
-    if v.unit:
-        a.append(f"unit={quoteattr(v.unit)}")
-    if v.min is not None:
-        a.append(f'min="{_x(v.min) if v.type == "Real" else v.min}"')
-    if v.max is not None:
-        a.append(f'max="{_x(v.max)}"')
-    if v.nominal is not None:
-        a.append(f'nominal="{_x(v.nominal)}"')
+    a += type_attrs(v)
     if v.derivative is not None:
         a.append(f'derivative="{vr_of_index(v.derivative)}"')
     return f'    <{tag} {" ".join(a)}/>'
