@@ -79,3 +79,17 @@ def test_event_indicators_change_sign_at_contact(paths):
     eo, p = r["event.oil.compression"], r["oil.pressure"]
     assert eo.max() > 0 and eo[-1] < 0
     assert np.all(p[eo < 0] == 0) and np.all(p[eo > 1e-9] > 0)
+
+
+@pytest.mark.parametrize("kind", ["law", "split3"])
+def test_other_rigs_same_as_fmi2(kind):
+    """A calculated parameter (Lankarani-Nikravesh contact.D) and ten states:
+    valid 3.0 FMUs whose co-simulation is the 2.0 FMU's."""
+    from fmpy.validation import validate_fmu
+    p2, p3 = T.built_fmu(kind), T.built_fmu3(kind)
+    assert validate_fmu(p3) == []
+    _, a, _ = _run(p2, "CoSimulation", {})
+    _, b, _ = _run(p3, "CoSimulation", {})
+    assert np.max(b) == pytest.approx(np.max(a), rel=1e-9) and np.max(np.abs(b - a)) <= 1e-9 * np.max(a)
+    _, c, _ = _run(p3, "ModelExchange", {}, solver="CVode", relative_tolerance=ME_RTOL)
+    assert np.max(c) == pytest.approx(np.max(a), rel=1e-6)  # CS at its default rtol 1e-8
