@@ -1,7 +1,7 @@
 /*
  * The generic FMI 2.0 plumbing of a pdbfs FMU (the same for every rig): life
- * cycle, the state machine, variables by value reference, logging.  See
- * fmu_instance.h for the other files.
+ * cycle, variables by value reference, logging, on the version-neutral files
+ * (see fmu_instance.h); Model Exchange and Co-Simulation in fmi2_interfaces.c.
  */
 #include <math.h>
 #include <stdarg.h>
