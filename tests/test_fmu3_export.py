@@ -158,3 +158,19 @@ def test_cli_export_fmi3(tmp_path):
     assert md.fmiVersion == "3.0" and validate_fmu(str(out)) == []
     # the same token as the Python API's export of the same rig
     assert md.guid == read_model_description(T.built_fmu3("paper")).guid
+
+
+def test_shared_c_knows_no_fmi_version():
+    """The co-simulation loop, Model Exchange, the model, variables and FMU
+    state name no FMI type or call: the wrappers call into them, never the
+    reverse (issue 15), so the 2.0 and 3.0 FMUs run the same code."""
+    import re
+
+    from pdbfs.fmu.export import C_DIR, COMMON_FILES, VERSION_FILES
+    for name in COMMON_FILES:
+        code = re.sub(r"/\*.*?\*/|//[^\n]*", "", (C_DIR / name).read_text(), flags=re.S)
+        assert not re.search(r"fmi[23]\w*", code), (name, re.findall(r"fmi[23]\w*", code))
+    for v, files in VERSION_FILES.items():
+        for name in files:
+            code = (C_DIR / name).read_text()
+            assert f'#include "fmi{v}Functions.h"' in code and f"fmi{5 - v}" not in code, name
