@@ -118,18 +118,20 @@ def _event_text(name: str) -> str:
             "(contact onset or separation)")
 
 
-def build_description(model: FmuModel, sources: list[str], sundials_version: str) -> str:
-    """sources/buildDescription.xml: the C files of the FMU (all in
-    sources/) and SUNDIALS' CVODE, which the build must provide."""
+def build_description(model: FmuModel, sources: list[str], sundials_version: str | None) -> str:
+    """sources/buildDescription.xml: the C files of the FMU (relative to
+    sources/, which is the include folder). With ``sundials_version`` the
+    build must provide SUNDIALS' CVODE (an external library); None when the
+    sources carry CVODE's own C among ``sources``."""
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
          '<fmiBuildDescription fmiVersion="3.0">',
          f'  <BuildConfiguration modelIdentifier="{model.ident}" '
          'description="the generic FMI 3.0 wrapper, the co-simulation loop and the generated model">',
          '    <SourceFileSet language="C99">']
     L += [f'      <SourceFile name={quoteattr(s)}/>' for s in sources]
-    L += ['    </SourceFileSet>',
-          f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
-          'description="SUNDIALS CVODE, built as a static, position-independent library: see README.txt"/>',
-          '  </BuildConfiguration>',
-          '</fmiBuildDescription>']
+    L += ['      <IncludeDirectory name="."/>', '    </SourceFileSet>']
+    if sundials_version is not None:
+        L.append(f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
+                 'description="SUNDIALS CVODE, built as a static, position-independent library: see README.txt"/>')
+    L += ['  </BuildConfiguration>', '</fmiBuildDescription>']
     return "\n".join(L) + "\n"
