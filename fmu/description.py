@@ -13,13 +13,57 @@ def _x(v: float) -> str:
     return repr(float(v))
 
 
-def model_description(model: FmuModel, guid: str) -> str:
-    """modelDescription.xml of ``model`` with ``guid``."""
-    d = model.dae
+#: the log categories of every pdbfs FMU (the C checks the same names)
+LOG_CATEGORIES = ['  <LogCategories>',
+                  '    <Category name="logEvents" description="events and solver restarts"/>',
+                  '    <Category name="logStatusWarning" description="warnings"/>',
+                  '    <Category name="logStatusError" description="errors"/>',
+                  '    <Category name="logAll" description="everything"/>',
+                  '  </LogCategories>']
+
+
+def unit_lines(model: FmuModel) -> list[str]:
+    """The <Unit> elements of the units ``model`` uses (FMI 2.0 and 3.0 alike)."""
     units_used = []
     for v in model.vars:
         if v.unit and v.unit not in units_used:
             units_used.append(v.unit)
+    L = []
+    for u in units_used:
+        try:
+            attrs = _units.base_unit_attrs(u)
+        except _units.UnitError:
+            attrs = None  # unknown symbol: the unit is declared without SI exponents
+        if attrs is None:
+            L.append(f'    <Unit name={quoteattr(u)}/>')
+        else:
+            a = " ".join(f'{k}="{v}"' for k, v in attrs.items())
+            L.append(f'    <Unit name={quoteattr(u)}><BaseUnit{" " + a if a else ""}/></Unit>')
+    return L
+
+
+def type_attrs(v) -> list[str]:
+    """The attributes of a variable's type (FMI 2.0 and 3.0 alike): declared
+    type, start, unit, bounds, nominal."""
+    a = []
+    if v.declared_type:
+        a.append(f'declaredType="{v.declared_type}"')
+    if v.start is not None:
+        a.append(f'start="{v.start if v.type != "Real" else _x(v.start)}"')
+    if v.unit:
+        a.append(f"unit={quoteattr(v.unit)}")
+    if v.min is not None:
+        a.append(f'min="{_x(v.min) if v.type == "Real" else v.min}"')
+    if v.max is not None:
+        a.append(f'max="{_x(v.max)}"')
+    if v.nominal is not None:
+        a.append(f'nominal="{_x(v.nominal)}"')
+    return a
+
+
+def model_description(model: FmuModel, guid: str) -> str:
+    """modelDescription.xml of ``model`` with ``guid``."""
+    d = model.dae
     descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
          '<fmiModelDescription',
@@ -40,16 +84,7 @@ def model_description(model: FmuModel, guid: str) -> str:
          'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
          'providesDirectionalDerivative="false"/>',
          '  <UnitDefinitions>']
-    for u in units_used:
-        try:
-            attrs = _units.base_unit_attrs(u)
-        except _units.UnitError:
-            attrs = None  # unknown symbol: the unit is declared without SI exponents
-        if attrs is None:
-            L.append(f'    <Unit name={quoteattr(u)}/>')
-        else:
-            a = " ".join(f'{k}="{v}"' for k, v in attrs.items())
-            L.append(f'    <Unit name={quoteattr(u)}><BaseUnit{" " + a if a else ""}/></Unit>')
+    L += unit_lines(model)
     L += ['  </UnitDefinitions>',
           '  <TypeDefinitions>',
           '    <SimpleType name="pdbfs.SolverMethod" description="CVODE linear multistep method">',
@@ -59,12 +94,7 @@ def model_description(model: FmuModel, guid: str) -> str:
           '      </Enumeration>',
           '    </SimpleType>',
           '  </TypeDefinitions>',
-          '  <LogCategories>',
-          '    <Category name="logEvents" description="events and solver restarts"/>',
-          '    <Category name="logStatusWarning" description="warnings"/>',
-          '    <Category name="logStatusError" description="errors"/>',
-          '    <Category name="logAll" description="everything"/>',
-          '  </LogCategories>',
+          *LOG_CATEGORIES,
           f'  <DefaultExperiment startTime="0" stopTime="{_x(model.stop_time)}" '
           f'stepSize="{_x(model.step_size)}" tolerance="{_x(model.tolerance)}"/>',
           '  <ModelVariables>']
@@ -72,19 +102,7 @@ def model_description(model: FmuModel, guid: str) -> str:
         head = (f'    <ScalarVariable name={quoteattr(v.name)} valueReference="{v.vr}" '
                 f'description={quoteattr(v.description)} causality="{v.causality}" '
                 f'variability="{v.variability}"' + (f' initial="{v.initial}"' if v.initial else "") + ">")
-        a = []
-        if v.declared_type:
-            a.append(f'declaredType="{v.declared_type}"')
-        if v.start is not None:
-            a.append(f'start="{v.start if v.type != "Real" else _x(v.start)}"')
-        if v.unit:
-            a.append(f"unit={quoteattr(v.unit)}")
-        if v.min is not None:
-            a.append(f'min="{_x(v.min) if v.type == "Real" else v.min}"')
-        if v.max is not None:
-            a.append(f'max="{_x(v.max)}"')
-        if v.nominal is not None:
-            a.append(f'nominal="{_x(v.nominal)}"')
+        a = type_attrs(v)
         if v.derivative is not None:
             a.append(f'derivative="{v.derivative}"')
         L.append(head + f'<{v.type} {" ".join(a)}/></ScalarVariable>')

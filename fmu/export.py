@@ -27,20 +27,44 @@ from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, co
                                   generate, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import find_sundials
 
+from . import description3
 from .description import model_description
 from .variables import DEFAULT_MAX_NUM_STEPS, FmuModel
 
 C_DIR = Path(__file__).with_name("c")
-#: the generic C of every pdbfs FMU: FMI plumbing and the CVODE driver
-WRAPPER_FILES = sorted(C_DIR.glob("*.[ch]")) + list(CVODE_DRIVER)
-FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
+#: the FMI versions pdbfs writes
+FMI_VERSIONS = (2, 3)
+#: the version-neutral C: the model, variables, FMU state, Model Exchange, the co-simulation loop
+COMMON_FILES = ("fmu_instance.h", "model.c", "values.c", "snapshot.c", "model_exchange.c", "cosimulation.c")
+#: the generic wrapper of each FMI version over them
+VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c"),
+                 3: ("fmi3_functions.c", "fmi3_interfaces.c", "fmi3_state.c")}
+#: the standard headers of each FMI version
+VERSION_HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
+                   3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
+
+#: the binaries/ folder of a platform in each FMI version (3.0 names them by platform tuple)
+BINARY_DIRS = {2: {"linux64": "linux64", "win64": "win64"},
+               3: {"linux64": "x86_64-linux", "win64": "x86_64-windows"}}
+
+
+def wrapper_files(fmi_version: int = 2) -> list[Path]:
+    """The generic C of a pdbfs FMU of ``fmi_version`` (in the package): the
+    version's wrapper, the version-neutral model code and the CVODE driver.
+    The generated pdbfs_model.h and pdbfs_model_funcs.c/h come on top."""
+    return [C_DIR / f for f in (*VERSION_FILES[fmi_version], *COMMON_FILES)] + list(CVODE_DRIVER)
+
+
+#: the generic C of an FMI 2.0 FMU
+WRAPPER_FILES = wrapper_files(2)
+FMI_HEADERS = VERSION_HEADERS[2]
 
 DEFAULT_RTOL = 1e-8
 
 
-def _fmi_header_dir() -> Path:
-    """The FMI 2.0 standard headers (from $PDBFS_FMI2_HEADERS or fmpy)."""
-    env = os.environ.get("PDBFS_FMI2_HEADERS")
+def _fmi_header_dir(fmi_version: int = 2) -> Path:
+    """The FMI standard headers of ``fmi_version`` (from $PDBFS_FMI<v>_HEADERS or fmpy)."""
+    env = os.environ.get(f"PDBFS_FMI{fmi_version}_HEADERS")
     cands = [Path(env)] if env else []
     try:
         import fmpy
@@ -48,10 +72,18 @@ def _fmi_header_dir() -> Path:
     except ImportError:
         pass
     for d in cands:
-        if all((d / h).is_file() for h in FMI_HEADERS):
+        if all((d / h).is_file() for h in VERSION_HEADERS[fmi_version]):
             return d
-    raise ExportError("FMI 2.0 headers (fmi2Functions.h ...) not found: install fmpy or set "
-                      "PDBFS_FMI2_HEADERS to a directory holding them")
+    raise ExportError(f"FMI {fmi_version}.0 headers ({VERSION_HEADERS[fmi_version][0]} ...) not found: install "
+                      f"fmpy or set PDBFS_FMI{fmi_version}_HEADERS to a directory holding them")
+
+
+def check_fmi_version(fmi_version) -> int:
+    """``fmi_version`` as 2 or 3, else an ExportError naming it."""
+    if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
+        raise ExportError(f"FMI version {fmi_version!r}: pdbfs writes FMI 2.0 or 3.0 "
+                          "(fmi_version or --fmi-version 2 or 3)")
+    return int(fmi_version)
 
 
 def _c_double(v: float) -> str:
@@ -71,7 +103,7 @@ def _identifier(name: str) -> str:
     return ident
 
 
-def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int]) -> str:
+def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], extra: tuple[str, ...] = ()) -> str:
     """pdbfs_model.h: sizes, value references and the parameter table for the C files."""
     d = model.dae
     pad = lambda seq, fmt, empty: ", ".join(fmt(v) for v in seq) if seq else empty  # noqa: E731
@@ -105,7 +137,7 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int]) ->
          "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
          "static const double PDBFS_X_NOMINAL[PDBFS_NX + 1] = {"
          + pad(model.x_nominal, _c_double, "0") + "};",
-         "#endif", ""]
+         *extra, "#endif", ""]
     return "\n".join(L)
 
 
@@ -114,18 +146,21 @@ _README = """\
 Sources of the FMU '{ident}' exported by pdbfs.fmu
 =====================================================
 
-fmi2_functions.c      generic FMI 2.0 plumbing: life cycle, variables, logging
-fmi2_state.c          FMU state: get, set, serialise
-model_exchange.c      the Model Exchange calls
-cosimulation.c        the Co-Simulation calls, on pdbfs_cvode.c
+fmi{v}_functions.c      generic FMI {v}.0 plumbing: life cycle, variables, logging
+fmi{v}_interfaces.c     the Model Exchange and Co-Simulation calls
+fmi{v}_state.c          FMU state: get, set, serialise
+model.c               the model on the generated functions, the life cycle
+values.c              variables by value reference
+snapshot.c            the FMU state
+model_exchange.c      what Model Exchange asks of the model
+cosimulation.c        the co-simulation loop, on pdbfs_cvode.c
 pdbfs_cvode.c/h       CVODE through the rig's non-smooth points (restart at every
                       root of the event indicators, dense output)
-model.c               the model on the generated functions
-fmu_instance.h        the instance these files share
+fmu_instance.h        the instance these files share (no FMI header: any version)
 pdbfs_model.h         generated: sizes, value references, parameter table, GUID
 pdbfs_model_funcs.c/h generated by CasADi {casadi}: ode, Jacobian, outputs, start
                       values, event indicators, calculated parameters
-fmi2*.h               FMI 2.0 standard headers
+fmi{v}*.h               FMI {v}.0 standard headers
 
 Rebuilding needs a C99 compiler and SUNDIALS 6.x (CVODE) built as
 position-independent static archives; this binary was linked with SUNDIALS
@@ -140,15 +175,18 @@ pdbfs builds such a SUNDIALS with SUNDIALS' own CMake (pdbfs/native/build_sundia
 
 def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier: str | None = None, *,
                stop_time: float = 0.02, step_size: float = 1e-5, tolerance: float = DEFAULT_RTOL,
-               keep_build_dir: str | os.PathLike | None = None, cflags: list[str] | None = None) -> Path:
+               keep_build_dir: str | os.PathLike | None = None, cflags: list[str] | None = None,
+               fmi_version: int = 2) -> Path:
     """Write an FMI 2.0 FMU (Model Exchange and Co-Simulation, linux64) of
-    ``dae`` to ``path`` and return its path.
+    ``dae`` to ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0
+    (the same wrapper design, model code and co-simulation loop).
 
     ``model_identifier`` defaults to the DAE's name made a C identifier.
     ``stop_time``, ``step_size`` and ``tolerance`` go to DefaultExperiment
     (the tolerance is also the default of ``solver.rtol``).
     Raises ExportError for a DAE with algebraic variables.
     """
+    fmi_version = check_fmi_version(fmi_version)
     ident = model_identifier or _identifier(dae.name)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", ident):
         raise ExportError(f"model_identifier '{ident}' is not a C identifier")
@@ -158,25 +196,30 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         src = Path(tmp) / "sources"
         src.mkdir()
         work = generate(model.functions(), src)
-        hdr_dir = _fmi_header_dir()
-        for h in FMI_HEADERS:
+        hdr_dir = _fmi_header_dir(fmi_version)
+        for h in VERSION_HEADERS[fmi_version]:
             shutil.copy2(hdr_dir / h, src / h)
-        for f in WRAPPER_FILES:
+        wrapper = wrapper_files(fmi_version)
+        for f in wrapper:
             shutil.copy2(f, src / f.name)
+        describe, extra = _describer(model, fmi_version)
         # GUID: a hash of everything that defines the binary's behaviour
         placeholder = "{00000000-0000-0000-0000-000000000000}"
         h = hashlib.sha256()
-        for part in (model_description(model, placeholder), model_header(model, placeholder, work),
-                     (src / f"{FUNCS}.c").read_text(), *(f.read_text() for f in WRAPPER_FILES), ident):
+        for part in (describe(placeholder), model_header(model, placeholder, work, extra),
+                     (src / f"{FUNCS}.c").read_text(), *(f.read_text() for f in wrapper), ident):
             h.update(part.encode())
         guid = "{" + str(uuid.UUID(bytes=h.digest()[:16], version=5)) + "}"
-        (src / "pdbfs_model.h").write_text(model_header(model, guid, work))
-        xml = model_description(model, guid)
+        (src / "pdbfs_model.h").write_text(model_header(model, guid, work, extra))
+        xml = describe(guid)
         sd = find_sundials()
         (src / "README.txt").write_text(_README.format(ident=ident, casadi=ca.__version__, sundials=sd.version,
-                                                       origin=sd.origin))
+                                                       origin=sd.origin, v=fmi_version))
         binary = Path(tmp) / f"{ident}.so"
-        sources = [src / f.name for f in WRAPPER_FILES if f.suffix == ".c"] + [src / f"{FUNCS}.c"]
+        sources = [src / f.name for f in wrapper if f.suffix == ".c"] + [src / f"{FUNCS}.c"]
+        if fmi_version == 3:
+            (src / "buildDescription.xml").write_text(
+                description3.build_description(model, [f.name for f in sources], sd.version))
         check_compiler_memory(src / f"{FUNCS}.c", f"the FMU binary of rig {model.dae.name}")
         run_compiler(compile_command(sources, binary, [src], cflags, sd=sd),
                      f"the FMU binary of rig {model.dae.name}")
@@ -189,8 +232,16 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         tmpzip = path.with_name(path.name + ".part")
         with zipfile.ZipFile(tmpzip, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("modelDescription.xml", xml)
-            z.write(binary, f"binaries/linux64/{ident}.so")
+            z.write(binary, f"binaries/{BINARY_DIRS[fmi_version]['linux64']}/{ident}.so")
             for f in sorted(src.iterdir()):
                 z.write(f, f"sources/{f.name}")
         os.replace(tmpzip, path)
     return path
+
+
+def _describer(model: FmuModel, fmi_version: int):
+    """(token -> modelDescription.xml, extra lines of pdbfs_model.h) of ``fmi_version``."""
+    if fmi_version == 3:
+        return (lambda token: description3.model_description3(model, token)), \
+            tuple(description3.header_lines(model))
+    return (lambda guid: model_description(model, guid)), ()

@@ -39,11 +39,13 @@ class Rig(Component):
                 check(dt, kwargs.get("params"))
 
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
-        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig."""
+        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig;
+        ``fmi_version=3`` writes FMI 3.0."""
         from pathlib import Path
 
         from pdbfs.errors import ExportError
-        from pdbfs.fmu import export_fmu
+        from pdbfs.fmu import check_fmi_version, export_fmu
+        check_fmi_version(kwargs.get("fmi_version", 2))   # before the rig is compiled
         if Path(path).is_dir():
             raise ExportError(f"{path}: is a folder; name the FMU file to write")
         t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment

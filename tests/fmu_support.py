@@ -32,15 +32,21 @@ def built_model(kind: str = "paper"):
     return _CACHE[kind]["model"]
 
 
-def built_fmu(kind: str = "paper") -> str:
-    """Export the rig once per process and return the FMU's path."""
+def built_fmu(kind: str = "paper", fmi_version: int = 2) -> str:
+    """Export the rig once per process (and FMI version) and return the FMU's path."""
     dae, _ = built_model(kind)
     entry = _CACHE[kind]
-    if "path" not in entry:
+    key = "path" if fmi_version == 2 else f"path{fmi_version}"
+    if key not in entry:
         d = tempfile.mkdtemp(prefix=f"pdbfs-test-{kind}-")
         atexit.register(shutil.rmtree, d, True)
-        entry["path"] = str(export_fmu(dae, f"{d}/{kind}.fmu"))
-    return entry["path"]
+        entry[key] = str(export_fmu(dae, f"{d}/{kind}.fmu", fmi_version=fmi_version))
+    return entry[key]
+
+
+def built_fmu3(kind: str = "paper") -> str:
+    """The FMI 3.0 FMU of the rig, exported once per process."""
+    return built_fmu(kind, fmi_version=3)
 
 
 def reference_pressure(rig, params: dict | None = None, t_end: float = 0.02, n_out: int = 2001,

@@ -1,27 +1,35 @@
 /*
- * One instance of a pdbfs FMU: what the generic FMI 2.0 files share.
+ * One instance of a pdbfs FMU, independent of the FMI version.
  *
- *   fmi2_functions.c   life cycle, variables, logging (generic FMI plumbing)
- *   fmi2_state.c       FMU state: get, set, serialise (generic)
- *   model.c            the model on the CasADi-generated functions: start
- *                      values, derivatives, outputs, parameter checks
- *   model_exchange.c   the Model Exchange calls
- *   cosimulation.c     the Co-Simulation calls: CVODE through the events
+ *   model.c            the model on the CasADi-generated functions, logging,
+ *                      the state machine, the life cycle
+ *   values.c           variables by value reference
+ *   snapshot.c         the FMU state: get, set, serialise
+ *   model_exchange.c   what Model Exchange asks of the model
+ *   cosimulation.c     the co-simulation loop: CVODE through the events
  *                      (native/c/pdbfs_cvode.c)
  *
+ * These files know no FMI header: they return FMU_* status codes (the
+ * numbers of fmi2Status and fmi3Status) and log through the hook the
+ * version's wrapper sets (fmi2_*.c, fmi3_*.c), which call into them and
+ * never the reverse.
+ *
  * Everything model-specific comes from two generated files: pdbfs_model.h
- * (sizes, value references, parameter table, GUID) and pdbfs_model_funcs.c
+ * (sizes, value references, parameter table, token) and pdbfs_model_funcs.c
  * (CasADi's C of ode, Jacobian, outputs, start values, event indicators,
  * calculated parameters).
  *
  * Value references (Real): [params | solver.rtol, solver.max_step |
  *   calculated params | states | derivatives | other outputs/locals],
- * Integer: solver.method, solver.max_num_steps (after the reals).
+ * Integer: solver.method, solver.max_num_steps (after the reals); FMI 3.0
+ * adds time and the event indicators after these (pdbfs_model.h defines
+ * PDBFS_VR_TIME and PDBFS_VR_E then).
  */
 #ifndef PDBFS_FMU_INSTANCE_H
 #define PDBFS_FMU_INSTANCE_H
 
-#include "fmi2Functions.h"
+#include <stddef.h>
+
 #include "pdbfs_cvode.h"
 #include "pdbfs_model.h"
 
@@ -32,6 +40,16 @@
 #define NY PDBFS_NY
 #define NYV PDBFS_NYV
 #define NE PDBFS_NE
+
+/* status codes: the numbers of fmi2Status and fmi3Status */
+#define FMU_OK 0
+#define FMU_WARNING 1
+#define FMU_DISCARD 2
+#define FMU_ERROR 3
+
+/* interface types: the numbers of fmi2Type (FMI 3.0 has one call per type) */
+#define FMU_ME 0
+#define FMU_CS 1
 
 /* solver.method, as in modelDescription.xml */
 #define METHOD_BDF 1
@@ -52,7 +70,7 @@ typedef enum {
 
 #define SNAP_MAGIC 0x70646266u /* "pdbf" */
 
-/* Everything that is the FMU state: plain data, copied by fmi2GetFMUstate and
+/* Everything that is the FMU state: plain data, copied by GetFMUstate and
  * serialised byte for byte. */
 typedef struct {
     unsigned magic;
@@ -65,8 +83,8 @@ typedef struct {
     double rtol;
     double max_step;
     int method;
-    int max_num_steps;       /* internal steps allowed in one fmi2DoStep */
-    int rtol_user;           /* solver.rtol set explicitly: wins over SetupExperiment */
+    int max_num_steps;       /* internal steps allowed in one DoStep */
+    int rtol_user;           /* solver.rtol set explicitly: wins over the experiment's tolerance */
     int tol_defined;
     double tol;
     double t_start;
@@ -76,9 +94,22 @@ typedef struct {
     int x_fixed;             /* x holds the state (else x0(p) on demand) */
 } Snapshot;
 
+typedef struct Inst Inst;
+
+/* The host as the version's wrapper sees it: memory, and a hook that hands
+ * one formatted message to the host's logger (kept as a plain function
+ * pointer: its type belongs to the FMI version). */
 typedef struct {
+    void *(*alloc)(size_t n, size_t size);   /* zeroed, as calloc */
+    void (*free)(void *p);
+    void (*hook)(const Inst *m, int status, const char *category, const char *message);
+    void (*logger)(void);
+    void *env;
+} FmuHost;
+
+struct Inst {
     Snapshot s;
-    fmi2CallbackFunctions cb;
+    FmuHost host;
     char *name;
     int logging;
     /* derived quantities at (time, x, p) */
@@ -93,24 +124,61 @@ typedef struct {
     double *res[PDBFS_SZ_RES + 1];
     casadi_int iw[PDBFS_SZ_IW + 1];
     double w[PDBFS_SZ_W + 1];
-} Inst;
+};
 
-/* fmi2_functions.c */
-void fmu_log(Inst *m, fmi2Status st, const char *cat, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
-fmi2Status fmu_check(Inst *m, const char *fn, int allowed, int needType);
-#define ERR(m, ...) (fmu_log((m), fmi2Error, "logStatusError", __VA_ARGS__), fmi2Error)
+/* model.c: logging, the state machine, the life cycle */
+void fmu_log(Inst *m, int st, const char *cat, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+int fmu_check(Inst *m, const char *fn, int allowed, int needType);
+#define ERR(m, ...) (fmu_log((m), FMU_ERROR, "logStatusError", __VA_ARGS__), FMU_ERROR)
+Inst *fmu_new(const char *name, int type, const FmuHost *host, int logging);
+void fmu_free(Inst *m);
+int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const categories[]);
+int fmu_setup(Inst *m, const char *fn, int tol_defined, double tol, double start, int stop_defined, double stop);
+int fmu_enter_init(Inst *m, const char *fn);
+int fmu_exit_init(Inst *m, const char *fn);
+int fmu_terminate(Inst *m, const char *fn);
+int fmu_reset(Inst *m, const char *fn);
 
-/* model.c */
+/* model.c: the model */
 void model_defaults(Inst *m);
 int model_start(Inst *m, double *x0);
 const double *model_x(Inst *m);
 void model_update(Inst *m);
 double model_rtol(const Inst *m);
-fmi2Status model_check_param(Inst *m, int k, double v);
+int model_check_param(Inst *m, int k, double v);
 int fmu_all_finite(const double *v, int n);
 
+/* values.c: variables by value reference (a rejected set changes nothing) */
+int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[]);
+int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]);
+int values_get_int(Inst *m, const char *fn, unsigned vr, long long *v);
+int values_check_int(Inst *m, const char *fn, unsigned vr, long long v);
+void values_set_int(Inst *m, unsigned vr, long long v);
+int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n);
+
+/* snapshot.c: the FMU state */
+int snapshot_get(Inst *m, const char *fn, void **state);
+int snapshot_set(Inst *m, const char *fn, const void *state);
+int snapshot_free(Inst *m, void **state);
+int snapshot_size(Inst *m, const char *fn, const void *state, size_t *size);
+int snapshot_serialize(Inst *m, const char *fn, const void *state, unsigned char *bytes, size_t size);
+int snapshot_deserialize(Inst *m, const char *fn, const unsigned char *bytes, size_t size, void **state);
+
+/* model_exchange.c */
+int me_enter_event_mode(Inst *m, const char *fn);
+int me_enter_continuous_mode(Inst *m, const char *fn);
+int me_new_discrete_states(Inst *m, const char *fn);
+int me_completed_step(Inst *m, const char *fn, int *enter_event, int *terminate);
+int me_set_time(Inst *m, const char *fn, double t);
+int me_set_states(Inst *m, const char *fn, const double x[], size_t nx);
+int me_get_derivatives(Inst *m, const char *fn, double dx[], size_t nx);
+int me_get_event_indicators(Inst *m, const char *fn, double e[], size_t ne);
+int me_get_states(Inst *m, const char *fn, double x[], size_t nx);
+int me_get_nominals(Inst *m, const char *fn, double nominals[], size_t nx);
+
 /* cosimulation.c */
-fmi2Status cosim_start(Inst *m);
+int cosim_start(Inst *m);
 void cosim_free(Inst *m);
+int cosim_do_step(Inst *m, const char *fn, double t, double h);
 
 #endif

@@ -1,8 +1,152 @@
-/* The model of a pdbfs FMU on its CasADi-generated functions: defaults, start
- * values, derivatives, outputs, event indicators, calculated parameters. */
+/* The model of a pdbfs FMU on its CasADi-generated functions (defaults,
+ * start values, derivatives, outputs, event indicators, calculated
+ * parameters), and what every FMI version does alike with it: logging, the
+ * state machine, the life cycle. */
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
 
 #include "fmu_instance.h"
+
+/* ------------------------------------------------------------ logging */
+
+void fmu_log(Inst *m, int st, const char *cat, const char *fmt, ...) {
+    char buf[1024];
+    va_list ap;
+    if (!m || !m->host.hook || !m->host.logger) return;
+    if (st == FMU_OK && !m->logging) return;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    m->host.hook(m, st, cat, buf);
+}
+
+static const char *mode_name(int mode) {
+    switch (mode) {
+    case ST_INSTANTIATED: return "instantiated";
+    case ST_INIT: return "initialization mode";
+    case ST_EVENT: return "event mode";
+    case ST_CONT: return "continuous-time mode";
+    case ST_STEPDONE: return "step complete";
+    case ST_TERMINATED: return "terminated";
+    case ST_ERROR: return "error";
+    default: return "unknown";
+    }
+}
+
+/* check the instance pointer, the interface type and the state machine */
+int fmu_check(Inst *m, const char *fn, int allowed, int needType) {
+    if (!m) return FMU_ERROR;
+    if (m->s.magic != SNAP_MAGIC) return FMU_ERROR;
+    if (needType >= 0 && m->s.type != needType) {
+        return ERR(m, "%s: not available for %s", fn, m->s.type == FMU_CS ? "Co-Simulation" : "Model Exchange");
+    }
+    if (!(m->s.mode & allowed)) {
+        return ERR(m, "%s: must not be called in state '%s'", fn, mode_name(m->s.mode));
+    }
+    return FMU_OK;
+}
+
+/* --------------------------------------------------------- life cycle */
+
+/* a new instance, or NULL without memory (the wrapper has checked the rest) */
+Inst *fmu_new(const char *name, int type, const FmuHost *host, int logging) {
+    size_t n = strlen(name) + 1;
+    Inst *m = (Inst *)host->alloc(1, sizeof(Inst));
+    if (!m) return NULL;
+    memset(m, 0, sizeof(Inst));
+    m->host = *host;
+    m->name = (char *)host->alloc(n, 1);
+    if (!m->name) {
+        host->free(m);
+        return NULL;
+    }
+    memcpy(m->name, name, n);
+    m->logging = logging ? 1 : 0;
+    m->s.magic = SNAP_MAGIC;
+    m->s.size = (unsigned)sizeof(Snapshot);
+    strncpy(m->s.token, PDBFS_GUID, sizeof m->s.token - 1);
+    m->s.type = type;
+    model_defaults(m);
+    fmu_log(m, FMU_OK, "logAll", "instantiated %s (%s)", PDBFS_MODEL_IDENTIFIER,
+            type == FMU_CS ? "CoSimulation" : "ModelExchange");
+    return m;
+}
+
+void fmu_free(Inst *m) {
+    void (*release)(void *);
+    if (!m || m->s.magic != SNAP_MAGIC) return;
+    cosim_free(m);
+    release = m->host.free;
+    m->s.magic = 0;
+    release(m->name);
+    release(m);
+}
+
+int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const categories[]) {
+    size_t i;
+    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
+    for (i = 0; i < n; i++) {
+        const char *k = categories ? categories[i] : NULL;
+        if (!k || (strcmp(k, "logEvents") && strcmp(k, "logStatusWarning") && strcmp(k, "logStatusError") &&
+                   strcmp(k, "logAll")))
+            return ERR(m, "%s: unknown log category '%s'", fn, k ? k : "(null)");
+    }
+    m->logging = on ? 1 : 0;
+    return FMU_OK;
+}
+
+int fmu_setup(Inst *m, const char *fn, int tol_defined, double tol, double start, int stop_defined, double stop) {
+    if (fmu_check(m, fn, ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
+    if (tol_defined && !(isfinite(tol) && tol > 0 && tol < 1))
+        return ERR(m, "%s: tolerance %g must be in (0, 1)", fn, tol);
+    if (!isfinite(start)) return ERR(m, "%s: startTime is not finite", fn);
+    if (stop_defined && !(isfinite(stop) && stop >= start))
+        return ERR(m, "%s: stopTime %g must be finite and >= startTime %g", fn, stop, start);
+    m->s.tol_defined = tol_defined ? 1 : 0;
+    if (tol_defined) m->s.tol = tol;
+    m->s.t_start = start;
+    m->s.time = start;
+    m->s.stop_defined = stop_defined ? 1 : 0;
+    m->s.t_stop = stop;
+    m->derived_ok = 0;
+    return FMU_OK;
+}
+
+int fmu_enter_init(Inst *m, const char *fn) {
+    if (fmu_check(m, fn, ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
+    m->s.mode = ST_INIT;
+    return FMU_OK;
+}
+
+/* the start values fix the state; Co-Simulation starts CVODE */
+int fmu_exit_init(Inst *m, const char *fn) {
+    if (fmu_check(m, fn, ST_INIT, -1) != FMU_OK) return FMU_ERROR;
+    model_start(m, m->s.x);
+    if (!fmu_all_finite(m->s.x, NX)) return ERR(m, "start values are not finite: check the parameters");
+    m->s.x_fixed = 1;
+    m->derived_ok = 0;
+    m->need_restart = 1;
+    m->s.mode = m->s.type == FMU_CS ? ST_STEPDONE : ST_EVENT;
+    if (m->s.type == FMU_CS) return cosim_start(m);
+    return FMU_OK;
+}
+
+int fmu_terminate(Inst *m, const char *fn) {
+    if (fmu_check(m, fn, ST_RUNNING, -1) != FMU_OK) return FMU_ERROR;
+    m->s.mode = ST_TERMINATED;
+    return FMU_OK;
+}
+
+int fmu_reset(Inst *m, const char *fn) {
+    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
+    cosim_free(m); /* a fresh CVODE: the second run is the first again */
+    model_defaults(m);
+    return FMU_OK;
+}
+
+/* ------------------------------------------------------------- model */
 
 int fmu_all_finite(const double *v, int n) {
     int i;
@@ -71,12 +215,12 @@ void model_update(Inst *m) {
     m->derived_ok = 1;
 }
 
-fmi2Status model_check_param(Inst *m, int k, double v) {
+int model_check_param(Inst *m, int k, double v) {
     if (!isfinite(v)) return ERR(m, "parameter %s: value %g is not finite", PDBFS_P_NAME[k], v);
     if (PDBFS_P_POSITIVE[k] && !(v > 0))
         return ERR(m, "parameter %s: value %g must be positive", PDBFS_P_NAME[k], v);
     if (v < PDBFS_P_MIN[k] || v > PDBFS_P_MAX[k])
         return ERR(m, "parameter %s: value %g outside [%g, %g]", PDBFS_P_NAME[k], v, PDBFS_P_MIN[k],
                    PDBFS_P_MAX[k]);
-    return fmi2OK;
+    return FMU_OK;
 }

@@ -1,111 +1,91 @@
-/* Model Exchange of a pdbfs FMU: the importer integrates; the event
- * indicators only mark kinks of the right-hand side (no discrete states). */
+/* What Model Exchange asks of a pdbfs FMU, for every FMI version: the
+ * importer integrates; the event indicators only mark kinks of the
+ * right-hand side (no discrete states). */
+#include <math.h>
+
 #include "fmu_instance.h"
 
-fmi2Status fmi2EnterEventMode(fmi2Component c) {
-    Inst *m = (Inst *)c;
-    if (fmu_check(m, "fmi2EnterEventMode", ST_EVENT | ST_CONT, fmi2ModelExchange) != fmi2OK) return fmi2Error;
+int me_enter_event_mode(Inst *m, const char *fn) {
+    if (fmu_check(m, fn, ST_EVENT | ST_CONT, FMU_ME) != FMU_OK) return FMU_ERROR;
     m->s.mode = ST_EVENT;
-    fmu_log(m, fmi2OK, "logEvents", "event mode at t=%.17g", m->s.time);
-    return fmi2OK;
+    fmu_log(m, FMU_OK, "logEvents", "event mode at t=%.17g", m->s.time);
+    return FMU_OK;
 }
 
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
-    Inst *m = (Inst *)c;
-    if (fmu_check(m, "fmi2NewDiscreteStates", ST_EVENT, fmi2ModelExchange) != fmi2OK) return fmi2Error;
-    if (!info) return ERR(m, "fmi2NewDiscreteStates: NULL argument");
-    /* no discrete states: the event indicators only mark kinks */
-    info->newDiscreteStatesNeeded = fmi2False;
-    info->terminateSimulation = fmi2False;
-    info->nominalsOfContinuousStatesChanged = fmi2False;
-    info->valuesOfContinuousStatesChanged = fmi2False;
-    info->nextEventTimeDefined = fmi2False;
-    info->nextEventTime = 0.0;
-    return fmi2OK;
+/* no discrete states: nothing changes at an event */
+int me_new_discrete_states(Inst *m, const char *fn) {
+    return fmu_check(m, fn, ST_EVENT, FMU_ME);
 }
 
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
-    Inst *m = (Inst *)c;
-    if (fmu_check(m, "fmi2EnterContinuousTimeMode", ST_EVENT, fmi2ModelExchange) != fmi2OK) return fmi2Error;
+int me_enter_continuous_mode(Inst *m, const char *fn) {
+    if (fmu_check(m, fn, ST_EVENT, FMU_ME) != FMU_OK) return FMU_ERROR;
     m->s.mode = ST_CONT;
-    return fmi2OK;
+    return FMU_OK;
 }
 
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
-                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
-    Inst *m = (Inst *)c;
-    (void)noSetFMUStatePriorToCurrentPoint;
-    if (fmu_check(m, "fmi2CompletedIntegratorStep", ST_CONT, fmi2ModelExchange) != fmi2OK) return fmi2Error;
-    if (!enterEventMode || !terminateSimulation) return ERR(m, "fmi2CompletedIntegratorStep: NULL argument");
-    *enterEventMode = fmi2False;
-    *terminateSimulation = fmi2False;
-    return fmi2OK;
+int me_completed_step(Inst *m, const char *fn, int *enter_event, int *terminate) {
+    if (fmu_check(m, fn, ST_CONT, FMU_ME) != FMU_OK) return FMU_ERROR;
+    *enter_event = 0;
+    *terminate = 0;
+    return FMU_OK;
 }
 
-fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
-    Inst *m = (Inst *)c;
-    if (fmu_check(m, "fmi2SetTime", ST_EVENT | ST_CONT, fmi2ModelExchange) != fmi2OK) return fmi2Error;
-    if (!isfinite(time)) return ERR(m, "fmi2SetTime: time is not finite");
-    m->s.time = time;
+int me_set_time(Inst *m, const char *fn, double t) {
+    if (fmu_check(m, fn, ST_EVENT | ST_CONT, FMU_ME) != FMU_OK) return FMU_ERROR;
+    if (!isfinite(t)) return ERR(m, "%s: time is not finite", fn);
+    m->s.time = t;
     m->derived_ok = 0;
-    return fmi2OK;
+    return FMU_OK;
 }
 
-fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
-    Inst *m = (Inst *)c;
+int me_set_states(Inst *m, const char *fn, const double x[], size_t nx) {
     size_t i;
-    if (fmu_check(m, "fmi2SetContinuousStates", ST_EVENT | ST_CONT, fmi2ModelExchange) != fmi2OK) return fmi2Error;
-    if (nx != NX) return ERR(m, "fmi2SetContinuousStates: nx = %zu, expected %d", nx, NX);
-    if (!x) return ERR(m, "fmi2SetContinuousStates: NULL argument");
-    if (!fmu_all_finite(x, NX)) return ERR(m, "fmi2SetContinuousStates: state is not finite");
+    if (fmu_check(m, fn, ST_EVENT | ST_CONT, FMU_ME) != FMU_OK) return FMU_ERROR;
+    if (nx != NX) return ERR(m, "%s: nx = %zu, expected %d", fn, nx, NX);
+    if (!x) return ERR(m, "%s: NULL argument", fn);
+    if (!fmu_all_finite(x, NX)) return ERR(m, "%s: state is not finite", fn);
     for (i = 0; i < NX; i++) m->s.x[i] = x[i];
     m->derived_ok = 0;
-    return fmi2OK;
+    return FMU_OK;
 }
 
-fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
-    Inst *m = (Inst *)c;
+int me_get_derivatives(Inst *m, const char *fn, double dx[], size_t nx) {
     size_t i;
-    if (fmu_check(m, "fmi2GetDerivatives", ST_ANY & ~ST_INSTANTIATED, fmi2ModelExchange) != fmi2OK) return fmi2Error;
-    if (nx != NX) return ERR(m, "fmi2GetDerivatives: nx = %zu, expected %d", nx, NX);
-    if (!derivatives) return ERR(m, "fmi2GetDerivatives: NULL argument");
+    if (fmu_check(m, fn, ST_ANY & ~ST_INSTANTIATED, FMU_ME) != FMU_OK) return FMU_ERROR;
+    if (nx != NX) return ERR(m, "%s: nx = %zu, expected %d", fn, nx, NX);
+    if (!dx) return ERR(m, "%s: NULL argument", fn);
     model_update(m);
-    for (i = 0; i < NX; i++) derivatives[i] = m->xdot[i];
-    if (!fmu_all_finite(m->xdot, NX)) return ERR(m, "fmi2GetDerivatives: derivatives are not finite at t=%g", m->s.time);
-    return fmi2OK;
+    for (i = 0; i < NX; i++) dx[i] = m->xdot[i];
+    if (!fmu_all_finite(m->xdot, NX)) return ERR(m, "%s: derivatives are not finite at t=%g", fn, m->s.time);
+    return FMU_OK;
 }
 
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real ind[], size_t ni) {
-    Inst *m = (Inst *)c;
+int me_get_event_indicators(Inst *m, const char *fn, double e[], size_t ne) {
     size_t i;
-    if (fmu_check(m, "fmi2GetEventIndicators", ST_ANY & ~ST_INSTANTIATED, fmi2ModelExchange) != fmi2OK)
-        return fmi2Error;
-    if (ni != NE) return ERR(m, "fmi2GetEventIndicators: ni = %zu, expected %d", ni, NE);
-    if (ni > 0 && !ind) return ERR(m, "fmi2GetEventIndicators: NULL argument");
+    if (fmu_check(m, fn, ST_ANY & ~ST_INSTANTIATED, FMU_ME) != FMU_OK) return FMU_ERROR;
+    if (ne != NE) return ERR(m, "%s: ni = %zu, expected %d", fn, ne, NE);
+    if (ne > 0 && !e) return ERR(m, "%s: NULL argument", fn);
     model_update(m);
-    for (i = 0; i < ni; i++) ind[i] = m->e[i];
-    return fmi2OK;
+    for (i = 0; i < ne; i++) e[i] = m->e[i];
+    return FMU_OK;
 }
 
-fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
-    Inst *m = (Inst *)c;
+int me_get_states(Inst *m, const char *fn, double x[], size_t nx) {
     size_t i;
     const double *xs;
-    if (fmu_check(m, "fmi2GetContinuousStates", ST_ANY & ~ST_INSTANTIATED, fmi2ModelExchange) != fmi2OK)
-        return fmi2Error;
-    if (nx != NX) return ERR(m, "fmi2GetContinuousStates: nx = %zu, expected %d", nx, NX);
-    if (!x) return ERR(m, "fmi2GetContinuousStates: NULL argument");
+    if (fmu_check(m, fn, ST_ANY & ~ST_INSTANTIATED, FMU_ME) != FMU_OK) return FMU_ERROR;
+    if (nx != NX) return ERR(m, "%s: nx = %zu, expected %d", fn, nx, NX);
+    if (!x) return ERR(m, "%s: NULL argument", fn);
     xs = model_x(m);
     for (i = 0; i < NX; i++) x[i] = xs[i];
-    return fmi2OK;
+    return FMU_OK;
 }
 
-fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real nominals[], size_t nx) {
-    Inst *m = (Inst *)c;
+int me_get_nominals(Inst *m, const char *fn, double nominals[], size_t nx) {
     size_t i;
-    if (fmu_check(m, "fmi2GetNominalsOfContinuousStates", ST_ANY, fmi2ModelExchange) != fmi2OK) return fmi2Error;
-    if (nx != NX) return ERR(m, "fmi2GetNominalsOfContinuousStates: nx = %zu, expected %d", nx, NX);
-    if (!nominals) return ERR(m, "fmi2GetNominalsOfContinuousStates: NULL argument");
+    if (fmu_check(m, fn, ST_ANY, FMU_ME) != FMU_OK) return FMU_ERROR;
+    if (nx != NX) return ERR(m, "%s: nx = %zu, expected %d", fn, nx, NX);
+    if (!nominals) return ERR(m, "%s: NULL argument", fn);
     for (i = 0; i < NX; i++) nominals[i] = PDBFS_X_NOMINAL[i];
-    return fmi2OK;
+    return FMU_OK;
 }

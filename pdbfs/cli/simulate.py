@@ -45,7 +45,8 @@ def cmd_params(args):
 def cmd_export_fmu(args):
     rig = rig_by_name(args.rig)
     check_output_file(args.output)
-    path = rig.export_fmu(args.output)
+    version = int(args.fmi_version) if args.fmi_version in ("2", "3") else args.fmi_version  # else refused
+    path = rig.export_fmu(args.output, fmi_version=version)
     print(f"wrote {path}")
 
 
@@ -61,7 +62,8 @@ def add_parsers(sub):
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_params)
 
-    s = sub.add_parser("export-fmu", help="write an FMI 2.0 FMU of a rig")
+    s = sub.add_parser("export-fmu", help="write an FMI 2.0 or 3.0 FMU of a rig")
     add_rig_options(s, sets=False)
     s.add_argument("-o", "--output", default="pdbfs.fmu")
+    s.add_argument("--fmi-version", default="2", metavar="{2,3}", help="FMI version (default: 2)")
     s.set_defaults(func=cmd_export_fmu)

@@ -1,0 +1,146 @@
+/* Variables of a pdbfs FMU by value reference, for every FMI version: the
+ * parameters (checked against their bounds; fixed ones only before
+ * initialisation, tunable ones in event mode or between steps), the solver
+ * settings, calculated parameters, states, derivatives, outputs.  A call
+ * that is refused changes nothing. */
+#include <math.h>
+
+#include "fmu_instance.h"
+
+#define VR_P_END (PDBFS_VR_P + NP)
+#define VR_C_END (PDBFS_VR_C + NC)
+#define VR_X_END (PDBFS_VR_X + NX)
+#define VR_DX_END (PDBFS_VR_DX + NX)
+#define VR_Y_END (PDBFS_VR_Y + NYV)
+
+int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[]) {
+    size_t i;
+    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
+    if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
+    for (i = 0; i < n; i++) {
+        unsigned r = vr[i];
+        if (r < VR_P_END) {
+            v[i] = m->s.p[r - PDBFS_VR_P];
+        } else if (r == PDBFS_VR_RTOL) {
+            v[i] = model_rtol(m);
+        } else if (r == PDBFS_VR_MAXSTEP) {
+            v[i] = m->s.max_step;
+        } else if (r >= PDBFS_VR_C && r < VR_C_END) {
+            model_update(m);
+            v[i] = m->c[r - PDBFS_VR_C];
+        } else if (r >= PDBFS_VR_X && r < VR_X_END) {
+            v[i] = model_x(m)[r - PDBFS_VR_X];
+        } else if (r >= PDBFS_VR_DX && r < VR_DX_END) {
+            model_update(m);
+            v[i] = m->xdot[r - PDBFS_VR_DX];
+        } else if (r >= PDBFS_VR_Y && r < VR_Y_END) {
+            model_update(m);
+            v[i] = m->y[PDBFS_Y_INDEX[r - PDBFS_VR_Y]];
+#ifdef PDBFS_VR_TIME
+        } else if (r == PDBFS_VR_TIME) {
+            v[i] = m->s.time;
+        } else if (r >= PDBFS_VR_E && r < PDBFS_VR_E + NE) {
+            model_update(m);
+            v[i] = m->e[r - PDBFS_VR_E];
+#endif
+        } else {
+            return ERR(m, "%s: unknown value reference %u", fn, r);
+        }
+    }
+    return FMU_OK;
+}
+
+/* a value reference of the model that is not settable */
+static int read_only(unsigned r) {
+#ifdef PDBFS_VR_TIME
+    if (r == PDBFS_VR_TIME || (r >= PDBFS_VR_E && r < PDBFS_VR_E + NE)) return 1;
+#endif
+    return r < VR_Y_END;
+}
+
+int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
+    size_t i;
+    int before_init, tunable_ok, changed = 0;
+    if (fmu_check(m, fn, ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEPDONE, -1) != FMU_OK)
+        return FMU_ERROR;
+    if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
+    before_init = (m->s.mode & (ST_INSTANTIATED | ST_INIT)) != 0;
+    tunable_ok = before_init || (m->s.mode & (ST_EVENT | ST_STEPDONE)) != 0;
+    /* validate everything first: a rejected call changes nothing */
+    for (i = 0; i < n; i++) {
+        unsigned r = vr[i];
+        double x = v[i];
+        if (r < VR_P_END) {
+            int k = (int)(r - PDBFS_VR_P);
+            if (!before_init && !PDBFS_P_TUNABLE[k])
+                return ERR(m, "%s: parameter %s is fixed and cannot be changed after initialization", fn,
+                           PDBFS_P_NAME[k]);
+            if (!tunable_ok)
+                return ERR(m, "%s: tunable parameter %s can only be changed in %s", fn, PDBFS_P_NAME[k],
+                           m->s.type == FMU_CS ? "between steps" : "event mode");
+            if (model_check_param(m, k, x) != FMU_OK) return FMU_ERROR;
+        } else if (r == PDBFS_VR_RTOL || r == PDBFS_VR_MAXSTEP) {
+            const char *nm = r == PDBFS_VR_RTOL ? "solver.rtol" : "solver.max_step";
+            if (!before_init)
+                return ERR(m, "%s: %s is fixed and cannot be changed after initialization", fn, nm);
+            if (!isfinite(x)) return ERR(m, "%s: %s = %g is not finite", fn, nm, x);
+            if (r == PDBFS_VR_RTOL && !(x > 0 && x < 1))
+                return ERR(m, "%s: solver.rtol = %g must be in (0, 1)", fn, x);
+            if (r == PDBFS_VR_MAXSTEP && x < 0)
+                return ERR(m, "%s: solver.max_step = %g must be >= 0 (0: no limit)", fn, x);
+        } else if (read_only(r)) {
+            return ERR(m, "%s: variable with value reference %u is not settable", fn, r);
+        } else {
+            return ERR(m, "%s: unknown value reference %u", fn, r);
+        }
+    }
+    for (i = 0; i < n; i++) {
+        unsigned r = vr[i];
+        if (r < VR_P_END) {
+            if (m->s.p[r - PDBFS_VR_P] != v[i]) changed = 1;
+            m->s.p[r - PDBFS_VR_P] = v[i];
+        } else if (r == PDBFS_VR_RTOL) {
+            m->s.rtol = v[i];
+            m->s.rtol_user = 1;
+        } else if (r == PDBFS_VR_MAXSTEP) {
+            m->s.max_step = v[i];
+        }
+    }
+    m->derived_ok = 0;
+    if (changed && !before_init) m->need_restart = 1; /* restart: the right-hand side changed */
+    return FMU_OK;
+}
+
+/* solver.method and solver.max_num_steps, one at a time (the wrapper loops:
+ * check all, then set all) */
+int values_get_int(Inst *m, const char *fn, unsigned vr, long long *v) {
+    if (vr == PDBFS_VR_METHOD) *v = m->s.method;
+    else if (vr == PDBFS_VR_MAXNUMSTEPS) *v = m->s.max_num_steps;
+    else return ERR(m, "%s: unknown value reference %u", fn, vr);
+    return FMU_OK;
+}
+
+int values_check_int(Inst *m, const char *fn, unsigned vr, long long v) {
+    const char *nm = vr == PDBFS_VR_METHOD ? "solver.method" : "solver.max_num_steps";
+    if (vr != PDBFS_VR_METHOD && vr != PDBFS_VR_MAXNUMSTEPS)
+        return ERR(m, "%s: unknown value reference %u", fn, vr);
+    if (!(m->s.mode & (ST_INSTANTIATED | ST_INIT)))
+        return ERR(m, "%s: %s is fixed and cannot be changed after initialization", fn, nm);
+    if (vr == PDBFS_VR_METHOD && v != METHOD_BDF && v != METHOD_ADAMS)
+        return ERR(m, "%s: solver.method = %lld must be 1 (BDF) or 2 (Adams)", fn, v);
+    if (vr == PDBFS_VR_MAXNUMSTEPS && (v < 1 || v > 2147483647LL))
+        return ERR(m, "%s: solver.max_num_steps = %lld must be >= 1", fn, v);
+    return FMU_OK;
+}
+
+void values_set_int(Inst *m, unsigned vr, long long v) {
+    if (vr == PDBFS_VR_METHOD) m->s.method = (int)v;
+    else m->s.max_num_steps = (int)v;
+}
+
+/* a type the model has no variables of */
+int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n) {
+    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
+    if (n > 0) return ERR(m, "%s: unknown value reference %u", fn, vr ? vr[0] : 0u);
+    return FMU_OK;
+}

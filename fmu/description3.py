@@ -1,0 +1,137 @@
+"""FMI 3.0 description of a pdbfs FMU: modelDescription.xml (Model Exchange
+and Co-Simulation, the same variables, units, causalities, variability and
+bounds as FMI 2.0, plus the independent variable ``time`` and the event
+indicators as variables, which FMI 3.0 asks for) and
+sources/buildDescription.xml."""
+from __future__ import annotations
+
+from xml.sax.saxutils import quoteattr
+
+import casadi as ca
+
+from pdbfs.errors import ExportError
+
+from .description import LOG_CATEGORIES, _x, type_attrs, unit_lines
+from .variables import FmuModel, _deps
+
+#: FMI 2.0 type -> FMI 3.0 element
+_TYPES = {"Real": "Float64", "Integer": "Int32", "Enumeration": "Enumeration"}
+#: words of the 2.0 descriptions that name 2.0 calls
+_CALLS = {"fmi2SetupExperiment": "fmi3EnterInitializationMode", "fmi2DoStep": "fmi3DoStep"}
+
+
+def event_variable_names(model: FmuModel) -> list[str]:
+    """The names of the event-indicator variables, in the order of the DAE's events."""
+    return [f"event.{n}" for n in model.dae.event_names]
+
+
+def vr_time(model: FmuModel) -> int:
+    """Value reference of ``time``; the event indicators follow it."""
+    return model.vr_maxnumsteps + 1
+
+
+def header_lines(model: FmuModel) -> list[str]:
+    """What pdbfs_model.h adds for FMI 3.0 (the C serves these value references)."""
+    return [f"#define PDBFS_VR_TIME {vr_time(model)}", f"#define PDBFS_VR_E {vr_time(model) + 1}"]
+
+
+def _check_names(model: FmuModel) -> None:
+    taken = {v.name for v in model.vars}
+    for n in ["time"] + event_variable_names(model):
+        if n in taken:
+            raise ExportError(f"rig {model.dae.name}: the variable name '{n}' is taken; FMI 3.0 needs it for "
+                              "time or an event indicator")
+
+
+def _variable(v, vr_of_index) -> str:
+    tag = _TYPES[v.type]
+    desc = v.description
+    for old, new in _CALLS.items():
+        desc = desc.replace(old, new)
+    a = [f"name={quoteattr(v.name)}", f'valueReference="{v.vr}"', f"description={quoteattr(desc)}",
+         f'causality="{v.causality}"', f'variability="{v.variability}"']
+    if v.initial:
+        a.append(f'initial="{v.initial}"')
+    a += type_attrs(v)
+    if v.derivative is not None:
+        a.append(f'derivative="{vr_of_index(v.derivative)}"')
+    return f'    <{tag} {" ".join(a)}/>'
+
+
+def model_description3(model: FmuModel, token: str) -> str:
+    """modelDescription.xml (FMI 3.0) of ``model`` with instantiation token ``token``."""
+    _check_names(model)
+    d = model.dae
+    vr_of_index = lambda i: model.vars[i - 1].vr  # noqa: E731  (2.0 indices are 1-based)
+    descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
+    caps = ('canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false" '
+            'providesDirectionalDerivatives="false" providesAdjointDerivatives="false"')
+    L = ['<?xml version="1.0" encoding="UTF-8"?>',
+         '<fmiModelDescription',
+         '  fmiVersion="3.0"',
+         f'  modelName={quoteattr(d.name)}',
+         f'  instantiationToken="{token}"',
+         f'  description={quoteattr(descr)}',
+         '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
+         '  variableNamingConvention="structured">',
+         f'  <ModelExchange modelIdentifier="{model.ident}" {caps} needsCompletedIntegratorStep="false"/>',
+         f'  <CoSimulation modelIdentifier="{model.ident}" {caps} canHandleVariableCommunicationStepSize="true" '
+         'maxOutputDerivativeOrder="0" hasEventMode="false" providesIntermediateUpdate="false" '
+         'mightReturnEarlyFromDoStep="false"/>',
+         '  <UnitDefinitions>', *unit_lines(model), '  </UnitDefinitions>',
+         '  <TypeDefinitions>',
+         '    <EnumerationType name="pdbfs.SolverMethod" description="CVODE linear multistep method">',
+         '      <Item name="BDF" value="1" description="backward differentiation formulas, Newton"/>',
+         '      <Item name="Adams" value="2" description="Adams-Moulton, fixed-point iteration"/>',
+         '    </EnumerationType>',
+         '  </TypeDefinitions>',
+         *LOG_CATEGORIES,
+         f'  <DefaultExperiment startTime="0" stopTime="{_x(model.stop_time)}" '
+         f'stepSize="{_x(model.step_size)}" tolerance="{_x(model.tolerance)}"/>',
+         '  <ModelVariables>']
+    L += [_variable(v, vr_of_index) for v in model.vars]
+    t = vr_time(model)
+    L.append(f'    <Float64 name="time" valueReference="{t}" causality="independent" variability="continuous" '
+             'description="simulation time" unit="s"/>')
+    for k, n in enumerate(event_variable_names(model)):
+        L.append(f'    <Float64 name={quoteattr(n)} valueReference="{t + 1 + k}" causality="local" '
+                 f'variability="continuous" description={quoteattr(_event_text(d.event_names[k]))}/>')
+    L.append('  </ModelVariables>')
+    outputs, derivs, init = model.structure()
+    x_vrs = [model.vr_x + k for k in range(model.nx)]
+    events = _deps(ca.jacobian_sparsity(d.events, d.x), x_vrs) if model.ne else []
+
+    def unk(tag, vr, deps):
+        return f'    <{tag} valueReference="{vr}" dependencies="{" ".join(map(str, deps))}"/>'
+    L.append('  <ModelStructure>')
+    L += [unk("Output", vr_of_index(i), [vr_of_index(j) for j in dp]) for i, dp in outputs]
+    L += [unk("ContinuousStateDerivative", vr_of_index(i), [vr_of_index(j) for j in dp]) for i, dp in derivs]
+    L += [unk("InitialUnknown", vr_of_index(i), [vr_of_index(j) for j in dp]) for i, dp in init]
+    L += [unk("EventIndicator", t + 1 + k, dp) for k, dp in enumerate(events)]
+    L.append('  </ModelStructure>')
+    L.append('</fmiModelDescription>')
+    return "\n".join(L) + "\n"
+
+
+def _event_text(name: str) -> str:
+    return (f"event indicator {name}: changes sign where the right-hand side has a kink "
+            "(contact onset or separation)")
+
+
+def build_description(model: FmuModel, sources: list[str], sundials_version: str | None) -> str:
+    """sources/buildDescription.xml: the C files of the FMU (relative to
+    sources/, which is the include folder). With ``sundials_version`` the
+    build must provide SUNDIALS' CVODE (an external library); None when the
+    sources carry CVODE's own C among ``sources``."""
+    L = ['<?xml version="1.0" encoding="UTF-8"?>',
+         '<fmiBuildDescription fmiVersion="3.0">',
+         f'  <BuildConfiguration modelIdentifier="{model.ident}" '
+         'description="the generic FMI 3.0 wrapper, the co-simulation loop and the generated model">',
+         '    <SourceFileSet language="C99">']
+    L += [f'      <SourceFile name={quoteattr(s)}/>' for s in sources]
+    L += ['      <IncludeDirectory name="."/>', '    </SourceFileSet>']
+    if sundials_version is not None:
+        L.append(f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
+                 'description="SUNDIALS CVODE, built as a static, position-independent library: see README.txt"/>')
+    L += ['  </BuildConfiguration>', '</fmiBuildDescription>']
+    return "\n".join(L) + "\n"
