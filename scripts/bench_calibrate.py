@@ -6,7 +6,12 @@ same scaled least-squares problem, in one process:
 * least squares with a finite-difference Jacobian (scipy, '2-point');
 * Nelder-Mead on the sum of squares (scipy).
 
-    python scripts/bench_calibrate.py [--repeat 3]
+and the cost of one calibration against the length of the trace (20 ms,
+1 s, 20 s records around the same pulse, written as CSV with units), each in
+its own process: wall time and the process's peak RSS, as ratios against
+the 20 ms trace.
+
+    python scripts/bench_calibrate.py [--repeat 3] [--horizons-only]
 """
 from __future__ import annotations
 
@@ -66,10 +71,52 @@ def nelder_mead(t, y):
     return time.perf_counter() - t0, model.evaluations, list(prob.values(r.x).values())
 
 
+HORIZON_RUN = """
+import resource, sys, time
+import pdbfs
+from pdbfs.models import paper_rig
+t0 = time.perf_counter()
+cal = pdbfs.calibrate(paper_rig(), sys.argv[1], ["oil.k"], starts=1)
+print(time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+      cal.params["oil.k"])
+"""
+
+
+def horizons():
+    """One-parameter calibrations to 20 ms, 1 s and 20 s records: time and peak RSS."""
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+    res = paper_rig().simulate(0.02, n_out=401, params={"oil.k": 3.1e8})
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for span in (0.02, 1.0, 20.0):
+            t = np.concatenate([res.t, np.linspace(0.02, span, 2001)[1:]]) if span > 0.02 else res.t
+            y = np.concatenate([res["oil.pressure"], np.zeros(t.size - res.t.size)])
+            path = Path(tmp) / f"trace_{span:g}s.csv"
+            np.savetxt(path, np.column_stack([t * 1e3, y / 1e6]), delimiter=",",
+                       header="time [ms],oil.pressure [MPa]", comments="")
+            out = subprocess.run([sys.executable, "-c", HORIZON_RUN, str(path)], check=True,
+                                 capture_output=True, text=True).stdout.split()
+            rows.append((span, t.size, float(out[0]), float(out[1]), float(out[2])))
+    base_s, base_mb = rows[0][2], rows[0][3]
+    print("one-parameter calibration (oil.k) against the trace's length, one process each")
+    print(f"{'trace':>8} {'samples':>8} {'s':>8} {'x 20 ms':>8} {'peak RSS MB':>12} {'x 20 ms':>8}"
+          f" {'oil.k / true - 1':>17}")
+    for span, n, sec, mb, k in rows:
+        print(f"{span:>7g}s {n:>8d} {sec:>8.2f} {sec / base_s:>8.2f} {mb:>12.0f} {mb / base_mb:>8.2f}"
+              f" {k / 3.1e8 - 1:>+17.1e}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="runs of each method (median taken)")
+    ap.add_argument("--horizons-only", action="store_true", help="only the trace-length table")
     args = ap.parse_args(argv)
+    horizons()
+    if args.horizons_only:
+        return
     t, y = trace()
     exact(t, y)                        # build and cache the integrator once, untimed
     runs = {}
