@@ -20,6 +20,12 @@
  * These are the definitions of pdbfs/simulation/summary.py, located on the
  * solution to the solver's accuracy, not on an output grid.
  *
+ * The pulse is paired from its crossings by their direction (up, then
+ * down); a pulse that begins before t = 0 or has not ended by t_end has no
+ * duration (NaN, and a message), crossings that do not alternate fail the
+ * point.  Whatever grows with the rig or the run is on the heap: a large
+ * rig's state would fill a worker thread's stack.
+ *
  * Thread safe: each call allocates its own memory; ctypes releases the GIL,
  * so threads run calls in parallel.
  */
@@ -27,9 +33,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "pdbfs_batch_model.h"
 #include "pdbfs_cvode.h"
+#include "pdbfs_pulse.h"
 
 #define API __attribute__((visibility("default")))
 #define NR PDBFS_NR
@@ -39,8 +47,14 @@
 #define MAXR 8                                /* roots taken from one refined step */
 
 /* the summary's entries, in this order (pdbfs.simulation.compiled.SUMMARY_KEYS) */
-enum { S_PEAK, S_TPEAK, S_DURATION, S_FORCE, S_DISP, S_RESTITUTION, NSUM };
-#define PULSE_LEVEL 0.01
+enum { S_PEAK, S_TPEAK, S_DURATION, S_FORCE, S_DISP, S_RESTITUTION, S_COMPLETE, NSUM };
+/* the statistics of a point, in this order (pdbfs.simulation.compiled.STAT_COLUMNS) */
+enum { ST_STEPS, ST_RHS, ST_JAC, ST_ROOTS, ST_METHOD, ST_WALL, NSTAT };
+
+/* a point's failures beyond pdbfs_batch_run's codes */
+#define RC_NOT_FINITE 4      /* as pdbfs_batch.c */
+#define RC_NO_MEMORY 2
+#define RC_BAD_CROSSINGS 6   /* the pulse's crossings do not alternate */
 
 typedef struct {
     double *t, *x, *r;        /* per record: time, state (NXQ), roles (NR) */
@@ -49,7 +63,15 @@ typedef struct {
     PdbfsEval *ev;
     PdbfsCvode *cv;           /* for the refinements */
     const PdbfsCvodeSettings *set;
+    double *rx;               /* the refinements' states: MAXR x NXQ */
 } History;
+
+/* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */
+typedef struct {
+    double *t, *x;
+    int *dir;
+    long n, cap;
+} Crossings;
 
 #define R(H, k, j) ((H)->r[(k) * NRX + (j)])
 
@@ -79,6 +101,33 @@ static int record(void *env, double t, const double *x) {
     return h->bad;
 }
 
+static int add_crossing(Crossings *c, double t, int dir, const double *x) {
+    if (c->n == c->cap) {
+        long cap = c->cap ? 2 * c->cap : 16;
+        double *nt = realloc(c->t, sizeof(double) * cap), *nx = NULL;
+        int *nd = NULL;
+        if (nt) c->t = nt;
+        if (nt) nx = realloc(c->x, sizeof(double) * cap * NXQ);
+        if (nx) c->x = nx;
+        if (nx) nd = realloc(c->dir, sizeof(int) * cap);
+        if (nd) c->dir = nd;
+        if (!nd) return -1;
+        c->cap = cap;
+    }
+    c->t[c->n] = t;
+    c->dir[c->n] = dir;
+    memcpy(c->x + c->n * NXQ, x, sizeof(double) * NXQ);
+    c->n++;
+    return 0;
+}
+
+static void free_crossings(Crossings *c) {
+    free(c->t);
+    free(c->x);
+    free(c->dir);
+    memset(c, 0, sizeof *c);
+}
+
 /* ------------------------------------------------------------ refinement */
 
 typedef struct {
@@ -95,14 +144,15 @@ static int target_fn(void *env, double t, const double *x, double *g) {
     return 0;
 }
 
-/* roots of the target on record steps k0 .. k1-1, integrated again from record k0 */
-static int refine(const History *H, long k0, long k1, Target *q, int dir, double *t, double *x) {
+/* roots of the target on record steps k0 .. k1-1, integrated again from record
+ * k0: times in t, states in H->rx, directions in d (at most MAXR) */
+static int refine(const History *H, long k0, long k1, Target *q, int dir, double *t, int *d) {
     int n;
     if (k0 < 0) k0 = 0;
     if (k1 > H->n - 1) k1 = H->n - 1;
     if (k1 <= k0 || !(H->t[k1] > H->t[k0])) return 0;
     n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q, dir,
-                          MAXR, t, x);
+                          MAXR, t, H->rx, d);
     return n > 0 ? n : 0;
 }
 
@@ -112,10 +162,12 @@ static double role_at(const History *H, int j, double t, const double *x) {
     return r[j];
 }
 
-/* the largest value of role j over records k0 .. k1-1, refined where its slope turns */
+/* the largest value of role j over records k0 .. k1-1, refined where its slope
+ * turns; its time, value and (x_pk not NULL) state */
 static void peak(const History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk) {
     long k, best = k0;
-    double t[MAXR], x[MAXR * NXQ];
+    double t[MAXR];
+    int d[MAXR];
     Target q;
     int i, n;
     for (k = k0; k < k1; k++)
@@ -127,61 +179,79 @@ static void peak(const History *H, int j, long k0, long k1, double *t_pk, double
     q.role = j;
     q.slope = 1;
     q.level = 0.0;
-    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1, t, x);
+    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1, t, d);
     for (i = 0; i < n; i++) {
-        double v = role_at(H, j, t[i], x + i * NXQ);
+        double v = role_at(H, j, t[i], H->rx + i * NXQ);
         if (v > *v_pk) {
             *v_pk = v;
             *t_pk = t[i];
-            if (x_pk) memcpy(x_pk, x + i * NXQ, sizeof(double) * NXQ);
+            if (x_pk) memcpy(x_pk, H->rx + i * NXQ, sizeof(double) * NXQ);
         }
     }
 }
 
-/* crossings of role j through level (dir as for CVODE roots), at most max: times and states */
-static int crossings(const History *H, int j, double level, int dir, int max, double *tc, double *xc) {
+/* every crossing of role j through level (both directions), in time order,
+ * appended to c; -1 when out of memory */
+static int crossings(const History *H, int j, double level, Crossings *c) {
     long k;
-    int n = 0;
     Target q;
     q.ev = H->ev;
     q.role = j;
     q.slope = 0;
     q.level = level;
-    for (k = 0; k + 1 < H->n && n < max; k++) {
-        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
-        double t[MAXR], x[MAXR * NXQ];
-        int i, m;
+    for (k = 0; k + 1 < H->n; k++) {
+        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level, t[MAXR];
+        int d[MAXR], i, m;
         if (!((a < 0 && b >= 0) || (a > 0 && b <= 0))) continue;
-        m = refine(H, k, k + 1, &q, dir, t, x);
-        for (i = 0; i < m && n < max; i++, n++) {
-            tc[n] = t[i];
-            if (xc) memcpy(xc + n * NXQ, x + i * NXQ, sizeof(double) * NXQ);
-        }
+        m = refine(H, k, k + 1, &q, 0, t, d);
+        for (i = 0; i < m; i++)
+            if (add_crossing(c, t[i], d[i], H->rx + i * NXQ)) return -1;
     }
-    return n;
+    return 0;
 }
 
 /* -------------------------------------------------------------- summary */
 
-#define MAXC 64
-
-static void summarise(const History *H, double *out) {
-    int i;
+/* the summary of one point into out; 0, or a failure code with its reason in m */
+static int summarise(const History *H, double *out, double *x_pk, Note *m) {
+    int i, ended = 1, rc = 0;
     long last = H->n - 1;
     double t_end = H->t[last];
+    Crossings c = {0};
     for (i = 0; i < NSUM; i++) out[i] = NAN;
+    if (PDBFS_ROLE_FORCE >= 0 && R(H, last, PDBFS_ROLE_FORCE) > 0) ended = 0;
     if (PDBFS_ROLE_PRESSURE >= 0) {
         const int j = PDBFS_ROLE_PRESSURE;
-        double level, times[MAXC + 2], sum = 0.0;
-        int n = 0;
+        double level;
+        int ups = 0, pulse;
+        char why[256];
         peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
         level = PULSE_LEVEL * out[S_PEAK];
-        if (R(H, 0, j) > level) times[n++] = H->t[0];
-        n += crossings(H, j, level, 0, MAXC, times + n, NULL);
-        if (R(H, last, j) > level) times[n++] = t_end;
-        for (i = 0; i + 1 < n; i += 2) sum += times[i + 1] - times[i];
-        out[S_DURATION] = sum;
+        if (out[S_PEAK] > 0 && out[S_TPEAK] >= t_end)
+            pdbfs_note(m, "the pressure still rises at t_end = %.6g s: its peak is later", t_end);
+        if (!(out[S_PEAK] > 0)) {
+            out[S_DURATION] = 0.0;
+            out[S_COMPLETE] = 0.0;
+            pdbfs_note(m, "no pressure pulse in [0, %.6g] s", t_end);
+        } else {
+            if (crossings(H, j, level, &c)) {
+                free_crossings(&c);
+                pdbfs_note(m, "out of memory");
+                return RC_NO_MEMORY;
+            }
+            pulse = pdbfs_pulse_pairs(c.n, c.t, c.dir, R(H, 0, j) > level, R(H, last, j) > level,
+                                      H->t[0], t_end, &out[S_DURATION], why, sizeof why);
+            for (i = 0; i < c.n; i++) ups += c.dir[i] > 0;
+            free_crossings(&c);
+            if (pulse == PULSE_BAD) {
+                pdbfs_note(m, "%s", why);
+                return RC_BAD_CROSSINGS;
+            }
+            if (pulse == PULSE_CUT) pdbfs_note(m, "%s", why);
+            out[S_COMPLETE] = pulse == PULSE_OK && ups > 0 && ended ? 1.0 : 0.0;
+        }
     }
+    if (!ended) pdbfs_note(m, "the contact continues at t_end: the blow has not ended");
     if (PDBFS_ROLE_DISP >= 0) {
         double t;
         peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
@@ -189,72 +259,86 @@ static void summarise(const History *H, double *out) {
 #if PDBFS_ROLE_FORCE >= 0
     {
         const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
-        double t_pk, f_pk, before = 0.0, after = 0.0, x_pk[NXQ];
+        double t_pk, f_pk, before = 0.0, after = 0.0;
         peak(H, f, 0, H->n, &t_pk, &out[S_FORCE], NULL);
-        if (!(out[S_FORCE] > 0)) return;                 /* no contact: restitution undefined */
+        if (!(out[S_FORCE] > 0)) return rc;              /* no contact: restitution undefined */
         if (PDBFS_ROLE_VELOCITY >= 0) {
             /* Guo & Batzer over the blow, split where the striker stops (its velocity
              * turns from down to up), up to the apex of its rebound (or the end) */
-            double tc[MAXC], xc[MAXC * NXQ], q_back;
-            int n = crossings(H, PDBFS_ROLE_VELOCITY, 0.0, 0, MAXC, tc, xc), k = -1;
-            for (i = 0; i < n && k < 0; i++) {
-                double r[NRX];
-                pdbfs_eval_txp(H->ev, pdbfs_roles_dot, tc[i], xc + i * NXQ, r);
-                if (r[PDBFS_ROLE_VELOCITY] < 0) k = i;
+            double q_back;
+            long k = -1;
+            if (crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c)) {
+                free_crossings(&c);
+                pdbfs_note(m, "out of memory");
+                return RC_NO_MEMORY;
             }
-            if (k < 0) return;
-            q_back = k + 1 < n ? xc[(k + 1) * NXQ + iq] : H->x[last * NXQ + iq];
-            before = xc[k * NXQ + iq];
-            after = q_back - before;
+            for (i = 0; i < c.n && k < 0; i++)
+                if (c.dir[i] < 0) k = i;                 /* from down (v > 0) to up (v < 0) */
+            if (k >= 0 && (k + 1 < c.n || ended)) {      /* the rebound's impulse is all in */
+                q_back = k + 1 < c.n ? c.x[(k + 1) * NXQ + iq] : H->x[last * NXQ + iq];
+                before = c.x[k * NXQ + iq];
+                after = q_back - before;
+            }
+            free_crossings(&c);
         } else {
             /* the first contact, split at its force peak */
             long k = 0, e;
             while (k < H->n && !(R(H, k, f) > 0)) k++;
             for (e = k; e < H->n && R(H, e, f) > 0; e++) {}
-            if (e > last) e = last;
-            peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
-            before = x_pk[iq];
-            after = H->x[e * NXQ + iq] - before;
+            if (e <= last) {                             /* the contact ended inside the run */
+                peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
+                before = x_pk[iq];
+                after = H->x[e * NXQ + iq] - before;
+            }
         }
         out[S_RESTITUTION] = before > 0 ? after / before : NAN;
     }
 #endif
+    return rc;
+}
+
+static double seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 API int pdbfs_summary_nsum(void) { return NSUM; }
+API int pdbfs_summary_nstat(void) { return NSTAT; }
 
 /*
  * Summaries of n parameter points (P: n x np, row major) over [0, t_end],
  * each from the rig's own start values x0(p).  out: n x NSUM (NaN where an
  * entry is undefined or the rig has no such role); codes: 0 or the point's
- * failure (as pdbfs_batch_run's); msgs: n x msglen.  Returns the number of
+ * failure (as pdbfs_batch_run's, or RC_BAD_CROSSINGS); msgs: n x msglen, the
+ * reason of a failure or the warnings of a point that did not fail (a pulse
+ * cut off at t_end); stats: n x NSTAT (may be NULL).  Returns the number of
  * points that failed, -1 for bad arguments.
  */
 API long long pdbfs_summary_batch(long long n, long long np, const double *P, double t_end,
                                   double rtol, double atol, int method, double max_step,
                                   long long max_num_steps, double *out, int *codes, char *msgs,
-                                  long long msglen) {
+                                  long long msglen, double *stats) {
     long long i, failed = 0;
-    char *work = malloc(sizeof(double) * (PDBFS_SZ_W + 1) + sizeof(casadi_int) * (PDBFS_SZ_IW + 1)
-                        + sizeof(void *) * (PDBFS_SZ_ARG + PDBFS_SZ_RES + 2));
     PdbfsEval ev;
     History H;
     PdbfsCvode s;
     PdbfsCvodeSettings set;
-    double atolv[NXQ], x0[NXQ], xe[NXQ];
-    char *b = work;
-    if (!work || np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) {
+    void *work;
+    double *atolv, *x0, *xe, *x_pk;
+    if (np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) return -1;
+    work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
+    atolv = malloc(sizeof(double) * NXQ * (4 + MAXR));
+    memset(&H, 0, sizeof H);
+    if (!work || !atolv) {
         free(work);
+        free(atolv);
         return -1;
     }
-    ev.w = (casadi_real *)b;
-    b += sizeof(double) * (PDBFS_SZ_W + 1);
-    ev.arg = (const casadi_real **)b;
-    b += sizeof(void *) * (PDBFS_SZ_ARG + 1);
-    ev.res = (casadi_real **)b;
-    b += sizeof(void *) * (PDBFS_SZ_RES + 1);
-    ev.iw = (casadi_int *)b;
-    memset(&H, 0, sizeof H);
+    x0 = atolv + NXQ;
+    xe = x0 + NXQ;
+    x_pk = xe + NXQ;
+    H.rx = x_pk + NXQ;
     H.ev = &ev;
     H.cv = &s;
     H.set = &set;
@@ -272,9 +356,13 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     s.jac = pdbfs_jac_q;
     s.jac_sp = pdbfs_jac_q_sparsity_out(0);
     for (i = 0; i < n; i++) {
-        char *msg = msgs && msglen > 0 ? msgs + i * msglen : NULL;
+        Note m;
         int k, code = 0;
-        if (msg) msg[0] = 0;
+        double t0 = seconds();
+        m.text = msgs && msglen > 0 ? msgs + i * msglen : NULL;
+        m.len = m.text ? (size_t)msglen : 0;
+        if (m.text) m.text[0] = 0;
+        s.steps = s.roots = s.rhs_evals = s.jac_evals = 0;
         ev.p = P + i * np;
         for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
         ev.arg[0] = ev.p;
@@ -286,7 +374,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
         for (k = 0; k < PDBFS_NP; k++)
             if (!isfinite(ev.p[k])) code = 1;
         if (code) {
-            if (msg) snprintf(msg, (size_t)msglen, "parameters or start values are not finite");
+            pdbfs_note(&m, "parameters or start values are not finite");
         } else {
             H.n = 0;
             H.oom = H.bad = 0;
@@ -297,20 +385,32 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
             s.step_env = &H;
             if (!code) code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
             s.on_step = NULL;
-            if (code && msg)
-                snprintf(msg, (size_t)msglen, "%s at t = %.6g s", H.oom ? "out of memory"
-                         : H.bad ? "the solution became NaN or infinite"
-                         : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps" : "CVODE failed", s.tn);
-            if (code && H.bad) code = 4;   /* RC_NOT_FINITE of pdbfs_batch.c */
-            if (!code) summarise(&H, out + i * NSUM);
+            if (code)
+                pdbfs_note(&m, "%s at t = %.6g s", H.oom ? "out of memory"
+                     : H.bad ? "the solution became NaN or infinite"
+                     : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps" : "CVODE failed", s.tn);
+            if (code && H.bad) code = RC_NOT_FINITE;
+            if (!code) code = summarise(&H, out + i * NSUM, x_pk, &m);
         }
+        if (code)   /* a failed point has no values */
+            for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
         codes[i] = code;
         if (code) failed++;
+        if (stats) {
+            double *st = stats + i * NSTAT;
+            st[ST_STEPS] = (double)s.steps;
+            st[ST_RHS] = (double)s.rhs_evals;
+            st[ST_JAC] = (double)s.jac_evals;
+            st[ST_ROOTS] = (double)s.roots;
+            st[ST_METHOD] = (double)(s.method | s.nls << 4 | s.linsol << 8);
+            st[ST_WALL] = seconds() - t0;
+        }
     }
     pdbfs_cvode_free(&s);
     free(H.t);
     free(H.x);
     free(H.r);
+    free(atolv);
     free(work);
     return failed;
 }
