@@ -44,7 +44,7 @@
 #define NRX (NR > 0 ? NR : 1)
 #define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
 #define NXQ (PDBFS_NX + NQ)
-#define MAXR 8                                /* roots taken from one refined step */
+#define MAXR 8                                /* roots of one refined step, to start with */
 
 /* the summary's entries, in this order (pdbfs.simulation.compiled.SUMMARY_KEYS) */
 enum { S_PEAK, S_TPEAK, S_DURATION, S_FORCE, S_DISP, S_RESTITUTION, S_COMPLETE, NSUM };
@@ -63,7 +63,9 @@ typedef struct {
     PdbfsEval *ev;
     PdbfsCvode *cv;           /* for the refinements */
     const PdbfsCvodeSettings *set;
-    double *rx;               /* the refinements' states: MAXR x NXQ */
+    /* the roots of the last refinement: times, states (NXQ each), directions; room for rcap */
+    double *rt, *rx;
+    int *rd, rcap;
 } History;
 
 /* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */
@@ -144,16 +146,34 @@ static int target_fn(void *env, double t, const double *x, double *g) {
     return 0;
 }
 
-/* roots of the target on record steps k0 .. k1-1, integrated again from record
- * k0: times in t, states in H->rx, directions in d (at most MAXR) */
-static int refine(const History *H, long k0, long k1, Target *q, int dir, double *t, int *d) {
+static int grow_roots(History *H, int cap) {
+    double *t = realloc(H->rt, sizeof(double) * cap), *x = NULL;
+    int *d = NULL;
+    if (t) H->rt = t;
+    if (t) x = realloc(H->rx, sizeof(double) * cap * NXQ);
+    if (x) H->rx = x;
+    if (x) d = realloc(H->rd, sizeof(int) * cap);
+    if (d) H->rd = d;
+    if (!d) return -1;
+    H->rcap = cap;
+    return 0;
+}
+
+/* every root of the target on record steps k0 .. k1-1, integrated again from
+ * record k0 (again with more room while the room fills): times, states and
+ * directions in H->rt, rx, rd; their number, or -1 when out of memory */
+static int refine(History *H, long k0, long k1, Target *q, int dir) {
     int n;
     if (k0 < 0) k0 = 0;
     if (k1 > H->n - 1) k1 = H->n - 1;
     if (k1 <= k0 || !(H->t[k1] > H->t[k0])) return 0;
-    n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q, dir,
-                          MAXR, t, H->rx, d);
-    return n > 0 ? n : 0;
+    for (;;) {
+        if (H->rcap == 0 && grow_roots(H, MAXR)) return -1;
+        n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q,
+                              dir, H->rcap, H->rt, H->rx, H->rd);
+        if (n < H->rcap) return n > 0 ? n : 0;
+        if (grow_roots(H, 2 * H->rcap)) return -1;
+    }
 }
 
 static double role_at(const History *H, int j, double t, const double *x) {
@@ -164,10 +184,8 @@ static double role_at(const History *H, int j, double t, const double *x) {
 
 /* the largest value of role j over records k0 .. k1-1, refined where its slope
  * turns; its time, value and (x_pk not NULL) state */
-static void peak(const History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk) {
+static int peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk) {
     long k, best = k0;
-    double t[MAXR];
-    int d[MAXR];
     Target q;
     int i, n;
     for (k = k0; k < k1; k++)
@@ -179,20 +197,22 @@ static void peak(const History *H, int j, long k0, long k1, double *t_pk, double
     q.role = j;
     q.slope = 1;
     q.level = 0.0;
-    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1, t, d);
+    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1);
     for (i = 0; i < n; i++) {
-        double v = role_at(H, j, t[i], H->rx + i * NXQ);
+        double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);
         if (v > *v_pk) {
             *v_pk = v;
-            *t_pk = t[i];
+            *t_pk = H->rt[i];
             if (x_pk) memcpy(x_pk, H->rx + i * NXQ, sizeof(double) * NXQ);
         }
     }
+    return n < 0 ? -1 : 0;
 }
 
 /* every crossing of role j through level (both directions), in time order,
- * appended to c; -1 when out of memory */
-static int crossings(const History *H, int j, double level, Crossings *c) {
+ * appended to c; -1 when out of memory, -2 when a step's crossings do not
+ * lead from one side to the other */
+static int crossings(History *H, int j, double level, Crossings *c) {
     long k;
     Target q;
     q.ev = H->ev;
@@ -200,21 +220,64 @@ static int crossings(const History *H, int j, double level, Crossings *c) {
     q.slope = 0;
     q.level = level;
     for (k = 0; k + 1 < H->n; k++) {
-        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level, t[MAXR];
-        int d[MAXR], i, m;
+        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
+        int i, m;
         if (!((a < 0 && b >= 0) || (a > 0 && b <= 0))) continue;
-        m = refine(H, k, k + 1, &q, 0, t, d);
+        m = refine(H, k, k + 1, &q, 0);
+        if (m < 0) return -1;
+        /* the step's crossings lead from a's side to b's: else the integration
+         * again from record k does not see what the first did (a signal at
+         * the size of the solver's error) */
+        if (m % 2 == 0 || H->rd[0] != (a < 0 ? 1 : -1)) return -2;
         for (i = 0; i < m; i++)
-            if (add_crossing(c, t[i], d[i], H->rx + i * NXQ)) return -1;
+            if (add_crossing(c, H->rt[i], H->rd[i], H->rx + i * NXQ)) return -1;
     }
     return 0;
 }
 
 /* -------------------------------------------------------------- summary */
 
+#if PDBFS_ROLE_FORCE >= 0
+/* Guo & Batzer's impulse ratio, as summary.py's restitution; NaN where it is
+ * undefined or the run ends before the rebound's impulse is all in */
+static double restitution(History *H, double *x_pk, int ended, int *oom) {
+    const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
+    long last = H->n - 1;
+    double before = 0.0, after = 0.0;
+    if (PDBFS_ROLE_VELOCITY >= 0) {
+        /* over the blow, split where the striker stops (its velocity turns from
+         * down to up), up to the apex of its rebound (or the end) */
+        Crossings c = {0};
+        long k = -1, i;
+        int r = crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c);   /* -2: turns not resolved */
+        if (r == -1) *oom = 1;
+        for (i = 0; i < c.n && k < 0; i++)
+            if (c.dir[i] < 0) k = i;                     /* from down (v > 0) to up (v < 0) */
+        if (!r && k >= 0 && (k + 1 < c.n || ended)) {
+            double q_back = k + 1 < c.n ? c.x[(k + 1) * NXQ + iq] : H->x[last * NXQ + iq];
+            before = c.x[k * NXQ + iq];
+            after = q_back - before;
+        }
+        free_crossings(&c);
+    } else {
+        /* the first contact, split at its force peak */
+        long k = 0, e;
+        double t_pk, f_pk;
+        while (k < H->n && !(R(H, k, f) > 0)) k++;
+        for (e = k; e < H->n && R(H, e, f) > 0; e++) {}
+        if (e <= last) {                                 /* the contact ended inside the run */
+            *oom |= peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
+            before = x_pk[iq];
+            after = H->x[e * NXQ + iq] - before;
+        }
+    }
+    return before > 0 ? after / before : NAN;
+}
+#endif
+
 /* the summary of one point into out; 0, or a failure code with its reason in m */
-static int summarise(const History *H, double *out, double *x_pk, Note *m) {
-    int i, ended = 1, rc = 0;
+static int summarise(History *H, double *out, double *x_pk, Note *m) {
+    int i, ended = 1, oom = 0;
     long last = H->n - 1;
     double t_end = H->t[last];
     Crossings c = {0};
@@ -223,9 +286,9 @@ static int summarise(const History *H, double *out, double *x_pk, Note *m) {
     if (PDBFS_ROLE_PRESSURE >= 0) {
         const int j = PDBFS_ROLE_PRESSURE;
         double level;
-        int ups = 0, pulse;
+        int ups = 0, pulse, k;
         char why[256];
-        peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
+        oom |= peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
         level = PULSE_LEVEL * out[S_PEAK];
         if (out[S_PEAK] > 0 && out[S_TPEAK] >= t_end)
             pdbfs_note(m, "the pressure still rises at t_end = %.6g s: its peak is later", t_end);
@@ -234,10 +297,14 @@ static int summarise(const History *H, double *out, double *x_pk, Note *m) {
             out[S_COMPLETE] = 0.0;
             pdbfs_note(m, "no pressure pulse in [0, %.6g] s", t_end);
         } else {
-            if (crossings(H, j, level, &c)) {
+            k = crossings(H, j, level, &c);
+            if (k) {
                 free_crossings(&c);
-                pdbfs_note(m, "out of memory");
-                return RC_NO_MEMORY;
+                if (k == -1) pdbfs_note(m, "out of memory");
+                else pdbfs_note(m, "the pressure's crossings of %g %% of its peak (%.6g) are not "
+                                "resolved: integrated again, a step shows other crossings (tighten "
+                                "rtol and atol)", 100 * PULSE_LEVEL, level);
+                return k == -1 ? RC_NO_MEMORY : RC_BAD_CROSSINGS;
             }
             pulse = pdbfs_pulse_pairs(c.n, c.t, c.dir, R(H, 0, j) > level, R(H, last, j) > level,
                                       H->t[0], t_end, &out[S_DURATION], why, sizeof why);
@@ -254,47 +321,20 @@ static int summarise(const History *H, double *out, double *x_pk, Note *m) {
     if (!ended) pdbfs_note(m, "the contact continues at t_end: the blow has not ended");
     if (PDBFS_ROLE_DISP >= 0) {
         double t;
-        peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
+        oom |= peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
     }
 #if PDBFS_ROLE_FORCE >= 0
     {
-        const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
-        double t_pk, f_pk, before = 0.0, after = 0.0;
-        peak(H, f, 0, H->n, &t_pk, &out[S_FORCE], NULL);
-        if (!(out[S_FORCE] > 0)) return rc;              /* no contact: restitution undefined */
-        if (PDBFS_ROLE_VELOCITY >= 0) {
-            /* Guo & Batzer over the blow, split where the striker stops (its velocity
-             * turns from down to up), up to the apex of its rebound (or the end) */
-            double q_back;
-            long k = -1;
-            if (crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c)) {
-                free_crossings(&c);
-                pdbfs_note(m, "out of memory");
-                return RC_NO_MEMORY;
-            }
-            for (i = 0; i < c.n && k < 0; i++)
-                if (c.dir[i] < 0) k = i;                 /* from down (v > 0) to up (v < 0) */
-            if (k >= 0 && (k + 1 < c.n || ended)) {      /* the rebound's impulse is all in */
-                q_back = k + 1 < c.n ? c.x[(k + 1) * NXQ + iq] : H->x[last * NXQ + iq];
-                before = c.x[k * NXQ + iq];
-                after = q_back - before;
-            }
-            free_crossings(&c);
-        } else {
-            /* the first contact, split at its force peak */
-            long k = 0, e;
-            while (k < H->n && !(R(H, k, f) > 0)) k++;
-            for (e = k; e < H->n && R(H, e, f) > 0; e++) {}
-            if (e <= last) {                             /* the contact ended inside the run */
-                peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
-                before = x_pk[iq];
-                after = H->x[e * NXQ + iq] - before;
-            }
-        }
-        out[S_RESTITUTION] = before > 0 ? after / before : NAN;
-    }
+        double t;
+        oom |= peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
+        if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom);
+    }                                                /* no contact: restitution undefined */
 #endif
-    return rc;
+    if (oom & 1) {
+        pdbfs_note(m, "out of memory");
+        return RC_NO_MEMORY;
+    }
+    return 0;
 }
 
 static double seconds(void) {
@@ -328,7 +368,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     double *atolv, *x0, *xe, *x_pk;
     if (np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) return -1;
     work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
-    atolv = malloc(sizeof(double) * NXQ * (4 + MAXR));
+    atolv = malloc(sizeof(double) * NXQ * 4);
     memset(&H, 0, sizeof H);
     if (!work || !atolv) {
         free(work);
@@ -338,7 +378,6 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     x0 = atolv + NXQ;
     xe = x0 + NXQ;
     x_pk = xe + NXQ;
-    H.rx = x_pk + NXQ;
     H.ev = &ev;
     H.cv = &s;
     H.set = &set;
@@ -410,6 +449,9 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     free(H.t);
     free(H.x);
     free(H.r);
+    free(H.rt);
+    free(H.rx);
+    free(H.rd);
     free(atolv);
     free(work);
     return failed;
