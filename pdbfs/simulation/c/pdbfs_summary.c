@@ -12,7 +12,8 @@
  * of the integration itself.
  *
  * One pass records the state and the roles after every internal step (the
- * rig's events are CVODE roots and restarts, so no step straddles a kink).
+ * rig's events are CVODE roots and restarts, so no step straddles a kink;
+ * pdbfs_record.c).
  * Then the few steps that matter are integrated again from their recorded
  * start with CVODE's root finding on the quantity in question: the slope of
  * a role where its largest record lies (the peak), the pressure minus 1 % of
@@ -38,204 +39,19 @@
 #include "pdbfs_batch_model.h"
 #include "pdbfs_cvode.h"
 #include "pdbfs_pulse.h"
+#include "pdbfs_record.h"
 
 #define API __attribute__((visibility("default")))
-#define NR PDBFS_NR
-#define NRX (NR > 0 ? NR : 1)
-#define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
-#define NXQ (PDBFS_NX + NQ)
-#define MAXR 8                                /* roots of one refined step, to start with */
 
 /* the summary's entries, in this order (pdbfs.simulation.compiled.SUMMARY_KEYS) */
 enum { S_PEAK, S_TPEAK, S_DURATION, S_FORCE, S_DISP, S_RESTITUTION, S_COMPLETE, NSUM };
-/* the statistics of a point, in this order (pdbfs.simulation.compiled.STAT_COLUMNS) */
+/* the statistics of a point, in this order (pdbfs.simulation.compiled.STAT_KEYS) */
 enum { ST_STEPS, ST_RHS, ST_JAC, ST_ROOTS, ST_METHOD, ST_WALL, NSTAT };
 
 /* a point's failures beyond pdbfs_batch_run's codes */
 #define RC_NOT_FINITE 4      /* as pdbfs_batch.c */
 #define RC_NO_MEMORY 2
-#define RC_BAD_CROSSINGS 6   /* the pulse's crossings do not alternate */
-
-typedef struct {
-    double *t, *x, *r;        /* per record: time, state (NXQ), roles (NR) */
-    long n, cap;
-    int oom, bad;             /* out of memory; a role not finite */
-    PdbfsEval *ev;
-    PdbfsCvode *cv;           /* for the refinements */
-    const PdbfsCvodeSettings *set;
-    /* the roots of the last refinement: times, states (NXQ each), directions; room for rcap */
-    double *rt, *rx;
-    int *rd, rcap;
-} History;
-
-/* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */
-typedef struct {
-    double *t, *x;
-    int *dir;
-    long n, cap;
-} Crossings;
-
-#define R(H, k, j) ((H)->r[(k) * NRX + (j)])
-
-static int record(void *env, double t, const double *x) {
-    History *h = (History *)env;
-    int j;
-    if (h->n == h->cap) {
-        long cap = h->cap ? 2 * h->cap : 2048;
-        double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
-        if (nt) h->t = nt;
-        if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
-        if (nx) h->x = nx;
-        if (nx) nr = realloc(h->r, sizeof(double) * cap * NRX);
-        if (nr) h->r = nr;
-        if (!nr) {
-            h->oom = 1;
-            return 1;
-        }
-        h->cap = cap;
-    }
-    h->t[h->n] = t;
-    memcpy(h->x + h->n * NXQ, x, sizeof(double) * NXQ);
-    if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
-    for (j = 0; j < NR; j++)
-        if (!isfinite(R(h, h->n, j))) h->bad = 1;
-    h->n++;
-    return h->bad;
-}
-
-static int add_crossing(Crossings *c, double t, int dir, const double *x) {
-    if (c->n == c->cap) {
-        long cap = c->cap ? 2 * c->cap : 16;
-        double *nt = realloc(c->t, sizeof(double) * cap), *nx = NULL;
-        int *nd = NULL;
-        if (nt) c->t = nt;
-        if (nt) nx = realloc(c->x, sizeof(double) * cap * NXQ);
-        if (nx) c->x = nx;
-        if (nx) nd = realloc(c->dir, sizeof(int) * cap);
-        if (nd) c->dir = nd;
-        if (!nd) return -1;
-        c->cap = cap;
-    }
-    c->t[c->n] = t;
-    c->dir[c->n] = dir;
-    memcpy(c->x + c->n * NXQ, x, sizeof(double) * NXQ);
-    c->n++;
-    return 0;
-}
-
-static void free_crossings(Crossings *c) {
-    free(c->t);
-    free(c->x);
-    free(c->dir);
-    memset(c, 0, sizeof *c);
-}
-
-/* ------------------------------------------------------------ refinement */
-
-typedef struct {
-    PdbfsEval *ev;
-    int role, slope;          /* the role, and whether its slope (else value - level) */
-    double level;
-} Target;
-
-static int target_fn(void *env, double t, const double *x, double *g) {
-    Target *q = (Target *)env;
-    double r[NRX];
-    pdbfs_eval_txp(q->ev, q->slope ? pdbfs_roles_dot : pdbfs_roles, t, x, r);
-    *g = r[q->role] - (q->slope ? 0.0 : q->level);
-    return 0;
-}
-
-static int grow_roots(History *H, int cap) {
-    double *t = realloc(H->rt, sizeof(double) * cap), *x = NULL;
-    int *d = NULL;
-    if (t) H->rt = t;
-    if (t) x = realloc(H->rx, sizeof(double) * cap * NXQ);
-    if (x) H->rx = x;
-    if (x) d = realloc(H->rd, sizeof(int) * cap);
-    if (d) H->rd = d;
-    if (!d) return -1;
-    H->rcap = cap;
-    return 0;
-}
-
-/* every root of the target on record steps k0 .. k1-1, integrated again from
- * record k0 (again with more room while the room fills): times, states and
- * directions in H->rt, rx, rd; their number, or -1 when out of memory */
-static int refine(History *H, long k0, long k1, Target *q, int dir) {
-    int n;
-    if (k0 < 0) k0 = 0;
-    if (k1 > H->n - 1) k1 = H->n - 1;
-    if (k1 <= k0 || !(H->t[k1] > H->t[k0])) return 0;
-    for (;;) {
-        if (H->rcap == 0 && grow_roots(H, MAXR)) return -1;
-        n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q,
-                              dir, H->rcap, H->rt, H->rx, H->rd);
-        if (n < H->rcap) return n > 0 ? n : 0;
-        if (grow_roots(H, 2 * H->rcap)) return -1;
-    }
-}
-
-static double role_at(const History *H, int j, double t, const double *x) {
-    double r[NRX];
-    pdbfs_eval_txp(H->ev, pdbfs_roles, t, x, r);
-    return r[j];
-}
-
-/* the largest value of role j over records k0 .. k1-1, refined where its slope
- * turns; its time, value and (x_pk not NULL) state */
-static int peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk) {
-    long k, best = k0;
-    Target q;
-    int i, n;
-    for (k = k0; k < k1; k++)
-        if (R(H, k, j) > R(H, best, j)) best = k;
-    *t_pk = H->t[best];
-    *v_pk = R(H, best, j);
-    if (x_pk) memcpy(x_pk, H->x + best * NXQ, sizeof(double) * NXQ);
-    q.ev = H->ev;
-    q.role = j;
-    q.slope = 1;
-    q.level = 0.0;
-    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1);
-    for (i = 0; i < n; i++) {
-        double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);
-        if (v > *v_pk) {
-            *v_pk = v;
-            *t_pk = H->rt[i];
-            if (x_pk) memcpy(x_pk, H->rx + i * NXQ, sizeof(double) * NXQ);
-        }
-    }
-    return n < 0 ? -1 : 0;
-}
-
-/* every crossing of role j through level (both directions), in time order,
- * appended to c; -1 when out of memory, -2 when a step's crossings do not
- * lead from one side to the other */
-static int crossings(History *H, int j, double level, Crossings *c) {
-    long k;
-    Target q;
-    q.ev = H->ev;
-    q.role = j;
-    q.slope = 0;
-    q.level = level;
-    for (k = 0; k + 1 < H->n; k++) {
-        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
-        int i, m;
-        if (!((a < 0 && b >= 0) || (a > 0 && b <= 0))) continue;
-        m = refine(H, k, k + 1, &q, 0);
-        if (m < 0) return -1;
-        /* the step's crossings lead from a's side to b's: else the integration
-         * again from record k does not see what the first did (a signal at
-         * the size of the solver's error) */
-        if (m % 2 == 0 || H->rd[0] != (a < 0 ? 1 : -1)) return -2;
-        for (i = 0; i < m; i++)
-            if (add_crossing(c, H->rt[i], H->rd[i], H->rx + i * NXQ)) return -1;
-    }
-    return 0;
-}
-
-/* -------------------------------------------------------------- summary */
+#define RC_BAD_CROSSINGS 6   /* the pulse's crossings do not alternate or are not resolved */
 
 #if PDBFS_ROLE_FORCE >= 0
 /* Guo & Batzer's impulse ratio, as summary.py's restitution; NaN where it is
@@ -249,7 +65,7 @@ static double restitution(History *H, double *x_pk, int ended, int *oom) {
          * down to up), up to the apex of its rebound (or the end) */
         Crossings c = {0};
         long k = -1, i;
-        int r = crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c);   /* -2: turns not resolved */
+        int r = pdbfs_crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c);   /* -2: turns not resolved */
         if (r == -1) *oom = 1;
         for (i = 0; i < c.n && k < 0; i++)
             if (c.dir[i] < 0) k = i;                     /* from down (v > 0) to up (v < 0) */
@@ -258,7 +74,7 @@ static double restitution(History *H, double *x_pk, int ended, int *oom) {
             before = c.x[k * NXQ + iq];
             after = q_back - before;
         }
-        free_crossings(&c);
+        pdbfs_free_crossings(&c);
     } else {
         /* the first contact, split at its force peak */
         long k = 0, e;
@@ -266,7 +82,7 @@ static double restitution(History *H, double *x_pk, int ended, int *oom) {
         while (k < H->n && !(R(H, k, f) > 0)) k++;
         for (e = k; e < H->n && R(H, e, f) > 0; e++) {}
         if (e <= last) {                                 /* the contact ended inside the run */
-            *oom |= peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
+            *oom |= pdbfs_peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
             before = x_pk[iq];
             after = H->x[e * NXQ + iq] - before;
         }
@@ -288,7 +104,7 @@ static int summarise(History *H, double *out, double *x_pk, Note *m) {
         double level;
         int ups = 0, pulse, k;
         char why[256];
-        oom |= peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
+        oom |= pdbfs_peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
         level = PULSE_LEVEL * out[S_PEAK];
         if (out[S_PEAK] > 0 && out[S_TPEAK] >= t_end)
             pdbfs_note(m, "the pressure still rises at t_end = %.6g s: its peak is later", t_end);
@@ -297,9 +113,9 @@ static int summarise(History *H, double *out, double *x_pk, Note *m) {
             out[S_COMPLETE] = 0.0;
             pdbfs_note(m, "no pressure pulse in [0, %.6g] s", t_end);
         } else {
-            k = crossings(H, j, level, &c);
+            k = pdbfs_crossings(H, j, level, &c);
             if (k) {
-                free_crossings(&c);
+                pdbfs_free_crossings(&c);
                 if (k == -1) pdbfs_note(m, "out of memory");
                 else pdbfs_note(m, "the pressure's crossings of %g %% of its peak (%.6g) are not "
                                 "resolved: integrated again, a step shows other crossings (tighten "
@@ -309,7 +125,7 @@ static int summarise(History *H, double *out, double *x_pk, Note *m) {
             pulse = pdbfs_pulse_pairs(c.n, c.t, c.dir, R(H, 0, j) > level, R(H, last, j) > level,
                                       H->t[0], t_end, &out[S_DURATION], why, sizeof why);
             for (i = 0; i < c.n; i++) ups += c.dir[i] > 0;
-            free_crossings(&c);
+            pdbfs_free_crossings(&c);
             if (pulse == PULSE_BAD) {
                 pdbfs_note(m, "%s", why);
                 return RC_BAD_CROSSINGS;
@@ -321,12 +137,12 @@ static int summarise(History *H, double *out, double *x_pk, Note *m) {
     if (!ended) pdbfs_note(m, "the contact continues at t_end: the blow has not ended");
     if (PDBFS_ROLE_DISP >= 0) {
         double t;
-        oom |= peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
+        oom |= pdbfs_peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
     }
 #if PDBFS_ROLE_FORCE >= 0
     {
         double t;
-        oom |= peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
+        oom |= pdbfs_peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
         if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom);
     }                                                /* no contact: restitution undefined */
 #endif
@@ -419,8 +235,8 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
             H.oom = H.bad = 0;
             s.on_step = NULL;
             code = pdbfs_cvode_start(&s, &set, 0.0, x0);
-            if (!code) record(&H, 0.0, x0);
-            s.on_step = record;
+            if (!code) pdbfs_record_step(&H, 0.0, x0);
+            s.on_step = pdbfs_record_step;
             s.step_env = &H;
             if (!code) code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
             s.on_step = NULL;
