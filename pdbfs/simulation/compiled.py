@@ -5,8 +5,10 @@ The DAE's model functions are generated as C by CasADi, compiled with
 generic drivers and CVODE into one shared library (``compiled_build.py``),
 and called through ctypes: ``run`` integrates one point over a whole output
 grid (``c/pdbfs_batch.c``); ``summaries`` integrates many points and reduces
-each to its summary during the integration (``c/pdbfs_summary.c``), without
-a Python object per point. The library is built once per rig structure and
+each to its summary during the integration (``c/pdbfs_summary.c``, on the
+record of ``c/pdbfs_record.c``, the pulse paired in ``c/pdbfs_pulse.c``),
+without a Python object per point. Both report CVODE's statistics
+(``STAT_KEYS``). The library is built once per rig structure and
 loaded once per DAE: parameters, start values, tolerances and the grid are
 call arguments, so nothing is rebuilt when they change. ctypes releases the
 GIL during a call, so threads run calls in parallel.
