@@ -93,6 +93,12 @@ def measure(n, args, tmp):
     return row
 
 
+def shown(column, v):
+    if column.endswith("steps"):
+        return f"{v:d}"
+    return f"{v:.3g}" if column.endswith("step") else f"{v:.3g} s"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="1,10,100,1000,2000", help="numbers of piston masses")
@@ -109,8 +115,7 @@ def main(argv=None):
         for n in ns:
             rows[n] = measure(n, args, tmp)
             print(f"N = {n:5d} ({2 * n + 4} states): " + ", ".join(
-                f"{k} {v:d}" if k.endswith("steps") else f"{k} {v:.3g}{'' if k.endswith('step') else ' s'}"
-                for k, v in rows[n].items()), flush=True)
+                f"{k} {shown(k, v)}" for k, v in rows[n].items()), flush=True)
     cols = [c for c in rows[ns[0]] if all(c in rows[n] for n in ns)]
     base = rows[ns[0]]
     print(f"\nratio to N = {ns[0]} (same process), and exponent k of c*N^k over N >= 10")
