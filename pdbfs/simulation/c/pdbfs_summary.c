@@ -56,7 +56,7 @@ enum { ST_STEPS, ST_RHS, ST_JAC, ST_ROOTS, ST_METHOD, ST_WALL, NSTAT };
 #if PDBFS_ROLE_FORCE >= 0
 /* Guo & Batzer's impulse ratio, as summary.py's restitution; NaN where it is
  * undefined or the run ends before the rebound's impulse is all in */
-static double restitution(History *H, double *x_pk, int ended, int *oom) {
+static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m) {
     const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
     long last = H->n - 1;
     double before = 0.0, after = 0.0;
@@ -67,6 +67,8 @@ static double restitution(History *H, double *x_pk, int ended, int *oom) {
         long k = -1, i;
         int r = pdbfs_crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c);   /* -2: turns not resolved */
         if (r == -1) *oom = 1;
+        if (r == -2) pdbfs_note(m, "the striker's turn is not resolved: no restitution (tighten "
+                                "rtol and atol)");
         for (i = 0; i < c.n && k < 0; i++)
             if (c.dir[i] < 0) k = i;                     /* from down (v > 0) to up (v < 0) */
         if (!r && k >= 0 && (k + 1 < c.n || ended)) {
@@ -143,7 +145,7 @@ static int summarise(History *H, double *out, double *x_pk, Note *m) {
     {
         double t;
         oom |= pdbfs_peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
-        if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom);
+        if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom, m);
     }                                                /* no contact: restitution undefined */
 #endif
     if (oom & 1) {
