@@ -9,6 +9,12 @@ piston masses (2N + 4 states), on this machine, in one run:
              and compilation, once per rig structure);
 * FMU        rig.export_fmu(): C generation, compilation, zip (``--fmu``).
 
+With the solver statistics of a run (``Result.stats``; for the compiled
+backend its driver's), the steps CVODE took and the cost of one step
+(simulate time / steps, in us) are columns too: they tell the growth of
+the steps (the chain's fastest mode) from the growth of a step's cost (the
+band LU, linear in N).
+
 Each column is also printed as a ratio to N = 1's (the baseline, in the
 same process), and fitted as c * N^k over N >= 10: k is the exponent.
 
@@ -29,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from pdbfs.models import split_piston_rig
-from pdbfs.simulation import compiled_build
+from pdbfs.simulation import Simulator, compiled_build
 
 
 def timed(f):
@@ -46,19 +52,51 @@ def fit(ns, ts):
     return float(np.polyfit(np.log(ns[keep]), np.log(ts[keep]), 1)[0])
 
 
+def steps_of(res, rig=None):
+    """CVODE's steps in the run of ``res``: from ``res.stats`` where the
+    Result has them, else (compiled backend) from its driver, run again with
+    the Result's settings; None when neither is at hand."""
+    stats = getattr(res, "stats", None)
+    if isinstance(stats, dict) and stats.get("steps"):
+        return stats["steps"]
+    if rig is None:
+        return None
+    sim, s = Simulator.of(rig), res.settings
+    p = sim.param_vector()
+    _, st = sim.compiled().run(res.t, sim.start_vector(p), p, s["rtol"], s["atol"], s["method"],
+                               s["max_step"], s["max_num_steps"])
+    return st.stats["steps"] if st.ok else None
+
+
+def per_step(row, what, res, rig=None):
+    steps = steps_of(res, rig)
+    if steps:
+        row[f"{what} steps"] = steps
+        row[f"{what} us/step"] = row[what] / steps * 1e6
+
+
 def measure(n, args, tmp):
     row = {}
     rig = split_piston_rig(n)
     row["build"], _ = timed(rig.compile)
     rig.simulate()                          # the integrator's own set-up, once
-    row["simulate"] = min(timed(rig.simulate)[0] for _ in range(args.repeat))
+    runs = [timed(rig.simulate) for _ in range(args.repeat)]
+    row["simulate"] = min(t for t, _ in runs)
+    per_step(row, "simulate", runs[0][1])
     if args.c:
         row["c build"], _ = timed(lambda: rig.simulate(backend="c", t_end=1e-4, n_out=2))
-        row["c simulate"] = min(timed(lambda: rig.simulate(backend="c"))[0]
-                                for _ in range(args.repeat))
+        runs = [timed(lambda: rig.simulate(backend="c")) for _ in range(args.repeat)]
+        row["c simulate"] = min(t for t, _ in runs)
+        per_step(row, "c simulate", runs[0][1], rig)
     if args.fmu:
         row["FMU export"], _ = timed(lambda: rig.export_fmu(Path(tmp) / f"split{n}.fmu"))
     return row
+
+
+def shown(column, v):
+    if column.endswith("steps"):
+        return f"{v:d}"
+    return f"{v:.3g}" if column.endswith("step") else f"{v:.3g} s"
 
 
 def main(argv=None):
@@ -77,8 +115,8 @@ def main(argv=None):
         for n in ns:
             rows[n] = measure(n, args, tmp)
             print(f"N = {n:5d} ({2 * n + 4} states): " + ", ".join(
-                f"{k} {v:.3g} s" for k, v in rows[n].items()), flush=True)
-    cols = list(rows[ns[0]])
+                f"{k} {shown(k, v)}" for k, v in rows[n].items()), flush=True)
+    cols = [c for c in rows[ns[0]] if all(c in rows[n] for n in ns)]
     base = rows[ns[0]]
     print(f"\nratio to N = {ns[0]} (same process), and exponent k of c*N^k over N >= 10")
     print(f"{'N':>6} " + " ".join(f"{c:>12}" for c in cols))

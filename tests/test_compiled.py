@@ -117,7 +117,7 @@ def test_the_library_checks_its_input(rig):
     X, st = c.run([0.0, 0.01], x0, p, -1.0, 1e-10)
     assert st.code == batch.RC_BAD_INPUT and "rtol" in st.message
     # wrong sizes straight into C: refused, nothing written
-    info = np.zeros(5)
+    info = np.zeros(batch.INFO_N)
     msg = ctypes.create_string_buffer(256)
     t = np.array([0.0, 0.01])
     out = np.zeros(2 * c.nx)
@@ -186,3 +186,31 @@ def test_cli_and_sweep_take_the_backend(rig, tmp_path, capsys):
         single = rig.simulate(params=pt.params, backend="c").summary()
         for k in ("peak_pressure", "time_of_peak", "pulse_duration"):
             assert pt.summary[k] == pytest.approx(single[k], rel=1e-6), k
+
+
+def test_run_reports_solver_statistics(rig):
+    """steps, evaluations and root events of one run, as CVODE counted them;
+    the root events are at least the contact onsets and separations."""
+    c = Simulator.of(rig).compiled()
+    p = Simulator.of(rig).param_vector()
+    x0 = Simulator.of(rig).start_vector(p)
+    contacts = rig.simulate(0.02, n_out=4001).crossings("contact.d", 0.0)
+    assert len(contacts) >= 5          # 3 blows of the hammer's chatter: separations and onsets
+    for method, name in (("adams", "adams/fixed-point"), ("bdf", "bdf/newton-dense")):
+        X, st = c.run(T, x0, p, 1e-8, 1e-10, method=method)
+        assert st.ok and set(st.stats) == set(batch.STAT_KEYS)
+        s = st.stats
+        assert all(isinstance(s[k], int) for k in ("steps", "rhs_evals", "jac_evals", "root_events"))
+        assert s["method"] == name and isinstance(s["wall_time"], float) and s["wall_time"] > 0
+        assert s["steps"] > 100 and s["rhs_evals"] >= s["steps"]
+        assert s["root_events"] >= len(contacts) and s["root_events"] == st.roots
+        assert (s["jac_evals"] > 0) == (method == "bdf")
+    # Newton on a banded Jacobian: the split piston's chain, from 40 states on
+    big = split_piston_rig(20)
+    sim = Simulator.of(big)
+    pb = sim.param_vector()
+    _, st = sim.compiled().run(T, sim.start_vector(pb), pb, 1e-8, 1e-10)
+    assert st.ok and st.stats["method"] == "adams/newton-band" and st.stats["jac_evals"] > 0
+    # a failed run still counts what it did
+    _, st = c.run(T, x0, p, 1e-8, 1e-10, max_num_steps=5)
+    assert st.code == batch.RC_TOO_MUCH_WORK and st.stats["steps"] == 5

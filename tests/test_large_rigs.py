@@ -109,7 +109,7 @@ def test_the_band_solver_of_the_compiled_backend_agrees_with_dense_lu():
     for name, code in (("auto", BDF), ("band", BDF | BAND), ("dense", BDF | DENSE),
                        ("adams-band", ADAMS | NEWTON | BAND)):
         X = np.empty((c.nx, grid.size))
-        info = np.zeros(5)
+        info = np.zeros(batch.INFO_N)
         rc = c._run(c.nx, c.np, p.ctypes.data, x0.ctypes.data, grid.size, grid.ctypes.data,
                     X.ctypes.data, 1e-8, 1e-10, code, 0.0, 500000, info.ctypes.data, None, 0)
         assert rc == 0, name
@@ -131,7 +131,7 @@ def test_the_compiled_driver_refuses_an_unknown_solver_code():
     sim = Simulator.of(dae)
     p = sim.param_vector()
     x0 = sim.start_vector(p)
-    X, grid, info = np.empty((c.nx, 2)), np.array([0.0, 1e-3]), np.zeros(5)
+    X, grid, info = np.empty((c.nx, 2)), np.array([0.0, 1e-3]), np.zeros(batch.INFO_N)
     msg = ctypes.create_string_buffer(200)
     rc = c._run(c.nx, c.np, p.ctypes.data, x0.ctypes.data, 2, grid.ctypes.data, X.ctypes.data,
                 1e-8, 1e-10, 3 << 8, 0.0, 100, info.ctypes.data, msg, 200)

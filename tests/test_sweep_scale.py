@@ -117,7 +117,7 @@ def test_dask_cluster_losing_a_worker_gives_the_local_answer(tmp_path):
 
 
 def test_sensitivity_quantifies_the_paper(tmp_path, capsys):
-    s = pdbfs.sensitivity(paper_rig(), RANGES, n=128, t_end=0.03)
+    s = pdbfs.sensitivity(paper_rig(), RANGES, n=128, t_end=0.2)   # the stiffest seal: 120 ms
     ST = {o: dict(zip(s.names, s.ST[o])) for o in s.outputs}
     assert s.points == 128 * 5
     assert ST["peak_pressure"]["hammer.v0"] > 0.3                 # magnitude: impact velocity

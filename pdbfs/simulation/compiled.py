@@ -5,8 +5,10 @@ The DAE's model functions are generated as C by CasADi, compiled with
 generic drivers and CVODE into one shared library (``compiled_build.py``),
 and called through ctypes: ``run`` integrates one point over a whole output
 grid (``c/pdbfs_batch.c``); ``summaries`` integrates many points and reduces
-each to its summary during the integration (``c/pdbfs_summary.c``), without
-a Python object per point. The library is built once per rig structure and
+each to its summary during the integration (``c/pdbfs_summary.c``, on the
+record of ``c/pdbfs_record.c``, the pulse paired in ``c/pdbfs_pulse.c``),
+without a Python object per point. Both report CVODE's statistics
+(``STAT_KEYS``). The library is built once per rig structure and
 loaded once per DAE: parameters, start values, tolerances and the grid are
 call arguments, so nothing is rebuilt when they change. ctypes releases the
 GIL during a call, so threads run calls in parallel.
@@ -14,7 +16,8 @@ GIL during a call, so threads run calls in parallel.
 from __future__ import annotations
 
 import ctypes
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -27,17 +30,41 @@ from .compiled_build import ABI, ROLES
 
 METHOD_CODES = {"adams": 0, "bdf": 1}
 MSG_LEN = 1024
-POINT_MSG_LEN = 160
+POINT_MSG_LEN = 320
 
-#: what the summary driver computes, in its order; a key is reported when its role exists
+#: what the summary driver computes, in its order; a key is reported when its role exists.
+#: ``complete`` is 1.0 when the pulse ended inside the run (the pressure rose above and fell
+#: back below 1 % of its peak, and the contact force is zero at the end), else 0.0
 SUMMARY_KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
-                "max_piston_displacement", "restitution_coefficient")
+                "max_piston_displacement", "restitution_coefficient", "complete")
 KEY_ROLES = {"peak_pressure": "pressure", "time_of_peak": "pressure", "pulse_duration": "pressure",
              "peak_contact_force": "contact_force", "max_piston_displacement": "piston_displacement",
-             "restitution_coefficient": "contact_force"}
+             "restitution_coefficient": "contact_force", "complete": "pressure"}
+
+#: the solver statistics of one run (RunStatus.stats, summaries(with_stats=True))
+STAT_KEYS = ("steps", "rhs_evals", "jac_evals", "root_events", "method", "wall_time")
 
 # return codes of pdbfs_batch_run (c/pdbfs_batch.c); CVODE failures are its negative flags
 RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
+#: a summary point whose pressure crossings do not alternate (c/pdbfs_summary.c)
+RC_BAD_CROSSINGS = 6
+INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
+NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
+
+
+def solver_name(code: int) -> str:
+    """The solver a driver used, from its code (method | nls << 4 | linsol << 8,
+    pdbfs_cvode.h): "adams/fixed-point", "adams/newton-dense", "bdf/newton-band", ..."""
+    code = int(code)
+    method = "bdf" if code & 15 == 1 else "adams"
+    if (code >> 4) & 15 != 2:
+        return f"{method}/fixed-point"
+    return f"{method}/newton-{'band' if (code >> 8) & 15 == 2 else 'dense'}"
+
+
+def _stats(steps, rhs, jac, roots, method, wall) -> dict:
+    return {"steps": int(steps), "rhs_evals": int(rhs), "jac_evals": int(jac),
+            "root_events": int(roots), "method": solver_name(method), "wall_time": float(wall)}
 
 
 @dataclass
@@ -51,6 +78,9 @@ class RunStatus:
     rhs_evals: int
     cvode_flag: int
     message: str         # CVODE's (or the driver's) message on failure
+    #: solver statistics, keys STAT_KEYS: steps, rhs_evals, jac_evals, root_events
+    #: (roots of the event indicators), method (the solver used), wall_time (s, the call)
+    stats: dict = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -118,8 +148,13 @@ class CompiledODE:
         self._run = f
         g = lib.pdbfs_summary_batch
         g.restype = ll
-        g.argtypes = [ll, ll, vp, d, d, d, ctypes.c_int, d, ll, vp, vp, ctypes.c_char_p, ll]
+        g.argtypes = [ll, ll, vp, d, d, d, ctypes.c_int, d, ll, vp, vp, ctypes.c_char_p, ll, vp]
         self._summaries = g
+        h = lib.pdbfs_pulse_pairs
+        h.restype = ctypes.c_int
+        h.argtypes = [ctypes.c_long, vp, vp, ctypes.c_int, ctypes.c_int, d, d, vp, ctypes.c_char_p,
+                      ctypes.c_long]
+        self._pulse_pairs = h
         return lib
 
     # -- run ------------------------------------------------------------------------
@@ -136,21 +171,29 @@ class CompiledODE:
             raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
         nt = t.size
         X = np.empty((self.nx, nt))
-        info = np.zeros(5)
+        info = np.zeros(INFO_N)
         msg = ctypes.create_string_buffer(MSG_LEN)
+        wall = time.perf_counter()
         code = self._run(self.nx, self.np, p.ctypes.data, x0.ctypes.data, nt, t.ctypes.data,
                          X.ctypes.data, float(rtol), float(atol), METHOD_CODES[method],
                          float(max_step or 0.0), int(max_num_steps), info.ctypes.data, msg, MSG_LEN)
+        wall = time.perf_counter() - wall
         status = RunStatus(int(code), float(info[0]), int(info[1]), int(info[2]), int(info[3]),
-                           int(info[4]), msg.value.decode(errors="replace").strip())
+                           int(info[4]), msg.value.decode(errors="replace").strip(),
+                           _stats(info[1], info[3], info[5], info[2], info[6], wall))
         return X, status
 
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
-                  max_num_steps=500000):
+                  max_num_steps=500000, with_stats=False):
         """Summaries of the parameter points ``P`` (n x np), each simulated
         from its own start values over [0, t_end]: (values (n x len(SUMMARY_KEYS),
-        NaN where undefined), codes (n; 0 ok), messages (list of n str))."""
+        NaN where undefined), codes (n; 0 ok, RC_BAD_CROSSINGS, ...), messages
+        (list of n str: the reason of a failure, or the warnings of a point that
+        did not fail, e.g. a pulse cut off at t_end; "" if none)); with
+        ``with_stats``, a fourth item: a list of n dicts of STAT_KEYS (steps and
+        evaluations of the point's integration and of its refinements, the
+        point's wall time)."""
         P = np.ascontiguousarray(np.atleast_2d(P), dtype=float)
         if P.shape[1] != self.np:
             raise ParameterError(f"rig {self.name}: points of {P.shape[1]} parameters given, "
@@ -161,15 +204,32 @@ class CompiledODE:
         out = np.empty((n, len(SUMMARY_KEYS)))
         codes = np.zeros(n, dtype=np.intc)
         msgs = ctypes.create_string_buffer(max(n, 1) * POINT_MSG_LEN)
+        stats = np.zeros((n, NSTAT))
         failed = self._summaries(n, self.np, P.ctypes.data, float(t_end), float(rtol), float(atol),
                                  METHOD_CODES[method], float(max_step or 0.0), int(max_num_steps),
-                                 out.ctypes.data, codes.ctypes.data, msgs, POINT_MSG_LEN)
+                                 out.ctypes.data, codes.ctypes.data, msgs, POINT_MSG_LEN,
+                                 stats.ctypes.data)
         if failed < 0:
             raise PdbfsError(f"rig {self.name}: the summary driver refused its input")
         raw = msgs.raw
         messages = [raw[i * POINT_MSG_LEN:(i + 1) * POINT_MSG_LEN].split(b"\0", 1)[0]
-                    .decode(errors="replace") if codes[i] else "" for i in range(n)]
+                    .decode(errors="replace") for i in range(n)]
+        if with_stats:
+            return out, codes, messages, [_stats(*row) for row in stats]
         return out, codes, messages
+
+    def pulse_pairs(self, times, directions, above0, above1, t0, t1):
+        """The summary driver's pairing of a pulse's crossings (c/pdbfs_pulse.c):
+        (answer: 0 ok, 1 cut off, 2 crossings that do not alternate; duration,
+        NaN unless ok; message)."""
+        t = np.ascontiguousarray(times, dtype=float)
+        dirs = np.ascontiguousarray(directions, dtype=np.intc)
+        dur = np.zeros(1)
+        msg = ctypes.create_string_buffer(POINT_MSG_LEN * 2)
+        ans = self._pulse_pairs(t.size, t.ctypes.data, dirs.ctypes.data, int(bool(above0)),
+                                int(bool(above1)), float(t0), float(t1), dur.ctypes.data, msg,
+                                POINT_MSG_LEN * 2)
+        return int(ans), float(dur[0]), msg.value.decode(errors="replace")
 
 
 def compiled(dae) -> CompiledODE:

@@ -1,7 +1,8 @@
 """Building the compiled backend's shared library of a DAE (used by
 compiled.py): CasADi-generated C of the model functions, the generic drivers
 ``c/pdbfs_batch.c`` (one run over an output grid) and ``c/pdbfs_summary.c``
-(many points reduced to their summaries), the CVODE loop shared with the FMU
+(many points reduced to their summaries, with ``c/pdbfs_record.c`` and
+``c/pdbfs_pulse.c``), the CVODE loop shared with the FMU
 (``native/c/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials.
 
 The library is cached on disk as ``$XDG_CACHE_HOME/pdbfs/compiled/<hash>.so``
@@ -23,9 +24,10 @@ from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, co
 from pdbfs.native.sundials import cache_root, find_sundials
 
 C_DIR = Path(__file__).with_name("c")
-DRIVERS = (C_DIR / "pdbfs_batch.c", C_DIR / "pdbfs_summary.c")
+DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
+                                     "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h"))
 HEADER = "pdbfs_batch_model.h"
-ABI = 3
+ABI = 4
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")

@@ -38,6 +38,19 @@ int pdbfs_eval_txp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, 
     return f(ev->arg, ev->res, ev->iw, ev->w, 0);
 }
 
+void *pdbfs_eval_alloc(PdbfsEval *ev, long sz_arg, long sz_res, long sz_iw, long sz_w) {
+    /* doubles first, then pointers, then integers: each part stays aligned */
+    size_t nw = (size_t)sz_w + 1, na = (size_t)sz_arg + 1, nr = (size_t)sz_res + 1;
+    char *b = malloc(sizeof(casadi_real) * nw + sizeof(void *) * (na + nr)
+                     + sizeof(casadi_int) * ((size_t)sz_iw + 1));
+    if (!b) return NULL;
+    ev->w = (casadi_real *)b;
+    ev->arg = (const casadi_real **)(b + sizeof(casadi_real) * nw);
+    ev->res = (casadi_real **)(b + sizeof(casadi_real) * nw + sizeof(void *) * na);
+    ev->iw = (casadi_int *)(b + sizeof(casadi_real) * nw + sizeof(void *) * (na + nr));
+    return b;
+}
+
 static int all_finite(const double *v, long n) {
     long i;
     for (i = 0; i < n; i++)
@@ -62,6 +75,7 @@ static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
     casadi_int j, k, nnz = colind[s->nx];
     int band = SUNMatGetID(J) == SUNMATRIX_BAND;
     (void)fy; (void)t1; (void)t2; (void)t3;
+    s->jac_evals++;
     if (pdbfs_eval_txp(s->ev, s->jac, t, N_VGetArrayPointer(y), s->jac_nz)) return -1;
     if (!all_finite(s->jac_nz, (long)nnz)) return 1;
     SUNMatZero(J);
@@ -143,7 +157,8 @@ static int choose_nls(const PdbfsCvodeSettings *set, int nx) {
     return nx >= PDBFS_NEWTON_FROM ? PDBFS_NLS_NEWTON : PDBFS_NLS_FIXED_POINT;
 }
 
-/* a new CVODE memory for set->method, at (t0, y) */
+/* a new CVODE memory for set->method, at (t0, y); on failure the caller
+ * frees whatever was built */
 static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
     int flag;
     s->cv = CVodeCreate(set->method == PDBFS_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
@@ -160,6 +175,7 @@ static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
     } else if (flag == CV_SUCCESS) {
         bandwidths(s);
         s->linsol = choose_linsol(s, set->linsol);
+        free(s->jac_nz);
         s->jac_nz = malloc(sizeof(double) * (size_t)(s->jac_sp[2 + s->nx] + 1));
         if (!s->jac_nz) return NO_MEMORY;
         if (s->linsol == PDBFS_LS_BAND) {
@@ -191,6 +207,7 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
     if (!s->atol) s->atol = N_VNew_Serial(s->nx, s->ctx);
     if (!s->y || !s->tmp || !s->atol) {
         say(s, PDBFS_LOG_ERROR, "out of memory (N_Vector of %d states)", s->nx);
+        pdbfs_cvode_free(s);
         return NO_MEMORY;
     }
     N_VEnableFusedOps_Serial(s->y, 1);   /* one call per linear combination: small rigs are call-bound */
@@ -206,7 +223,9 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
     if (flag == CV_SUCCESS) flag = CVodeSetMaxStep(s->cv, set->max_step > 0 ? set->max_step : 0.0);
     if (flag == CV_SUCCESS && isfinite(set->t_stop)) flag = CVodeSetStopTime(s->cv, set->t_stop);
     if (flag != CV_SUCCESS) {
+        /* half-built or half-set memory is never reused: the next start builds it anew */
         say(s, PDBFS_LOG_ERROR, "CVODE setup failed (flag %d)", flag);
+        pdbfs_cvode_free(s);
         return flag < 0 ? flag : NO_MEMORY;
     }
     s->t_stop = set->t_stop;
@@ -284,9 +303,10 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
 
 int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0,
                       double t1, pdbfs_root_fn g, void *env, int dir, int max, double *t_root,
-                      double *x_root) {
+                      double *x_root, int *dir_root) {
     PdbfsCvodeSettings local = *set;
-    int flag, n = 0, i;
+    int flag, n = 0, i, found;
+    long nst = 0;
     double tret;
     local.t_stop = t1;
     flag = pdbfs_cvode_start(s, &local, t0, x0);
@@ -302,10 +322,16 @@ int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
         if (flag == CV_ROOT_RETURN) {
             t_root[n] = tret;
             for (i = 0; i < s->nx; i++) x_root[n * s->nx + i] = NV_Ith_S(s->y, i);
+            if (dir_root) {
+                found = 0;
+                CVodeGetRootInfo(s->cv, &found);
+                dir_root[n] = found < 0 ? -1 : 1;
+            }
             n++;
         } else if (flag >= 0) {
             break;       /* reached t1 */
         }
     }
+    if (s->cv && CVodeGetNumSteps(s->cv, &nst) == CV_SUCCESS) s->steps += nst;
     return flag < 0 ? flag : n;
 }

@@ -116,8 +116,8 @@ typedef struct {
     pdbfs_root_fn user_root;
     void *root_env;
     int roots_changed;
-    /* statistics since pdbfs_cvode_init */
-    long steps, roots, rhs_evals;
+    /* statistics since pdbfs_cvode_init (the steps of pdbfs_cvode_roots included) */
+    long steps, roots, rhs_evals, jac_evals;
 } PdbfsCvode;
 
 /* The solver code the compiled drivers take: method | nls << 4 | linsol << 8. */
@@ -128,12 +128,18 @@ typedef struct {
                              && PDBFS_CODE_NLS(c) <= PDBFS_NLS_NEWTON \
                              && PDBFS_CODE_LINSOL(c) <= PDBFS_LS_BAND)
 
+/* The CasADi work arrays of the given sizes (a generated header's
+ * PDBFS_SZ_ARG, _RES, _IW, _W), in one block bound to ``ev`` (ev->p is the
+ * caller's).  The block to free(), or NULL when out of memory. */
+void *pdbfs_eval_alloc(PdbfsEval *ev, long sz_arg, long sz_res, long sz_iw, long sz_w);
+
 /* Prepare ``s`` (no allocation yet). */
 void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env);
 
 /* (Re)start at (t0, x0): a new CVODE memory if there is none or the method
  * changed, else CVodeReInit.  0 on success, else a CVODE flag (<0) or -100
- * for memory, with a message through the log callback. */
+ * for memory, with a message through the log callback; after a failure all
+ * of CVODE's memory is freed (the next start builds it anew). */
 int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0);
 
 /* Integrate to t_out (restarting at every root on the way, at most
@@ -145,12 +151,13 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
 
 /* Roots of g(t, x) on (t0, t1], integrating from (t0, x0): at most max,
  * with direction dir (-1 falling, +1 rising, 0 both), their times in
- * t_root and states in x_root (max x nx).  The number found, or a CVODE
- * flag (< 0).  The rig's own events are not roots here: pass an interval
- * free of them (a step of an earlier integration). */
+ * t_root, states in x_root (max x nx) and directions (+1 rising, -1
+ * falling) in dir_root (may be NULL).  The number found, or a CVODE flag
+ * (< 0).  The rig's own events are not roots here: pass an interval free of
+ * them (a step of an earlier integration). */
 int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0,
                       double t1, pdbfs_root_fn g, void *env, int dir, int max, double *t_root,
-                      double *x_root);
+                      double *x_root, int *dir_root);
 
 /* Free CVODE's memory; ``s`` may be started again. */
 void pdbfs_cvode_free(PdbfsCvode *s);

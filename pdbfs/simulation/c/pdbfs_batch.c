@@ -32,7 +32,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 3
+#define PDBFS_BATCH_ABI 4
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0
@@ -47,7 +47,9 @@
 #define INFO_ROOTS 2         /* restarts at roots of the event indicators */
 #define INFO_RHS 3           /* right-hand side evaluations */
 #define INFO_FLAG 4          /* CVODE flag of the failure, 0 if none */
-#define INFO_N 5
+#define INFO_JAC 5           /* Jacobian evaluations */
+#define INFO_METHOD 6        /* the solver used: method | nls << 4 | linsol << 8 (auto resolved) */
+#define INFO_N 7
 
 typedef struct {
     char *msg;
@@ -96,7 +98,8 @@ API void pdbfs_batch_sizes(long long *out) {
  *                 2 band; see pdbfs_cvode.h)
  *   max_step      largest internal step (0: no limit)
  *   max_num_steps most internal steps between two output points
- *   info[5]       time reached, steps, roots, rhs evaluations, CVODE flag
+ *   info[7]       time reached, steps, roots, rhs evaluations, CVODE flag,
+ *                 Jacobian evaluations, the solver code used (INFO_*)
  *   msg           message on failure (msglen bytes, always terminated)
  *
  * Returns 0, a positive RC_* code or CVODE's negative flag.  On failure the
@@ -110,7 +113,7 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
     PdbfsEval ev;
     PdbfsCvode s;
     PdbfsCvodeSettings set = {0};
-    double atolv[NX + 1], x[NX + 1];
+    double *atolv = NULL, *x;   /* on the heap: a large rig's state would fill a thread's stack */
     void *work = NULL;
     long long k, i;
     double treached;
@@ -160,24 +163,15 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         return RC_BAD_INPUT;
     }
 
-    /* CasADi work arrays, one block */
-    {
-        size_t sz = sizeof(double) * (PDBFS_SZ_W + 1) + sizeof(casadi_int) * (PDBFS_SZ_IW + 1)
-                    + sizeof(double *) * (PDBFS_SZ_ARG + 1) + sizeof(double *) * (PDBFS_SZ_RES + 1);
-        char *b = (char *)malloc(sz);
-        if (!b) {
-            setmsg(&c, "out of memory");
-            return RC_SETUP;
-        }
-        work = b;
-        ev.w = (casadi_real *)b;
-        b += sizeof(double) * (PDBFS_SZ_W + 1);
-        ev.arg = (const casadi_real **)b;
-        b += sizeof(double *) * (PDBFS_SZ_ARG + 1);
-        ev.res = (casadi_real **)b;
-        b += sizeof(double *) * (PDBFS_SZ_RES + 1);
-        ev.iw = (casadi_int *)b;
+    work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
+    atolv = malloc(sizeof(double) * 2 * (NX + 1));
+    if (!work || !atolv) {
+        free(work);
+        free(atolv);
+        setmsg(&c, "out of memory");
+        return RC_SETUP;
     }
+    x = atolv + NX + 1;
     ev.p = p;
 
     for (i = 0; i < NX; i++) atolv[i] = atol;
@@ -220,8 +214,11 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
     info[INFO_STEPS] = (double)s.steps;
     info[INFO_ROOTS] = (double)s.roots;
     info[INFO_RHS] = (double)s.rhs_evals;
+    info[INFO_JAC] = (double)s.jac_evals;
+    info[INFO_METHOD] = (double)(s.method | s.nls << 4 | s.linsol << 8);
     pdbfs_cvode_free(&s);
     free(work);
+    free(atolv);
     if (c.msglen) msg[c.msglen - 1] = 0;
     return rc;
 }

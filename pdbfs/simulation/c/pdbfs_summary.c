@@ -12,13 +12,20 @@
  * of the integration itself.
  *
  * One pass records the state and the roles after every internal step (the
- * rig's events are CVODE roots and restarts, so no step straddles a kink).
+ * rig's events are CVODE roots and restarts, so no step straddles a kink;
+ * pdbfs_record.c).
  * Then the few steps that matter are integrated again from their recorded
  * start with CVODE's root finding on the quantity in question: the slope of
  * a role where its largest record lies (the peak), the pressure minus 1 % of
  * the peak where it crosses that level, the striker velocity where it turns.
  * These are the definitions of pdbfs/simulation/summary.py, located on the
  * solution to the solver's accuracy, not on an output grid.
+ *
+ * The pulse is paired from its crossings by their direction (up, then
+ * down); a pulse that begins before t = 0 or has not ended by t_end has no
+ * duration (NaN, and a message), crossings that do not alternate fail the
+ * point.  Whatever grows with the rig or the run is on the heap: a large
+ * rig's state would fill a worker thread's stack.
  *
  * Thread safe: each call allocates its own memory; ctypes releases the GIL,
  * so threads run calls in parallel.
@@ -27,234 +34,168 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "pdbfs_batch_model.h"
 #include "pdbfs_cvode.h"
+#include "pdbfs_pulse.h"
+#include "pdbfs_record.h"
 
 #define API __attribute__((visibility("default")))
-#define NR PDBFS_NR
-#define NRX (NR > 0 ? NR : 1)
-#define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
-#define NXQ (PDBFS_NX + NQ)
-#define MAXR 8                                /* roots taken from one refined step */
 
 /* the summary's entries, in this order (pdbfs.simulation.compiled.SUMMARY_KEYS) */
-enum { S_PEAK, S_TPEAK, S_DURATION, S_FORCE, S_DISP, S_RESTITUTION, NSUM };
-#define PULSE_LEVEL 0.01
+enum { S_PEAK, S_TPEAK, S_DURATION, S_FORCE, S_DISP, S_RESTITUTION, S_COMPLETE, NSUM };
+/* the statistics of a point, in this order (pdbfs.simulation.compiled.STAT_KEYS) */
+enum { ST_STEPS, ST_RHS, ST_JAC, ST_ROOTS, ST_METHOD, ST_WALL, NSTAT };
 
-typedef struct {
-    double *t, *x, *r;        /* per record: time, state (NXQ), roles (NR) */
-    long n, cap;
-    int oom, bad;             /* out of memory; a role not finite */
-    PdbfsEval *ev;
-    PdbfsCvode *cv;           /* for the refinements */
-    const PdbfsCvodeSettings *set;
-} History;
+/* a point's failures beyond pdbfs_batch_run's codes */
+#define RC_NOT_FINITE 4      /* as pdbfs_batch.c */
+#define RC_NO_MEMORY 2
+#define RC_BAD_CROSSINGS 6   /* the pulse's crossings do not alternate or are not resolved */
 
-#define R(H, k, j) ((H)->r[(k) * NRX + (j)])
-
-static int record(void *env, double t, const double *x) {
-    History *h = (History *)env;
-    int j;
-    if (h->n == h->cap) {
-        long cap = h->cap ? 2 * h->cap : 2048;
-        double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
-        if (nt) h->t = nt;
-        if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
-        if (nx) h->x = nx;
-        if (nx) nr = realloc(h->r, sizeof(double) * cap * NRX);
-        if (nr) h->r = nr;
-        if (!nr) {
-            h->oom = 1;
-            return 1;
-        }
-        h->cap = cap;
-    }
-    h->t[h->n] = t;
-    memcpy(h->x + h->n * NXQ, x, sizeof(double) * NXQ);
-    if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
-    for (j = 0; j < NR; j++)
-        if (!isfinite(R(h, h->n, j))) h->bad = 1;
-    h->n++;
-    return h->bad;
-}
-
-/* ------------------------------------------------------------ refinement */
-
-typedef struct {
-    PdbfsEval *ev;
-    int role, slope;          /* the role, and whether its slope (else value - level) */
-    double level;
-} Target;
-
-static int target_fn(void *env, double t, const double *x, double *g) {
-    Target *q = (Target *)env;
-    double r[NRX];
-    pdbfs_eval_txp(q->ev, q->slope ? pdbfs_roles_dot : pdbfs_roles, t, x, r);
-    *g = r[q->role] - (q->slope ? 0.0 : q->level);
-    return 0;
-}
-
-/* roots of the target on record steps k0 .. k1-1, integrated again from record k0 */
-static int refine(const History *H, long k0, long k1, Target *q, int dir, double *t, double *x) {
-    int n;
-    if (k0 < 0) k0 = 0;
-    if (k1 > H->n - 1) k1 = H->n - 1;
-    if (k1 <= k0 || !(H->t[k1] > H->t[k0])) return 0;
-    n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q, dir,
-                          MAXR, t, x);
-    return n > 0 ? n : 0;
-}
-
-static double role_at(const History *H, int j, double t, const double *x) {
-    double r[NRX];
-    pdbfs_eval_txp(H->ev, pdbfs_roles, t, x, r);
-    return r[j];
-}
-
-/* the largest value of role j over records k0 .. k1-1, refined where its slope turns */
-static void peak(const History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk) {
-    long k, best = k0;
-    double t[MAXR], x[MAXR * NXQ];
-    Target q;
-    int i, n;
-    for (k = k0; k < k1; k++)
-        if (R(H, k, j) > R(H, best, j)) best = k;
-    *t_pk = H->t[best];
-    *v_pk = R(H, best, j);
-    if (x_pk) memcpy(x_pk, H->x + best * NXQ, sizeof(double) * NXQ);
-    q.ev = H->ev;
-    q.role = j;
-    q.slope = 1;
-    q.level = 0.0;
-    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1, t, x);
-    for (i = 0; i < n; i++) {
-        double v = role_at(H, j, t[i], x + i * NXQ);
-        if (v > *v_pk) {
-            *v_pk = v;
-            *t_pk = t[i];
-            if (x_pk) memcpy(x_pk, x + i * NXQ, sizeof(double) * NXQ);
-        }
-    }
-}
-
-/* crossings of role j through level (dir as for CVODE roots), at most max: times and states */
-static int crossings(const History *H, int j, double level, int dir, int max, double *tc, double *xc) {
-    long k;
-    int n = 0;
-    Target q;
-    q.ev = H->ev;
-    q.role = j;
-    q.slope = 0;
-    q.level = level;
-    for (k = 0; k + 1 < H->n && n < max; k++) {
-        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
-        double t[MAXR], x[MAXR * NXQ];
-        int i, m;
-        if (!((a < 0 && b >= 0) || (a > 0 && b <= 0))) continue;
-        m = refine(H, k, k + 1, &q, dir, t, x);
-        for (i = 0; i < m && n < max; i++, n++) {
-            tc[n] = t[i];
-            if (xc) memcpy(xc + n * NXQ, x + i * NXQ, sizeof(double) * NXQ);
-        }
-    }
-    return n;
-}
-
-/* -------------------------------------------------------------- summary */
-
-#define MAXC 64
-
-static void summarise(const History *H, double *out) {
-    int i;
-    long last = H->n - 1;
-    double t_end = H->t[last];
-    for (i = 0; i < NSUM; i++) out[i] = NAN;
-    if (PDBFS_ROLE_PRESSURE >= 0) {
-        const int j = PDBFS_ROLE_PRESSURE;
-        double level, times[MAXC + 2], sum = 0.0;
-        int n = 0;
-        peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
-        level = PULSE_LEVEL * out[S_PEAK];
-        if (R(H, 0, j) > level) times[n++] = H->t[0];
-        n += crossings(H, j, level, 0, MAXC, times + n, NULL);
-        if (R(H, last, j) > level) times[n++] = t_end;
-        for (i = 0; i + 1 < n; i += 2) sum += times[i + 1] - times[i];
-        out[S_DURATION] = sum;
-    }
-    if (PDBFS_ROLE_DISP >= 0) {
-        double t;
-        peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
-    }
 #if PDBFS_ROLE_FORCE >= 0
-    {
-        const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
-        double t_pk, f_pk, before = 0.0, after = 0.0, x_pk[NXQ];
-        peak(H, f, 0, H->n, &t_pk, &out[S_FORCE], NULL);
-        if (!(out[S_FORCE] > 0)) return;                 /* no contact: restitution undefined */
-        if (PDBFS_ROLE_VELOCITY >= 0) {
-            /* Guo & Batzer over the blow, split where the striker stops (its velocity
-             * turns from down to up), up to the apex of its rebound (or the end) */
-            double tc[MAXC], xc[MAXC * NXQ], q_back;
-            int n = crossings(H, PDBFS_ROLE_VELOCITY, 0.0, 0, MAXC, tc, xc), k = -1;
-            for (i = 0; i < n && k < 0; i++) {
-                double r[NRX];
-                pdbfs_eval_txp(H->ev, pdbfs_roles_dot, tc[i], xc + i * NXQ, r);
-                if (r[PDBFS_ROLE_VELOCITY] < 0) k = i;
-            }
-            if (k < 0) return;
-            q_back = k + 1 < n ? xc[(k + 1) * NXQ + iq] : H->x[last * NXQ + iq];
-            before = xc[k * NXQ + iq];
+/* Guo & Batzer's impulse ratio, as summary.py's restitution; NaN where it is
+ * undefined or the run ends before the rebound's impulse is all in */
+static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m) {
+    const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
+    long last = H->n - 1;
+    double before = 0.0, after = 0.0;
+    if (PDBFS_ROLE_VELOCITY >= 0) {
+        /* over the blow, split where the striker stops (its velocity turns from
+         * down to up), up to the apex of its rebound (or the end) */
+        Crossings c = {0};
+        long k = -1, i;
+        int r = pdbfs_crossings(H, PDBFS_ROLE_VELOCITY, 0.0, &c);   /* -2: turns not resolved */
+        if (r == -1) *oom = 1;
+        if (r == -2) pdbfs_note(m, "the striker's turn is not resolved: no restitution (tighten "
+                                "rtol and atol)");
+        for (i = 0; i < c.n && k < 0; i++)
+            if (c.dir[i] < 0) k = i;                     /* from down (v > 0) to up (v < 0) */
+        if (!r && k >= 0 && (k + 1 < c.n || ended)) {
+            double q_back = k + 1 < c.n ? c.x[(k + 1) * NXQ + iq] : H->x[last * NXQ + iq];
+            before = c.x[k * NXQ + iq];
             after = q_back - before;
-        } else {
-            /* the first contact, split at its force peak */
-            long k = 0, e;
-            while (k < H->n && !(R(H, k, f) > 0)) k++;
-            for (e = k; e < H->n && R(H, e, f) > 0; e++) {}
-            if (e > last) e = last;
-            peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
+        }
+        pdbfs_free_crossings(&c);
+    } else {
+        /* the first contact, split at its force peak */
+        long k = 0, e;
+        double t_pk, f_pk;
+        while (k < H->n && !(R(H, k, f) > 0)) k++;
+        for (e = k; e < H->n && R(H, e, f) > 0; e++) {}
+        if (e <= last) {                                 /* the contact ended inside the run */
+            *oom |= pdbfs_peak(H, f, k > 0 ? k - 1 : 0, e + 1, &t_pk, &f_pk, x_pk);
             before = x_pk[iq];
             after = H->x[e * NXQ + iq] - before;
         }
-        out[S_RESTITUTION] = before > 0 ? after / before : NAN;
     }
+    return before > 0 ? after / before : NAN;
+}
 #endif
+
+/* the summary of one point into out; 0, or a failure code with its reason in m */
+static int summarise(History *H, double *out, double *x_pk, Note *m) {
+    int i, ended = 1, oom = 0;
+    long last = H->n - 1;
+    double t_end = H->t[last];
+    Crossings c = {0};
+    for (i = 0; i < NSUM; i++) out[i] = NAN;
+    if (PDBFS_ROLE_FORCE >= 0 && R(H, last, PDBFS_ROLE_FORCE) > 0) ended = 0;
+    if (PDBFS_ROLE_PRESSURE >= 0) {
+        const int j = PDBFS_ROLE_PRESSURE;
+        double level;
+        int ups = 0, pulse, k;
+        char why[256];
+        oom |= pdbfs_peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
+        level = PULSE_LEVEL * out[S_PEAK];
+        if (out[S_PEAK] > 0 && out[S_TPEAK] >= t_end)
+            pdbfs_note(m, "the pressure still rises at t_end = %.6g s: its peak is later", t_end);
+        if (!(out[S_PEAK] > 0)) {
+            out[S_DURATION] = 0.0;
+            out[S_COMPLETE] = 0.0;
+            pdbfs_note(m, "no pressure pulse in [0, %.6g] s", t_end);
+        } else {
+            k = pdbfs_crossings(H, j, level, &c);
+            if (k) {
+                pdbfs_free_crossings(&c);
+                if (k == -1) pdbfs_note(m, "out of memory");
+                else pdbfs_note(m, "the pressure's crossings of %g %% of its peak (%.6g) are not "
+                                "resolved: integrated again, a step shows other crossings (tighten "
+                                "rtol and atol)", 100 * PULSE_LEVEL, level);
+                return k == -1 ? RC_NO_MEMORY : RC_BAD_CROSSINGS;
+            }
+            pulse = pdbfs_pulse_pairs(c.n, c.t, c.dir, R(H, 0, j) > level, R(H, last, j) > level,
+                                      H->t[0], t_end, &out[S_DURATION], why, sizeof why);
+            for (i = 0; i < c.n; i++) ups += c.dir[i] > 0;
+            pdbfs_free_crossings(&c);
+            if (pulse == PULSE_BAD) {
+                pdbfs_note(m, "%s", why);
+                return RC_BAD_CROSSINGS;
+            }
+            if (pulse == PULSE_CUT) pdbfs_note(m, "%s", why);
+            out[S_COMPLETE] = pulse == PULSE_OK && ups > 0 && ended ? 1.0 : 0.0;
+        }
+    }
+    if (!ended) pdbfs_note(m, "the contact continues at t_end: the blow has not ended");
+    if (PDBFS_ROLE_DISP >= 0) {
+        double t;
+        oom |= pdbfs_peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
+    }
+#if PDBFS_ROLE_FORCE >= 0
+    {
+        double t;
+        oom |= pdbfs_peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
+        if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom, m);
+    }                                                /* no contact: restitution undefined */
+#endif
+    if (oom & 1) {
+        pdbfs_note(m, "out of memory");
+        return RC_NO_MEMORY;
+    }
+    return 0;
+}
+
+static double seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 API int pdbfs_summary_nsum(void) { return NSUM; }
+API int pdbfs_summary_nstat(void) { return NSTAT; }
 
 /*
  * Summaries of n parameter points (P: n x np, row major) over [0, t_end],
  * each from the rig's own start values x0(p).  out: n x NSUM (NaN where an
  * entry is undefined or the rig has no such role); codes: 0 or the point's
- * failure (as pdbfs_batch_run's); msgs: n x msglen.  Returns the number of
+ * failure (as pdbfs_batch_run's, or RC_BAD_CROSSINGS); msgs: n x msglen, the
+ * reason of a failure or the warnings of a point that did not fail (a pulse
+ * cut off at t_end); stats: n x NSTAT (may be NULL).  Returns the number of
  * points that failed, -1 for bad arguments.
  */
 API long long pdbfs_summary_batch(long long n, long long np, const double *P, double t_end,
                                   double rtol, double atol, int method, double max_step,
                                   long long max_num_steps, double *out, int *codes, char *msgs,
-                                  long long msglen) {
+                                  long long msglen, double *stats) {
     long long i, failed = 0;
-    char *work = malloc(sizeof(double) * (PDBFS_SZ_W + 1) + sizeof(casadi_int) * (PDBFS_SZ_IW + 1)
-                        + sizeof(void *) * (PDBFS_SZ_ARG + PDBFS_SZ_RES + 2));
     PdbfsEval ev;
     History H;
     PdbfsCvode s;
     PdbfsCvodeSettings set;
-    double atolv[NXQ], x0[NXQ], xe[NXQ];
-    char *b = work;
-    if (!work || np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) {
+    void *work;
+    double *atolv, *x0, *xe, *x_pk;
+    if (np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) return -1;
+    work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
+    atolv = malloc(sizeof(double) * NXQ * 4);
+    memset(&H, 0, sizeof H);
+    if (!work || !atolv) {
         free(work);
+        free(atolv);
         return -1;
     }
-    ev.w = (casadi_real *)b;
-    b += sizeof(double) * (PDBFS_SZ_W + 1);
-    ev.arg = (const casadi_real **)b;
-    b += sizeof(void *) * (PDBFS_SZ_ARG + 1);
-    ev.res = (casadi_real **)b;
-    b += sizeof(void *) * (PDBFS_SZ_RES + 1);
-    ev.iw = (casadi_int *)b;
-    memset(&H, 0, sizeof H);
+    x0 = atolv + NXQ;
+    xe = x0 + NXQ;
+    x_pk = xe + NXQ;
     H.ev = &ev;
     H.cv = &s;
     H.set = &set;
@@ -272,9 +213,13 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     s.jac = pdbfs_jac_q;
     s.jac_sp = pdbfs_jac_q_sparsity_out(0);
     for (i = 0; i < n; i++) {
-        char *msg = msgs && msglen > 0 ? msgs + i * msglen : NULL;
+        Note m;
         int k, code = 0;
-        if (msg) msg[0] = 0;
+        double t0 = seconds();
+        m.text = msgs && msglen > 0 ? msgs + i * msglen : NULL;
+        m.len = m.text ? (size_t)msglen : 0;
+        if (m.text) m.text[0] = 0;
+        s.steps = s.roots = s.rhs_evals = s.jac_evals = 0;
         ev.p = P + i * np;
         for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
         ev.arg[0] = ev.p;
@@ -286,31 +231,46 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
         for (k = 0; k < PDBFS_NP; k++)
             if (!isfinite(ev.p[k])) code = 1;
         if (code) {
-            if (msg) snprintf(msg, (size_t)msglen, "parameters or start values are not finite");
+            pdbfs_note(&m, "parameters or start values are not finite");
         } else {
             H.n = 0;
             H.oom = H.bad = 0;
             s.on_step = NULL;
             code = pdbfs_cvode_start(&s, &set, 0.0, x0);
-            if (!code) record(&H, 0.0, x0);
-            s.on_step = record;
+            if (!code) pdbfs_record_step(&H, 0.0, x0);
+            s.on_step = pdbfs_record_step;
             s.step_env = &H;
             if (!code) code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
             s.on_step = NULL;
-            if (code && msg)
-                snprintf(msg, (size_t)msglen, "%s at t = %.6g s", H.oom ? "out of memory"
-                         : H.bad ? "the solution became NaN or infinite"
-                         : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps" : "CVODE failed", s.tn);
-            if (code && H.bad) code = 4;   /* RC_NOT_FINITE of pdbfs_batch.c */
-            if (!code) summarise(&H, out + i * NSUM);
+            if (code)
+                pdbfs_note(&m, "%s at t = %.6g s", H.oom ? "out of memory"
+                     : H.bad ? "the solution became NaN or infinite"
+                     : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps" : "CVODE failed", s.tn);
+            if (code && H.bad) code = RC_NOT_FINITE;
+            if (!code) code = summarise(&H, out + i * NSUM, x_pk, &m);
         }
+        if (code)   /* a failed point has no values */
+            for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
         codes[i] = code;
         if (code) failed++;
+        if (stats) {
+            double *st = stats + i * NSTAT;
+            st[ST_STEPS] = (double)s.steps;
+            st[ST_RHS] = (double)s.rhs_evals;
+            st[ST_JAC] = (double)s.jac_evals;
+            st[ST_ROOTS] = (double)s.roots;
+            st[ST_METHOD] = (double)(s.method | s.nls << 4 | s.linsol << 8);
+            st[ST_WALL] = seconds() - t0;
+        }
     }
     pdbfs_cvode_free(&s);
     free(H.t);
     free(H.x);
     free(H.r);
+    free(H.rt);
+    free(H.rx);
+    free(H.rd);
+    free(atolv);
     free(work);
     return failed;
 }

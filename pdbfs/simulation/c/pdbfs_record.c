@@ -1,0 +1,164 @@
+/* pdbfs_record: see pdbfs_record.h. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pdbfs_record.h"
+
+int pdbfs_record_step(void *env, double t, const double *x) {
+    History *h = (History *)env;
+    int j;
+    if (h->n == h->cap) {
+        long cap = h->cap ? 2 * h->cap : 2048;
+        double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
+        if (nt) h->t = nt;
+        if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
+        if (nx) h->x = nx;
+        if (nx) nr = realloc(h->r, sizeof(double) * cap * NRX);
+        if (nr) h->r = nr;
+        if (!nr) {
+            h->oom = 1;
+            return 1;
+        }
+        h->cap = cap;
+    }
+    h->t[h->n] = t;
+    memcpy(h->x + h->n * NXQ, x, sizeof(double) * NXQ);
+    if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
+    for (j = 0; j < NR; j++)
+        if (!isfinite(R(h, h->n, j))) h->bad = 1;
+    h->n++;
+    return h->bad;
+}
+
+static int add_crossing(Crossings *c, double t, int dir, const double *x) {
+    if (c->n == c->cap) {
+        long cap = c->cap ? 2 * c->cap : 16;
+        double *nt = realloc(c->t, sizeof(double) * cap), *nx = NULL;
+        int *nd = NULL;
+        if (nt) c->t = nt;
+        if (nt) nx = realloc(c->x, sizeof(double) * cap * NXQ);
+        if (nx) c->x = nx;
+        if (nx) nd = realloc(c->dir, sizeof(int) * cap);
+        if (nd) c->dir = nd;
+        if (!nd) return -1;
+        c->cap = cap;
+    }
+    c->t[c->n] = t;
+    c->dir[c->n] = dir;
+    memcpy(c->x + c->n * NXQ, x, sizeof(double) * NXQ);
+    c->n++;
+    return 0;
+}
+
+void pdbfs_free_crossings(Crossings *c) {
+    free(c->t);
+    free(c->x);
+    free(c->dir);
+    memset(c, 0, sizeof *c);
+}
+
+/* ------------------------------------------------------------ refinement */
+
+typedef struct {
+    PdbfsEval *ev;
+    int role, slope;          /* the role, and whether its slope (else value - level) */
+    double level;
+} Target;
+
+static int target_fn(void *env, double t, const double *x, double *g) {
+    Target *q = (Target *)env;
+    double r[NRX];
+    pdbfs_eval_txp(q->ev, q->slope ? pdbfs_roles_dot : pdbfs_roles, t, x, r);
+    *g = r[q->role] - (q->slope ? 0.0 : q->level);
+    return 0;
+}
+
+static int grow_roots(History *H, int cap) {
+    double *t = realloc(H->rt, sizeof(double) * cap), *x = NULL;
+    int *d = NULL;
+    if (t) H->rt = t;
+    if (t) x = realloc(H->rx, sizeof(double) * cap * NXQ);
+    if (x) H->rx = x;
+    if (x) d = realloc(H->rd, sizeof(int) * cap);
+    if (d) H->rd = d;
+    if (!d) return -1;
+    H->rcap = cap;
+    return 0;
+}
+
+/* every root of the target on record steps k0 .. k1-1, integrated again from
+ * record k0 (again with more room while the room fills): times, states and
+ * directions in H->rt, rx, rd; their number, or -1 when out of memory */
+static int refine(History *H, long k0, long k1, Target *q, int dir) {
+    int n;
+    if (k0 < 0) k0 = 0;
+    if (k1 > H->n - 1) k1 = H->n - 1;
+    if (k1 <= k0 || !(H->t[k1] > H->t[k0])) return 0;
+    for (;;) {
+        if (H->rcap == 0 && grow_roots(H, MAXR)) return -1;
+        n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q,
+                              dir, H->rcap, H->rt, H->rx, H->rd);
+        if (n < H->rcap) return n > 0 ? n : 0;
+        if (grow_roots(H, 2 * H->rcap)) return -1;
+    }
+}
+
+static double role_at(const History *H, int j, double t, const double *x) {
+    double r[NRX];
+    pdbfs_eval_txp(H->ev, pdbfs_roles, t, x, r);
+    return r[j];
+}
+
+/* the largest value of role j over records k0 .. k1-1, refined where its slope
+ * turns; its time, value and (x_pk not NULL) state */
+int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk) {
+    long k, best = k0;
+    Target q;
+    int i, n;
+    for (k = k0; k < k1; k++)
+        if (R(H, k, j) > R(H, best, j)) best = k;
+    *t_pk = H->t[best];
+    *v_pk = R(H, best, j);
+    if (x_pk) memcpy(x_pk, H->x + best * NXQ, sizeof(double) * NXQ);
+    q.ev = H->ev;
+    q.role = j;
+    q.slope = 1;
+    q.level = 0.0;
+    n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1);
+    for (i = 0; i < n; i++) {
+        double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);
+        if (v > *v_pk) {
+            *v_pk = v;
+            *t_pk = H->rt[i];
+            if (x_pk) memcpy(x_pk, H->rx + i * NXQ, sizeof(double) * NXQ);
+        }
+    }
+    return n < 0 ? -1 : 0;
+}
+
+/* every crossing of role j through level (both directions), in time order,
+ * appended to c; -1 when out of memory, -2 when a step's crossings do not
+ * lead from one side to the other */
+int pdbfs_crossings(History *H, int j, double level, Crossings *c) {
+    long k;
+    Target q;
+    q.ev = H->ev;
+    q.role = j;
+    q.slope = 0;
+    q.level = level;
+    for (k = 0; k + 1 < H->n; k++) {
+        double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
+        int i, m;
+        if (!((a < 0 && b >= 0) || (a > 0 && b <= 0))) continue;
+        m = refine(H, k, k + 1, &q, 0);
+        if (m < 0) return -1;
+        /* the step's crossings lead from a's side to b's: else the integration
+         * again from record k does not see what the first did (a signal at
+         * the size of the solver's error) */
+        if (m % 2 == 0 || H->rd[0] != (a < 0 ? 1 : -1)) return -2;
+        for (i = 0; i < m; i++)
+            if (add_crossing(c, H->rt[i], H->rd[i], H->rx + i * NXQ)) return -1;
+    }
+    return 0;
+}

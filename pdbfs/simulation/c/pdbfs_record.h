@@ -1,0 +1,54 @@
+/*
+ * The solution's record of a summary (pdbfs_summary.c) and the refinements
+ * on it: the state and the roles after every internal CVODE step, and the
+ * roots of a quantity on a recorded step, integrated again from its start
+ * with CVODE's root finding.  Everything on the heap, grown as needed.
+ */
+#ifndef PDBFS_RECORD_H
+#define PDBFS_RECORD_H
+
+#include "pdbfs_batch_model.h"
+#include "pdbfs_cvode.h"
+
+#define NR PDBFS_NR
+#define NRX (NR > 0 ? NR : 1)
+#define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
+#define NXQ (PDBFS_NX + NQ)
+#define MAXR 8                                /* roots of one refined step, to start with */
+
+typedef struct {
+    double *t, *x, *r;        /* per record: time, state (NXQ), roles (NR) */
+    long n, cap;
+    int oom, bad;             /* out of memory; a role not finite */
+    PdbfsEval *ev;
+    PdbfsCvode *cv;           /* for the refinements */
+    const PdbfsCvodeSettings *set;
+    /* the roots of the last refinement: times, states (NXQ each), directions; room for rcap */
+    double *rt, *rx;
+    int *rd, rcap;
+} History;
+
+/* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */
+typedef struct {
+    double *t, *x;
+    int *dir;
+    long n, cap;
+} Crossings;
+
+#define R(H, k, j) ((H)->r[(k) * NRX + (j)])
+
+/* the step callback of pdbfs_cvode (env: a History): keep (t, x) and its roles */
+int pdbfs_record_step(void *env, double t, const double *x);
+
+/* the largest value of role j over records k0 .. k1-1, refined where its slope
+ * turns: its time, value and (x_pk not NULL) state; -1 when out of memory */
+int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, double *x_pk);
+
+/* every crossing of role j through level (both directions), in time order,
+ * appended to c; -1 when out of memory, -2 when a step's crossings do not
+ * lead from one side to the other (integrated again, the step shows others) */
+int pdbfs_crossings(History *H, int j, double level, Crossings *c);
+
+void pdbfs_free_crossings(Crossings *c);
+
+#endif
