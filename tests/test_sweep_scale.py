@@ -85,11 +85,11 @@ def test_a_killed_sweep_resumes_without_recomputing(tmp_path):
     assert r.returncode == 0, r.stderr
     doc = json.loads(r.stdout)
     assert doc["n_points"] == 120 and doc["computed"] == 120 - 10 * len(done)
-    assert {f: (out / f).stat().st_mtime_ns for f in done} == done        # not recomputed
+    assert {f: (out / "chunks" / f).stat().st_mtime_ns for f in done} == done   # not recomputed
     frame = SweepResult.load(out).frame
     assert list(frame["point"]) == list(range(120))                         # none lost or twice
     assert frame["error"].eq("").all() and frame["peak_pressure"].notna().all()
-    assert not list((out / "chunks").glob(".*part"))                                    # no half-written file
+    assert not list((out / "chunks").glob(".*part"))                    # no half-written file
 
 
 def test_dask_cluster_losing_a_worker_gives_the_local_answer(tmp_path):

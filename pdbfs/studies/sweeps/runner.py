@@ -97,6 +97,7 @@ class Runner:
         rows = np.flatnonzero(ok)
         for k in self.keys:
             summary[k][rows] = values[:, SUMMARY_KEYS.index(k)]
+        same_as_result_summary(summary, rows)
         for r, code, msg in zip(rows, codes, messages):
             if code:
                 error[r] = f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
@@ -117,6 +118,8 @@ class Runner:
                 error[i] = f"{type(err).__name__}: {err}"
                 continue
             except (ArithmeticError, ValueError, RuntimeError) as err:   # anything the summary hits
+                if "KeyboardInterrupt" in str(err):      # Ctrl-C inside CasADi: stop, not a point
+                    raise KeyboardInterrupt from None
                 error[i] = f"{type(err).__name__}: {err}"
                 continue
             for k in self.keys:
@@ -127,6 +130,20 @@ class Runner:
                     summary[k][i] = np.nan if v is None else float(v)
             if s.trajectories:
                 results[i] = res
+
+
+def same_as_result_summary(summary, rows):
+    """The C driver's values under Result.summary()'s rules: a pulse that did
+    not end inside the run has no duration and no restitution; no pulse, no
+    time of peak."""
+    if "complete" in summary:
+        cut = rows[summary["complete"][rows] == 0]
+        for k in ("pulse_duration", "restitution_coefficient"):
+            if k in summary:
+                summary[k][cut] = np.nan
+    if "peak_pressure" in summary and "time_of_peak" in summary:
+        none = rows[~(summary["peak_pressure"][rows] > 0)]
+        summary["time_of_peak"][none] = np.nan
 
 
 # -------------------------------------------------------- on Dask workers

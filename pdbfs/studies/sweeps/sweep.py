@@ -16,10 +16,13 @@ runs in bounded memory and resumes after an interruption.
 from __future__ import annotations
 
 import math
+import signal
+import threading
 import os
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -116,7 +119,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     bar = _bar(n, n - sum(b - a for _, a, b in chunks), progress, sim.dae.name)
     kept, results = [], {}
 
-    def finish(cid, chunk):
+    def save(cid, chunk):
         if store is not None:
             store.write(cid, chunk_columns(chunk, points.names, runner.keys))
         else:
@@ -126,22 +129,16 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
                     results[int(i)] = _rebuild(sim, r)
         bar.update(len(chunk.index))
 
-    try:
-        if client is not None:
-            where = _run_dask(client, sim, points, fixed, settings, chunks, finish)
-        elif workers > 1 and runner.fast is not None:
-            with ThreadPoolExecutor(workers) as pool:
-                submit = lambda cid, a, b: pool.submit(runner.run, np.arange(a, b), points.block(a, b))  # noqa: E731
-                _windowed(chunks, submit, lambda f: f.result(), 4 * workers, finish)
-            where = f"{workers} threads"
-        elif workers > 1 and _can_fork():
-            where = _run_forked(runner, points, chunks, workers, finish)
-        else:
-            for cid, a, b in chunks:
-                finish(cid, runner.run(np.arange(a, b), points.block(a, b)))
-            where, workers = "this process", 1
-    finally:
-        bar.close()
+    with deferred_interrupt() as stop:
+        def finish(cid, chunk):
+            save(cid, chunk)
+            if stop:                # Ctrl-C: once this chunk is saved, not inside a solver
+                raise KeyboardInterrupt
+        try:
+            where, workers = _execute(client, sim, points, fixed, settings, chunks, finish,
+                                      runner, workers)
+        finally:
+            bar.close()
     frame = None
     if store is None:
         import pandas as pd
@@ -152,6 +149,38 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
                       where=where)
     res.computed = sum(b - a for _, a, b in chunks)   # the others were on disk already
     return res
+
+
+def _execute(client, sim, points, fixed, settings, chunks, finish, runner, workers):
+    """Every chunk through ``finish``: on Dask, threads, forked processes or here."""
+    if client is not None:
+        return _run_dask(client, sim, points, fixed, settings, chunks, finish), workers
+    if workers > 1 and runner.fast is not None:
+        with ThreadPoolExecutor(workers) as pool:
+            submit = lambda cid, a, b: pool.submit(runner.run, np.arange(a, b), points.block(a, b))  # noqa: E731
+            _windowed(chunks, submit, lambda f: f.result(), 4 * workers, finish)
+        return f"{workers} threads", workers
+    if workers > 1 and _can_fork():
+        return _run_forked(runner, points, chunks, workers, finish), workers
+    for cid, a, b in chunks:
+        finish(cid, runner.run(np.arange(a, b), points.block(a, b)))
+    return "this process", 1
+
+
+@contextmanager
+def deferred_interrupt():
+    """Ctrl-C held until the chunk at hand is finished and saved: CasADi's
+    solvers check for it in the middle of a step and would swallow it. Yields
+    a list that is non-empty once Ctrl-C came (main thread only)."""
+    hit = []
+    if threading.current_thread() is not threading.main_thread():
+        yield hit
+        return
+    old = signal.signal(signal.SIGINT, lambda signum, frame: hit.append(signum))
+    try:
+        yield hit
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 def _workers(workers, n) -> int:
@@ -181,6 +210,7 @@ _FORKED = None   # (runner, points) of this worker process, set by its pool's in
 
 def _forked_init(runner, points):
     global _FORKED
+    signal.signal(signal.SIGINT, signal.SIG_IGN)      # the parent stops the pool
     _FORKED = (runner, points)
 
 
