@@ -14,9 +14,9 @@ import sys
 
 from pdbfs.errors import PdbfsError
 
-from . import calibrate, design, reproduce, sensitivity, simulate, sweep
+from . import app, calibrate, design, reproduce, sensitivity, simulate, sweep
 
-COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design)
+COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design, app)
 
 
 def build_parser():
