@@ -75,7 +75,8 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
             msgs[k] = None
         except PdbfsError as err:
             msgs[k] = str(err)
-            return no_update, no_update, no_update, no_update, no_update, msgs, no_update
+            keep = [no_update] * len(names)
+            return keep, keep, keep, keep, keep, msgs, no_update
     else:
         raise PreventUpdate
     values.update(changed)
