@@ -36,7 +36,11 @@ def _apply(wb, values, changes):
     return values
 
 
-def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, des, msgs):
+def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, des, msgs, pins,
+                  trace):
+    """A field, a slider, reset or apply changed the settings: the controls that
+    follow, the messages, and the new run drawn, all in one answer (one
+    round trip per slider step)."""
     wb = workbench(settings["rig"])
     names = [c.name for c in wb.controls]
     sliders = [s["id"]["name"] for s in ctx.inputs_list[0]]
@@ -76,7 +80,7 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
         except PdbfsError as err:
             msgs[k] = str(err)
             keep = [no_update] * len(names)
-            return keep, keep, keep, keep, keep, msgs, no_update
+            return (keep, keep, keep, keep, keep, msgs, no_update) + (no_update,) * 3
     else:
         raise PreventUpdate
     values.update(changed)
@@ -94,7 +98,8 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
         out_f.append(texts.get(name, fmt(v)) if moved and not field_typed else no_update)
         if moved and msgs[k] and not field_typed:
             msgs[k] = None
-    return out_s, out_lo, out_hi, out_m, out_f, msgs, {**settings, "values": values}
+    settings = {**settings, "values": values}
+    return (out_s, out_lo, out_hi, out_m, out_f, msgs, settings) + draw(settings, pins, trace, cal, des)
 
 
 def _summary_table(rows):
@@ -114,7 +119,13 @@ def _summary_table(rows):
     return html.Table(html.Tbody(trs), style={"borderCollapse": "collapse"})
 
 
-def run(settings, pins, trace, cal, des):
+def redraw(pins, trace, cal, des, settings):
+    return draw(settings, pins, trace, cal, des)
+
+
+def draw(settings, pins, trace, cal, des):
+    """The run of the settings: its figure (with pins, trace and fits), its
+    summary and a status line; a PdbfsError goes to the status line."""
     wb = workbench(settings["rig"])
     try:
         res = wb.run(settings["values"])
@@ -199,15 +210,17 @@ def register(app):
         Output({"type": "field", "name": ALL}, "value"),
         Output({"type": "msg", "name": ALL}, "children"),
         Output("settings", "data"),
+        Output("pulse", "figure", allow_duplicate=True), Output("summary", "children", allow_duplicate=True),
+        Output("status", "children", allow_duplicate=True),
         Input({"type": "slider", "name": ALL}, "value"),
         Input({"type": "field", "name": ALL}, "value"),
         Input("reset", "n_clicks"), Input("cal-apply", "n_clicks"), Input("des-apply", "n_clicks"),
         State("settings", "data"), State("cal", "data"), State("des", "data"),
-        State({"type": "msg", "name": ALL}, "children"),
+        State({"type": "msg", "name": ALL}, "children"), State("pins", "data"), State("trace", "data"),
         prevent_initial_call=True)(edit_settings)
     app.callback(Output("pulse", "figure"), Output("summary", "children"), Output("status", "children"),
-                 Input("settings", "data"), Input("pins", "data"), Input("trace", "data"),
-                 Input("cal", "data"), Input("des", "data"))(run)
+                 Input("pins", "data"), Input("trace", "data"), Input("cal", "data"),
+                 Input("des", "data"), State("settings", "data"))(redraw)
     app.callback(Output("pins", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
                  State("settings", "data"), State("pins", "data"),
                  prevent_initial_call=True)(pin)
