@@ -121,6 +121,11 @@ def type_into(d, name, text):
     f.send_keys(text + Keys.ENTER)
 
 
+def trace_names(d):
+    return d.execute_script("const g = document.querySelector('#pulse .js-plotly-plot');"
+                            "return g && g.data ? g.data.map(t => t.name) : [];")
+
+
 def api_peak(**params) -> float:
     return paper_rig().simulate(0.02, params=params, backend="c").summary()["peak_pressure"]
 
@@ -233,6 +238,8 @@ def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file):
     assert float(value) == pytest.approx(3e8, rel=1e-4)      # the trace's own oil.k
     assert float(std) == pytest.approx(api.std["oil.k"], rel=1e-3)
     assert "RMS residual" in browser.find_element(By.ID, "cal-out").text
+    browser.find_element(By.ID, "pin").click()                # the defaults, to compare
+    wait(browser, "#pulse", lambda e: "pin 1" in " ".join(trace_names(browser)))
     _, old = shown_peak(browser)
     wait(browser, "#cal-apply", lambda e: e.is_enabled()).click()
     after, _ = shown_peak(browser, old)
@@ -240,6 +247,7 @@ def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file):
     assert applied == pytest.approx(3e8, rel=1e-4)
     assert after == pytest.approx(api_peak(**{"oil.k": api.params["oil.k"]}), rel=1e-6)
     wait(browser, "#pulse .main-svg")
+    browser.execute_script("window.scrollTo(0, 0)")
     time.sleep(0.5)
     out = ROOT / "docs" / "figures" / "app.png"
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -275,6 +283,57 @@ def test_design_for_a_peak_and_download_what_it_gives(server, browser):
     res = paper_rig().simulate(0.02, params={"hammer.v0": v0}, backend="c")
     col = [n for n in table.dtype.names if n.startswith("oilpressure")][0]
     assert np.max(np.abs(table[col] - res["oil.pressure"])) <= 1e-6 * np.max(res["oil.pressure"])
+
+
+def test_pin_compare_and_reset(server, browser):
+    load(browser, server)
+    default, text = shown_peak(browser)
+    browser.find_element(By.ID, "pin").click()
+    wait(browser, "#pulse", lambda e: "pin 1 (defaults): oil.pressure" in trace_names(browser))
+    type_into(browser, "oil.k", "5e8")
+    changed, text = shown_peak(browser, text)
+    assert changed == pytest.approx(api_peak(**{"oil.k": 5e8}), rel=1e-9)
+    pinned = browser.execute_script(
+        "const g = document.querySelector('#pulse .js-plotly-plot');"
+        "return Math.max(...g.data.find(t => t.name === 'pin 1 (defaults): oil.pressure').y);")
+    assert pinned * 1e6 == pytest.approx(default, rel=1e-3)    # on the output grid
+    browser.find_element(By.ID, "reset").click()
+    back, _ = shown_peak(browser, text)
+    assert back == default
+    assert browser.find_element(By.CSS_SELECTOR, pid("field", "oil.k")).get_attribute("value") \
+        == "2.228e+08"
+
+
+def test_another_rig_brings_its_own_parameters(server, browser):
+    from pdbfs.models import RIGS
+    load(browser, server)
+    _, text = shown_peak(browser)
+    browser.find_element(By.ID, "rig").click()
+    wait(browser, "[role=option]", lambda e: e.text == "paper-hc").click()
+    peak, _ = shown_peak(browser, text)
+    rig = RIGS["paper-hc"]()
+    assert peak == pytest.approx(rig.simulate(0.02, backend="c").summary()["peak_pressure"], rel=1e-9)
+    for p in rig.compile().params:
+        assert browser.find_elements(By.CSS_SELECTOR, pid("field", p.name)), p.name
+
+
+def test_design_map_is_the_api_s(server, browser):
+    load(browser, server)
+    for box, text in (("map-n", "5"), ("map-x-lo", "0.2"), ("map-x-hi", "1.0")):
+        e = browser.find_element(By.ID, box)
+        e.send_keys(Keys.CONTROL, "a")
+        e.send_keys(text)
+    browser.find_element(By.ID, "map-run").click()
+    get_z = ("const g = document.querySelector('#map .js-plotly-plot');"
+             "return g && g.data && g.data.length ? g.data[0].z : null;")
+    t0 = time.time()
+    while (z := browser.execute_script(get_z)) is None and time.time() - t0 < 60:
+        time.sleep(0.1)
+    assert z is not None, "no design map drawn"
+    assert browser.find_element(By.ID, "map").is_displayed()
+    api = pdbfs.design_map(paper_rig(), ("hammer.h", 0.2, 1.0), ("oil.k", 1e8, 1e9), n=5,
+                           backend="c")
+    assert np.allclose(np.array(z, float), api.values["peak_pressure"] / 1e6, rtol=1e-9, atol=0)
 
 
 def test_fmu_download_carries_the_settings(server, browser):

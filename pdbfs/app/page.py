@@ -131,7 +131,8 @@ def layout(wb: Workbench):
     ], style={"display": "flex", "alignItems": "center", "gap": "8px"})
     left = html.Div(id="controls", children=controls(wb, settings["values"]),
                     style={"width": "360px", "flex": "0 0 360px", "overflowY": "auto",
-                           "maxHeight": "calc(100vh - 80px)", "paddingRight": "8px"})
+                           "maxHeight": "calc(100vh - 80px)", "paddingRight": "8px",
+                           "overflowX": "hidden"})
     plot = html.Div([
         html.Div([_button("pin", "Pin this curve"), _button("unpin", "Clear pins"),
                   _button("reset", "Reset to defaults"),
