@@ -3,6 +3,8 @@
 the page works with no internet."""
 from __future__ import annotations
 
+import atexit
+import shutil
 import tempfile
 import threading
 import webbrowser
@@ -20,7 +22,10 @@ def create_app(rig: str = "paper", cache_dir=None):
     from dash import Dash, DiskcacheManager
 
     wb = workbench(rig)                      # bad rig names fail here, before serving
-    cache = diskcache.Cache(cache_dir or tempfile.mkdtemp(prefix="pdbfs-app-cache-"))
+    if cache_dir is None:
+        cache_dir = tempfile.mkdtemp(prefix="pdbfs-app-cache-")
+        atexit.register(shutil.rmtree, cache_dir, True)
+    cache = diskcache.Cache(cache_dir)
     app = Dash(__name__, title=f"pdbfs workbench: {rig}", serve_locally=True,
                background_callback_manager=DiskcacheManager(cache),
                suppress_callback_exceptions=True, update_title=None)
