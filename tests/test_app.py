@@ -357,8 +357,9 @@ def test_fmu_download_carries_the_settings(server, browser):
     assert start["oil.k"] == pytest.approx(2.228e8)
 
 
-def test_no_browser_leaves_the_command_line_alone():
-    """Without --open, `pdbfs app --help` lists the options and starts nothing."""
+def test_the_command_line_s_options_and_errors():
+    """`pdbfs app --help` lists the options; a bad rig or a port in use is one
+    line and exit status 2, before anything is built."""
     p = subprocess.run([sys.executable, "-m", "pdbfs.cli", "app", "--help"], capture_output=True,
                        text=True)
     assert p.returncode == 0
@@ -367,3 +368,12 @@ def test_no_browser_leaves_the_command_line_alone():
     p = subprocess.run([sys.executable, "-m", "pdbfs.cli", "app", "--rig", "nope", "--port",
                         str(free_port())], capture_output=True, text=True, timeout=60)
     assert p.returncode == 2 and p.stderr.strip().startswith("pdbfs: error: unknown rig 'nope'")
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        p = subprocess.run([sys.executable, "-m", "pdbfs.cli", "app", "--port", str(port)],
+                           capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and p.stdout == ""
+    assert p.stderr.strip() == (f"pdbfs: error: cannot listen on 127.0.0.1:{port} (Address already "
+                                "in use); choose another --port or --host")

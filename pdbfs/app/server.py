@@ -4,10 +4,14 @@ the page works with no internet."""
 from __future__ import annotations
 
 import atexit
+import logging
 import shutil
+import socket
 import tempfile
 import threading
 import webbrowser
+
+from pdbfs.errors import ParameterError
 
 from . import interact, jobs
 from .page import layout
@@ -38,10 +42,30 @@ def create_app(rig: str = "paper", cache_dir=None):
 def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_browser=False,
           ready=None):
     """Serve the page until interrupted; ``ready(url)`` is called once it is built."""
+    check_address(host, port)
     app = create_app(rig)
+    logging.getLogger("werkzeug").setLevel(logging.ERROR)   # no line per request
     url = f"http://{host}:{port}/"
     if ready:
         ready(url)
     if open_browser:
         threading.Timer(1.0, webbrowser.open, args=(url,)).start()
     app.run(host=host, port=port, debug=False, threaded=True)
+
+
+def check_address(host: str, port: int):
+    """ParameterError, before anything is built, if the server could not listen there."""
+    if not 0 < port < 65536:
+        raise ParameterError(f"--port {port}: must be from 1 to 65535")
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except socket.gaierror as err:
+        raise ParameterError(f"--host {host}: not an address of this machine ({err.strerror})") from None
+    family, kind, proto, _, addr = infos[0]
+    with socket.socket(family, kind, proto) as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            s.bind(addr)
+        except OSError as err:
+            raise ParameterError(f"cannot listen on {host}:{port} ({err.strerror}); "
+                                 "choose another --port or --host") from None
