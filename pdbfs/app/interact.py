@@ -13,7 +13,7 @@ from dash.exceptions import PreventUpdate
 from pdbfs.errors import PdbfsError
 
 from .figures import pulse_figure
-from .page import controls, fmt, free_options, initial_settings, marks
+from .page import controls, fmt, free_options, initial_settings, marks, study_defaults
 from .workbench import workbench
 
 MAX_PINS = 5
@@ -179,10 +179,12 @@ def change_rig(rig, settings):
     try:
         wb = workbench(rig)
     except PdbfsError as err:
-        return (no_update,) * 8 + (str(err),)
+        return (no_update,) * 12 + (str(err),)
     opts = free_options(wb)
     s = initial_settings(wb)
+    picks = study_defaults(wb)
     return (controls(wb, s["values"]), s, [], None, opts, opts, opts, opts,
+            picks["cal-free"], picks["des-free"], picks["map-x"], picks["map-y"],
             f"backend: {wb.backend_note}")
 
 
@@ -231,7 +233,9 @@ def register(app):
     app.callback(Output("controls", "children"), Output("settings", "data", allow_duplicate=True),
                  Output("pins", "data", allow_duplicate=True), Output("cal", "data", allow_duplicate=True),
                  Output("cal-free", "options"), Output("des-free", "options"),
-                 Output("map-x", "options"), Output("map-y", "options"), Output("backend", "children"),
+                 Output("map-x", "options"), Output("map-y", "options"),
+                 Output("cal-free", "value"), Output("des-free", "value"),
+                 Output("map-x", "value"), Output("map-y", "value"), Output("backend", "children"),
                  Input("rig", "value"), State("settings", "data"),
                  prevent_initial_call=True)(change_rig)
     app.callback(Output("download", "data"), Output("dl-msg", "children"),

@@ -51,6 +51,15 @@ def free_options(wb: Workbench):
     return [{"label": c.name, "value": c.name} for c in wb.controls]
 
 
+def study_defaults(wb: Workbench) -> dict:
+    """What the study panels offer first: the oil stiffness to calibrate, the
+    drop height to design, both for a design map."""
+    names = [c.name for c in wb.controls]
+    first = wb.height.name if wb.height else ("h" if "h" in names else names[0])
+    second = "oil.k" if "oil.k" in names else names[-1]
+    return {"cal-free": [second], "des-free": [first], "map-x": first, "map-y": second}
+
+
 def _button(id_, text, **kw):
     return html.Button(text, id=id_, n_clicks=0, style={"margin": "2px"}, **kw)
 
@@ -62,8 +71,8 @@ def _labelled(text, comp):
 
 def studies_panels(wb: Workbench):
     opts = free_options(wb)
-    names = [c.name for c in wb.controls]
-    first = wb.height.name if wb.height else names[0]
+    picks = study_defaults(wb)
+    first, second = picks["map-x"], picks["map-y"]
     trace = html.Div([
         html.H4("Measured trace and calibration", style={"margin": "2px"}),
         dcc.Upload(id="upload", children=html.Div(["Drop a trace CSV here or ", html.A("choose one")]),
@@ -71,7 +80,7 @@ def studies_panels(wb: Workbench):
         html.Div(id="upload-msg", style=MSG, className="msg"),
         html.Div(id="trace-info", style={"fontSize": "12px"}),
         _labelled("free", dcc.Dropdown(id="cal-free", options=opts, multi=True,
-                                       value=["oil.k"] if "oil.k" in names else [],
+                                       value=picks["cal-free"],
                                        style={"minWidth": "18em"})),
         _button("cal-run", "Calibrate"), _button("cal-cancel", "Cancel"),
         _button("cal-apply", "Apply fitted values", disabled=True),
@@ -93,7 +102,6 @@ def studies_panels(wb: Workbench):
         html.Div(id="des-progress", style={"fontSize": "12px", "color": "#555"}),
         html.Div(id="des-out", className="result"),
     ], style=BOX)
-    second = "oil.k" if "oil.k" in names else names[-1]
     dmap = html.Div([
         html.H4("Design map", style={"margin": "2px"}),
         _labelled("x", dcc.Dropdown(id="map-x", options=opts, value=first, style={"minWidth": "12em"})),
