@@ -25,6 +25,11 @@ fi
 source scripts/env.sh
 python -m pip install --quiet --disable-pip-version-check -e ".[test]"
 
+# the browser tests of `pdbfs app` drive Debian's Chromium through its chromedriver
+if ! [ -x /usr/bin/chromium ] || ! [ -x /usr/bin/chromedriver ]; then
+    apt_install chromium chromium-driver || echo "setup: chromium not installed (needs root): the browser tests will be skipped"
+fi
+
 # the build needs cmake and a C compiler; the source comes through apt's lists
 if ! command -v cmake >/dev/null; then apt_install cmake || python -m pip install --quiet cmake; fi
 if ! ls /var/lib/apt/lists/*Packages* >/dev/null 2>&1; then as_root_apt apt-get update -qq || true; fi

@@ -10,7 +10,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 #: package directory -> stage; pdbfs.components, .models and .fmu live at the top
 STAGES = {"pdbfs/modelling": "modelling", "pdbfs/native": "native", "pdbfs/simulation": "simulation",
-          "pdbfs/studies": "studies", "pdbfs/cli": "cli", "components": "components",
+          "pdbfs/studies": "studies", "pdbfs/cli": "cli", "pdbfs/app": "app", "components": "components",
           "models": "models", "fmu": "fmu"}
 MODULES = {"pdbfs/errors.py": "errors", "pdbfs/rig.py": "rig", "pdbfs/__init__.py": "api"}
 #: what each stage may import (besides itself)
@@ -24,12 +24,14 @@ ALLOWED = {
     "rig": {"errors", "modelling", "simulation", "fmu"},
     "models": {"errors", "modelling", "components", "rig"},
     "studies": {"errors", "modelling", "simulation", "components", "models", "rig"},
-    "cli": {"errors", "modelling", "simulation", "fmu", "studies", "models", "components", "rig"},
+    "cli": {"errors", "modelling", "simulation", "fmu", "studies", "models", "components", "rig",
+            "app"},
+    "app": {"errors", "modelling", "simulation", "studies", "models", "components", "rig"},
 }
 #: pdbfs.<name> -> stage
 TARGETS = {"modelling": "modelling", "native": "native", "simulation": "simulation",
-           "studies": "studies", "cli": "cli", "components": "components", "models": "models",
-           "fmu": "fmu", "errors": "errors", "rig": "rig"}
+           "studies": "studies", "cli": "cli", "app": "app", "components": "components",
+           "models": "models", "fmu": "fmu", "errors": "errors", "rig": "rig"}
 MAX_LINES = 400
 
 

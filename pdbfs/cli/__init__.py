@@ -15,9 +15,9 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import calibrate, design, reproduce, sensitivity, simulate, sweep
+from . import app, calibrate, design, reproduce, sensitivity, simulate, sweep
 
-COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design)
+COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design, app)
 
 
 def build_parser():

@@ -1,0 +1,160 @@
+"""The page's long actions: calibration, design, the design map and the FMU.
+Each runs as a Dash background callback, in a process of its own (the page
+stays responsive, Cancel ends it, and a crash cannot take the server down),
+reporting the time spent while it works."""
+from __future__ import annotations
+
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+from dash import Input, Output, State, dcc, html, no_update
+
+from pdbfs.errors import ParameterError, PdbfsError
+
+from .figures import map_figure
+from .page import fmt
+from .workbench import parse_number, workbench
+
+POLL = 400    # ms between the page's looks at a job's progress
+
+
+def with_progress(set_progress, label, fn):
+    """``fn()`` in a thread while the elapsed time is reported; its result,
+    or the PdbfsError it raised."""
+    box = {}
+
+    def work():
+        try:
+            box["value"] = fn()
+        except PdbfsError as err:
+            box["error"] = err
+        except Exception as err:   # noqa: BLE001 - shown on the page, never a dead server
+            box["error"] = RuntimeError(f"{type(err).__name__}: {err}")
+
+    t0 = time.perf_counter()
+    th = threading.Thread(target=work, daemon=True)
+    th.start()
+    while th.is_alive():
+        set_progress(f"{label}: {time.perf_counter() - t0:.1f} s")
+        th.join(0.25)
+    set_progress(f"{label}: done in {time.perf_counter() - t0:.1f} s")
+    if "error" in box:
+        raise box["error"]
+    return box["value"]
+
+
+def _error(err):
+    return html.Div(str(err), style={"color": "#b00020"}, className="msg")
+
+
+def _values_table(values, std=None, units=None, note=None):
+    rows = []
+    for name, v in values.items():
+        s = (std or {}).get(name)
+        unit = (units or {}).get(name, "")
+        text = "undetermined" if v is None else fmt(v) + (f" ± {fmt(s)}" if s is not None else "")
+        rows.append(html.Tr([html.Td(name), html.Td(text, id=f"val-{name}"), html.Td(unit)]))
+    return html.Div([html.Table(html.Tbody(rows)), html.Div(note or "", style={"fontSize": "12px"})])
+
+
+def calibrate(set_progress, _n, settings, trace, free):
+    wb = workbench(settings["rig"])
+    if not trace:
+        return None, _error("upload a trace first"), True
+    if not free:
+        return None, _error("choose the free parameters"), True
+    try:
+        out = with_progress(set_progress, "calibrating",
+                            lambda: wb.calibrate(settings["values"], (trace["t"], trace["y"]), free))
+    except (PdbfsError, RuntimeError) as err:
+        return None, _error(err), True
+    note = f"RMS residual {fmt(out['rms_residual'])} {out['unit']}"
+    if out["undetermined"]:
+        note += "; not determined by the trace: " + "; ".join(f"{k} ({v})" for k, v in
+                                                              out["undetermined"].items())
+    return out, _values_table(out["params"], out["std"], out["units"], note), False
+
+
+def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free):
+    wb = workbench(settings["rig"])
+    if not free:
+        return None, _error("choose the free parameters"), True
+    try:
+        if mode == "curve":
+            if not trace:
+                return None, _error("upload a target curve first"), True
+            target = (trace["t"], trace["y"])
+        else:
+            target = {}
+            for key, text, f in (("peak_pressure", peak, 1e6), ("pulse_duration", duration, 1e-3),
+                                 ("time_of_peak", tpeak, 1e-3)):
+                if text not in (None, ""):
+                    target[key] = parse_number(key, text) * f
+            if not target:
+                raise ParameterError("give at least one target: peak, duration or time of peak")
+        out = with_progress(set_progress, "designing",
+                            lambda: wb.design(settings["values"], target, free))
+    except (PdbfsError, RuntimeError) as err:
+        return None, _error(err), True
+    feats = ", ".join(f"{k} {fmt(v)}" for k, v in out["features"].items())
+    note = ("reached" if out["reachable"] else f"not reachable: {out['limit']}") + \
+        (f"; features: {feats}" if feats else "") + \
+        (f"; RMS error {fmt(out['rms_error'])} {out['unit']}" if out["rms_error"] is not None else "")
+    return out, _values_table(out["params"], None, {**wb.units, **out["units"]}, note), False
+
+
+def design_map(set_progress, _n, settings, x, xlo, xhi, y, ylo, yhi, n):
+    wb = workbench(settings["rig"])
+    try:
+        ax = (x, parse_number(f"{x} from", xlo), parse_number(f"{x} to", xhi))
+        ay = (y, parse_number(f"{y} from", ylo), parse_number(f"{y} to", yhi))
+        npts = parse_number("points per axis", n)
+        if npts != int(npts) or not 3 <= npts <= 60:
+            raise ParameterError(f"points per axis: {n} must be a whole number from 3 to 60")
+        m = with_progress(set_progress, f"mapping {int(npts) ** 2} points",
+                          lambda: wb.design_map(settings["values"], ax, ay, int(npts)))
+    except (PdbfsError, RuntimeError) as err:
+        return no_update, {"display": "none"}, str(err)
+    note = f"{m['failed']} points failed" if m["failed"] else None
+    return map_figure(m), {"display": "block"}, note
+
+
+def fmu(set_progress, _n, settings):
+    wb = workbench(settings["rig"])
+    try:
+        with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
+            path = Path(tmp) / f"{wb.name}.fmu"
+            with_progress(set_progress, "building the FMU", lambda: wb.fmu(settings["values"], path))
+            return dcc.send_bytes(path.read_bytes(), path.name), None
+    except (PdbfsError, RuntimeError) as err:
+        return no_update, str(err)
+
+
+def register(app):
+    common = {"background": True, "prevent_initial_call": True, "interval": POLL}
+    app.callback(Output("cal", "data", allow_duplicate=True), Output("cal-out", "children"),
+                 Output("cal-apply", "disabled"),
+                 Input("cal-run", "n_clicks"), State("settings", "data"), State("trace", "data"),
+                 State("cal-free", "value"), progress=Output("cal-progress", "children"),
+                 running=[(Output("cal-run", "disabled"), True, False)],
+                 cancel=[Input("cal-cancel", "n_clicks")], **common)(calibrate)
+    app.callback(Output("des", "data"), Output("des-out", "children"), Output("des-apply", "disabled"),
+                 Input("des-run", "n_clicks"), State("settings", "data"), State("trace", "data"),
+                 State("des-mode", "value"), State("des-peak", "value"),
+                 State("des-duration", "value"), State("des-tpeak", "value"),
+                 State("des-free", "value"), progress=Output("des-progress", "children"),
+                 running=[(Output("des-run", "disabled"), True, False)],
+                 cancel=[Input("des-cancel", "n_clicks")], **common)(design)
+    app.callback(Output("map", "figure"), Output("map", "style"), Output("map-msg", "children"),
+                 Input("map-run", "n_clicks"), State("settings", "data"),
+                 State("map-x", "value"), State("map-x-lo", "value"), State("map-x-hi", "value"),
+                 State("map-y", "value"), State("map-y-lo", "value"), State("map-y-hi", "value"),
+                 State("map-n", "value"), progress=Output("map-progress", "children"),
+                 running=[(Output("map-run", "disabled"), True, False)],
+                 cancel=[Input("map-cancel", "n_clicks")], **common)(design_map)
+    app.callback(Output("download-fmu", "data"), Output("dl-msg", "children", allow_duplicate=True),
+                 Input("dl-fmu", "n_clicks"), State("settings", "data"),
+                 progress=Output("dl-progress", "children"),
+                 running=[(Output("dl-fmu", "disabled"), True, False)], **common)(fmu)

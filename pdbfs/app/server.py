@@ -1,0 +1,71 @@
+"""The Dash app of a rig and the local server that runs it. Every asset
+(Dash's and Plotly's JavaScript) is served from the installed packages:
+the page works with no internet."""
+from __future__ import annotations
+
+import atexit
+import logging
+import shutil
+import socket
+import tempfile
+import threading
+import webbrowser
+
+from pdbfs.errors import ParameterError
+
+from . import interact, jobs
+from .page import layout
+from .workbench import workbench
+
+
+def create_app(rig: str = "paper", cache_dir=None):
+    """The page of ``rig`` as a Dash app (``app.run(...)`` serves it). Long
+    actions run through a disk cache in ``cache_dir`` (default: a new
+    temporary folder)."""
+    import diskcache
+    from dash import Dash, DiskcacheManager
+
+    wb = workbench(rig)                      # bad rig names fail here, before serving
+    if cache_dir is None:
+        cache_dir = tempfile.mkdtemp(prefix="pdbfs-app-cache-")
+        atexit.register(shutil.rmtree, cache_dir, True)
+    cache = diskcache.Cache(cache_dir)
+    app = Dash(__name__, title=f"pdbfs workbench: {rig}", serve_locally=True,
+               background_callback_manager=DiskcacheManager(cache),
+               suppress_callback_exceptions=True, update_title=None)
+    app.layout = lambda: layout(workbench(wb.name))   # a fresh page (and state) per load
+    interact.register(app)
+    jobs.register(app)
+    return app
+
+
+def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_browser=False,
+          ready=None):
+    """Serve the page until interrupted; ``ready(url)`` is called once it is built."""
+    check_address(host, port)
+    app = create_app(rig)
+    logging.getLogger("werkzeug").setLevel(logging.ERROR)   # no line per request
+    url = f"http://{host}:{port}/"
+    if ready:
+        ready(url)
+    if open_browser:
+        threading.Timer(1.0, webbrowser.open, args=(url,)).start()
+    app.run(host=host, port=port, debug=False, threaded=True)
+
+
+def check_address(host: str, port: int):
+    """ParameterError, before anything is built, if the server could not listen there."""
+    if not 0 < port < 65536:
+        raise ParameterError(f"--port {port}: must be from 1 to 65535")
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except socket.gaierror as err:
+        raise ParameterError(f"--host {host}: not an address of this machine ({err.strerror})") from None
+    family, kind, proto, _, addr = infos[0]
+    with socket.socket(family, kind, proto) as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            s.bind(addr)
+        except OSError as err:
+            raise ParameterError(f"cannot listen on {host}:{port} ({err.strerror}); "
+                                 "choose another --port or --host") from None

@@ -1,0 +1,19 @@
+"""pdbfs app: the rig workbench in the browser, served on this machine."""
+from __future__ import annotations
+
+
+def cmd_app(args):
+    from pdbfs.app import serve
+    serve(args.rig, host=args.host, port=args.port, open_browser=args.open,
+          ready=lambda url: print(f"pdbfs workbench of rig {args.rig} at {url} "
+                                  "(Ctrl-C stops it)", flush=True))
+
+
+def add_parsers(sub):
+    s = sub.add_parser("app", help="serve the rig workbench (a page in the browser)")
+    s.add_argument("--rig", default="paper", help="rig shown first (default: paper)")
+    s.add_argument("--port", type=int, default=8050, help="port (default 8050)")
+    s.add_argument("--host", default="127.0.0.1",
+                   help="address to listen on (default 127.0.0.1: this machine only)")
+    s.add_argument("--open", action="store_true", help="open the page in a browser")
+    s.set_defaults(func=cmd_app)
