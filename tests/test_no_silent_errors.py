@@ -273,7 +273,7 @@ def test_sweep_like_simulate_long_horizon_compiled_and_auto_method(tmp_path):
 def test_solver_statistics_for_both_back_ends(rig):
     for backend in ("casadi", "c"):
         st = rig.simulate(backend=backend).stats
-        assert st["backend"] == backend and st["method"] == "adams"
+        assert st["backend"] == backend and st["method"].startswith("adams")
         assert st["steps"] > 100 and st["rhs_evals"] >= st["steps"] and st["wall_time"] > 0
     assert rig.simulate(backend="c").stats["root_events"] >= 2      # contact onset, separation
 
