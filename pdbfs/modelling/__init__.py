@@ -2,7 +2,8 @@
 analysis, and the one CasADi DAE every back end consumes.
 
     symbols.py     Parameter, Variable, State, der(), eq(), time
-    connectors.py  Flange (position across, force through), signal connectors
+    connectors.py  Flange (position across, force through), HydraulicPort (pressure
+                   across, volume flow through), signal connectors
     component.py   Component: declare(), equations(), connect(), compile()
     flatten.py     a component tree -> one flat list of symbols and equations
     structure.py   flat equations -> DAE: parameter bindings, then
@@ -14,9 +15,9 @@ May import: pdbfs.errors only. Nothing here knows about solvers, C code,
 FMUs or studies.
 """
 from .component import Component
-from .connectors import Flange, SignalInput, SignalOutput
+from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
 from .dae import DAE, ParamInfo, VarInfo
 from .symbols import Parameter, State, Variable, check_value, der, eq, time
 
-__all__ = ["Component", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
+__all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
            "Parameter", "State", "Variable", "check_value", "der", "eq", "time"]
