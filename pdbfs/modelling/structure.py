@@ -48,7 +48,11 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         unknowns.append(v.sym)
         labels.append(v.name)
 
-    solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
+    try:
+        solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
+    except ModelError:
+        _explain_state_constraint(flat, eqs, unknowns, states)
+        raise
 
     # everything in terms of (t, x, z, p)
     s_keys = ca.vertcat(*[s for s, _ in solved]) if solved else ca.SX(0, 1)
@@ -147,3 +151,45 @@ def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
                 f"{v.name} starts at {s_mine:g} {v.unit}, but {where} ties it to a value "
                 f"that starts at {s_theirs:g} {v.unit}; give rigidly connected bodies "
                 "consistent start values")
+
+
+# -- constraints among states ----------------------------------------------------------
+def _explain_state_constraint(flat, eqs, unknowns, states):
+    """A structurally singular system whose over-determined part (the
+    equations reached from an unmatched one by alternating paths, as in
+    Dulmage-Mendelsohn) relates states of several components is a
+    constraint between states that alias elimination could not remove:
+    name the states, the equations and the connections that join their
+    components, and say what to do. Runs only when the analysis failed."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import maximum_bipartite_matching
+    if not eqs or not unknowns:
+        return
+    R, U = ca.vertcat(*[r for r, _ in eqs]), ca.vertcat(*unknowns)
+    rows, cols = ca.jacobian_sparsity(R, U).get_triplet()
+    inc = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(eqs), len(unknowns)))
+    match = maximum_bipartite_matching(inc, perm_type="column")
+    eq_of = {int(j): i for i, j in enumerate(match) if j >= 0}
+    block, todo = set(), [i for i in range(len(eqs)) if match[i] < 0]
+    while todo:
+        i = todo.pop()
+        if i in block:
+            continue
+        block.add(i)
+        todo += [eq_of[int(j)] for j in inc.indices[inc.indptr[i]:inc.indptr[i + 1]]
+                 if int(j) in eq_of]
+    state_names = {v.name for v in states}
+    tied = sorted({x.name() for i in block for x in ca.symvar(eqs[i][0])} & state_names)
+    owners = {n.rsplit(".", 1)[0] for n in tied}
+    if len(owners) < 2:
+        return
+    joins = [w for _, w in flat.equations
+             if w.startswith("connect(") and sum(f"{o}." in w for o in owners) >= 2]
+    via = f", joined by {'; '.join(dict.fromkeys(joins))}" if joins else ""
+    raise ModelError(
+        f"a constraint between states: {', '.join(tied)} are tied to each other with nothing "
+        f"left to determine (in {'; '.join(eqs[i][1] for i in sorted(block))}{via}): a loop with "
+        "no compliance or resistance in it. pdbfs removes such constraints where they are "
+        "aliases, and does not reduce the index further: put a resistance between them (an "
+        "Orifice or LaminarLeak, a Damper), or make the constraint an alias (hydraulic Volumes "
+        "joined directly need cavitation=False)")
