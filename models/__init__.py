@@ -11,7 +11,15 @@ from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_h
 from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig
 
 #: contact damping laws offered beside Table 1's D, with the rig-name suffix
-LAW_RIGS = {"ln": "lankarani-nikravesh", "hc": "hunt-crossley", "flores": "flores"}
+LAW_def paper_hydraulic_oil_rig():
+    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
+    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
+    rig = paper_hydraulic_rig(law="linear", swept=True)
+    rig.name = "pdbfs_hydraulic_oil"
+    return rig
+
+
+RIGS = {"ln": "lankarani-nikravesh", "hc": "hunt-crossley", "flores": "flores"}
 
 
 def _paper_with_law(suffix):
@@ -27,6 +35,14 @@ def _paper_with_law(suffix):
     return build
 
 
+def paper_hydraulic_oil_rig():
+    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
+    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
+    rig = paper_hydraulic_rig(law="linear", swept=True)
+    rig.name = "pdbfs_hydraulic_oil"
+    return rig
+
+
 RIGS = {
     "paper": paper_rig,
     **{f"paper-{s}": _paper_with_law(s) for s in LAW_RIGS},
@@ -39,7 +55,7 @@ RIGS = {
     # the oil column from hydraulic components (issue 17): the paper's k2 as oil
     "paper-hydraulic": paper_hydraulic_rig,
     # ... with oil whose bulk modulus grows with pressure, in a chamber that shrinks
-    "paper-hydraulic-oil": lambda: paper_hydraulic_rig(law="linear", swept=True),
+    "paper-hydraulic-oil": paper_hydraulic_oil_rig,
     # the conventional alternative: a chamber pressurised through a fast valve
     "hydraulic-pulse": hydraulic_pulse_rig,
 }
