@@ -11,15 +11,7 @@ from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_h
 from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig
 
 #: contact damping laws offered beside Table 1's D, with the rig-name suffix
-LAW_def paper_hydraulic_oil_rig():
-    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
-    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
-    rig = paper_hydraulic_rig(law="linear", swept=True)
-    rig.name = "pdbfs_hydraulic_oil"
-    return rig
-
-
-RIGS = {"ln": "lankarani-nikravesh", "hc": "hunt-crossley", "flores": "flores"}
+LAW_RIGS = {"ln": "lankarani-nikravesh", "hc": "hunt-crossley", "flores": "flores"}
 
 
 def _paper_with_law(suffix):
@@ -33,6 +25,14 @@ def _paper_with_law(suffix):
     build.__doc__ = (f"The paper's rig with the {LAW_RIGS[suffix]} damping law: D computed "
                      "from contact.e and the impact velocity hammer.v0.")
     return build
+
+
+def paper_hydraulic_oil_rig():
+    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
+    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
+    rig = paper_hydraulic_rig(law="linear", swept=True)
+    rig.name = "pdbfs_hydraulic_oil"
+    return rig
 
 
 def paper_hydraulic_oil_rig():
