@@ -21,11 +21,11 @@ make the modulus depend on pressure (components.hydraulic.Volume).
 ``leak="laminar"`` or ``"orifice"`` adds a seal leak from the oil to a tank
 at 0 Pa (off by default).
 """
-from pdbfs.components import Fixed, ImpactContact, Mass, SealFriction, Spring
 from pdbfs.components.hydraulic import LaminarLeak, Orifice, Piston, Tank, Volume
 from pdbfs.errors import ParameterError
 from pdbfs.modelling import Parameter
-from pdbfs.rig import Rig
+
+from .paper import PaperRig
 
 PAPER_HYDRAULIC_SIGNALS = {"pressure": "oil.p", "contact_force": "contact.fc",
                            "piston_displacement": "piston.s", "striker_velocity": "hammer.v"}
@@ -33,8 +33,10 @@ PAPER_HYDRAULIC_SIGNALS = {"pressure": "oil.p", "contact_force": "contact.fc",
 LEAKS = {"laminar": LaminarLeak, "orifice": Orifice}
 
 
-class PaperHydraulicRig(Rig):
-    """The paper's rig (Table 1 values) with a hydraulic oil column."""
+class PaperHydraulicRig(PaperRig):
+    """The paper's rig (Table 1 values) with a hydraulic oil column.
+    ``law`` is the oil's bulk-modulus law (Volume), ``contact_law`` the
+    contact's damping law (PaperRig's ``law``)."""
 
     name = "pdbfs_hydraulic"
     summary_signals = PAPER_HYDRAULIC_SIGNALS
@@ -47,34 +49,26 @@ class PaperHydraulicRig(Rig):
         if leak is not None and leak not in LEAKS:
             raise ParameterError(f"PaperHydraulicRig: unknown seal leak {leak!r}; choose one of "
                                  + ", ".join(LEAKS) + " (or None)")
-        self._law, self._swept, self._leak, self._contact_law = law, swept, leak, contact_law
-        super().__init__(**params)
+        self._modulus, self._swept, self._leak = law, swept, leak
+        super().__init__(law=contact_law, **params)
 
-    def declare(self):
-        self.frame = Fixed()
-        self.hammer = Mass(m=2948.4, v0=2.73)
-        self.piston = Mass(m=241.7)
-        self.breech = Mass(m=500.0)
-        self.contact = ImpactContact(law=self._contact_law, k=5.958e10, n=1.5, D=1.595e6)
-        self.seal = SealFriction(c=2.556e4)
-        self.mount = Spring(k=2.5e10, n=1.0)
+    def declare_oil(self):
         self.column = Piston(support=True, A=2.270e-2)
         # K = k2*L/A with the paper's k2 = 2.228e8 N/m
-        self.oil = Volume(law=self._law, swept=self._swept, K=2.228e8 * 0.2 / 2.270e-2,
+        self.oil = Volume(law=self._modulus, swept=self._swept, K=2.228e8 * 0.2 / 2.270e-2,
                           p0=0.0, p_vap=0.0, dp_cav=1.0)
         self.oil.bind("V", self.column.A * self.L)
-        self.connect(self.hammer.flange_b, self.contact.flange_a)
-        self.connect(self.contact.flange_b, self.piston.flange_a, self.seal.flange_b)
+        if self._leak is not None:
+            self.leak = LEAKS[self._leak]()
+            self.tank = Tank(p=0.0)
+
+    def connect_oil(self):
         self.connect(self.piston.flange_b, self.column.flange)
         self.connect(self.column.support, self.breech.flange_a)
-        self.connect(self.breech.flange_b, self.mount.flange_a)
-        self.connect(self.frame.flange, self.mount.flange_b, self.seal.flange_a)
         self.connect(self.column.port, self.oil.port)
         if self._swept:
             self.connect(self.column.q_swept, self.oil.q_swept)
         if self._leak is not None:
-            self.leak = LEAKS[self._leak]()
-            self.tank = Tank(p=0.0)
             self.connect(self.oil.port, self.leak.port_a)
             self.connect(self.leak.port_b, self.tank.port)
 

@@ -115,9 +115,9 @@ def design_study(out: Path, plt):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="docs/figures")
-    args = ap.parse_args(argv)
-    out = Path(args.out)
+    ap.add_argument("--out", default="docs/figures", help="folder for the figures (the "
+                    "numbers go to data/ beside it)")
+    out = Path(ap.parse_args(argv).out)
     out.mkdir(parents=True, exist_ok=True)
     import matplotlib
     matplotlib.use("Agg")

@@ -3,7 +3,8 @@
 HydraulicPort), after Modelica's fluid libraries and
 ModelingToolkitStandardLibrary's hydraulics.
 
-    interfaces.py   PartialOnePort, PartialTwoPort
+    interfaces.py   PartialOnePort, PartialTwoPort (PartialOrifice in resistances.py,
+                    PartialPressureValve in valves.py, PartialSource in sources.py)
     laws.py         bulk-modulus laws, regularised root, smooth clamp and step
     volume.py       Volume: compressibility, cavitation, swept walls
     piston.py       Piston (flange + port), Cylinder (a piston over its chamber)
@@ -26,12 +27,12 @@ from .laws import (ATMOSPHERE, bulk_modulus_air, bulk_modulus_constant, bulk_mod
 from .piston import Cylinder, Piston
 from .resistances import LaminarLeak, Orifice, PartialOrifice
 from .sensors import FlowSensor, PressureSensor
-from .sources import FlowSource, PressureSource, Tank
+from .sources import FlowSource, PartialSource, PressureSource, Tank
 from .valves import CheckValve, PartialPressureValve, PulseValve, ReliefValve, TimedValve
 from .volume import BULK_MODULUS_LAWS, Volume
 
 __all__ = ["Accumulator", "PartialOnePort", "PartialTwoPort", "ATMOSPHERE", "bulk_modulus_air",
            "bulk_modulus_constant", "bulk_modulus_linear", "regularised_root", "smooth_ramp",
            "smooth_step", "Cylinder", "Piston", "LaminarLeak", "Orifice", "PartialOrifice",
-           "FlowSensor", "PressureSensor", "FlowSource", "PressureSource", "Tank", "CheckValve",
+           "FlowSensor", "PressureSensor", "FlowSource", "PartialSource", "PressureSource", "Tank", "CheckValve",
            "PartialPressureValve", "PulseValve", "ReliefValve", "TimedValve", "BULK_MODULUS_LAWS", "Volume"]

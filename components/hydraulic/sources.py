@@ -5,25 +5,31 @@ from .interfaces import PartialOnePort
 from .laws import ATMOSPHERE
 
 
-class PressureSource(PartialOnePort):
-    """A prescribed pressure at ``port``: the parameter ``p``, or
-    ``function(t)`` giving a CasADi expression of time (which may use the
-    component's parameters). ``q_out`` is the flow it delivers."""
-
-    closable = True
-    p = Parameter(10e6, "Pa", "Pressure (absolute)", min=0.0)
+class PartialSource(PartialOnePort):
+    """A source whose value is a parameter, or ``function(t)`` giving a
+    CasADi expression of time (which may use the component's parameters)."""
 
     def __init__(self, function=None, **params):
         self._function = function
         super().__init__(**params)
+
+    def prescribed(self, constant):
+        return constant if self._function is None else self._function(time)
+
+
+class PressureSource(PartialSource):
+    """A prescribed pressure at ``port``: the parameter ``p`` or
+    ``function(t)``. ``q_out`` is the flow it delivers."""
+
+    closable = True
+    p = Parameter(10e6, "Pa", "Pressure (absolute)", min=0.0)
 
     def declare(self):
         super().declare()
         self.q_out = Variable("m3/s", "Flow delivered into the circuit", output=True)
 
     def equations(self):
-        value = self.p if self._function is None else self._function(time)
-        return [eq(self.port.p, value), eq(self.q_out, -self.port.q)]
+        return [eq(self.port.p, self.prescribed(self.p)), eq(self.q_out, -self.port.q)]
 
 
 class Tank(PressureSource):
@@ -32,20 +38,15 @@ class Tank(PressureSource):
     p = Parameter(ATMOSPHERE, "Pa", "Tank pressure (absolute)", min=0.0)
 
 
-class FlowSource(PartialOnePort):
+class FlowSource(PartialSource):
     """A prescribed flow ``Q`` delivered into the circuit at ``port``, or
-    ``function(t)`` (as PressureSource)."""
+    ``function(t)``."""
 
     Q = Parameter(1e-4, "m3/s", "Flow delivered into the circuit")
-
-    def __init__(self, function=None, **params):
-        self._function = function
-        super().__init__(**params)
 
     def declare(self):
         super().declare()
         self.p = Variable("Pa", "Pressure at the port", output=True)
 
     def equations(self):
-        value = self.Q if self._function is None else self._function(time)
-        return [eq(self.port.q, -value), eq(self.p, self.port.p)]
+        return [eq(self.port.q, -self.prescribed(self.Q)), eq(self.p, self.port.p)]
