@@ -15,8 +15,10 @@ vapour pressure (``p0 = p_vap = 0``; pressures in this rig are the paper's,
 above that of the unloaded column), so the pressure cannot fall below it and
 a retracting piston leaves a vapour gap, as the paper's compression-only k2
 does. ``swept=True`` lets the oil's volume shrink with the stroke (the
-tangent modulus referred to the volume now); ``law="linear"`` or ``"air"``
-make the modulus depend on pressure (components.hydraulic.Volume).
+tangent modulus referred to the volume now); ``law="linear"`` makes the
+modulus grow with pressure (components.hydraulic.Volume). The entrained-air
+law is refused here: it needs absolute pressures, which this rig does not
+use.
 
 ``leak="laminar"`` or ``"orifice"`` adds a seal leak from the oil to a tank
 at 0 Pa (off by default).
@@ -49,6 +51,11 @@ class PaperHydraulicRig(PaperRig):
         if leak is not None and leak not in LEAKS:
             raise ParameterError(f"PaperHydraulicRig: unknown seal leak {leak!r}; choose one of "
                                  + ", ".join(LEAKS) + " (or None)")
+        if law == "air":
+            raise ParameterError(
+                "PaperHydraulicRig: law 'air' needs absolute pressures, and this rig's are the "
+                "paper's, above the unloaded column; build the column with a Volume(law='air', "
+                "p0=..., p_vap=...) of your own rig")
         self._modulus, self._swept, self._leak = law, swept, leak
         super().__init__(law=contact_law, **params)
 

@@ -116,6 +116,14 @@ def test_design_of_the_pulse_rig_reaches_its_targets():
     assert got["pulse_duration"] == pytest.approx(0.012, rel=1e-4)
 
 
+def test_sensitivity_of_the_pulse_rig_ranks_its_valves():
+    sens = pdbfs.sensitivity(hydraulic_pulse_rig(), {"valve.A": (6e-5, 1e-4),
+                                                     "drain.A": (3e-5, 5e-5)}, n=64)
+    ix = sens.to_dict()["indices"]
+    assert ix["peak_pressure"]["valve.A"]["ST"] > 3 * ix["peak_pressure"]["drain.A"]["ST"]
+    assert ix["pulse_duration"]["drain.A"]["ST"] > 3 * ix["pulse_duration"]["valve.A"]["ST"]
+
+
 def test_calibration_of_the_pulse_rig_recovers_the_valve():
     rig = hydraulic_pulse_rig()
     truth = {"valve.A": 7e-5}
@@ -144,6 +152,10 @@ def test_bad_values_are_named():
             make()
     with pytest.raises(ParameterError, match="bulk-modulus law 'tait'"):
         Volume(law="tait")
+    with pytest.raises(ParameterError, match="law 'air' needs absolute pressures"):
+        paper_hydraulic_rig(law="air")
+    with pytest.raises(ParameterError, match="seal leak 'gap'"):
+        paper_hydraulic_rig(leak="gap")
     with pytest.raises(ParameterError, match="p_vap"):
         paper_hydraulic_rig().simulate(0.001, params={"oil.p_vap": -1.0})
 

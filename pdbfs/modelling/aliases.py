@@ -2,7 +2,10 @@
 number or a parameter expression; or ``a*u + c(p, t) = 0``) remove ``u`` from
 the system, derivatives included: eliminating ``u`` also replaces ``der(u)``
 by the derivative of its replacement, so a state tied to another state stops
-being a state (two rigidly connected masses become one mass).
+being a state (two rigidly connected masses become one mass). Where no
+number-coefficient edge reaches a member, a coefficient made of parameters
+declared positive serves (two pistons on one incompressible line:
+``A1*v1 + A2*v2 = 0``).
 
 Near-linear in the size of the rig: the alias equations are found in bulk
 (one Jacobian sparsity, one test of linearity), joined into alias sets

@@ -5,6 +5,10 @@
 3. the rest is matched (balance: every unknown determined by one equation),
    sorted into blocks (BLT), and each block linear in its unknowns is solved
    symbolically; nonlinear blocks stay algebraic for IDAS (blt.py).
+
+A constraint between states that is not an alias (a high-index DAE) is
+refused, naming the states, equations and connections; there is no index
+reduction (Pantelides, dummy derivatives) beyond alias elimination.
 """
 from __future__ import annotations
 
