@@ -285,3 +285,22 @@ def test_pressure_source_as_a_function_of_time_drives_a_leak():
     res = Ramp().simulate(0.01, n_out=11, **TIGHT)
     assert np.allclose(res["src.q_out"], 1e-10 * (1e6 + 1e8 * res.t - res["vol.p"]), rtol=1e-9)
     assert res["src.q_out"][-1] > 5e-5
+
+
+def test_cylinder_is_a_piston_over_its_own_shrinking_chamber():
+    """A Cylinder with its port left closed rings as the hand-wired piston
+    and swept volume of Oscillator do, and keeps its oil."""
+    from pdbfs.components.hydraulic import Cylinder
+
+    class Sealed(Rig):
+        def declare(self):
+            self.mass = Mass(m=10.0, v0=1e-4)
+            self.load = Force(F=10e6 * 1e-3)
+            self.cyl = Cylinder(A=1e-3, V=1e-3, K=1.5e9, p0=10e6)
+            self.connect(self.load.flange, self.mass.flange_a)
+            self.connect(self.mass.flange_b, self.cyl.flange)
+    a = Sealed().simulate(0.05, n_out=1001, **TIGHT)
+    b = Oscillator(swept=True).simulate(0.05, n_out=1001, **TIGHT)
+    assert np.max(np.abs(a["cyl.chamber.p"] - b["vol.p"])) < 1e-9 * 10e6
+    assert np.allclose(a["cyl.chamber.Vc"], 1e-3 - 1e-3 * (a["mass.s"] - a["mass.s"][0]),
+                       rtol=0, atol=1e-15)
