@@ -13,7 +13,9 @@ from pdbfs.components.hydraulic import (Accumulator, CheckValve, FlowSensor, Flo
                                         LaminarLeak, Orifice, Piston, PressureSensor,
                                         PressureSource, ReliefValve, Tank, Volume,
                                         bulk_modulus_air, smooth_ramp)
+import pdbfs
 from pdbfs.errors import ModelError
+from pdbfs.modelling import Component, Flange, eq
 from pdbfs.rig import Rig
 
 TIGHT = dict(rtol=1e-10, atol=1e-12)
@@ -197,11 +199,44 @@ def test_two_volumes_joined_directly_become_one():
     assert np.max(np.abs(res["b.p"] - want)) < 1e-8 * 10e6
 
 
-def test_two_cavitating_volumes_joined_directly_are_refused_naming_the_loop():
+def test_two_cavitating_volumes_joined_directly_are_reduced_to_index_one():
+    """clamp(a.p_law) = clamp(b.p_law) ties two states: differentiated once,
+    b.p_law becomes algebraic, and the pair drains as one volume (IDAS)."""
+    rig = Joined(cavitation=True)
+    dae = rig.compile()
+    assert dae.x_names == ["a.p_law"] and dae.z_names == ["b.p_law"]
+    res = rig.simulate(0.02, n_out=101, **TIGHT)
+    want = 10e6 * np.exp(-1.5e9 * 1e-11 * res.t / 3e-3)
+    assert np.max(np.abs(res["b.p"] - want)) < 1e-7 * 10e6
+    assert np.max(np.abs(res["a.p"] - res["b.p"])) < 1e-7 * 10e6
+    with pytest.raises(pdbfs.PdbfsError, match="algebraic"):
+        rig.simulate(0.02, backend="c")
+
+
+class Cam(Component):
+    """Two flanges tied by s_b = s_a^2: a constraint on positions."""
+
+    def declare(self):
+        self.flange_a = Flange()
+        self.flange_b = Flange()
+
+    def equations(self):
+        return [eq(self.flange_b.s, self.flange_a.s ** 2),
+                eq(self.flange_a.f, -2 * self.flange_a.s * self.flange_b.f)]
+
+
+def test_a_constraint_on_positions_is_refused_naming_the_loop():
+    class Cammed(Rig):
+        def declare(self):
+            self.m1 = Mass(m=1.0, s0=1.0)
+            self.m2 = Mass(m=1.0, s0=1.0)
+            self.cam = Cam()
+            self.connect(self.m1.flange_b, self.cam.flange_a)
+            self.connect(self.cam.flange_b, self.m2.flange_a)
     with pytest.raises(ModelError) as e:
-        Joined(cavitation=True).compile()
+        Cammed().compile()
     msg = str(e.value)
-    assert "a.p_law, b.p_law" in msg and "connect(a.port, b.port, leak.port_a)" in msg
+    assert "m1.s, m2.s" in msg and "cam (Cam), equation 1" in msg and "index 3" in msg
     assert "\n" not in msg
 
 

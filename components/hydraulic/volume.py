@@ -39,8 +39,13 @@ class Volume(PartialOnePort):
     ``dp_cav/4`` off inside, never below ``p_vap >= 0`` (no negative absolute
     pressure); oil returning first fills the vapour volume. ``cavitation=
     False`` drops the clamp (``p = p_law``, which may go negative): two such
-    volumes joined directly become one (their pressures are aliases), while
-    joined cavitating volumes are refused as a constraint between states.
+    volumes joined directly become one (their pressures are aliases, an ODE
+    for every back end). Joined cavitating volumes are a constraint between
+    states that the compiler reduces by one differentiation: all but one of
+    their ``p_law`` become algebraic (their start values are then only
+    guesses), the rig needs IDAS (backend "casadi"), and the reduction
+    breaks down where both cavitate (their vapour volumes are then not
+    determined).
     """
 
     closable = True

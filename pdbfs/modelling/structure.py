@@ -7,8 +7,9 @@
    symbolically; nonlinear blocks stay algebraic for IDAS (blt.py).
 
 A constraint between states that is not an alias (a high-index DAE) is
-refused, naming the states, equations and connections; there is no index
-reduction (Pantelides, dummy derivatives) beyond alias elimination.
+differentiated once, with dummy derivatives (index.py: index 2 to index 1,
+for IDAS); one that needs more is refused, naming the states, equations and
+connections.
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from pdbfs.errors import ModelError, ParameterError
 
 from .aliases import Aliases
 from .blt import solve_blt
+from .index import reduce_index
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
@@ -55,8 +57,12 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     try:
         solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
     except ModelError:
-        _explain_state_constraint(flat, eqs, unknowns, states)
-        raise
+        reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t)
+        if reduced is None:
+            _explain_state_constraint(flat, eqs, unknowns, states)
+            raise
+        eqs, unknowns, labels, states = reduced
+        solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
 
     # everything in terms of (t, x, z, p)
     s_keys = ca.vertcat(*[s for s, _ in solved]) if solved else ca.SX(0, 1)
@@ -193,7 +199,7 @@ def _explain_state_constraint(flat, eqs, unknowns, states):
     raise ModelError(
         f"a constraint between states: {', '.join(tied)} are tied to each other with nothing "
         f"left to determine (in {'; '.join(eqs[i][1] for i in sorted(block))}{via}): a loop with "
-        "no compliance or resistance in it. pdbfs removes such constraints where they are "
-        "aliases, and does not reduce the index further: put a resistance between them (an "
-        "Orifice or LaminarLeak, a Damper), or make the constraint an alias (hydraulic Volumes "
-        "joined directly need cavitation=False)")
+        "no compliance or resistance in it. pdbfs reduces such constraints as aliases, or by one "
+        "differentiation (Pantelides, dummy derivatives) where the constraint holds no "
+        "derivatives; this one needs more (index 3, a constraint on positions): put a "
+        "compliance or resistance between them (a Spring, Damper, Orifice or LaminarLeak)")
