@@ -25,7 +25,7 @@ def reduce_index(eqs, unknowns, labels, states, algebraic, al, t):
     """(equations, unknowns, labels, remaining states) with the singular part
     differentiated once and dummy derivatives chosen, or None where this
     one-level reduction does not apply."""
-    block = _overdetermined(eqs, unknowns)
+    block = overdetermined(eqs, unknowns)
     if not block:
         return None
     der_syms = {v.der.name() for v in states if v.der is not None}
@@ -71,7 +71,7 @@ def reduce_index(eqs, unknowns, labels, states, algebraic, al, t):
     return list(eqs) + diffed, unknowns, labels, kept
 
 
-def _overdetermined(eqs, unknowns) -> list[int]:
+def overdetermined(eqs, unknowns) -> list[int]:
     """Equations reached from an unmatched one by alternating paths."""
     R, U = ca.vertcat(*[r for r, _ in eqs]), ca.vertcat(*unknowns)
     rows, cols = ca.jacobian_sparsity(R, U).get_triplet()

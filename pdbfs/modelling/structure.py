@@ -20,7 +20,7 @@ from pdbfs.errors import ModelError, ParameterError
 
 from .aliases import Aliases
 from .blt import solve_blt
-from .index import reduce_index
+from .index import overdetermined, reduce_index
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
@@ -56,13 +56,16 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
 
     try:
         solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
-    except ModelError:
+    except ModelError as singular:
         reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t)
-        if reduced is None:
+        try:
+            if reduced is None:
+                raise singular
+            solved, z_syms, z_labels, alg = solve_blt(*reduced[:3])
+        except ModelError:
             _explain_state_constraint(flat, eqs, unknowns, states)
-            raise
+            raise singular from None
         eqs, unknowns, labels, states = reduced
-        solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
 
     # everything in terms of (t, x, z, p)
     s_keys = ca.vertcat(*[s for s, _ in solved]) if solved else ca.SX(0, 1)
@@ -171,23 +174,9 @@ def _explain_state_constraint(flat, eqs, unknowns, states):
     constraint between states that alias elimination could not remove:
     name the states, the equations and the connections that join their
     components, and say what to do. Runs only when the analysis failed."""
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.csgraph import maximum_bipartite_matching
     if not eqs or not unknowns:
         return
-    R, U = ca.vertcat(*[r for r, _ in eqs]), ca.vertcat(*unknowns)
-    rows, cols = ca.jacobian_sparsity(R, U).get_triplet()
-    inc = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(eqs), len(unknowns)))
-    match = maximum_bipartite_matching(inc, perm_type="column")
-    eq_of = {int(j): i for i, j in enumerate(match) if j >= 0}
-    block, todo = set(), [i for i in range(len(eqs)) if match[i] < 0]
-    while todo:
-        i = todo.pop()
-        if i in block:
-            continue
-        block.add(i)
-        todo += [eq_of[int(j)] for j in inc.indices[inc.indptr[i]:inc.indptr[i + 1]]
-                 if int(j) in eq_of]
+    block = overdetermined(eqs, unknowns)
     state_names = {v.name for v in states}
     tied = sorted({x.name() for i in block for x in ca.symvar(eqs[i][0])} & state_names)
     owners = {n.rsplit(".", 1)[0] for n in tied}
