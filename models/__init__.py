@@ -5,7 +5,9 @@ May import: pdbfs.errors, pdbfs.modelling, pdbfs.components and pdbfs.rig.
 """
 from .bar_piston import BAR_SIGNALS, BarPistonRig, bar_piston_rig
 from .drop import DROP_SIGNALS, DropRig, drop_rig
+from .hydraulic_pulse import PULSE_SIGNALS, HydraulicPulseRig, hydraulic_pulse_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
+from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_hydraulic_rig
 from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig
 
 #: contact damping laws offered beside Table 1's D, with the rig-name suffix
@@ -25,6 +27,22 @@ def _paper_with_law(suffix):
     return build
 
 
+def paper_hydraulic_oil_rig():
+    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
+    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
+    rig = paper_hydraulic_rig(law="linear", swept=True)
+    rig.name = "pdbfs_hydraulic_oil"
+    return rig
+
+
+def paper_hydraulic_oil_rig():
+    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
+    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
+    rig = paper_hydraulic_rig(law="linear", swept=True)
+    rig.name = "pdbfs_hydraulic_oil"
+    return rig
+
+
 RIGS = {
     "paper": paper_rig,
     **{f"paper-{s}": _paper_with_law(s) for s in LAW_RIGS},
@@ -34,8 +52,16 @@ RIGS = {
     "bar-piston": bar_piston_rig,
     # gravity and a drop height: repeated blows
     "drop": drop_rig,
+    # the oil column from hydraulic components (issue 17): the paper's k2 as oil
+    "paper-hydraulic": paper_hydraulic_rig,
+    # ... with oil whose bulk modulus grows with pressure, in a chamber that shrinks
+    "paper-hydraulic-oil": paper_hydraulic_oil_rig,
+    # the conventional alternative: a chamber pressurised through a fast valve
+    "hydraulic-pulse": hydraulic_pulse_rig,
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
            "SplitSeal", "SplitPistonRig", "split_piston_rig", "DropRig", "drop_rig",
-           "DROP_SIGNALS", "BarPistonRig", "bar_piston_rig", "BAR_SIGNALS"]
+           "DROP_SIGNALS", "BarPistonRig", "bar_piston_rig", "BAR_SIGNALS", "PaperHydraulicRig",
+           "paper_hydraulic_rig", "PAPER_HYDRAULIC_SIGNALS", "HydraulicPulseRig",
+           "hydraulic_pulse_rig", "PULSE_SIGNALS"]

@@ -31,15 +31,22 @@ class PaperRig(Rig):
         self.piston = Mass(m=241.7)
         self.breech = Mass(m=500.0)
         self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6)
-        self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
+        self.declare_oil()
         self.seal = SealFriction(c=2.556e4)
         self.mount = Spring(k=2.5e10, n=1.0)
         self.connect(self.hammer.flange_b, self.contact.flange_a)
         self.connect(self.contact.flange_b, self.piston.flange_a, self.seal.flange_b)
-        self.connect(self.piston.flange_b, self.oil.flange_a)
-        self.connect(self.oil.flange_b, self.breech.flange_a)
+        self.connect_oil()
         self.connect(self.breech.flange_b, self.mount.flange_a)
         self.connect(self.frame.flange, self.mount.flange_b, self.seal.flange_a)
+
+    # the oil column between piston and breech: a subclass may build it otherwise
+    def declare_oil(self):
+        self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
+
+    def connect_oil(self):
+        self.connect(self.piston.flange_b, self.oil.flange_a)
+        self.connect(self.oil.flange_b, self.breech.flange_a)
 
 
 def paper_rig(**kw) -> PaperRig:

@@ -2,21 +2,23 @@
 analysis, and the one CasADi DAE every back end consumes.
 
     symbols.py     Parameter, Variable, State, der(), eq(), time
-    connectors.py  Flange (position across, force through), signal connectors
+    connectors.py  Flange (position across, force through), HydraulicPort (pressure
+                   across, volume flow through), signal connectors
     component.py   Component: declare(), equations(), connect(), compile()
     flatten.py     a component tree -> one flat list of symbols and equations
     structure.py   flat equations -> DAE: parameter bindings, then
       aliases.py     alias elimination (derivatives included)
       blt.py         matching, BLT sorting, symbolic solution of linear blocks
+      index.py       one level of index reduction (Pantelides, dummy derivatives)
     dae.py         the DAE (x, z, p, ode, alg, outputs, events) and its infos
 
 May import: pdbfs.errors only. Nothing here knows about solvers, C code,
 FMUs or studies.
 """
 from .component import Component
-from .connectors import Flange, SignalInput, SignalOutput
+from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
 from .dae import DAE, ParamInfo, VarInfo
 from .symbols import Parameter, State, Variable, check_value, der, eq, time
 
-__all__ = ["Component", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
+__all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
            "Parameter", "State", "Variable", "check_value", "der", "eq", "time"]

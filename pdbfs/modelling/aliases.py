@@ -2,7 +2,10 @@
 number or a parameter expression; or ``a*u + c(p, t) = 0``) remove ``u`` from
 the system, derivatives included: eliminating ``u`` also replaces ``der(u)``
 by the derivative of its replacement, so a state tied to another state stops
-being a state (two rigidly connected masses become one mass).
+being a state (two rigidly connected masses become one mass). Where no
+number-coefficient edge reaches a member, a coefficient made of parameters
+declared positive serves (two pistons on one incompressible line:
+``A1*v1 + A2*v2 = 0``).
 
 Near-linear in the size of the rig: the alias equations are found in bulk
 (one Jacobian sparsity, one test of linearity), joined into alias sets
@@ -38,6 +41,7 @@ class Aliases:
         self.used_der: set[str] = set(self.der_owner)
         self.states_gone: list[tuple] = []   # (FlatVar, replacement, equation's origin)
         self._KV = None
+        self.nonzero = nonzero_by({p.name for p in flat.params if p.decl.positive})
 
     # -- ranks ------------------------------------------------------------------
     def rank(self, name):
@@ -197,10 +201,10 @@ class Aliases:
                     fixed[name] = -e[2] / f
                     tree.add(e[0])
         if fixed:
-            return _walk(fixed, by_node, tree)
+            return _walk(fixed, by_node, tree, self.nonzero)
         best = None
         for cand in sorted(members, key=self.rank, reverse=True):
-            trial = _walk({cand: sym[cand]}, by_node, set())
+            trial = _walk({cand: sym[cand]}, by_node, set(), self.nonzero)
             if best is None or len(trial[0]) > len(best[0]):
                 best = trial
             if len(trial[0]) == len(members):
@@ -283,29 +287,61 @@ def _is_symbol(value, name) -> bool:
     return isinstance(value, ca.SX) and value.is_symbolic() and value.name() == name
 
 
-def _walk(expr, by_node, tree):
+def _walk(expr, by_node, tree, nonzero=None):
     """Express every member reachable from the known ones, each through an
-    edge where its own coefficient is a non-zero number."""
+    edge where its own coefficient is a non-zero number; where none is left,
+    through an edge whose coefficient ``nonzero(c)`` proves non-zero (a
+    product of positive parameters: two pistons of areas A1, A2 on one
+    incompressible line, A1*v1 + A2*v2 = 0)."""
     tree = set(tree)
     expr = dict(expr)
     queue = deque(expr)
-    while queue:
-        w = queue.popleft()
-        for e in by_node.get(w, ()):
-            if e[0] in tree or len(e[1]) != 2:
+    later = []                           # edges with a symbolic coefficient on u
+    while True:
+        while queue:
+            w = queue.popleft()
+            for e in by_node.get(w, ()):
+                if e[0] in tree or len(e[1]) != 2:
+                    continue
+                (n1, a1, f1), (n2, a2, f2) = e[1]
+                u, a_u, f_u, a_w, f_w = (n2, a2, f2, a1, f1) if n1 == w else (n1, a1, f1, a2, f2)
+                if u in expr or f_w == 0.0:
+                    continue
+                if not f_u:
+                    if f_u is None and nonzero is not None:
+                        later.append((e, w, u, a_u, a_w))
+                    continue
+                if f_w is not None and e[2].is_zero():     # u = factor * w: most aliases
+                    factor = -f_w / f_u
+                    expr[u] = expr[w] if factor == 1.0 else factor * expr[w]
+                else:
+                    expr[u] = -(a_w * expr[w] + e[2]) / f_u
+                tree.add(e[0])
+                queue.append(u)
+        while later and not queue:
+            e, w, u, a_u, a_w = later.pop(0)
+            if u in expr or e[0] in tree or not nonzero(a_u):
                 continue
-            (n1, a1, f1), (n2, a2, f2) = e[1]
-            u, a_u, f_u, a_w, f_w = (n2, a2, f2, a1, f1) if n1 == w else (n1, a1, f1, a2, f2)
-            if u in expr or not f_u or f_w == 0.0:
-                continue
-            if f_w is not None and e[2].is_zero():     # u = factor * w: most aliases
-                factor = -f_w / f_u
-                expr[u] = expr[w] if factor == 1.0 else factor * expr[w]
-            else:
-                expr[u] = -(a_w * expr[w] + e[2]) / f_u
+            expr[u] = -(a_w * expr[w] + e[2]) / a_u
             tree.add(e[0])
             queue.append(u)
-    return expr, tree
+        if not queue:
+            return expr, tree
+
+
+def nonzero_by(positive: set):
+    """A test that a coefficient is non-zero whatever the parameters' values:
+    built from non-zero numbers and parameters declared positive by
+    products, quotients, negation and square roots."""
+    ops = {ca.OP_NEG, ca.OP_MUL, ca.OP_DIV, ca.OP_SQRT, ca.OP_SQ, ca.OP_TWICE, ca.OP_INV}
+
+    def check(c) -> bool:
+        if c.is_constant():
+            return float(c) != 0.0
+        if c.is_symbolic():
+            return c.name() in positive
+        return c.op() in ops and all(check(c.dep(i)) for i in range(c.n_dep()))
+    return check
 
 
 def _components(edges):

@@ -2,7 +2,14 @@
 
 A translational ``Flange`` carries the position ``s`` (across, m) and the cut
 force ``f`` (through, N); ``f`` acts on the component the flange belongs to,
-as in Modelica. Signal connectors carry one value, no flow.
+as in Modelica. A ``HydraulicPort`` carries the pressure ``p`` (across, Pa)
+and the volume flow ``q`` (through, m3/s), positive into the component (as
+in Modelica's fluid libraries). Connectors of different domains never meet
+(``connect()`` refuses them). Signal connectors carry one value, no flow.
+
+A physical connector names its ``across`` and ``through`` attributes; the
+compiler makes equal across variables and a zero sum of through variables
+per connection set, whatever the domain.
 """
 from __future__ import annotations
 
@@ -43,9 +50,11 @@ class Connector:
 
 
 class Flange(Connector):
-    """1-D translational flange: position ``s`` (m), cut force ``f`` (N)."""
+    """1-D translational flange: position ``s`` (m), cut force ``f`` (N).
+    Left unconnected, a flange takes no force (a free end)."""
 
     kind = "translational"
+    across, through = "s", "f"
 
     def _make_symbols(self):
         self.s = ca.SX.sym(f"{self.name}.s")
@@ -54,6 +63,36 @@ class Flange(Connector):
     def variables(self):
         return [("s", self.s, "m", "Absolute position of the flange (positive down)", False),
                 ("f", self.f, "N", "Cut force acting on the component at the flange", True)]
+
+
+class HydraulicPort(Connector):
+    """Hydraulic port: pressure ``p`` (Pa, absolute), volume flow ``q``
+    (m3/s, positive into the component).
+
+    Left unconnected, a port is closed: zero flow, as in Modelica. That is
+    meaningful only where the component stays determined with no flow
+    through the port (a chamber with a plugged port, a tank); a component
+    declares it with ``closable=True``, and an unconnected port that is not
+    closable is refused by the compiler (a ConnectError naming it), since a
+    closed orifice, piston or sensor port is almost always a forgotten
+    connection.
+    """
+
+    kind = "hydraulic"
+    across, through = "p", "q"
+
+    def __init__(self, description: str = "", *, closable: bool = False):
+        super().__init__(description)
+        self.closable = closable
+
+    def _make_symbols(self):
+        self.p = ca.SX.sym(f"{self.name}.p")
+        self.q = ca.SX.sym(f"{self.name}.q")
+
+    def variables(self):
+        return [("p", self.p, "Pa", "Absolute pressure at the port", False),
+                ("q", self.q, "m3/s", "Volume flow through the port, positive into the component",
+                 True)]
 
 
 class _Signal(Connector):

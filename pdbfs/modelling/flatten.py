@@ -3,7 +3,9 @@
 Every local symbol is renamed to its dotted path (``hammer.s``); connection
 sets become equal across variables and a zero sum of flows (inside connectors
 count +1, a composite's own connectors seen from inside count -1, as in
-Modelica); a flange in no inside connection set gets zero force.
+Modelica), for every physical domain alike (a connector names its across
+and through variables); a flange in no inside connection set gets zero
+force, a hydraulic port zero flow (closed) where its component allows it.
 """
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ from dataclasses import dataclass, field
 
 import casadi as ca
 
-from .connectors import Flange, SignalInput
+from .connectors import Flange, HydraulicPort, SignalInput
 from pdbfs.errors import ConnectError, ModelError
 from .symbols import der_of, time
 
@@ -166,10 +168,13 @@ def _connection_equations(root, flat, later):
                     inside.add(id(c))
             label = "connect(" + ", ".join(c.path() for c in members) + ")"
             first = members[0]
-            if first.kind == "translational":
+            if first.kind != "signal":
+                across, through = first.across, first.through
                 for c in members[1:]:
-                    same.append((_slot(flat.equations, label), c.s, first.s))
-                flows.append((_slot(flat.equations, label), list(zip(signs, (c.f for c in members)))))
+                    same.append((_slot(flat.equations, label), getattr(c, across),
+                                 getattr(first, across)))
+                flows.append((_slot(flat.equations, label),
+                              list(zip(signs, (getattr(c, through) for c in members)))))
             else:
                 outs = [c for c, s in zip(members, signs) if c.is_output == (s > 0)]
                 if len(outs) > 1:
@@ -204,6 +209,13 @@ def _connection_equations(root, flat, later):
                 continue
             if isinstance(c, Flange):
                 later.equation(flat.equations, c.f, f"{c.path()} is unconnected: zero force")
+            elif isinstance(c, HydraulicPort):
+                if not c.closable:
+                    raise ConnectError(
+                        f"hydraulic port {c.path()} of {comp.label()} is not connected; an open "
+                        "port is closed (zero flow) only on chambers and tanks, which makes no "
+                        "sense here: connect it (e.g. to a Tank)")
+                later.equation(flat.equations, c.q, f"{c.path()} is unconnected: closed, zero flow")
             elif isinstance(c, SignalInput) and comp is not root:
                 raise ConnectError(f"signal input {c.path()} is not connected")
 

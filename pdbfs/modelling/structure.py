@@ -5,6 +5,11 @@
 3. the rest is matched (balance: every unknown determined by one equation),
    sorted into blocks (BLT), and each block linear in its unknowns is solved
    symbolically; nonlinear blocks stay algebraic for IDAS (blt.py).
+
+A constraint between states that is not an alias (a high-index DAE) is
+differentiated once, with dummy derivatives (index.py: index 2 to index 1,
+for IDAS); one that needs more is refused, naming the states, equations and
+connections.
 """
 from __future__ import annotations
 
@@ -15,6 +20,7 @@ from pdbfs.errors import ModelError, ParameterError
 
 from .aliases import Aliases
 from .blt import solve_blt
+from .index import overdetermined, reduce_index
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
@@ -48,7 +54,18 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         unknowns.append(v.sym)
         labels.append(v.name)
 
-    solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
+    try:
+        solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
+    except ModelError as singular:
+        reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t)
+        try:
+            if reduced is None:
+                raise singular
+            solved, z_syms, z_labels, alg = solve_blt(*reduced[:3])
+        except ModelError:
+            _explain_state_constraint(flat, eqs, unknowns, states)
+            raise singular from None
+        eqs, unknowns, labels, states = reduced
 
     # everything in terms of (t, x, z, p)
     s_keys = ca.vertcat(*[s for s, _ in solved]) if solved else ca.SX(0, 1)
@@ -147,3 +164,31 @@ def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
                 f"{v.name} starts at {s_mine:g} {v.unit}, but {where} ties it to a value "
                 f"that starts at {s_theirs:g} {v.unit}; give rigidly connected bodies "
                 "consistent start values")
+
+
+# -- constraints among states ----------------------------------------------------------
+def _explain_state_constraint(flat, eqs, unknowns, states):
+    """A structurally singular system whose over-determined part (the
+    equations reached from an unmatched one by alternating paths, as in
+    Dulmage-Mendelsohn) relates states of several components is a
+    constraint between states that alias elimination could not remove:
+    name the states, the equations and the connections that join their
+    components, and say what to do. Runs only when the analysis failed."""
+    if not eqs or not unknowns:
+        return
+    block = overdetermined(eqs, unknowns)
+    state_names = {v.name for v in states}
+    tied = sorted({x.name() for i in block for x in ca.symvar(eqs[i][0])} & state_names)
+    owners = {n.rsplit(".", 1)[0] for n in tied}
+    if len(owners) < 2:
+        return
+    joins = [w for _, w in flat.equations
+             if w.startswith("connect(") and sum(f"{o}." in w for o in owners) >= 2]
+    via = f", joined by {'; '.join(dict.fromkeys(joins))}" if joins else ""
+    raise ModelError(
+        f"a constraint between states: {', '.join(tied)} are tied to each other with nothing "
+        f"left to determine (in {'; '.join(eqs[i][1] for i in sorted(block))}{via}): a loop with "
+        "no compliance or resistance in it. pdbfs reduces such constraints as aliases, or by one "
+        "differentiation (Pantelides, dummy derivatives) where the constraint holds no "
+        "derivatives; this one needs more (index 3, a constraint on positions): put a "
+        "compliance or resistance between them (a Spring, Damper, Orifice or LaminarLeak)")

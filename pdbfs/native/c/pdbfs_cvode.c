@@ -68,11 +68,28 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *ud) {
     return all_finite(yd, s->nx) ? 0 : 1;   /* recoverable: CVODE retries with a smaller step */
 }
 
+/* CasADi writes a dense pattern compressed, {nrow, ncol, 1}, where a sparse
+ * one starts its column offsets with 0: the nonzeros then run column by column */
+static int dense_pattern(const casadi_int *sp) { return sp[2] == 1; }
+
+static casadi_int pattern_nnz(const casadi_int *sp, int nx) {
+    return dense_pattern(sp) ? (casadi_int)nx * nx : sp[2 + nx];
+}
+
+/* row of the k-th nonzero, which lies in column j */
+static casadi_int pattern_row(const casadi_int *sp, int nx, casadi_int j, casadi_int k) {
+    return dense_pattern(sp) ? k - j * nx : sp[3 + nx + k];
+}
+
+static casadi_int pattern_col_start(const casadi_int *sp, int nx, casadi_int j) {
+    return dense_pattern(sp) ? j * nx : sp[2 + j];
+}
+
 static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
                   N_Vector t1, N_Vector t2, N_Vector t3) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
-    const casadi_int *colind = s->jac_sp + 2, *row = s->jac_sp + 3 + s->nx;
-    casadi_int j, k, nnz = colind[s->nx];
+    const casadi_int *sp = s->jac_sp;
+    casadi_int j, k, nnz = pattern_nnz(sp, s->nx);
     int band = SUNMatGetID(J) == SUNMATRIX_BAND;
     (void)fy; (void)t1; (void)t2; (void)t3;
     s->jac_evals++;
@@ -80,9 +97,10 @@ static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
     if (!all_finite(s->jac_nz, (long)nnz)) return 1;
     SUNMatZero(J);
     for (j = 0; j < s->nx; j++)
-        for (k = colind[j]; k < colind[j + 1]; k++) {
-            if (band) SM_ELEMENT_B(J, row[k], j) = s->jac_nz[k];
-            else SM_ELEMENT_D(J, row[k], j) = s->jac_nz[k];
+        for (k = pattern_col_start(sp, s->nx, j); k < pattern_col_start(sp, s->nx, j + 1); k++) {
+            casadi_int r = pattern_row(sp, s->nx, j, k);
+            if (band) SM_ELEMENT_B(J, r, j) = s->jac_nz[k];
+            else SM_ELEMENT_D(J, r, j) = s->jac_nz[k];
         }
     return 0;
 }
@@ -134,13 +152,14 @@ void pdbfs_cvode_free(PdbfsCvode *s) {
 
 /* the Jacobian's bandwidths, from its pattern */
 static void bandwidths(PdbfsCvode *s) {
-    const casadi_int *colind = s->jac_sp + 2, *row = s->jac_sp + 3 + s->nx;
+    const casadi_int *sp = s->jac_sp;
     casadi_int j, k;
     s->ml = s->mu = 0;
     for (j = 0; j < s->nx; j++)
-        for (k = colind[j]; k < colind[j + 1]; k++) {
-            if (row[k] - j > s->ml) s->ml = (int)(row[k] - j);
-            if (j - row[k] > s->mu) s->mu = (int)(j - row[k]);
+        for (k = pattern_col_start(sp, s->nx, j); k < pattern_col_start(sp, s->nx, j + 1); k++) {
+            casadi_int r = pattern_row(sp, s->nx, j, k);
+            if (r - j > s->ml) s->ml = (int)(r - j);
+            if (j - r > s->mu) s->mu = (int)(j - r);
         }
 }
 
@@ -176,7 +195,7 @@ static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
         bandwidths(s);
         s->linsol = choose_linsol(s, set->linsol);
         free(s->jac_nz);
-        s->jac_nz = malloc(sizeof(double) * (size_t)(s->jac_sp[2 + s->nx] + 1));
+        s->jac_nz = malloc(sizeof(double) * (size_t)(pattern_nnz(s->jac_sp, s->nx) + 1));
         if (!s->jac_nz) return NO_MEMORY;
         if (s->linsol == PDBFS_LS_BAND) {
             s->A = SUNBandMatrix(s->nx, s->mu, s->ml, s->ctx);

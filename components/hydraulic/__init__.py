@@ -1,0 +1,38 @@
+"""Hydraulic components: pressure ``p`` (Pa, absolute) across, volume flow
+``q`` (m3/s, positive into the component) through (pdbfs.modelling's
+HydraulicPort), after Modelica's fluid libraries and
+ModelingToolkitStandardLibrary's hydraulics.
+
+    interfaces.py   PartialOnePort, PartialTwoPort (PartialOrifice in resistances.py,
+                    PartialPressureValve in valves.py, PartialSource in sources.py)
+    laws.py         bulk-modulus laws, regularised root, smooth clamp and step
+    volume.py       Volume: compressibility, cavitation, swept walls
+    piston.py       Piston (flange + port), Cylinder (a piston over its chamber)
+    resistances.py  Orifice (turbulent), LaminarLeak
+    valves.py       CheckValve, ReliefValve, TimedValve, PulseValve
+    sources.py      Tank, PressureSource, FlowSource
+    accumulator.py  Accumulator (gas-charged, polytropic)
+    sensors.py      PressureSensor, FlowSensor
+
+An unconnected port is closed (zero flow), allowed only on components where
+that means something (Volume, Cylinder, Accumulator, sources and tanks);
+elsewhere the compiler refuses it.
+
+May import: pdbfs.errors and pdbfs.modelling.
+"""
+from .accumulator import Accumulator
+from .interfaces import PartialOnePort, PartialTwoPort
+from .laws import (ATMOSPHERE, bulk_modulus_air, bulk_modulus_constant, bulk_modulus_linear,
+                   regularised_root, smooth_ramp, smooth_step)
+from .piston import Cylinder, Piston
+from .resistances import LaminarLeak, Orifice, PartialOrifice
+from .sensors import FlowSensor, PressureSensor
+from .sources import FlowSource, PartialSource, PressureSource, Tank
+from .valves import CheckValve, PartialPressureValve, PulseValve, ReliefValve, TimedValve
+from .volume import BULK_MODULUS_LAWS, Volume
+
+__all__ = ["Accumulator", "PartialOnePort", "PartialTwoPort", "ATMOSPHERE", "bulk_modulus_air",
+           "bulk_modulus_constant", "bulk_modulus_linear", "regularised_root", "smooth_ramp",
+           "smooth_step", "Cylinder", "Piston", "LaminarLeak", "Orifice", "PartialOrifice",
+           "FlowSensor", "PressureSensor", "FlowSource", "PartialSource", "PressureSource", "Tank", "CheckValve",
+           "PartialPressureValve", "PulseValve", "ReliefValve", "TimedValve", "BULK_MODULUS_LAWS", "Volume"]

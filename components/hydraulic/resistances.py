@@ -1,0 +1,44 @@
+"""Flow resistances between two ports: a turbulent orifice, a laminar leak."""
+import casadi as ca
+
+from pdbfs.modelling import Parameter, eq
+
+from .interfaces import PartialTwoPort
+from .laws import regularised_root
+
+
+class PartialOrifice(PartialTwoPort):
+    """Turbulent flow through an opening: ``q = x*Cd*A*sqrt(2/rho)*root(dp)``
+    with ``root`` the regularised square root of laws.regularised_root
+    (``dp/(dp^2 + dp_t^2)^(1/4)``: slope ``1/sqrt(dp_t)`` at dp = 0 instead
+    of infinite; relative error below ``(dp_t/dp)^2/4``, 2.5e-5 of the flow
+    at ``|dp| = 100*dp_t``) and ``x`` the opening a subclass gives
+    (``opening()``, 1 by default)."""
+
+    Cd = Parameter(0.7, "1", "Discharge coefficient", positive=True, max=1.0)
+    A = Parameter(1e-5, "m2", "Flow area (fully open)", positive=True)
+    rho = Parameter(870.0, "kg/m3", "Density of the oil", positive=True, tunable=False)
+    dp_t = Parameter(1e3, "Pa", "Pressure difference below which the square-root law is "
+                     "rounded to stay smooth", positive=True, tunable=False)
+
+    def opening(self):
+        return 1.0
+
+    def equations(self):
+        return super().equations() + [
+            eq(self.q, self.opening() * self.Cd * self.A * ca.sqrt(2.0 / self.rho)
+               * regularised_root(self.dp, self.dp_t))]
+
+
+class Orifice(PartialOrifice):
+    """A fixed sharp-edged orifice (turbulent), ports ``port_a``,
+    ``port_b``, flow ``q`` from a to b."""
+
+
+class LaminarLeak(PartialTwoPort):
+    """A laminar leak ``q = G*dp`` (a seal gap, a capillary)."""
+
+    G = Parameter(1e-12, "m3/(s.Pa)", "Hydraulic conductance", min=0.0)
+
+    def equations(self):
+        return super().equations() + [eq(self.q, self.G * self.dp)]

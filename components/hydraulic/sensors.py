@@ -1,0 +1,31 @@
+"""Ideal hydraulic sensors: a pressure sensor takes no flow, a flow sensor
+no pressure drop; each gives its reading as a SignalOutput."""
+from pdbfs.modelling import Component, HydraulicPort, SignalOutput, eq
+
+from .interfaces import PartialOnePort
+
+
+class PressureSensor(PartialOnePort):
+    """Pressure at ``port``, output ``p`` (Pa)."""
+
+    def declare(self):
+        super().declare()
+        self.p = SignalOutput("Pa", "Measured pressure (absolute)")
+
+    def equations(self):
+        return [eq(self.port.q, 0.0), eq(self.p.value, self.port.p)]
+
+
+class FlowSensor(Component):
+    """Flow from ``port_a`` to ``port_b`` (no pressure drop), output ``q``
+    (m3/s)."""
+
+    def declare(self):
+        self.port_a = HydraulicPort()
+        self.port_b = HydraulicPort()
+        self.q = SignalOutput("m3/s", "Measured volume flow from port_a to port_b")
+
+    def equations(self):
+        return [eq(self.port_a.p, self.port_b.p),
+                eq(self.port_a.q + self.port_b.q, 0.0),
+                eq(self.q.value, self.port_a.q)]

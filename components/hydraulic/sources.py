@@ -1,0 +1,52 @@
+"""Boundary conditions: a tank, prescribed pressure and prescribed flow."""
+from pdbfs.modelling import Parameter, Variable, eq, time
+
+from .interfaces import PartialOnePort
+from .laws import ATMOSPHERE
+
+
+class PartialSource(PartialOnePort):
+    """A source whose value is a parameter, or ``function(t)`` giving a
+    CasADi expression of time (which may use the component's parameters)."""
+
+    def __init__(self, function=None, **params):
+        self._function = function
+        super().__init__(**params)
+
+    def prescribed(self, constant):
+        return constant if self._function is None else self._function(time)
+
+
+class PressureSource(PartialSource):
+    """A prescribed pressure at ``port``: the parameter ``p`` or
+    ``function(t)``. ``q_out`` is the flow it delivers."""
+
+    closable = True
+    p = Parameter(10e6, "Pa", "Pressure (absolute)", min=0.0)
+
+    def declare(self):
+        super().declare()
+        self.q_out = Variable("m3/s", "Flow delivered into the circuit", output=True)
+
+    def equations(self):
+        return [eq(self.port.p, self.prescribed(self.p)), eq(self.q_out, -self.port.q)]
+
+
+class Tank(PressureSource):
+    """A reservoir at a fixed pressure ``p`` (atmospheric by default)."""
+
+    p = Parameter(ATMOSPHERE, "Pa", "Tank pressure (absolute)", min=0.0)
+
+
+class FlowSource(PartialSource):
+    """A prescribed flow ``Q`` delivered into the circuit at ``port``, or
+    ``function(t)``."""
+
+    Q = Parameter(1e-4, "m3/s", "Flow delivered into the circuit")
+
+    def declare(self):
+        super().declare()
+        self.p = Variable("Pa", "Pressure at the port", output=True)
+
+    def equations(self):
+        return [eq(self.port.q, -self.prescribed(self.Q)), eq(self.p, self.port.p)]

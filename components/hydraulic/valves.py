@@ -1,0 +1,66 @@
+"""Valves: turbulent orifices whose opening follows the pressure
+difference (relief and check valves) or time (a fast switching valve)."""
+from pdbfs.modelling import Parameter, time
+
+from .laws import smooth_step
+from .resistances import PartialOrifice
+
+
+class PartialPressureValve(PartialOrifice):
+    """Opens as ``dp = port_a.p - port_b.p`` rises above the cracking
+    pressure ``p_crack``, fully open at ``p_crack + dp_open``; the opening
+    follows laws.smooth_step in between (continuous slope), so the flow is
+    smooth in dp; closed (zero flow) below ``p_crack``, hence never
+    backwards for ``p_crack >= 0``."""
+
+    p_crack = Parameter(1e5, "Pa", "Cracking pressure difference", min=0.0)
+    dp_open = Parameter(1e5, "Pa", "Pressure rise from cracking to fully open", positive=True)
+
+    def opening(self):
+        return smooth_step((self.dp - self.p_crack) / self.dp_open)
+
+    def events(self):
+        return [(self.dp - self.p_crack, "cracking")]
+
+
+class CheckValve(PartialPressureValve):
+    """A check (non-return) valve: flow only from port_a to port_b, once the
+    pressure difference exceeds a small cracking pressure."""
+
+
+class ReliefValve(PartialPressureValve):
+    """A pressure relief valve: port_a the protected line, port_b the tank;
+    opens above its setting ``p_crack``."""
+
+    p_crack = Parameter(20e6, "Pa", "Cracking (set) pressure difference", min=0.0)
+    dp_open = Parameter(2e6, "Pa", "Pressure rise from cracking to fully open (the "
+                        "override)", positive=True)
+
+
+class TimedValve(PartialOrifice):
+    """A valve driven by time: closed until ``t_open``, then opening over
+    ``T_open`` (laws.smooth_step) and staying open: a fast switching valve."""
+
+    t_open = Parameter(1e-3, "s", "Time the valve starts to open", min=0.0)
+    T_open = Parameter(2e-3, "s", "Time the valve takes to open fully", positive=True)
+
+    def opening(self):
+        return smooth_step((time - self.t_open) / self.T_open)
+
+    def events(self):
+        return [(time - self.t_open, "opening"), (time - self.t_open - self.T_open, "open")]
+
+
+class PulseValve(TimedValve):
+    """A TimedValve that closes again: starts closing at ``t_close`` and is
+    shut ``T_close`` later (a pulse of flow)."""
+
+    t_close = Parameter(4e-3, "s", "Time the valve starts to close", min=0.0)
+    T_close = Parameter(2e-3, "s", "Time the valve takes to close", positive=True)
+
+    def opening(self):
+        return super().opening() * (1.0 - smooth_step((time - self.t_close) / self.T_close))
+
+    def events(self):
+        return super().events() + [(time - self.t_close, "closing"),
+                                   (time - self.t_close - self.T_close, "closed")]
