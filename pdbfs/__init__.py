@@ -12,19 +12,23 @@ The stages, each a package whose docstring says what it may import:
     pdbfs.fmu          rig -> C code -> FMU
     pdbfs.studies      sweeps (local or Dask), sensitivity, calibration, design, the paper
     pdbfs.cli          the command line, a thin layer over this API
+    pdbfs.app          the workbench page in the browser (Dash), another thin layer
 
 and the libraries on top of the compiler: pdbfs.components (the component
-library) and pdbfs.models (rigs built from it).
+library: translational mechanics, and hydraulics in pdbfs.components.hydraulic)
+and pdbfs.models (rigs built from it).
 """
 from .errors import (ConnectError, DataError, ExportError, ModelError, ParameterError,
                      PdbfsError, SolverError)
-from .modelling import (DAE, Component, Flange, Parameter, ParamInfo, SignalInput, SignalOutput,
-                        State, Variable, VarInfo, der, eq, time)
+from .errors import PdbfsWarning, PulseIncompleteWarning, SampleTooSmallWarning
+from .modelling import (DAE, Component, Flange, HydraulicPort, Parameter, ParamInfo, SignalInput,
+                        SignalOutput, State, Variable, VarInfo, der, eq, time)
 from .rig import Rig
 from .simulation import Result, simulate, trajectory_function
 from .studies import calibrate, design, design_map, sensitivity, sweep
 
-__all__ = ["Component", "Rig", "Flange", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
+__all__ = ["Component", "Rig", "Flange", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",
+           "SampleTooSmallWarning", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
            "DataError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",

@@ -1,5 +1,5 @@
 """Command line: ``pdbfs simulate | params | export-fmu | sweep | sensitivity | reproduce |
-calibrate | design | design-map``.
+calibrate | design | design-map | app``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
