@@ -107,10 +107,12 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     check_trace_fits(trace, unit, signal, getattr(_rig(rig), "default_t_end", 0.02))
     done = pulse_end(sim, p0, float(trace.t[-1]))
     fine = None if done is None else max(5.0 * done, 0.02)
+    # after the pulse, twice the trace's own samples there (a quiet record needs no more)
+    coarse = 2 * int(np.sum(trace.t > (fine or 0.0))) + 100
     horizon = float(trace.t[-1])
     if fit_offset:
         probe = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
-                            fine_until=fine)
+                            fine_until=fine, coarse=coarse)
         s0 = probe(np.array([u.rig_value(u.ref) for u in unknowns]), sens=False)
         extra = offset_unknowns(trace, (s0.t, s0.y), unit)
         for u in extra:
@@ -124,7 +126,7 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     if horizon <= 0:
         raise DataError(f"{trace.source}: every sample lies before the impact (t <= 0)")
     model = SignalModel(sim, signal, targets, max(horizon, t_end or 0.0), p0, dt=dt, rtol=rtol,
-                        atol=atol, fine_until=fine)
+                        atol=atol, fine_until=fine, coarse=coarse)
     scale = float(np.max(np.abs(trace.y))) or 1.0
     return _fit(dae.name, signal, unit, model, unknowns, trace, scale, starts, seed)
 

@@ -82,16 +82,16 @@ class Samples:
 MAX_FINE, MAX_COARSE = 40_000, 20_000
 
 
-def model_grid(t_end, dt=DT, fine_until=None) -> np.ndarray:
+def model_grid(t_end, dt=DT, fine_until=None, coarse=MAX_COARSE) -> np.ndarray:
     """Spacing ``dt`` over [0, fine_until] (where the pulse is; at most
-    MAX_FINE points), then at most MAX_COARSE even steps to ``t_end``: the
-    cost follows the pulse and the trace, not the horizon / dt."""
+    MAX_FINE points), then ``coarse`` (at most MAX_COARSE) even steps to
+    ``t_end``: the cost follows the pulse and the trace, not the horizon / dt."""
     fine_end = min(t_end, fine_until if fine_until is not None else t_end, MAX_FINE * dt)
     n = max(int(np.ceil(fine_end / dt)), 2) + 1
     fine = np.linspace(0.0, fine_end, n)
     if t_end <= fine_end * (1 + 1e-12):
         return fine
-    m = int(min(MAX_COARSE, np.ceil((t_end - fine_end) / dt)))
+    m = int(max(1, min(coarse, MAX_COARSE, np.ceil((t_end - fine_end) / dt))))
     return np.concatenate([fine, np.linspace(fine_end, t_end, m + 1)[1:]])
 
 
@@ -111,7 +111,7 @@ class SignalModel:
 
     def __init__(self, sim: Simulator, signal: str, targets: list[str], t_end: float, p0,
                  *, dt: float = DT, rtol: float = 1e-8, atol: float = 1e-10,
-                 fine_until: float | None = None):
+                 fine_until: float | None = None, coarse: int = MAX_COARSE):
         dae = sim.dae
         if not dae.is_ode:
             raise ParameterError(f"rig {dae.name} keeps algebraic variables; fitting needs an "
@@ -120,7 +120,7 @@ class SignalModel:
             raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
         self.sim, self.signal, self.targets = sim, signal, list(targets)
         self.p0 = np.asarray(p0, dtype=float)
-        self.grid = model_grid(t_end, dt, fine_until)
+        self.grid = model_grid(t_end, dt, fine_until, coarse)
         n = self.grid.size
         index = {name: i for i, name in enumerate(dae.p_names)}
         y = dae.y[dae.y_names.index(signal)]
