@@ -19,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import timeit
 
 import orjson
 
@@ -28,13 +29,8 @@ from pdbfs.models import paper_rig
 
 
 def median_ms(fn, repeat):
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return 1e3 * statistics.median(times)
+    fn()                                   # warm up, untimed
+    return 1e3 * statistics.median(timeit.repeat(fn, number=1, repeat=repeat))
 
 
 def output_key(app, fragment):

@@ -10,6 +10,7 @@ Prints seconds per simulation (median) and ratios against the RK45 baseline.
 import argparse
 import sys
 import time
+import timeit
 from pathlib import Path
 
 import numpy as np
@@ -23,13 +24,8 @@ T = np.linspace(0.0, 0.02, 2001)
 
 
 def median_time(fn, repeat):
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+    fn()                                   # warm up, untimed
+    return float(np.median(timeit.repeat(fn, number=1, repeat=repeat)))
 
 
 def main():

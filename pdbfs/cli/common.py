@@ -68,12 +68,7 @@ def prepare_out(path, option="--out") -> Path | None:
         base = base.parent
     if not base.is_dir():
         raise ParameterError(f"{option} {path}: {base} is not a folder")
-    try:                                           # root passes os.access everywhere: try it
-        with tempfile.TemporaryFile(dir=base):
-            pass
-    except OSError as err:
-        raise ParameterError(f"{option} {path}: cannot write in {base} "
-                             f"({err.strerror or err})") from None
+    _try_writing(base, option, path)
     return out
 
 
@@ -85,13 +80,18 @@ def check_output_file(path, option="-o") -> Path:
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise ParameterError(f"{option} {path}: the folder {parent} does not exist")
-    try:                                 # root passes os.access everywhere: try it
-        with tempfile.TemporaryFile(dir=parent):
+    _try_writing(parent, option, path)
+    return p
+
+
+def _try_writing(folder, option, path):
+    """A file made and removed in ``folder`` (root passes os.access everywhere)."""
+    try:
+        with tempfile.TemporaryFile(dir=folder):
             pass
     except OSError as err:
-        raise ParameterError(f"{option} {path}: cannot write in {parent} "
+        raise ParameterError(f"{option} {path}: cannot write in {folder} "
                              f"({err.strerror or err})") from None
-    return p
 
 
 # -- values ---------------------------------------------------------------------------
