@@ -8,6 +8,8 @@ import math
 import subprocess
 import sys
 
+import numpy as np
+
 import pytest
 
 pytest.importorskip("dash")
@@ -90,3 +92,18 @@ def test_studies_start_from_the_page_s_settings(wb):
     both = wb.calibrate(wb.defaults(), trace, ["hammer.h", "oil.k"])
     assert both["params"]["hammer.h"] == pytest.approx(0.6, rel=1e-4)
     assert math.isfinite(both["std"]["hammer.h"])
+
+
+def test_long_actions_report_their_progress():
+    """What the page shows while it works comes from the API itself."""
+    import pdbfs
+    from pdbfs.models import paper_rig
+    seen = []
+    pdbfs.design_map(paper_rig(), "hammer.v0=2:4", "oil.k=2e8:3e8", n=3, backend="c",
+                     progress=lambda done, total: seen.append((done, total)))
+    assert seen and seen[-1] == (9, 9) and all(t == 9 for _, t in seen)
+    runs = []
+    res = paper_rig().simulate(t_out=np.linspace(0, 0.016, 161), params={"oil.k": 3e8})
+    cal = pdbfs.calibrate(paper_rig(), (res.t, res["oil.pressure"]), ["oil.k"], starts=1,
+                          progress=runs.append)
+    assert runs == list(range(1, cal.evaluations + 1))

@@ -1,7 +1,7 @@
 """The page's long actions: calibration, design, the design map and the FMU.
 Each runs as a Dash background callback, in a process of its own (the page
 stays responsive, Cancel ends it, and a crash cannot take the server down),
-reporting the time spent while it works."""
+reporting its progress (simulations run, points mapped) while it works."""
 from __future__ import annotations
 
 import tempfile
@@ -20,26 +20,36 @@ from .workbench import parse_number, workbench
 POLL = 400    # ms between the page's looks at a job's progress
 
 
-def with_progress(set_progress, label, fn):
-    """``fn()`` in a thread while the elapsed time is reported; its result,
-    or the PdbfsError it raised."""
-    box = {}
+def with_progress(set_progress, label, fn, unit="simulations"):
+    """``fn(report)`` in a thread while its progress is shown: the count the
+    API reports through ``report`` (simulations run, or points done of all)
+    and the time spent; its result, or the PdbfsError it raised."""
+    box, count = {}, {}
+
+    def report(done, total=None):
+        count["done"], count["total"] = done, total
 
     def work():
         try:
-            box["value"] = fn()
+            box["value"] = fn(report)
         except PdbfsError as err:
             box["error"] = err
         except Exception as err:   # noqa: BLE001 - shown on the page, never a dead server
             box["error"] = RuntimeError(f"{type(err).__name__}: {err}")
 
+    def line(state):
+        done = count.get("done")
+        what = "" if done is None else (f"{done} of {count['total']} {unit}, "
+                                        if count.get("total") else f"{done} {unit}, ")
+        return f"{label}: {what}{state} {time.perf_counter() - t0:.1f} s"
+
     t0 = time.perf_counter()
     th = threading.Thread(target=work, daemon=True)
     th.start()
     while th.is_alive():
-        set_progress(f"{label}: {time.perf_counter() - t0:.1f} s")
+        set_progress(line(""))
         th.join(0.25)
-    set_progress(f"{label}: done in {time.perf_counter() - t0:.1f} s")
+    set_progress(line("done in"))
     if "error" in box:
         raise box["error"]
     return box["value"]
@@ -67,7 +77,8 @@ def calibrate(set_progress, _n, settings, trace, free):
         return None, _error("choose the free parameters"), True
     try:
         out = with_progress(set_progress, "calibrating",
-                            lambda: wb.calibrate(settings["values"], (trace["t"], trace["y"]), free))
+                            lambda report: wb.calibrate(settings["values"], (trace["t"], trace["y"]),
+                                                       free, report))
     except (PdbfsError, RuntimeError) as err:
         return None, _error(err), True
     note = f"RMS residual {fmt(out['rms_residual'])} {out['unit']}"
@@ -95,7 +106,7 @@ def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free)
             if not target:
                 raise ParameterError("give at least one target: peak, duration or time of peak")
         out = with_progress(set_progress, "designing",
-                            lambda: wb.design(settings["values"], target, free))
+                            lambda report: wb.design(settings["values"], target, free, report))
     except (PdbfsError, RuntimeError) as err:
         return None, _error(err), True
     feats = ", ".join(f"{k} {fmt(v)}" for k, v in out["features"].items())
@@ -113,8 +124,9 @@ def design_map(set_progress, _n, settings, x, xlo, xhi, y, ylo, yhi, n):
         npts = parse_number("points per axis", n)
         if npts != int(npts) or not 3 <= npts <= 60:
             raise ParameterError(f"points per axis: {n} must be a whole number from 3 to 60")
-        m = with_progress(set_progress, f"mapping {int(npts) ** 2} points",
-                          lambda: wb.design_map(settings["values"], ax, ay, int(npts)))
+        m = with_progress(set_progress, "mapping",
+                          lambda report: wb.design_map(settings["values"], ax, ay, int(npts), report),
+                          unit="points")
     except (PdbfsError, RuntimeError) as err:
         return no_update, {"display": "none"}, str(err)
     note = f"{m['failed']} points failed" if m["failed"] else None
@@ -126,7 +138,7 @@ def fmu(set_progress, _n, settings):
     try:
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
             path = Path(tmp) / f"{wb.name}.fmu"
-            with_progress(set_progress, "building the FMU", lambda: wb.fmu(settings["values"], path))
+            with_progress(set_progress, "building the FMU", lambda report: wb.fmu(settings["values"], path))
             return dcc.send_bytes(path.read_bytes(), path.name), None
     except (PdbfsError, RuntimeError) as err:
         return no_update, str(err)

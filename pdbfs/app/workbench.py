@@ -267,29 +267,32 @@ class Workbench:
             params.pop(c.derived or f, None)
         return params, start
 
-    def calibrate(self, settings: dict, trace, free: list) -> dict:
+    def calibrate(self, settings: dict, trace, free: list, progress=None) -> dict:
         import pdbfs
         params, start = self._fixed_and_start(settings, free)
-        cal = pdbfs.calibrate(self.rig, trace, free, params=params, start=start)
+        cal = pdbfs.calibrate(self.rig, trace, free, params=params, start=start,
+                              progress=progress)
         return {"params": cal.params, "std": cal.std, "units": cal.units,
                 "rms_residual": cal.rms_residual, "unit": cal.unit,
                 "undetermined": cal.undetermined, "t": _list(cal.t), "fit": _list(cal.fit)}
 
-    def design(self, settings: dict, target, free: list) -> dict:
+    def design(self, settings: dict, target, free: list, progress=None) -> dict:
         import pdbfs
         params, start = self._fixed_and_start(settings, free)
-        des = pdbfs.design(self.rig, target, free=free, params=params, start=start)
+        des = pdbfs.design(self.rig, target, free=free, params=params, start=start,
+                           progress=progress)
         return {"params": {**des.params, **des.implied}, "reachable": des.reachable,
                 "limit": des.limit, "features": des.features, "targets": des.targets,
                 "rms_error": des.rms_error, "unit": des.unit, "units": des.units,
                 "t": _list(des.t), "fit": _list(des.fit)}
 
-    def design_map(self, settings: dict, x: tuple, y: tuple, n: int) -> dict:
+    def design_map(self, settings: dict, x: tuple, y: tuple, n: int, progress=None) -> dict:
         import pdbfs
         params = self.params(settings)
         for name, *_ in (x, y):
             params.pop(self.control(name).derived or name, None)
-        m = pdbfs.design_map(self.rig, x, y, n=n, params=params, backend=self.backend)
+        m = pdbfs.design_map(self.rig, x, y, n=n, params=params, backend=self.backend,
+                             progress=progress if progress is not None else False)
         return {"x_name": m.x_name, "y_name": m.y_name, "x": _list(m.x), "y": _list(m.y),
                 "x_unit": m.x_unit, "y_unit": m.y_unit, "failed": m.failed,
                 "values": {k: [_list(r) for r in v] for k, v in m.values.items()}}

@@ -80,7 +80,7 @@ class Calibration:
 
 def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bounds=None,
               start=None, params=None, starts: int = 3, seed: int = 0, rtol: float = 1e-8,
-              atol: float = 1e-10, dt: float = DT) -> Calibration:
+              atol: float = 1e-10, dt: float = DT, progress=None) -> Calibration:
     """Fit the parameters ``free`` of ``rig`` so that its ``signal`` (default:
     the rig's pressure) matches ``trace`` (a CSV path, a Trace or (t, y)).
 
@@ -93,6 +93,7 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     params      {name: value} held fixed (not free)
     t_end       simulated horizon (default: the trace's last time, plus the
                 shift's range)
+    progress    a function called with the number of simulations run so far
     """
     sim = Simulator.of(_rig(rig))
     dae = sim.dae
@@ -126,7 +127,7 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     if horizon <= 0:
         raise DataError(f"{trace.source}: every sample lies before the impact (t <= 0)")
     model = SignalModel(sim, signal, targets, max(horizon, t_end or 0.0), p0, dt=dt, rtol=rtol,
-                        atol=atol, fine_until=fine, coarse=coarse)
+                        atol=atol, fine_until=fine, coarse=coarse, progress=progress)
     scale = float(np.max(np.abs(trace.y))) or 1.0
     return _fit(dae.name, signal, unit, model, unknowns, trace, scale, starts, seed)
 

@@ -86,14 +86,15 @@ class Design:
 
 def design(rig, target, *, free, bounds=None, start=None, params=None, signal=None,
            t_end=None, starts: int = 1, seed: int = 0, rtol: float = 1e-8,
-           atol: float = 1e-10, dt: float = DT) -> Design:
+           atol: float = 1e-10, dt: float = DT, progress=None) -> Design:
     """Settings of ``free`` that make ``rig``'s ``signal`` (default: its
     pressure) match ``target``: a curve (CSV path, Trace, (t, y)) or a dict of
     features {peak_pressure (Pa), pulse_duration (s), time_of_peak (s)}.
     ``free`` may name a drop height ``X.h`` for a rig whose hammer has an
     impact speed ``X.v0``. Bounds default to a factor 10 either side of the
     rig's values. More ``starts`` (Latin hypercube) are tried for features
-    when the first does not reach them."""
+    when the first does not reach them. ``progress``: a function called with
+    the number of simulations run so far."""
     sim = Simulator.of(_rig(rig))
     dae = sim.dae
     signal = signal_of(dae, signal)
@@ -106,7 +107,8 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     if isinstance(target, dict):
         goals = _feature_targets(target)
         horizon = t_end or _horizon(goals, getattr(rig, "default_t_end", 0.02))
-        model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol)
+        model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
+                            progress=progress)
         prob = FeatureProblem(model, unknowns, goals)
         fit = solve(prob, z0, lo, hi, starts=1)
         if np.max(np.abs(fit.residual)) > REACHED and starts > 1:
@@ -122,7 +124,8 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     else:
         trace = as_trace(target, "target")
         horizon = max(float(trace.t[-1]), t_end or 0.0)
-        model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol)
+        model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
+                            progress=progress)
         scale = float(np.max(np.abs(trace.y))) or 1.0
         prob = CurveProblem(model, unknowns, trace, scale)
         fit = solve(prob, z0, lo, hi, starts=starts, seed=seed)

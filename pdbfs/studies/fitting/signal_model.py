@@ -111,7 +111,7 @@ class SignalModel:
 
     def __init__(self, sim: Simulator, signal: str, targets: list[str], t_end: float, p0,
                  *, dt: float = DT, rtol: float = 1e-8, atol: float = 1e-10,
-                 fine_until: float | None = None, coarse: int = MAX_COARSE):
+                 fine_until: float | None = None, coarse: int = MAX_COARSE, progress=None):
         dae = sim.dae
         if not dae.is_ode:
             raise ParameterError(f"rig {dae.name} keeps algebraic variables; fitting needs an "
@@ -139,10 +139,13 @@ class SignalModel:
         self._f = ca.Function("signal", [u], [Y])
         self._fj = ca.Function("signal_sens", [u], [Y, ca.jacobian(ca.vec(Y), u)])
         self.evaluations = 0
+        self.progress = progress          # called with the number of simulations so far
 
     def __call__(self, values, sens: bool = True) -> Samples:
         u = np.asarray(values, dtype=float)
         self.evaluations += 1
+        if self.progress is not None:
+            self.progress(self.evaluations)
         try:
             if sens:
                 Y, J = (np.array(a) for a in self._fj(u))

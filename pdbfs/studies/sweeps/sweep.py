@@ -51,7 +51,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
           rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
           max_step: float | None = None, backend: str = "casadi", workers: int | None = None,
-          progress: bool | None = None, client=None, out=None, format: str = "parquet",
+          progress=None, client=None, out=None, format: str = "parquet",
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
@@ -67,7 +67,8 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     out           a folder: chunks are written there as they finish (``format``
                   parquet or csv) and a rerun of the same sweep resumes; a folder
                   holding another sweep is refused unless ``overwrite``
-    progress      a progress bar on stderr (None: once the sweep takes a while)
+    progress      a progress bar on stderr (None: once the sweep takes a while), or a
+                  function called with (points done, points in all) after each chunk
 
     A point that fails (a bad value, a solver failure) is returned with its
     parameters and the reason; the others still run. An unknown parameter
@@ -291,7 +292,23 @@ def _run_dask(client, sim, points, fixed, settings, chunks, finish) -> str:
     return f"Dask, {len(client.scheduler_info().get('workers', {}))} worker(s)"
 
 
+class _Report:
+    """progress as a function (done, total) instead of a bar."""
+
+    def __init__(self, fn, total, initial):
+        self.fn, self.total, self.done = fn, total, initial
+
+    def update(self, n):
+        self.done += n
+        self.fn(self.done, self.total)
+
+    def close(self):
+        pass
+
+
 def _bar(total, initial, progress, label):
+    if callable(progress):
+        return _Report(progress, total, initial)
     from tqdm import tqdm
     disable = progress is False or (progress is None and not sys.stderr.isatty())
     return tqdm(total=total, initial=initial, desc=f"sweep {label}", unit="pt", file=sys.stderr,
