@@ -13,8 +13,19 @@ def _x(v: float) -> str:
     return repr(float(v))
 
 
-def model_description(model: FmuModel, guid: str) -> str:
-    """modelDescription.xml of ``model`` with ``guid``."""
+def _interface(tag: str, attrs: str, source_files) -> list[str]:
+    """<ModelExchange .../> or <CoSimulation .../>, with <SourceFiles> when
+    the FMU ships sources that build its binary."""
+    if not source_files:
+        return [f"  <{tag} {attrs}/>"]
+    return ([f"  <{tag} {attrs}>", "    <SourceFiles>"]
+            + [f"      <File name={quoteattr(f)}/>" for f in source_files]
+            + ["    </SourceFiles>", f"  </{tag}>"])
+
+
+def model_description(model: FmuModel, guid: str, source_files: list[str] | tuple = ()) -> str:
+    """modelDescription.xml of ``model`` with ``guid``; ``source_files``
+    (relative to sources/) are declared under both interfaces."""
     d = model.dae
     units_used = []
     for v in model.vars:
@@ -30,15 +41,16 @@ def model_description(model: FmuModel, guid: str) -> str:
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured"',
          f'  numberOfEventIndicators="{model.ne}">',
-         f'  <ModelExchange modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
-         'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
-         'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-         'providesDirectionalDerivative="false"/>',
-         f'  <CoSimulation modelIdentifier="{model.ident}" canHandleVariableCommunicationStepSize="true" '
-         'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
-         'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
-         'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-         'providesDirectionalDerivative="false"/>',
+         *_interface("ModelExchange", f'modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
+                     'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
+                     'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
+                     'providesDirectionalDerivative="false"', source_files),
+         *_interface("CoSimulation", f'modelIdentifier="{model.ident}" '
+                     'canHandleVariableCommunicationStepSize="true" '
+                     'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
+                     'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
+                     'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
+                     'providesDirectionalDerivative="false"', source_files),
          '  <UnitDefinitions>']
     for u in units_used:
         try:

@@ -196,7 +196,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     if (nvr > 0 && (!vr || !value)) return ERR(m, "fmi2GetReal: NULL argument");
     for (i = 0; i < nvr; i++) {
         fmi2ValueReference r = vr[i];
-        if (r < VR_P_END) {
+        if (r >= PDBFS_VR_P && r < VR_P_END) {
             value[i] = m->s.p[r - PDBFS_VR_P];
         } else if (r == PDBFS_VR_RTOL) {
             value[i] = model_rtol(m);
@@ -233,7 +233,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     for (i = 0; i < nvr; i++) {
         fmi2ValueReference r = vr[i];
         double v = value[i];
-        if (r < VR_P_END) {
+        if (r >= PDBFS_VR_P && r < VR_P_END) {
             int k = (int)(r - PDBFS_VR_P);
             if (!before_init && !PDBFS_P_TUNABLE[k])
                 return ERR(m, "fmi2SetReal: parameter %s is fixed and cannot be changed after initialization",
@@ -247,11 +247,12 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
             if (!before_init)
                 return ERR(m, "fmi2SetReal: %s is fixed and cannot be changed after initialization", nm);
             if (!isfinite(v)) return ERR(m, "fmi2SetReal: %s = %g is not finite", nm, v);
-            if (r == PDBFS_VR_RTOL && !(v > 0 && v < 1))
-                return ERR(m, "fmi2SetReal: solver.rtol = %g must be in (0, 1)", v);
+            if (r == PDBFS_VR_RTOL && !(v >= PDBFS_RTOL_MIN && v <= PDBFS_RTOL_MAX))
+                return ERR(m, "fmi2SetReal: solver.rtol = %g must be in [%g, %g]", v, PDBFS_RTOL_MIN,
+                           PDBFS_RTOL_MAX);
             if (r == PDBFS_VR_MAXSTEP && v < 0)
                 return ERR(m, "fmi2SetReal: solver.max_step = %g must be >= 0 (0: no limit)", v);
-        } else if (r < VR_Y_END) {
+        } else if (r >= PDBFS_VR_P && r < VR_Y_END) {
             return ERR(m, "fmi2SetReal: variable with value reference %u is not settable", r);
         } else {
             return ERR(m, "fmi2SetReal: unknown value reference %u", r);
@@ -259,7 +260,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     }
     for (i = 0; i < nvr; i++) {
         fmi2ValueReference r = vr[i];
-        if (r < VR_P_END) {
+        if (r >= PDBFS_VR_P && r < VR_P_END) {
             if (m->s.p[r - PDBFS_VR_P] != value[i]) changed = 1;
             m->s.p[r - PDBFS_VR_P] = value[i];
         } else if (r == PDBFS_VR_RTOL) {

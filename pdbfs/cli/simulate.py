@@ -41,7 +41,7 @@ def cmd_params(args):
 
 def cmd_export_fmu(args):
     rig = rig_by_name(args.rig)
-    path = rig.export_fmu(args.output)
+    path = rig.export_fmu(args.output, platforms=args.platforms)
     print(f"wrote {path}")
 
 
@@ -72,4 +72,7 @@ def add_parsers(sub):
     s = sub.add_parser("export-fmu", help="write an FMI 2.0 FMU of a rig")
     s.add_argument("--rig", default="paper")
     s.add_argument("-o", "--output", default="pdbfs.fmu")
+    s.add_argument("--platforms", default=None, metavar="P1,P2",
+                   help="binaries to build: linux64, win64 (default: every platform this machine can "
+                   "build; win64 needs Debian's gcc-mingw-w64-x86-64)")
     s.set_defaults(func=cmd_export_fmu)
