@@ -5,8 +5,11 @@ Co-Simulation (CVODE inside), validated by fmpy, simulated by any importer.
     export_fmu(rig.compile(), "rig.fmu")        # or rig.export_fmu("rig.fmu")
 
     variables.py    the FMU's variables, value references and model structure
-    description.py  modelDescription.xml
+    description.py  modelDescription.xml (with <SourceFiles>)
     units.py        unit strings -> FMI base units
+    platforms.py    linux64, win64 (MinGW-w64): which can be built, and the build
+    sources.py      SUNDIALS' CVODE sources for a source FMU
+    documentation.py documentation/index.html
     export.py       pdbfs_model.h, compile, zip
     c/              the generic C: FMI plumbing, Model Exchange, Co-Simulation
 
