@@ -154,8 +154,11 @@ help. By hand, with this folder as the only include directory:
                 -o {ident}.so -lm
   Windows:  x86_64-w64-mingw32-gcc -O2 -shared -I. *.c sundials_src/*.c \\
                 -o {ident}.dll -static
-            (MSVC: cl /O2 /LD /I. *.c sundials_src\\*.c /Fe{ident}.dll)
   macOS:    clang -O2 -shared -fvisibility=hidden -I. *.c sundials_src/*.c -o {ident}.dylib
+
+(pdbfs's tests build these sources with `fmpy compile` on Linux (GCC) and with
+the MinGW line above; the C is C99 with GCC attributes: clang takes them, MSVC
+does not.)
 
 and put the library in binaries/<platform>/ of the FMU.
 """

@@ -65,7 +65,7 @@ def test_win64_dll_depends_on_windows_dlls_only(fmu_path, tmp_path):
     assert {"fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetFMUstate"} <= set(exports)
 
 
-def _run_under_wine(fmu_path, tmp_path):
+def _run_under_wine(fmu_path, tmp_path, dll=None):
     wine = wine64()
     if wine is None:
         pytest.skip("wine64 is not installed (apt-get install wine wine64)")
@@ -80,7 +80,8 @@ def _run_under_wine(fmu_path, tmp_path):
     prefix = cache_root() / "wine64-prefix"   # made on Wine's first start (about 10 s), then reused
     prefix.parent.mkdir(parents=True, exist_ok=True)
     env = {**os.environ, "WINEPREFIX": str(prefix), "WINEDEBUG": "-all", "WINEDLLOVERRIDES": "mscoree,mshtml="}
-    r = subprocess.run([wine, str(exe), str(tmp_path / "fmu/binaries/win64/pdbfs.dll"), guid, vr, "0.02", "1e-5"],
+    dll = dll or tmp_path / "fmu/binaries/win64/pdbfs.dll"
+    r = subprocess.run([wine, str(exe), str(dll), guid, vr, "0.02", "1e-5"],
                        capture_output=True, text=True, env=env, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     m = re.search(r"peak (\S+) at (\S+)", r.stdout)
@@ -101,6 +102,24 @@ def test_win64_dll_under_wine_gives_the_linux_peak(fmu_path, tmp_path):
     _, rig = T.built_model("paper")
     _, p_ref = T.reference_pressure(rig)
     assert peak_win == pytest.approx(p_ref.max(), rel=1e-6)
+
+
+@needs_mingw
+def test_source_fmu_builds_for_windows_by_hand(fmu_path, tmp_path):
+    """sources/README.txt's MinGW command line builds a DLL from sources/
+    alone (SUNDIALS' C files included) that gives the shipped DLL's peak."""
+    with zipfile.ZipFile(fmu_path) as z:
+        z.extractall(tmp_path / "fmu")
+        readme = z.read("sources/README.txt").decode()
+    assert "x86_64-w64-mingw32-gcc -O2 -shared -I. *.c sundials_src/*.c" in readme
+    src = tmp_path / "fmu" / "sources"
+    out = tmp_path / "own.dll"
+    subprocess.run([MINGW, "-O2", "-shared", "-I.", *sorted(p.name for p in src.glob("*.c")),
+                    *sorted(f"sundials_src/{p.name}" for p in (src / "sundials_src").glob("*.c")),
+                    "-o", str(out), "-static"], cwd=src, check=True, capture_output=True, text=True)
+    own, _ = _run_under_wine(fmu_path, tmp_path, dll=out)
+    shipped, _ = _run_under_wine(fmu_path, tmp_path)
+    assert own == pytest.approx(shipped, rel=1e-9)
 
 
 def _cli(*args):
