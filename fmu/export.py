@@ -192,8 +192,9 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     ident = model_identifier or _identifier(dae.name)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", ident):
         raise ExportError(f"model_identifier '{ident}' is not a C identifier")
-    model = FmuModel(dae, ident, stop_time, step_size, tolerance)
     path = Path(path)
+    _check_target(path)
+    model = FmuModel(dae, ident, stop_time, step_size, tolerance)
     with tempfile.TemporaryDirectory(prefix="pdbfs-fmu-") as tmp:
         src = Path(tmp) / "sources"
         src.mkdir()
@@ -204,7 +205,8 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         for f in WRAPPER_FILES:
             shutil.copy2(f, src / f.name)
         own_c = [f.name for f in WRAPPER_FILES if f.suffix == ".c"] + [f"{FUNCS}.c"]
-        sds = {name: platform_sundials(name) for name in plats}
+        sds = _platform_sundials(plats, explicit=platforms is not None)
+        plats = list(sds)
         sd = next(iter(sds.values()))
         source_files = _add_sundials_sources(src, own_c, sd.include_dir)
         # GUID: a hash of everything that defines the binary's behaviour
@@ -238,6 +240,35 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
             shutil.copytree(tmp, kb)
         _write_zip(path, xml, {f"binaries/{n}/{b.name}": b for n, b in binaries.items()}, src, docs)
     return path
+
+
+def _check_target(path: Path) -> None:
+    """Refuse, before any work, an FMU path that cannot be written."""
+    if path.is_dir():
+        raise ExportError(f"{path} is a folder: give the FMU's file name (e.g. {path / 'pdbfs.fmu'})")
+    probe = path.with_name(path.name + ".part")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(probe, "wb"):
+            pass
+        probe.unlink()
+    except OSError as err:
+        raise ExportError(f"cannot write the FMU {path}: {err.strerror or err}") from None
+
+
+def _platform_sundials(plats: list[str], explicit: bool) -> dict:
+    """Each platform's CVODE. A platform of the default set whose CVODE
+    cannot be built is left out with a warning (the Linux export never fails
+    for want of a cross build); an explicitly requested one is an error."""
+    out = {}
+    for name in plats:
+        try:
+            out[name] = platform_sundials(name)
+        except ExportError as err:
+            if explicit or name == plats[0]:
+                raise
+            warnings.warn(f"{err}; the FMU has no {name} binary", RuntimeWarning, stacklevel=3)
+    return out
 
 
 def _add_sundials_sources(src: Path, own_c: list[str], config_include: Path) -> list[str]:

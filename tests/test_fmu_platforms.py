@@ -164,3 +164,38 @@ def test_linux_only_export_has_no_win64_binary(tmp_path):
     with zipfile.ZipFile(path) as z:
         names = z.namelist()
     assert "binaries/linux64/pdbfs.so" in names and not any(n.startswith("binaries/win64") for n in names)
+
+
+def test_a_default_platform_whose_cvode_cannot_be_built_is_left_out(tmp_path, monkeypatch):
+    """The Linux export never fails for want of a cross build; an explicit
+    request for that platform does."""
+    from pdbfs.fmu import export as E
+    real = E.platform_sundials
+
+    def no_win64(name):
+        if name == "win64":
+            raise ExportError("platform win64: no SUNDIALS for win64 (test)")
+        return real(name)
+    monkeypatch.setattr(E, "platform_sundials", no_win64)
+    monkeypatch.setattr(E, "resolve_platforms", lambda p: ["linux64", "win64"] if p is None else
+                        P.resolve_platforms(p))
+    dae, _ = T.built_model("paper")
+    with pytest.warns(RuntimeWarning, match="no win64 binary"):
+        path = export_fmu(dae, tmp_path / "d.fmu")
+    with zipfile.ZipFile(path) as z:
+        assert not any(n.startswith("binaries/win64") for n in z.namelist())
+        assert "win64" not in z.read("documentation/index.html").decode()
+    if MINGW is not None:
+        with pytest.raises(ExportError, match="win64"):
+            export_fmu(dae, tmp_path / "e.fmu", platforms=["win64"])
+        assert not (tmp_path / "e.fmu").exists()
+
+
+@pytest.mark.parametrize("target", ["folder", "/proc/x.fmu"])
+def test_unwritable_fmu_path_is_one_line_exit_2(tmp_path, target):
+    out = str(tmp_path) if target == "folder" else target
+    r = _cli("export-fmu", "-o", out)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and out in lines[0], r.stderr
+    assert not list(tmp_path.iterdir())
