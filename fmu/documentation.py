@@ -59,8 +59,8 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
          "<p>Tunable parameters may be changed between communication steps (Co-Simulation) or in event "
          "mode (Model Exchange); fixed ones only before initialisation. A range is inclusive; a "
          "parameter marked <em>&gt; 0</em> must be strictly positive, which FMI's inclusive "
-         "<code>min</code> cannot say: its declared <code>min</code> is the smallest positive double, "
-         "and 0 is refused.</p>"]
+         "<code>min</code> cannot say: its declared <code>min</code> is the smallest normal double "
+         "(2.2e-308), and 0 is refused.</p>"]
     L += _table(["name", "unit", "default", "range", "tunability", "description"],
                 [[f"<code>{e(v.name)}</code>", e(v.unit or ""), _num(v.start), _range(v)
                   + (" <em>&gt; 0</em>" if v.name in positive else ""), v.variability, e(v.description)]

@@ -159,8 +159,8 @@ def test_missing_cross_compiler_names_the_debian_package(tmp_path, monkeypatch):
 
 
 def test_linux_only_export_has_no_win64_binary(tmp_path):
-    dae, _ = T.built_model("paper")
-    path = export_fmu(dae, tmp_path / "l.fmu", platforms="linux64")
+    _, rig = T.built_model("paper")
+    path = rig.export_fmu(tmp_path / "l.fmu", platforms=["linux64"])
     with zipfile.ZipFile(path) as z:
         names = z.namelist()
     assert "binaries/linux64/pdbfs.so" in names and not any(n.startswith("binaries/win64") for n in names)
