@@ -6,9 +6,12 @@ validated by fmpy, simulated by any importer.
     export_fmu(rig.compile(), "rig.fmu")        # or rig.export_fmu("rig.fmu")
 
     variables.py    the FMU's variables, value references and model structure
-    description.py  modelDescription.xml (FMI 2.0)
+    description.py  modelDescription.xml (FMI 2.0, with <SourceFiles>)
     description3.py modelDescription.xml and buildDescription.xml (FMI 3.0)
     units.py        unit strings -> FMI base units
+    platforms.py    linux64, win64 (MinGW-w64): which can be built, and the build
+    sources.py      SUNDIALS' CVODE sources for a source FMU
+    documentation.py documentation/index.html
     export.py       pdbfs_model.h, compile, zip
     c/              the generic C: one wrapper per FMI version (fmi2_*, fmi3_*)
                     over the same model code and co-simulation loop

@@ -22,6 +22,16 @@ LOG_CATEGORIES = ['  <LogCategories>',
                   '  </LogCategories>']
 
 
+def _interface(tag: str, attrs: str, source_files) -> list[str]:
+    """<ModelExchange .../> or <CoSimulation .../>, with <SourceFiles> when
+    the FMU ships sources that build its binary."""
+    if not source_files:
+        return [f"  <{tag} {attrs}/>"]
+    return ([f"  <{tag} {attrs}>", "    <SourceFiles>"]
+            + [f"      <File name={quoteattr(f)}/>" for f in source_files]
+            + ["    </SourceFiles>", f"  </{tag}>"])
+
+
 def unit_lines(model: FmuModel) -> list[str]:
     """The <Unit> elements of the units ``model`` uses (FMI 2.0 and 3.0 alike)."""
     units_used = []
@@ -61,8 +71,9 @@ def type_attrs(v) -> list[str]:
     return a
 
 
-def model_description(model: FmuModel, guid: str) -> str:
-    """modelDescription.xml of ``model`` with ``guid``."""
+def model_description(model: FmuModel, guid: str, source_files: list[str] | tuple = ()) -> str:
+    """modelDescription.xml of ``model`` with ``guid``; ``source_files``
+    (relative to sources/) are declared under both interfaces."""
     d = model.dae
     descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
@@ -74,15 +85,16 @@ def model_description(model: FmuModel, guid: str) -> str:
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured"',
          f'  numberOfEventIndicators="{model.ne}">',
-         f'  <ModelExchange modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
-         'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
-         'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-         'providesDirectionalDerivative="false"/>',
-         f'  <CoSimulation modelIdentifier="{model.ident}" canHandleVariableCommunicationStepSize="true" '
-         'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
-         'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
-         'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-         'providesDirectionalDerivative="false"/>',
+         *_interface("ModelExchange", f'modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
+                     'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
+                     'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
+                     'providesDirectionalDerivative="false"', source_files),
+         *_interface("CoSimulation", f'modelIdentifier="{model.ident}" '
+                     'canHandleVariableCommunicationStepSize="true" '
+                     'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
+                     'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
+                     'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
+                     'providesDirectionalDerivative="false"', source_files),
          '  <UnitDefinitions>']
     L += unit_lines(model)
     L += ['  </UnitDefinitions>',

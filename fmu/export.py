@@ -1,11 +1,14 @@
-"""Export a rig's DAE as an FMI 2.0 FMU (Model Exchange + Co-Simulation).
+"""Export a rig's DAE as an FMI 2.0 or 3.0 FMU (Model Exchange + Co-Simulation).
 
 rig -> C code -> FMU: CasADi generates the model's C (``pdbfs.native.codegen``);
 the FMI layer is the generic C in ``fmu/c/`` (FMI plumbing, Model Exchange,
 Co-Simulation on CVODE through ``native/c/pdbfs_cvode.c``); a generated
 ``pdbfs_model.h`` gives it the sizes, value references and parameter table;
-``modelDescription.xml`` comes from ``description.py``.  The binary links a
-static CVODE (``pdbfs.native.sundials``).
+``modelDescription.xml`` comes from ``description.py`` (``description3.py``
+for FMI 3.0).  Each platform's binary links a static CVODE (``platforms.py``);
+``sources/`` carries SUNDIALS' CVODE sources too (``sources.py``), declared
+as ``<SourceFiles>`` (FMI 2.0) or in ``buildDescription.xml`` (FMI 3.0),
+and ``documentation/index.html`` describes the rig (``documentation.py``).
 """
 from __future__ import annotations
 
@@ -16,6 +19,7 @@ import re
 import shutil
 import tempfile
 import uuid
+import warnings
 import zipfile
 from pathlib import Path
 
@@ -23,13 +27,15 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 from pdbfs.modelling import DAE
-from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
-                                  generate, run_compiler, sizes_header_lines)
-from pdbfs.native.sundials import find_sundials
+from pdbfs.native.codegen import CVODE_DRIVER, FUNCS, check_compiler_memory, generate, sizes_header_lines
+from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
 from . import description3
 from .description import model_description
-from .variables import DEFAULT_MAX_NUM_STEPS, FmuModel
+from .documentation import index_html
+from .platforms import PLATFORMS, build_binary, platform_sundials, resolve_platforms
+from .sources import LICENSE, add_sundials, readme_txt
+from .variables import DEFAULT_MAX_NUM_STEPS, RTOL_MAX, RTOL_MIN, FmuModel
 
 C_DIR = Path(__file__).with_name("c")
 #: the FMI versions pdbfs writes
@@ -43,9 +49,9 @@ VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c"),
 VERSION_HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                    3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 
-#: the binaries/ folder of a platform in each FMI version (3.0 names them by platform tuple)
-BINARY_DIRS = {2: {"linux64": "linux64", "win64": "win64"},
-               3: {"linux64": "x86_64-linux", "win64": "x86_64-windows"}}
+#: the binaries/ folder of each platform in each FMI version (3.0 names them by platform tuple)
+BINARY_DIRS = {2: {n: p.name for n, p in PLATFORMS.items()},
+               3: {n: p.fmi3_name for n, p in PLATFORMS.items()}}
 
 
 def wrapper_files(fmi_version: int = 2) -> list[Path]:
@@ -120,12 +126,13 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          f"#define PDBFS_VR_MAXNUMSTEPS {model.vr_maxnumsteps}",
          f"#define PDBFS_DEFAULT_MAXNUMSTEPS {DEFAULT_MAX_NUM_STEPS}",
          f"#define PDBFS_DEFAULT_RTOL {_c_double(model.tolerance)}",
+         f"#define PDBFS_RTOL_MIN {_c_double(RTOL_MIN)}", f"#define PDBFS_RTOL_MAX {_c_double(RTOL_MAX)}",
          "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 1",
          *sizes_header_lines(work),
          "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"
          + pad([p.value for p in d.params], _c_double, "0") + "};",
          "static const double PDBFS_P_MIN[PDBFS_NP + 1] = {"
-         + pad([p.min if p.min is not None else -math.inf for p in d.params], _c_double, "0") + "};",
+         + pad([v.min if v.min is not None else -math.inf for v in model.param_vars], _c_double, "0") + "};",
          "static const double PDBFS_P_MAX[PDBFS_NP + 1] = {"
          + pad([p.max if p.max is not None else math.inf for p in d.params], _c_double, "0") + "};",
          "static const char PDBFS_P_POSITIVE[PDBFS_NP + 1] = {"
@@ -141,57 +148,32 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
     return "\n".join(L)
 
 
-
-_README = """\
-Sources of the FMU '{ident}' exported by pdbfs.fmu
-=====================================================
-
-fmi{v}_functions.c      generic FMI {v}.0 plumbing: life cycle, variables, logging
-fmi{v}_interfaces.c     the Model Exchange and Co-Simulation calls
-fmi{v}_state.c          FMU state: get, set, serialise
-model.c               the model on the generated functions, the life cycle
-values.c              variables by value reference
-snapshot.c            the FMU state
-model_exchange.c      what Model Exchange asks of the model
-cosimulation.c        the co-simulation loop, on pdbfs_cvode.c
-pdbfs_cvode.c/h       CVODE through the rig's non-smooth points (restart at every
-                      root of the event indicators, dense output)
-fmu_instance.h        the instance these files share (no FMI header: any version)
-pdbfs_model.h         generated: sizes, value references, parameter table, GUID
-pdbfs_model_funcs.c/h generated by CasADi {casadi}: ode, Jacobian, outputs, start
-                      values, event indicators, calculated parameters
-fmi{v}*.h               FMI {v}.0 standard headers
-
-Rebuilding needs a C99 compiler and SUNDIALS 6.x (CVODE) built as
-position-independent static archives; this binary was linked with SUNDIALS
-{sundials} ({origin}).  On Linux x86_64:
-
-  gcc -O2 -fPIC -shared -fvisibility=hidden -I. -I<sundials>/include *.c \\
-      -o {ident}.so <sundials>/lib/libsundials_cvode.a -lm -Wl,--exclude-libs,ALL
-
-pdbfs builds such a SUNDIALS with SUNDIALS' own CMake (pdbfs/native/build_sundials.sh).
-"""
-
-
 def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier: str | None = None, *,
                stop_time: float = 0.02, step_size: float = 1e-5, tolerance: float = DEFAULT_RTOL,
                keep_build_dir: str | os.PathLike | None = None, cflags: list[str] | None = None,
-               fmi_version: int = 2) -> Path:
-    """Write an FMI 2.0 FMU (Model Exchange and Co-Simulation, linux64) of
-    ``dae`` to ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0
-    (the same wrapper design, model code and co-simulation loop).
+               fmi_version: int = 2, platforms: list[str] | str | None = None) -> Path:
+    """Write an FMI 2.0 FMU (Model Exchange and Co-Simulation) of ``dae`` to
+    ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0 (the same
+    wrapper design, model code and co-simulation loop).
 
-    ``model_identifier`` defaults to the DAE's name made a C identifier.
-    ``stop_time``, ``step_size`` and ``tolerance`` go to DefaultExperiment
-    (the tolerance is also the default of ``solver.rtol``).
-    Raises ExportError for a DAE with algebraic variables.
+    ``platforms``: the binaries to build (``"linux64"``, ``"win64"``; a list
+    or a comma-separated string); default: every platform this machine can
+    build (``platforms.default_platforms()``). ``model_identifier`` defaults
+    to the DAE's name made a C identifier. ``stop_time``, ``step_size`` and
+    ``tolerance`` go to DefaultExperiment (the tolerance is also the default
+    of ``solver.rtol``). Raises ExportError (PlatformError for an unknown
+    platform or a missing cross compiler) before any work is done, and for
+    a DAE with algebraic variables; nothing is left at ``path`` on failure.
     """
     fmi_version = check_fmi_version(fmi_version)
+    plats = resolve_platforms(platforms)
     ident = model_identifier or _identifier(dae.name)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", ident):
         raise ExportError(f"model_identifier '{ident}' is not a C identifier")
-    model = FmuModel(dae, ident, stop_time, step_size, tolerance)
     path = Path(path)
+    _check_target(path)
+    model = FmuModel(dae, ident, stop_time, step_size, tolerance)
+    what = f"the FMU binary of rig {model.dae.name}"
     with tempfile.TemporaryDirectory(prefix="pdbfs-fmu-") as tmp:
         src = Path(tmp) / "sources"
         src.mkdir()
@@ -202,7 +184,12 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         wrapper = wrapper_files(fmi_version)
         for f in wrapper:
             shutil.copy2(f, src / f.name)
-        describe, extra = _describer(model, fmi_version)
+        own_c = [f.name for f in wrapper if f.suffix == ".c"] + [f"{FUNCS}.c"]
+        sds = _platform_sundials(plats, explicit=platforms is not None)
+        plats = list(sds)
+        sd = next(iter(sds.values()))
+        source_files = _add_sundials_sources(src, own_c, sd.include_dir)
+        describe, extra = _describer(model, fmi_version, source_files)
         # GUID: a hash of everything that defines the binary's behaviour
         placeholder = "{00000000-0000-0000-0000-000000000000}"
         h = hashlib.sha256()
@@ -212,36 +199,98 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         guid = "{" + str(uuid.UUID(bytes=h.digest()[:16], version=5)) + "}"
         (src / "pdbfs_model.h").write_text(model_header(model, guid, work, extra))
         xml = describe(guid)
-        sd = find_sundials()
-        (src / "README.txt").write_text(_README.format(ident=ident, casadi=ca.__version__, sundials=sd.version,
-                                                       origin=sd.origin, v=fmi_version))
-        binary = Path(tmp) / f"{ident}.so"
-        sources = [src / f.name for f in wrapper if f.suffix == ".c"] + [src / f"{FUNCS}.c"]
         if fmi_version == 3:
-            (src / "buildDescription.xml").write_text(
-                description3.build_description(model, [f.name for f in sources], sd.version))
-        check_compiler_memory(src / f"{FUNCS}.c", f"the FMU binary of rig {model.dae.name}")
-        run_compiler(compile_command(sources, binary, [src], cflags, sd=sd),
-                     f"the FMU binary of rig {model.dae.name}")
+            (src / "buildDescription.xml").write_text(description3.build_description(
+                model, source_files or own_c, None if source_files else sd.version))
+        (src / "README.txt").write_text(readme_txt(ident, fmi_version, ca.__version__, sd.version, plats,
+                                                   bool(source_files)))
+        check_compiler_memory(src / f"{FUNCS}.c", what)
+        binaries = {}
+        for name in plats:
+            arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
+            out = Path(tmp) / arc
+            out.parent.mkdir(parents=True, exist_ok=True)
+            binaries[arc] = build_binary(name, [src / c for c in own_c], [src], out, what, cflags, sds[name])
+        docs = {"documentation/index.html": index_html(model, plats, sd.version, ca.__version__,
+                                                       bool(source_files), fmi_version)}
+        if source_files:
+            docs["documentation/licenses/SUNDIALS-LICENSE"] = (src / LICENSE).read_text()
         if keep_build_dir is not None:
             kb = Path(keep_build_dir)
             if kb.exists():
                 shutil.rmtree(kb)
             shutil.copytree(tmp, kb)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmpzip = path.with_name(path.name + ".part")
-        with zipfile.ZipFile(tmpzip, "w", zipfile.ZIP_DEFLATED) as z:
-            z.writestr("modelDescription.xml", xml)
-            z.write(binary, f"binaries/{BINARY_DIRS[fmi_version]['linux64']}/{ident}.so")
-            for f in sorted(src.iterdir()):
-                z.write(f, f"sources/{f.name}")
-        os.replace(tmpzip, path)
+        _write_zip(path, xml, binaries, src, docs)
     return path
 
 
-def _describer(model: FmuModel, fmi_version: int):
-    """(token -> modelDescription.xml, extra lines of pdbfs_model.h) of ``fmi_version``."""
+def _describer(model: FmuModel, fmi_version: int, source_files: list[str]):
+    """(token -> modelDescription.xml, extra lines of pdbfs_model.h) of
+    ``fmi_version``; FMI 2.0 lists ``source_files`` in modelDescription.xml
+    (3.0 in buildDescription.xml)."""
     if fmi_version == 3:
         return (lambda token: description3.model_description3(model, token)), \
             tuple(description3.header_lines(model))
-    return (lambda guid: model_description(model, guid)), ()
+    return (lambda guid: model_description(model, guid, source_files)), ()
+
+
+def _check_target(path: Path) -> None:
+    """Refuse, before any work, an FMU path that cannot be written."""
+    if path.is_dir():
+        raise ExportError(f"{path} is a folder: give the FMU's file name (e.g. {path / 'pdbfs.fmu'})")
+    probe = path.with_name(path.name + ".part")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(probe, "wb"):
+            pass
+        probe.unlink()
+    except OSError as err:
+        raise ExportError(f"cannot write the FMU {path}: {err.strerror or err}") from None
+
+
+def _platform_sundials(plats: list[str], explicit: bool) -> dict:
+    """Each platform's CVODE. A platform of the default set whose CVODE
+    cannot be built is left out with a warning (the Linux export never fails
+    for want of a cross build); an explicitly requested one is an error."""
+    out = {}
+    for name in plats:
+        try:
+            out[name] = platform_sundials(name)
+        except ExportError as err:
+            if explicit or name == plats[0]:
+                raise
+            warnings.warn(f"{err}; the FMU has no {name} binary", RuntimeWarning, stacklevel=3)
+    return out
+
+
+def _add_sundials_sources(src: Path, own_c: list[str], config_include: Path) -> list[str]:
+    """SUNDIALS' sources into ``src``; the C files of a source build (``[]``,
+    with a warning, when SUNDIALS' sources cannot be had)."""
+    try:
+        sources = find_sundials_sources()
+    except SundialsNotFound as err:
+        warnings.warn(f"the FMU ships no SUNDIALS sources ({err}): it cannot be compiled from its "
+                      "sources without a SUNDIALS installation", RuntimeWarning, stacklevel=3)
+        return []
+    own = [src / c for c in own_c] + [src / "pdbfs_cvode.h", src / "fmu_instance.h"]
+    return own_c + add_sundials(src, own, sources, config_include / "sundials" / "sundials_config.h")
+
+
+def _write_zip(path: Path, xml: str, binaries: dict[str, Path], src: Path, docs: dict[str, str]) -> None:
+    """The FMU at ``path``, written whole or not at all."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmpzip = path.with_name(path.name + ".part")
+    try:
+        with zipfile.ZipFile(tmpzip, "w", zipfile.ZIP_DEFLATED) as z:
+            z.writestr("modelDescription.xml", xml)
+            for arc, f in binaries.items():
+                z.write(f, arc)
+            for f in sorted(src.rglob("*")):
+                if f.is_file():
+                    z.write(f, f"sources/{f.relative_to(src).as_posix()}")
+            for arc, text in docs.items():
+                z.writestr(arc, text)
+        os.replace(tmpzip, path)
+    except BaseException:
+        tmpzip.unlink(missing_ok=True)
+        raise

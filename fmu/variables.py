@@ -16,6 +16,11 @@ from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
 from . import units as _units
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
+#: solver.rtol's range, inclusive, declared and checked alike
+RTOL_MIN, RTOL_MAX = 1e-15, 0.1
+#: the declared min of a parameter that must be > 0: FMI's min is inclusive,
+#: so the smallest normal double stands for "above 0" (0 and denormals are refused)
+POSITIVE_MIN = 2.2250738585072014e-308
 
 
 @dataclass
@@ -142,14 +147,16 @@ class FmuModel:
         d = self.dae
         V: list[_Var] = []
         for k, prm in enumerate(d.params):
-            lo = prm.min if prm.min is not None else (0.0 if prm.positive else None)
+            lo = prm.min
+            if prm.positive:
+                lo = POSITIVE_MIN if lo is None else max(lo, POSITIVE_MIN)
             desc = prm.description + (" (must be > 0)" if prm.positive else "")
             V.append(_Var(prm.name, self.vr_p + k, "parameter", "tunable" if prm.tunable else "fixed", "exact",
                           desc, start=prm.value, unit=prm.unit, min=lo, max=prm.max))
         V.append(_Var("solver.rtol", self.vr_rtol, "parameter", "fixed", "exact",
                       "Co-Simulation: CVODE relative tolerance; if not set, fmi2SetupExperiment's tolerance "
                       "is used when given. Absolute tolerance = rtol * nominal of each state",
-                      start=self.tolerance, unit="1", min=1e-15, max=1.0))
+                      start=self.tolerance, unit="1", min=RTOL_MIN, max=RTOL_MAX))
         V.append(_Var("solver.max_step", self.vr_maxstep, "parameter", "fixed", "exact",
                       "Co-Simulation: maximum internal CVODE step (0: no limit)", start=0.0, unit="s", min=0.0))
         V.append(_Var("solver.method", self.vr_method, "parameter", "fixed", "exact",
@@ -198,6 +205,7 @@ class FmuModel:
         V.sort(key=lambda v: v.vr)
         self.vars = V
         self.index = {v.name: i + 1 for i, v in enumerate(V)}
+        self.param_vars = [V[self.index[n] - 1] for n in d.p_names]
         x_idx = [self.index[n] for n in d.x_names]
         for k, vi in enumerate(d.x_info):
             V[self.index[f"der({vi.name})"] - 1].derivative = x_idx[k]

@@ -32,6 +32,14 @@ fi
 
 # the build needs cmake and a C compiler; the source comes through apt's lists
 if ! command -v cmake >/dev/null; then apt_install cmake || python -m pip install --quiet cmake; fi
+# win64 FMU binaries: MinGW-w64; running them in the tests: Wine (package wine64
+# holds the loader /usr/lib/wine/wine64, package wine the `wine` command);
+# ecospy's bundled binaries need Intel TBB
+if ! command -v x86_64-w64-mingw32-gcc >/dev/null || [ ! -x /usr/lib/wine/wine64 ] \
+        || ! ldconfig -p 2>/dev/null | grep -q libtbb.so.12; then
+    apt_install gcc-mingw-w64-x86-64 wine wine64 libtbb12 || echo "setup: could not install MinGW-w64, Wine" \
+        "or libtbb12 (needs root): no win64 binaries in FMUs, their tests are skipped" >&2
+fi
 if ! ls /var/lib/apt/lists/*Packages* >/dev/null 2>&1; then as_root_apt apt-get update -qq || true; fi
 sundials() {
     python -c "from pdbfs.native.sundials import find_sundials; print('SUNDIALS:', find_sundials())"
@@ -40,3 +48,7 @@ failed_marker() {
     python -c "from pdbfs.native.sundials import failed_marker; print(failed_marker())"
 }
 sundials || { as_root_apt apt-get update -qq && rm -f "$(failed_marker)" && sundials; }
+if command -v x86_64-w64-mingw32-gcc >/dev/null; then   # the win64 CVODE and the sources, built once
+    python -c "from pdbfs.native.sundials import find_sundials; print('SUNDIALS win64:', find_sundials(target='win64').origin)" || true
+fi
+python -c "from pdbfs.native.sundials import find_sundials_sources; print('SUNDIALS sources:', find_sundials_sources().root)" || true

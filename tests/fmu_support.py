@@ -49,6 +49,23 @@ def built_fmu3(kind: str = "paper") -> str:
     return built_fmu(kind, fmi_version=3)
 
 
+def corrupted_states(ser: bytes) -> list[tuple[bytes, str]]:
+    """Serialised FMU states of the paper rig spoilt one way each, with the
+    word the refusal must name: a negative hammer.m, the error mode, a NaN
+    time. The Snapshot's layout (fmu_instance.h): magic, size (unsigned),
+    token[64], mode, type (int), time, p[]."""
+    off_mode, off_time = 4 + 4 + 64, 4 + 4 + 64 + 4 + 4
+    k = built_model("paper")[0].p_names.index("hammer.m")
+    out = []
+    for off, value, match in ((off_time + 8 * (1 + k), np.float64(-1.0), "hammer.m"),
+                              (off_mode, np.int32(1 << 6), "mode"), (off_time, np.float64(np.nan), "times")):
+        bad = bytearray(ser)
+        raw = value.tobytes()
+        bad[off:off + len(raw)] = raw
+        out.append((bytes(bad), match))
+    return out
+
+
 def reference_pressure(rig, params: dict | None = None, t_end: float = 0.02, n_out: int = 2001,
                        rtol: float = 1e-8, atol: float = 1e-10):
     """(t, oil pressure) of the CasADi path (``rig.simulate``)."""

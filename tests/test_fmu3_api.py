@@ -225,3 +225,28 @@ def test_tunable_parameter_between_steps_matches_fmi2(unzipped, tmp_path):
     assert a.get("seal.c") == [2.556e6]
     a.fmu.freeInstance()
     b.freeInstance()
+
+
+def test_issue14_checks_hold_in_fmi3(unzipped):
+    """The checks of the version-neutral C answer FMI 3.0 calls as they do
+    FMI 2.0 ones: a step past stopTime, solver.rtol outside its declared
+    range, a deserialised state with a corrupted parameter or mode."""
+    from pdbfs.fmu.variables import RTOL_MAX, RTOL_MIN
+    md = unzipped[1]
+    rtol = next(v for v in md.modelVariables if v.name == "solver.rtol")
+    assert (float(rtol.min), float(rtol.max)) == (RTOL_MIN, RTOL_MAX)
+    a = Inst3(unzipped, name="checks")
+    a.setn("solver.rtol", RTOL_MIN)
+    assert a.get("solver.rtol")[0] == RTOL_MIN
+    for v in (RTOL_MAX * 1.01, RTOL_MIN / 2):
+        a.expect_error(a.setn, "solver.rtol", v, match="solver.rtol")
+    a.setn("solver.rtol", 1e-8)
+    a.init()                                  # stopTime 0.02
+    a.run(0.002, h=1e-3)
+    ser = bytearray(a.fmu.serializeFMUState(a.fmu.getFMUState()))
+    for bad, match in T.corrupted_states(ser):
+        a.expect_error(a.fmu.deserializeFMUState, bad, match=match)
+    a.run(0.019, h=1e-3)
+    a.expect_error(a.fmu.doStep, a.t, 2e-3, match="stopTime")
+    a.fmu.doStep(a.t, 1e-3)                   # up to the stop time is fine
+    a.fmu.freeInstance()

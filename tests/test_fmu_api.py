@@ -165,17 +165,62 @@ def test_get_set_and_serialize_state(unzipped):
 
 
 def test_tunable_parameter_between_steps(unzipped):
-    a, b = Inst(unzipped, name="a"), Inst(unzipped, name="b")
+    """seal.c changed at t = 4 ms continues from the state there with the new
+    value: the CasADi path started from that state with it, to 1e-6."""
+    a = Inst(unzipped, name="a")
     a.init()
-    b.init()
     a.run(0.004)
-    b.run(0.004)
     a.setn("seal.c", 2.556e6)  # tunable: accepted between steps
-    ra, rb = a.run(0.01), b.run(0.01)
-    assert not np.allclose(ra[:, 0], rb[:, 0])
+    ra = a.run(0.014)[:, 0]
     assert a.get("seal.c")[0] == 2.556e6
     a.free()
-    b.free()
+    dae, rig = T.built_model("paper")
+    first = rig.simulate(0.004, n_out=41, rtol=1e-10, atol=1e-12)
+    x4 = {n: float(first[n][-1]) for n in dae.x_names}
+    ref = rig.simulate(0.01, n_out=101, params={"seal.c": 2.556e6}, start=x4, rtol=1e-10,
+                       atol=1e-12)["oil.pressure"][1:]     # the rig does not depend on t itself
+    peak = np.max(np.abs(ref))
+    assert np.max(np.abs(ra - ref)) < 1e-6 * peak
+    # and the change shows: the default seal gives another pulse
+    assert np.max(np.abs(ra - rig.simulate(0.014, n_out=141)["oil.pressure"][41:])) > 1e-2 * peak
+
+
+def test_restored_state_is_validated(unzipped):
+    """A serialised state is checked as fmi2SetReal checks values: a corrupted
+    parameter, mode or tolerance is refused, naming the fault."""
+    a = Inst(unzipped, name="restore")
+    a.init()
+    a.run(0.002)
+    ser = bytearray(a.fmu.serializeFMUstate(a.fmu.getFMUstate()))
+    good = a.fmu.deSerializeFMUstate(bytes(ser))
+    a.fmu.setFMUstate(good)
+    for bad, match in T.corrupted_states(ser):
+        a.expect_error(a.fmu.deSerializeFMUstate, bad, match=match)
+    # the instance is unharmed
+    a.fmu.setFMUstate(good)
+    a.t = 0.002
+    assert np.all(np.isfinite(a.run(0.004)))
+    a.free()
+
+
+def test_step_past_stop_time_is_an_error(unzipped):
+    a = Inst(unzipped, name="stop")
+    a.init()                                  # stopTime 0.02
+    a.run(0.019, h=1e-3)
+    a.expect_error(a.fmu.doStep, a.t, 2e-3, match="stopTime")
+    a.fmu.doStep(a.t, 1e-3)                  # up to the stop time is fine
+    a.free()
+
+
+def test_rtol_declaration_and_check_agree(unzipped):
+    from pdbfs.fmu.variables import RTOL_MAX, RTOL_MIN
+    a = Inst(unzipped, name="rtol")
+    for v in (RTOL_MIN, RTOL_MAX):
+        a.setn("solver.rtol", v)
+        assert a.get("solver.rtol")[0] == v
+    for v in (RTOL_MAX * 1.01, 1.0, RTOL_MIN / 2, 0.0):
+        a.expect_error(a.setn, "solver.rtol", v, match="solver.rtol")
+    a.free()
 
 
 BAD_VALUES = [

@@ -34,7 +34,7 @@ def cache(tmp_path, monkeypatch):
 def test_the_cmake_build_is_preferred_and_built_once(cache, monkeypatch):
     calls = []
 
-    def build(dest, source=None):
+    def build(dest, source=None, target="native"):
         calls.append(dest)
         return fake_prefix(dest)
 
@@ -50,7 +50,7 @@ def test_the_cmake_build_is_preferred_and_built_once(cache, monkeypatch):
 def test_a_failed_build_falls_back_to_the_system_and_is_retried_later(cache, monkeypatch):
     calls = []
 
-    def build(dest, source=None):
+    def build(dest, source=None, target="native"):
         calls.append(dest)
         raise S.SundialsNotFound("no compiler today")
 

@@ -36,11 +36,12 @@ int cosim_start(Inst *m) {
     return FMU_OK;
 }
 
-/* a time beyond the step to come, the same whatever the communication step:
- * CVODE uses it only to bound its first step */
+/* how far CVODE may look ahead, the same whatever the communication step (it
+ * bounds the first step after each (re)start): the stop time, else INFINITY,
+ * for which pdbfs_cvode_advance takes 1 s beyond each (re)start */
 static double horizon(const Inst *m) {
     if (m->s.stop_defined && m->s.t_stop > m->solver.tn) return m->s.t_stop;
-    return m->solver.tn + 1.0;
+    return INFINITY;
 }
 
 /* integrate to tEnd; on success m->s.x is the state at tEnd */
@@ -74,8 +75,8 @@ int cosim_do_step(Inst *m, const char *fn, double t, double h) {
     tol = 1e-9 * h + 64 * DBL_EPSILON * fabs(m->s.time);
     if (!isfinite(t) || fabs(t - m->s.time) > tol)
         return ERR(m, "%s: currentCommunicationPoint %.17g does not match the FMU time %.17g", fn, t, m->s.time);
-    if (m->s.stop_defined && t + h > m->s.t_stop * (1 + 1e-12) + 1e-12 * h)
-        fmu_log(m, FMU_WARNING, "logStatusWarning", "%s: stepping beyond stopTime %g", fn, m->s.t_stop);
+    if (m->s.stop_defined && t + h > m->s.t_stop + tol)
+        return ERR(m, "%s: the step to t=%.17g goes past stopTime %.17g", fn, t + h, m->s.t_stop);
     st = integrate_to(m, t + h);
     m->derived_ok = 0;
     if (st != FMU_OK) {

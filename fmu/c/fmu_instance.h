@@ -127,7 +127,7 @@ struct Inst {
 };
 
 /* model.c: logging, the state machine, the life cycle */
-void fmu_log(Inst *m, int st, const char *cat, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+void fmu_log(Inst *m, int st, const char *cat, const char *fmt, ...) PDBFS_PRINTF(4, 5);
 int fmu_check(Inst *m, const char *fn, int allowed, int needType);
 #define ERR(m, ...) (fmu_log((m), FMU_ERROR, "logStatusError", __VA_ARGS__), FMU_ERROR)
 Inst *fmu_new(const char *name, int type, const FmuHost *host, int logging);

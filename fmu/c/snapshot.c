@@ -1,9 +1,45 @@
 /* The FMU state of a pdbfs FMU, for every FMI version: a plain copy of the
  * Snapshot (time, states, parameters, settings); CVODE restarts from a
- * restored state. */
+ * restored state.  A state given back (restored or deserialised) is checked
+ * as setting its values would check them: it may come from another process
+ * or a corrupted file. */
+#include <math.h>
 #include <string.h>
 
 #include "fmu_instance.h"
+
+/* the modes a state of each interface can be taken in */
+#define MODES_CS (ST_INSTANTIATED | ST_INIT | ST_STEPDONE | ST_TERMINATED)
+#define MODES_ME (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_TERMINATED)
+
+/* FMU_OK if ``s`` is a state this instance can take, else an error naming the fault */
+static int check_snapshot(Inst *m, const Snapshot *s, const char *fn) {
+    int k, modes = m->s.type == FMU_CS ? MODES_CS : MODES_ME;
+    if (s->magic != SNAP_MAGIC || s->size != sizeof(Snapshot) || memchr(s->token, 0, sizeof s->token) == NULL ||
+        strcmp(s->token, PDBFS_GUID) != 0)
+        return ERR(m, "%s: not a state of this FMU", fn);
+    if (s->type != m->s.type) return ERR(m, "%s: state belongs to another interface type", fn);
+    /* exactly one mode bit, one this interface has (never the error mode) */
+    if (!(s->mode & modes) || (s->mode & (s->mode - 1)))
+        return ERR(m, "%s: invalid mode %d in the state", fn, s->mode);
+    if ((s->mode & (ST_STEPDONE | ST_EVENT | ST_CONT | ST_TERMINATED)) && !s->x_fixed)
+        return ERR(m, "%s: a state after initialization without its continuous states", fn);
+    for (k = 0; k < NP; k++)
+        if (model_check_param(m, k, s->p[k]) != FMU_OK) return ERR(m, "%s: the state's parameters are invalid", fn);
+    if (!(s->rtol >= PDBFS_RTOL_MIN && s->rtol <= PDBFS_RTOL_MAX))
+        return ERR(m, "%s: solver.rtol = %g in the state is outside [%g, %g]", fn, s->rtol, PDBFS_RTOL_MIN,
+                   PDBFS_RTOL_MAX);
+    if (!(isfinite(s->max_step) && s->max_step >= 0)) return ERR(m, "%s: invalid solver.max_step in the state", fn);
+    if (s->method != METHOD_BDF && s->method != METHOD_ADAMS) return ERR(m, "%s: invalid solver.method", fn);
+    if (s->max_num_steps < 1) return ERR(m, "%s: invalid solver.max_num_steps in the state", fn);
+    if (s->tol_defined && !(isfinite(s->tol) && s->tol > 0 && s->tol < 1))
+        return ERR(m, "%s: invalid tolerance in the state", fn);
+    if (!isfinite(s->time) || !isfinite(s->t_start) || (s->stop_defined && !(isfinite(s->t_stop) &&
+                                                                            s->t_stop >= s->t_start)))
+        return ERR(m, "%s: invalid times in the state", fn);
+    if (s->x_fixed && !fmu_all_finite(s->x, NX)) return ERR(m, "%s: non-finite states in the state", fn);
+    return FMU_OK;
+}
 
 int snapshot_get(Inst *m, const char *fn, void **state) {
     Snapshot *s;
@@ -25,9 +61,8 @@ int snapshot_get(Inst *m, const char *fn, void **state) {
 int snapshot_set(Inst *m, const char *fn, const void *state) {
     const Snapshot *s = (const Snapshot *)state;
     if (fmu_check(m, fn, ST_ANY & ~ST_ERROR, -1) != FMU_OK) return FMU_ERROR;
-    if (!s || s->magic != SNAP_MAGIC || s->size != sizeof(Snapshot) || strcmp(s->token, PDBFS_GUID) != 0)
-        return ERR(m, "%s: invalid FMU state", fn);
-    if (s->type != m->s.type) return ERR(m, "%s: state belongs to another interface type", fn);
+    if (!s) return ERR(m, "%s: NULL state", fn);
+    if (check_snapshot(m, s, fn) != FMU_OK) return FMU_ERROR;
     m->s = *s;
     m->derived_ok = 0;
     m->need_restart = 1;
@@ -65,9 +100,7 @@ int snapshot_deserialize(Inst *m, const char *fn, const unsigned char *bytes, si
     if (!bytes || !state) return ERR(m, "%s: NULL argument", fn);
     if (size != sizeof(Snapshot)) return ERR(m, "%s: wrong size %zu", fn, size);
     memcpy(&tmp, bytes, sizeof tmp);
-    tmp.token[sizeof tmp.token - 1] = 0;
-    if (tmp.magic != SNAP_MAGIC || tmp.size != sizeof(Snapshot) || strcmp(tmp.token, PDBFS_GUID) != 0)
-        return ERR(m, "%s: not a state of this FMU", fn);
+    if (check_snapshot(m, &tmp, fn) != FMU_OK) return FMU_ERROR;
     if (!*state) {
         *state = m->host.alloc(1, sizeof(Snapshot));
         if (!*state) return ERR(m, "%s: out of memory", fn);

@@ -19,7 +19,7 @@ int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, doub
     if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
-        if (r < VR_P_END) {
+        if (r >= PDBFS_VR_P && r < VR_P_END) {
             v[i] = m->s.p[r - PDBFS_VR_P];
         } else if (r == PDBFS_VR_RTOL) {
             v[i] = model_rtol(m);
@@ -55,7 +55,7 @@ static int read_only(unsigned r) {
 #ifdef PDBFS_VR_TIME
     if (r == PDBFS_VR_TIME || (r >= PDBFS_VR_E && r < PDBFS_VR_E + NE)) return 1;
 #endif
-    return r < VR_Y_END;
+    return r >= PDBFS_VR_P && r < VR_Y_END;
 }
 
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
@@ -70,7 +70,7 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
         double x = v[i];
-        if (r < VR_P_END) {
+        if (r >= PDBFS_VR_P && r < VR_P_END) {
             int k = (int)(r - PDBFS_VR_P);
             if (!before_init && !PDBFS_P_TUNABLE[k])
                 return ERR(m, "%s: parameter %s is fixed and cannot be changed after initialization", fn,
@@ -84,8 +84,8 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
             if (!before_init)
                 return ERR(m, "%s: %s is fixed and cannot be changed after initialization", fn, nm);
             if (!isfinite(x)) return ERR(m, "%s: %s = %g is not finite", fn, nm, x);
-            if (r == PDBFS_VR_RTOL && !(x > 0 && x < 1))
-                return ERR(m, "%s: solver.rtol = %g must be in (0, 1)", fn, x);
+            if (r == PDBFS_VR_RTOL && !(x >= PDBFS_RTOL_MIN && x <= PDBFS_RTOL_MAX))
+                return ERR(m, "%s: solver.rtol = %g must be in [%g, %g]", fn, x, PDBFS_RTOL_MIN, PDBFS_RTOL_MAX);
             if (r == PDBFS_VR_MAXSTEP && x < 0)
                 return ERR(m, "%s: solver.max_step = %g must be >= 0 (0: no limit)", fn, x);
         } else if (read_only(r)) {
@@ -96,7 +96,7 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
     }
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
-        if (r < VR_P_END) {
+        if (r >= PDBFS_VR_P && r < VR_P_END) {
             if (m->s.p[r - PDBFS_VR_P] != v[i]) changed = 1;
             m->s.p[r - PDBFS_VR_P] = v[i];
         } else if (r == PDBFS_VR_RTOL) {

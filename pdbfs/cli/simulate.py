@@ -46,7 +46,7 @@ def cmd_export_fmu(args):
     rig = rig_by_name(args.rig)
     check_output_file(args.output)
     version = int(args.fmi_version) if args.fmi_version in ("2", "3") else args.fmi_version  # else refused
-    path = rig.export_fmu(args.output, fmi_version=version)
+    path = rig.export_fmu(args.output, fmi_version=version, platforms=args.platforms)
     print(f"wrote {path}")
 
 
@@ -66,4 +66,7 @@ def add_parsers(sub):
     add_rig_options(s, sets=False)
     s.add_argument("-o", "--output", default="pdbfs.fmu")
     s.add_argument("--fmi-version", default="2", metavar="{2,3}", help="FMI version (default: 2)")
+    s.add_argument("--platforms", default=None, metavar="P1,P2",
+                   help="binaries to build: linux64, win64 (default: every platform this machine can "
+                   "build; win64 needs Debian's gcc-mingw-w64-x86-64)")
     s.set_defaults(func=cmd_export_fmu)

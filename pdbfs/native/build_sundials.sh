@@ -5,6 +5,11 @@
 #
 #   build_sundials.sh PREFIX [SOURCE_TARBALL]
 #
+# PDBFS_SUNDIALS_TARGET=win64 cross-compiles it for 64-bit Windows with
+# Debian's MinGW-w64 (x86_64-w64-mingw32-gcc) through a CMake toolchain file.
+# PDBFS_SUNDIALS_TARGET=sources builds nothing: PREFIX gets the C sources that
+# pdbfs links (for source FMUs), SUNDIALS' public headers and its LICENSE.
+#
 # Without a tarball, the source is Debian's `sundials` source package (the
 # same 6.4.1 as libsundials-dev): `apt-get source` if a deb-src line exists,
 # else the orig tarball from libsundials-dev's pool directory, accepted only
@@ -33,11 +38,46 @@ if [ -z "$tarball" ]; then
 fi
 
 log="$work/log"
+cross=()
+case "${PDBFS_SUNDIALS_TARGET:-native}" in
+    native|sources) ;;
+    win64)
+        cat > "$work/mingw64.cmake" <<'TOOLCHAIN'
+set(CMAKE_SYSTEM_NAME Windows)
+set(CMAKE_SYSTEM_PROCESSOR x86_64)
+set(CMAKE_C_COMPILER x86_64-w64-mingw32-gcc)
+set(CMAKE_CXX_COMPILER x86_64-w64-mingw32-g++)
+set(CMAKE_RC_COMPILER x86_64-w64-mingw32-windres)
+set(CMAKE_FIND_ROOT_PATH /usr/x86_64-w64-mingw32)
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
+set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
+TOOLCHAIN
+        cross=(-DCMAKE_TOOLCHAIN_FILE="$work/mingw64.cmake");;
+    *) echo "unknown PDBFS_SUNDIALS_TARGET '${PDBFS_SUNDIALS_TARGET}' (native, win64 or sources)" >&2
+       exit 1;;
+esac
 run() { "$@" >>"$log" 2>&1 || { tail -n 30 "$log" >&2; echo "failed: $*" >&2; exit 1; }; }
 
 mkdir "$work/src"
 tar -xf "$tarball" -C "$work/src" --strip-components=1
-run cmake -S "$work/src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
+if [ "${PDBFS_SUNDIALS_TARGET:-native}" = sources ]; then
+    # CVODE, serial vectors, dense and band matrices and solvers, Newton and
+    # fixed point, the generic layer: what the CVODE loop links
+    mkdir -p "$prefix.part/src"
+    for d in cvode nvector/serial sunmatrix/dense sunmatrix/band sunlinsol/dense sunlinsol/band \
+             sunnonlinsol/newton sunnonlinsol/fixedpoint sundials; do
+        mkdir -p "$prefix.part/src/$d"
+        cp "$work/src/src/$d"/*.[ch] "$prefix.part/src/$d/"
+    done
+    cp -r "$work/src/include" "$prefix.part/include"
+    cp "$work/src/LICENSE" "$prefix.part/"
+    echo "$(basename "$tarball"), sources" > "$prefix.part/ORIGIN"
+    rm -rf "$prefix"
+    mv "$prefix.part" "$prefix"
+    exit 0
+fi
+run cmake -S "$work/src" -B "$work/build" "${cross[@]}" -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" -DCMAKE_POSITION_INDEPENDENT_CODE=ON \
     -DBUILD_STATIC_LIBS=ON -DBUILD_SHARED_LIBS=OFF -DBUILD_CVODE=ON -DBUILD_CVODES=OFF \
     -DBUILD_ARKODE=OFF -DBUILD_IDA=OFF -DBUILD_IDAS=OFF -DBUILD_KINSOL=OFF \

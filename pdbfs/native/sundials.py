@@ -18,6 +18,13 @@ Search order of :func:`find_sundials`:
    why pdbfs builds its own.
 
 ``PDBFS_SUNDIALS_BUILD=0`` switches the build off (an existing one is used).
+
+Other targets (``find_sundials(target=...)``), each cached beside the native
+build and built once by the same script from the same source: ``"win64"``, a
+CVODE cross-compiled for 64-bit Windows with Debian's MinGW-w64
+(``sundials-cmake-win64``; no system fallback), and ``"sources"``, no build
+but the C sources and headers that CVODE is compiled from, with SUNDIALS'
+LICENSE (``sundials-src``, for source FMUs).
 """
 from __future__ import annotations
 
@@ -61,12 +68,16 @@ def cache_root() -> Path:
     return Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
 
 
-def opt_cache_dir() -> Path:
-    return cache_root() / "sundials-cmake"
+#: cache folder of each target's build, under cache_root()
+TARGET_DIRS = {"native": "sundials-cmake", "win64": "sundials-cmake-win64", "sources": "sundials-src"}
 
 
-def failed_marker() -> Path:
-    return cache_root() / "sundials-cmake.failed"
+def opt_cache_dir(target: str = "native") -> Path:
+    return cache_root() / TARGET_DIRS[target]
+
+
+def failed_marker(target: str = "native") -> Path:
+    return cache_root() / (TARGET_DIRS[target] + ".failed")
 
 
 def _version(include_dir: Path) -> str:
@@ -93,10 +104,11 @@ def from_prefix(prefix: Path, origin: str) -> Sundials | None:
     return None
 
 
-def build(prefix: Path, source: str | None = None) -> Path:
+def build(prefix: Path, source: str | None = None, target: str = "native") -> Path:
     """Run ``build_sundials.sh`` into ``prefix`` (about 10 s on two cores)."""
     cmd = ["bash", str(BUILD_SCRIPT), str(prefix)] + ([source] if source else [])
-    r = subprocess.run(cmd, capture_output=True, text=True)
+    r = subprocess.run(cmd, capture_output=True, text=True,
+                       env={**os.environ, "PDBFS_SUNDIALS_TARGET": target})
     if r.returncode != 0:
         raise SundialsNotFound(f"building SUNDIALS failed: {(r.stderr or r.stdout).strip()[-1500:]}")
     return prefix
@@ -109,24 +121,24 @@ def _recent_failure(marker: Path) -> bool:
         return False
 
 
-def _cached(fetch: bool) -> Sundials | None:
+def _cached(fetch: bool, target: str = "native") -> Sundials | None:
     """The cached build, building it first if needed and allowed."""
-    dest = opt_cache_dir()
+    dest = opt_cache_dir(target)
     origin = f"{dest} (built with SUNDIALS' CMake, -O2)"
     s = from_prefix(dest, origin)
     if s is not None or not fetch or os.environ.get("PDBFS_SUNDIALS_BUILD", "1") in ("0", "no", "false"):
         return s
-    marker = failed_marker()
+    marker = failed_marker(target)
     if _recent_failure(marker):
         return None
     import fcntl
     dest.parent.mkdir(parents=True, exist_ok=True)
-    with open(dest.parent / ".sundials-cmake.lock", "w") as lock:
+    with open(dest.parent / f".{dest.name}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)   # one build at a time; the others wait and reuse it
         try:
             s = from_prefix(dest, origin)
             if s is None and not _recent_failure(marker):
-                build(dest, os.environ.get("PDBFS_SUNDIALS_SOURCE"))
+                build(dest, os.environ.get("PDBFS_SUNDIALS_SOURCE"), target)
                 s = from_prefix(dest, origin)
         except Exception as err:   # noqa: BLE001 - any failure: fall back to the system's
             marker.write_text(f"{type(err).__name__}: {err}\n")
@@ -140,9 +152,12 @@ def _system() -> Sundials | None:
     return from_prefix(Path("/usr"), "system (Debian libsundials-dev, unoptimised)")
 
 
-def find_sundials(fetch: bool = True) -> Sundials:
+def find_sundials(fetch: bool = True, target: str = "native") -> Sundials:
     """The SUNDIALS to link: ``$PDBFS_SUNDIALS_DIR``, else the cached build
-    (built once if ``fetch``), else the system's."""
+    (built once if ``fetch``), else the system's. ``target="win64"``: the
+    cached MinGW-w64 build only."""
+    if target != "native":
+        return _other_target(fetch, target)
     env = os.environ.get("PDBFS_SUNDIALS_DIR")
     if env:
         s = from_prefix(Path(env), f"PDBFS_SUNDIALS_DIR={env}")
@@ -158,3 +173,58 @@ def find_sundials(fetch: bool = True) -> Sundials:
             f"no SUNDIALS 6.x static archives: not in $PDBFS_SUNDIALS_DIR, {opt_cache_dir()} or "
             f"the system ({why}). Run scripts/setup.sh, or install libsundials-dev")
     return s
+
+
+def _other_target(fetch: bool, target: str) -> Sundials:
+    if target not in TARGET_DIRS or target == "sources":
+        raise SundialsNotFound(f"unknown SUNDIALS target '{target}' (known: native, win64)")
+    s = _cached(fetch, target)
+    if s is None:
+        marker = failed_marker(target)
+        why = marker.read_text().strip() if marker.exists() else "the build is switched off"
+        raise SundialsNotFound(f"no SUNDIALS for {target} in {opt_cache_dir(target)} ({why})")
+    return s
+
+
+@dataclass(frozen=True)
+class SundialsSources:
+    """SUNDIALS' C sources (``src``: cvode/, sundials/, ...), public headers
+    (``include``) and LICENSE, from the source the builds use."""
+    root: Path
+    origin: str
+
+    @property
+    def src(self) -> Path:
+        return self.root / "src"
+
+    @property
+    def include(self) -> Path:
+        return self.root / "include"
+
+    @property
+    def license(self) -> Path:
+        return self.root / "LICENSE"
+
+
+def find_sundials_sources(fetch: bool = True) -> SundialsSources:
+    """The cached SUNDIALS sources (``sundials-src``), extracted once from the
+    source the builds use."""
+    dest = opt_cache_dir("sources")
+
+    def ready() -> bool:
+        return (dest / "src" / "cvode" / "cvode.c").is_file() and (dest / "LICENSE").is_file()
+    if not ready() and fetch and os.environ.get("PDBFS_SUNDIALS_BUILD", "1") not in ("0", "no", "false") \
+            and not _recent_failure(failed_marker("sources")):
+        import fcntl
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        with open(dest.parent / f".{dest.name}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            try:
+                if not ready():
+                    build(dest, os.environ.get("PDBFS_SUNDIALS_SOURCE"), "sources")
+            except SundialsNotFound as err:
+                failed_marker("sources").write_text(f"{err}\n")
+    if not ready():
+        raise SundialsNotFound(f"no SUNDIALS sources in {dest}")
+    origin = (dest / "ORIGIN").read_text().strip() if (dest / "ORIGIN").is_file() else str(dest)
+    return SundialsSources(dest, origin)

@@ -16,7 +16,7 @@
 
 #define NO_MEMORY (-100)
 
-static void say(PdbfsCvode *s, int kind, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void say(PdbfsCvode *s, int kind, const char *fmt, ...) PDBFS_PRINTF(3, 4);
 
 static void say(PdbfsCvode *s, int kind, const char *fmt, ...) {
     char buf[512];
@@ -287,7 +287,9 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
             say(s, PDBFS_LOG_ERROR, "%ld internal steps without reaching t = %.10g", max_steps, t_out);
             return PDBFS_CV_TOO_MUCH_WORK;
         }
-        flag = CVode(s->cv, horizon, s->y, &tret, CV_ONE_STEP);
+        /* tout only sizes the first step after a (re)start: with no horizon,
+         * 1 s beyond the (re)start, so that it does not depend on t_out */
+        flag = CVode(s->cv, isfinite(horizon) ? horizon : s->tn + 1.0, s->y, &tret, CV_ONE_STEP);
         if (flag < 0) {
             CVodeGetCurrentTime(s->cv, &s->tn);
             return flag;

@@ -28,6 +28,14 @@
 
 #include "pdbfs_model_funcs.h"
 
+/* printf checks of log messages where the compiler has them (GCC, clang);
+ * other compilers (MSVC) build the same code without */
+#ifdef __GNUC__
+#define PDBFS_PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#define PDBFS_PRINTF(fmt, args)
+#endif
+
 #define PDBFS_ADAMS 0
 #define PDBFS_BDF 1
 
@@ -144,7 +152,8 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
 
 /* Integrate to t_out (restarting at every root on the way, at most
  * max_steps internal steps) and write the state at t_out into x_out.
- * ``horizon`` >= t_out is how far CVODE may look ahead.  0 on success,
+ * ``horizon`` >= t_out is how far CVODE may look ahead (INFINITY: 1 s beyond
+ * each (re)start, whatever t_out).  0 on success,
  * PDBFS_CV_TOO_MUCH_WORK, or CVODE's negative flag; s->tn is then the
  * time reached. */
 int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_steps, double *x_out);
