@@ -83,6 +83,62 @@ def test_cam_between_two_masses_follows_the_hand_reduced_ode(m2_first):
     assert np.max(np.abs(e - e[0])) < 1e-7 * abs(e[0])
 
 
+A1, B1, A2, B2 = 0.8, 0.5, 1.2, -0.3
+
+
+def two_cams(q):
+    """g = g2(g1(q)) and its first two derivatives."""
+    g1, d1 = A1 * q + B1 * q * q, A1 + 2 * B1 * q
+    return (A2 * g1 + B2 * g1 * g1, (A2 + 2 * B2 * g1) * d1,
+            2 * B2 * d1 * d1 + (A2 + 2 * B2 * g1) * 2 * B1)
+
+
+class TwoCams(Rig):
+    """Two cams in series through a massless joint: the joint's position is
+    algebraic, so index reduction needs its first and second derivatives as
+    new unknowns (both become dummy derivatives)."""
+
+    def declare(self):
+        g, dg, _ = two_cams(S1)
+        self.m1 = Mass(m=M1, s0=S1, v0=V1)
+        self.m2 = Mass(m=M2, s0=g, v0=dg * V1)
+        self.k1 = Spring(k=K1)
+        self.k2 = Spring(k=K2)
+        self.c1 = Cam(a=A1, b=B1)
+        self.c2 = Cam(a=A2, b=B2)
+        self.frame = Fixed()
+        self.connect(self.frame.flange, self.k1.flange_a, self.k2.flange_a)
+        self.connect(self.k1.flange_b, self.m1.flange_a)
+        self.connect(self.m1.flange_b, self.c1.flange_a)
+        self.connect(self.c1.flange_b, self.c2.flange_a)
+        self.connect(self.c2.flange_b, self.m2.flange_a)
+        self.connect(self.m2.flange_b, self.k2.flange_b)
+
+
+def test_two_cams_through_a_massless_joint_need_its_second_derivative():
+    rig = TwoCams()
+    assert rig.compile().x_names == ["m1.s", "m1.v"]
+    r = rig.simulate(2.0, n_out=201, **TIGHT)
+
+    def rhs(_, y):
+        q, w = y
+        g, dg, ddg = two_cams(q)
+        return [w, (-K1 * q - K2 * g * dg - M2 * dg * ddg * w * w) / (M1 + M2 * dg * dg)]
+    q = solve_ivp(rhs, (0.0, 2.0), [S1, V1], t_eval=r.t, method="DOP853",
+                  rtol=1e-13, atol=1e-15).y[0]
+    assert np.ptp(q) > 0.1
+    assert np.max(np.abs(r["m1.s"] - q)) < 1e-6 * np.max(np.abs(q))
+    assert np.max(np.abs(r["m2.s"] - two_cams(q)[0])) < 1e-6 * np.max(np.abs(q))
+    assert np.max(np.abs(r["c1.flange_b.s"] - A1 * q - B1 * q * q)) < 1e-6 * np.max(np.abs(q))
+
+
+def test_the_reduced_rig_runs_compiled_as_it_runs_in_casadi():
+    a = Cammed().simulate(1.0, n_out=101, **TIGHT)
+    b = Cammed().simulate(1.0, n_out=101, backend="c", **TIGHT)
+    for name in ("m1.s", "m2.s", "m2.v", "cam.flange_a.f"):
+        assert np.max(np.abs(a[name] - b[name])) < 1e-8 * np.max(np.abs(a[name]))
+
+
 def test_cam_forces_do_equal_and_opposite_power():
     r = Cammed().simulate(1.0, n_out=201, **TIGHT)
     p_a = r["cam.flange_a.f"] * r["m1.v"]

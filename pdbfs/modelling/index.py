@@ -142,7 +142,7 @@ class _Pantelides:
             s = self.pred[s.name()]
         v = self.integrates.get(s.name()) or self.state_of.get(s.name())
         if u.name() in self.pred and v is None:
-            return (0, (self.new.index(u),))
+            return (0, ([d.name() for d in self.new].index(u.name()),))
         return (1, self.al.rank(v.name)) if v is not None else (2, (0,))
 
     def dummy_derivatives(self, labels, states, start):
