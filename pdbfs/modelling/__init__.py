@@ -9,7 +9,7 @@ analysis, and the one CasADi DAE every back end consumes.
     structure.py   flat equations -> DAE: parameter bindings, then
       aliases.py     alias elimination (derivatives included)
       blt.py         matching, BLT sorting, symbolic solution of linear blocks
-      index.py       one level of index reduction (Pantelides, dummy derivatives)
+      index.py       index reduction to any index (Pantelides, dummy derivatives)
     dae.py         the DAE (x, z, p, ode, alg, outputs, events) and its infos
 
 May import: pdbfs.errors only. Nothing here knows about solvers, C code,

@@ -7,9 +7,9 @@
    symbolically; nonlinear blocks stay algebraic for IDAS (blt.py).
 
 A constraint between states that is not an alias (a high-index DAE) is
-differentiated once, with dummy derivatives (index.py: index 2 to index 1,
-for IDAS); one that needs more is refused, naming the states, equations and
-connections.
+differentiated as often as it needs, with dummy derivatives (index.py:
+Pantelides' algorithm, any index to index 1, for IDAS); one that stays
+singular is refused, naming the states, equations and connections.
 """
 from __future__ import annotations
 
@@ -54,10 +54,13 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         unknowns.append(v.sym)
         labels.append(v.name)
 
+    dropped = []                         # states made algebraic by index reduction
     try:
         solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
     except ModelError as singular:
-        reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t)
+        start = ({v.name: v.start for v in flat.vars if v.start is not None}, p_sym,
+                 [p.value for p in free])
+        reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t, start)
         try:
             if reduced is None:
                 raise singular
@@ -65,6 +68,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         except ModelError:
             _explain_state_constraint(flat, eqs, unknowns, states)
             raise singular from None
+        dropped = [v for v in states if all(v is not w for w in reduced[3])]
         eqs, unknowns, labels, states = reduced
 
     # everything in terms of (t, x, z, p)
@@ -94,12 +98,14 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     alg_expr = final(ca.vertcat(*alg)) if alg else ca.SX(0, 1)
 
     info = lambda v: VarInfo(v.name, v.unit, v.description, v.output)
-    return DAE(name=name, t=t, x=x, z=z, p=p_sym, ode=ode, alg=alg_expr, x0=x0, y=y,
+    dae = DAE(name=name, t=t, x=x, z=z, p=p_sym, ode=ode, alg=alg_expr, x0=x0, y=y,
                events=ev, x_info=[info(v) for v in states],
                z_info=[VarInfo(n, by_name[n].unit if n in by_name else "",
                                "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0)
+    _check_reduced_start(dae, dropped)
+    return dae
 
 
 def _each(items, keys, vals) -> list:
@@ -166,6 +172,31 @@ def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
                 "consistent start values")
 
 
+def _check_reduced_start(dae, dropped):
+    """A state made algebraic by index reduction is computed from the
+    constraints: its declared start must be what they give (checked at the
+    default parameter values), or the user's start would be ignored silently."""
+    if not dropped:
+        return
+    p = dae.p_default()
+    x0 = np.array(dae.function("start")(p)).ravel()
+    z = np.array(ca.Function("z0", [dae.p], [dae.z0])(p)).ravel()
+    if not dae.is_ode:
+        rf = ca.rootfinder("z0", "newton", {"x": dae.z, "p": ca.vertcat(dae.t, dae.x, dae.p),
+                                            "g": dae.alg}, {"error_on_fail": False})
+        z = np.array(rf(z, np.concatenate([[0.0], x0, p]))).ravel()
+    y = np.array(dae.function("out")(0.0, x0, z, p)).ravel()
+    at = {n: k for k, n in enumerate(dae.y_names)}
+    for v in dropped:
+        mine = float(ca.Function("s", [dae.p], [ca.SX(_start(v))])(p))
+        theirs = y[at[v.name]]
+        if np.isfinite(theirs) and abs(mine - theirs) > 1e-8 * (1.0 + abs(mine) + abs(theirs)):
+            raise ModelError(
+                f"{v.name} starts at {mine:g} {v.unit}, but the constraint that index reduction "
+                f"solves for it gives {theirs:g} {v.unit} at the start: give start values "
+                "that satisfy the constraint")
+
+
 # -- constraints among states ----------------------------------------------------------
 def _explain_state_constraint(flat, eqs, unknowns, states):
     """A structurally singular system whose over-determined part (the
@@ -188,7 +219,6 @@ def _explain_state_constraint(flat, eqs, unknowns, states):
     raise ModelError(
         f"a constraint between states: {', '.join(tied)} are tied to each other with nothing "
         f"left to determine (in {'; '.join(eqs[i][1] for i in sorted(block))}{via}): a loop with "
-        "no compliance or resistance in it. pdbfs reduces such constraints as aliases, or by one "
-        "differentiation (Pantelides, dummy derivatives) where the constraint holds no "
-        "derivatives; this one needs more (index 3, a constraint on positions): put a "
+        "no compliance or resistance in it, which neither alias elimination nor index "
+        "reduction (Pantelides' algorithm, dummy derivatives) makes regular: put a "
         "compliance or resistance between them (a Spring, Damper, Orifice or LaminarLeak)")
