@@ -1,27 +1,25 @@
-"""The component library: translational mechanics for impact test rigs.
+"""The component library: one small component per concept, each a class
+declaring parameters, variables and equations on shared partial bases.
 
-One small component per concept, each a class declaring parameters,
-variables and equations (after Modelica's Mechanics.Translational):
-interfaces.py has the shared partial bases, laws.py the paper's formulas
-(Hertz stiffness, damping laws, restitution from a force history) as plain
-functions; constraints.py ideal kinematic constraints (a cam).
+    translational/  mechanics in one direction (after Modelica's
+                    Mechanics.Translational): masses, springs, contacts, the
+                    seal, the oil column, sources, sensors, chains and bars, a cam
+    hydraulic/      pdbfs.components.hydraulic: volumes, pistons, orifices,
+                    valves, sources, accumulators, sensors
+    laws.py         the paper's formulas as plain functions (Hertz stiffness,
+                    damping laws, impact velocity)
+    functions.py    powers with finite derivatives everywhere, for the force laws
 
 May import: pdbfs.errors and pdbfs.modelling.
 """
-from .bar import BarResolutionWarning, ElasticBar, check_bar_resolution
-from .chain import MassChain
-from .constraints import Cam
-from .contact import HertzContact, HuntCrossleyDamper, ImpactContact
-from .friction import SealFriction
-from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,
-                         PartialOneFlange, PartialTwoFlanges)
 from .laws import (DAMPING_LAWS, damping_flores, damping_hunt_crossley,
                    damping_lankarani_nikravesh, hertz_stiffness, impact_velocity)
-from .mass import Fixed, Mass
-from .oil import OilColumn
-from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
-from .sources import Force, Gravity, Position
-from .springs import Damper, Spring
+from .translational import (BarResolutionWarning, Cam, Damper, ElasticBar, Fixed, Force,
+                            ForceSensor, Gravity, HertzContact, HuntCrossleyDamper,
+                            ImpactContact, Mass, MassChain, OilColumn, PartialCompliant,
+                            PartialCompliantWithVelocity, PartialCompression, PartialOneFlange,
+                            PartialTwoFlanges, Position, PositionSensor, PressureSensor,
+                            SealFriction, SpeedSensor, Spring, check_bar_resolution)
 
 __all__ = ["Cam", "MassChain", "HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
            "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",

@@ -10,7 +10,7 @@ import pytest
 
 from pdbfs.components import (BarResolutionWarning, ElasticBar, Force, Mass, Spring,
                               check_bar_resolution)
-from pdbfs.components.bar import bar_resolution
+from pdbfs.components.translational.bar import bar_resolution
 from pdbfs.errors import ParameterError
 from pdbfs.models import PAPER_SIGNALS, RIGS, bar_piston_rig, paper_rig
 from pdbfs.rig import Rig

@@ -1,7 +1,7 @@
 from pdbfs.modelling import Parameter, Variable, eq, time
 
 from .interfaces import PartialOneFlange
-from .laws import STANDARD_GRAVITY
+from ..laws import STANDARD_GRAVITY
 
 
 class Force(PartialOneFlange):

@@ -2,7 +2,7 @@ import casadi as ca
 
 from pdbfs.modelling import Parameter, eq
 
-from .functions import signed_power
+from ..functions import signed_power
 from .interfaces import PartialCompliant, PartialCompliantWithVelocity
 
 

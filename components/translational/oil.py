@@ -1,7 +1,7 @@
 
 from pdbfs.modelling import Parameter, Variable, eq
 
-from .functions import positive_power
+from ..functions import positive_power
 from .interfaces import PartialCompression
 
 

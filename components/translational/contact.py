@@ -4,9 +4,9 @@ import casadi as ca
 from pdbfs.errors import ParameterError
 from pdbfs.modelling import Parameter, Variable, eq
 
-from .functions import positive_power
+from ..functions import positive_power
 from .interfaces import PartialCompression, PartialCompliantWithVelocity
-from .laws import DAMPING_LAWS
+from ..laws import DAMPING_LAWS
 
 
 class HertzContact(PartialCompression):

@@ -1,0 +1,33 @@
+"""Translational mechanics, one direction (x down, after Modelica's
+Mechanics.Translational): flanges carry a position (across) and a force
+(through).
+
+    interfaces.py  the shared partial bases (one flange, two flanges, compliant, compression)
+    mass.py        Mass, Fixed          springs.py   Spring, Damper
+    contact.py     Hertz contact and hysteresis damping (the paper's eq. 1-6)
+    friction.py    the loading piston's seal      oil.py   the oil column (compression only)
+    sources.py     Force, Position, Gravity       sensors.py   position, speed, force, pressure
+    chain.py       masses joined by springs; bar.py: an elastic bar built from it
+    constraints.py ideal kinematic constraints (a cam)
+
+May import: pdbfs.errors, pdbfs.modelling and pdbfs.components' laws and functions.
+"""
+from .bar import BarResolutionWarning, ElasticBar, check_bar_resolution
+from .chain import MassChain
+from .constraints import Cam
+from .contact import HertzContact, HuntCrossleyDamper, ImpactContact
+from .friction import SealFriction
+from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, PartialCompression,
+                         PartialOneFlange, PartialTwoFlanges)
+from .mass import Fixed, Mass
+from .oil import OilColumn
+from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
+from .sources import Force, Gravity, Position
+from .springs import Damper, Spring
+
+__all__ = ["BarResolutionWarning", "ElasticBar", "check_bar_resolution", "MassChain", "Cam",
+           "HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
+           "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",
+           "PartialOneFlange", "PartialTwoFlanges", "Fixed", "Mass", "OilColumn", "ForceSensor",
+           "PositionSensor", "PressureSensor", "SpeedSensor", "Force", "Gravity", "Position",
+           "Damper", "Spring"]
