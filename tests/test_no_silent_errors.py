@@ -285,3 +285,16 @@ def test_warnings_do_not_leak_from_sweeps():
                           progress=False, workers=1)
     assert [p.summary["complete"] for p in res] == [True, False]
     assert os.environ.get("PDBFS_NEVER_SET") is None
+
+
+def test_a_very_long_run_of_repeated_blows_says_how_far_blows_are_listed(monkeypatch):
+    """Memory stays bounded on any horizon: the summary keeps at most
+    MAX_POINTS points (3 s here) and says so; what it lists is exact."""
+    import pdbfs.simulation.summary_run as SR
+    monkeypatch.setattr(SR, "MAX_POINTS", 300_000)
+    whole = drop_rig().simulate(1.5, n_out=30001).summary()
+    with pytest.warns(pdbfs.PdbfsWarning, match="blows are listed up to t = 3 s of 6 s"):
+        long = drop_rig().simulate(6.0, n_out=2001).summary()
+    assert max(long["impact_times"]) <= 3.0 and long["impact_count"] > whole["impact_count"]
+    for k in ("impact_times", "impact_durations", "impact_peak_pressures"):
+        assert long[k][:3] == pytest.approx(whole[k], rel=1e-6), k

@@ -21,7 +21,7 @@ import warnings
 
 import numpy as np
 
-from pdbfs.errors import PulseIncompleteWarning
+from pdbfs.errors import PdbfsWarning, PulseIncompleteWarning
 
 from .impulse import impulse_ratio
 from .summary_run import PULSE_LEVEL, summary_run
@@ -34,6 +34,8 @@ UNITS = {"peak_pressure": "Pa", "time_of_peak": "s", "pulse_duration": "s",
          # rigs with the role impact_indentation (repeated blows): lists, one per blow
          "impact_count": "1", "impact_times": "s", "impact_peak_pressures": "Pa",
          "impact_durations": "s"}
+
+MAX_POINTS_NOTE = "a bounded number of points in memory"
 
 __all__ = ["KEYS", "UNITS", "PULSE_LEVEL", "keys_for", "summarize"]
 
@@ -92,6 +94,11 @@ def summarize(res, warn: bool = True) -> dict:
         out.update(blow_list)
     if warn and run.complete is False:
         warnings.warn(incomplete_message(res, run), PulseIncompleteWarning, stacklevel=3)
+    if warn and run.listed_until is not None:
+        warnings.warn(f"rig {res._sim.dae.name}: blows are listed up to t = "
+                      f"{run.listed_until:.6g} s of {run.t_end:.6g} s (the summary keeps "
+                      f"{MAX_POINTS_NOTE}); the first blow's figures are whole",
+                      PdbfsWarning, stacklevel=3)
     return out
 
 

@@ -27,6 +27,10 @@ import numpy as np
 SUMMARY_STEP = 1e-5
 #: steps per window
 WINDOW = 2000
+#: most points a run followed to its horizon keeps (rigs that strike repeatedly;
+#: about 1.3 GB for the drop rig): blows later than that are not listed, and
+#: the summary says so
+MAX_POINTS = 2_000_000
 #: how far past the horizon an unfinished pulse is followed, in horizons (and windows at most)
 LOOK_AHEAD = 20.0
 MAX_WINDOWS_AHEAD = 100
@@ -41,6 +45,7 @@ class SummaryRun:
     complete: bool | None       # the pulse ended inside the horizon (None: no pulse role)
     t_done: float | None        # where the pulse ended (also past the horizon), if it did
     looked_until: float         # how far the run was followed
+    listed_until: float | None = None   # blows listed up to here only (MAX_POINTS)
 
 
 def summary_step(dae) -> float:
@@ -66,9 +71,10 @@ def summary_run(res) -> SummaryRun:
     sim, s = res._sim, res.settings
     dae = sim.dae
     roles = getattr(dae, "signals", {}) or {}
-    h = summary_step(dae)
     t_end = float(res.t[-1])
     follow_all = bool(roles.get("impact_indentation"))      # every blow counts
+    h = summary_step(dae)
+    listed_until = MAX_POINTS * h if follow_all and t_end > MAX_POINTS * h else None
     p_name, f_name = roles.get("pressure"), roles.get("contact_force")
     watch = [n for n in (p_name, f_name) if n]
     rows = [dae.y_names.index(n) for n in watch]
@@ -81,6 +87,8 @@ def summary_run(res) -> SummaryRun:
         k = int(np.floor(t_last / h + 1e-6)) + 1              # the next point of the fixed grid
         grid = np.concatenate([[t_last], h * np.arange(k, k + WINDOW)])
         end = t_end if t_last < t_end else limit
+        if listed_until is not None and t_done is not None:
+            end = min(end, listed_until)
         if grid[-1] >= end:
             grid = np.append(grid[grid < end - 1e-6 * h], end)
         if t_last == 0.0 and np.array_equal(grid, res.t):
@@ -110,14 +118,16 @@ def summary_run(res) -> SummaryRun:
             over = True
         if over and t_done is None:
             t_done = t_busy if t_busy > 0 else t_last
-        if t_last >= limit or (over and (t_last >= t_end or not follow_all)):
+        if t_last >= limit or (over and (t_last >= t_end or not follow_all)) or \
+                (listed_until is not None and t_done is not None and t_last >= listed_until):
             break
     t_all, X_all, Z_all = np.concatenate(ts), np.hstack(Xs), np.hstack(Zs)
     inside = t_all <= t_end
     traj = Result(sim, t_all[inside], res.p, X_all[:, inside], Z_all[:, inside], dict(s))
     complete = (t_done is not None and t_done <= t_end and p_peak > 0 if p_name else
                 t_done is not None and t_done <= t_end) if watch else None
-    return SummaryRun(traj, t_end, complete, t_done, t_last)
+    return SummaryRun(traj, t_end, complete, t_done, t_last,
+                      t_last if listed_until is not None and t_last < t_end else None)
 
 
 def _integrate(sim, grid, x, p, s):
