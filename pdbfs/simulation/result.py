@@ -7,6 +7,7 @@ they do not depend on the output grid.
 from __future__ import annotations
 
 import csv
+import warnings
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
@@ -169,14 +170,12 @@ class Result:
         own solution, the same whatever the output grid (see summary.py).
         Warns (PulseIncompleteWarning) when the pulse outlasts the run.
         Computed once per Result."""
-        if "_summary" not in self.__dict__:
-            import warnings
+        if "_summary" not in self.__dict__:    # its warnings are kept and given again each call
             from .summary import summarize
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                self._summary = summarize(self, warn=True)
+                self._summary = summarize(self)
             self._summary_warnings = caught
         for w in self._summary_warnings:
-            import warnings
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         return dict(self._summary)

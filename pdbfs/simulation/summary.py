@@ -152,7 +152,8 @@ def restitution(R, force, striker_velocity=None, window=None) -> float | None:
     f = R[force]
     if not np.any(f > 0):
         return None
-    rate = R._sim.rates_on(R.t, R._X, R._Z, R.p, force)
+    curve = R.curves.data(force)            # the rates the peaks already used
+    rate = None if curve is None else curve[1]
     fc = np.clip(f, 0.0, None)
     if striker_velocity:
         v = R[striker_velocity]

@@ -52,20 +52,6 @@ def summary_step(dae) -> float:
     return float(getattr(dae, "summary_step", None) or SUMMARY_STEP)
 
 
-def pulse_over(roles, P, F) -> bool:
-    """The pulse is over at the last sample: the pressure rose and is back
-    under PULSE_LEVEL of its peak, and the contact force is zero."""
-    if P is None and F is None:
-        return True
-    if P is not None:
-        peak = float(np.max(P))
-        if not peak > 0 or not P[-1] < PULSE_LEVEL * peak:
-            return False
-    if F is not None and F[-1] > 0:
-        return False
-    return True
-
-
 def summary_run(res) -> SummaryRun:
     from .result import Result
     sim, s = res._sim, res.settings
