@@ -1,0 +1,59 @@
+"""The figures README.md and docs/ state, each with the computation that gives it.
+
+A claim is a sentence of a document with placeholders and a function that
+returns the values to fill them with; `tests/test_claims.py` computes each and
+checks that the filled sentence stands in the document, so a stated figure
+cannot drift from the code. Timings are not claims here (they belong to the
+benchmarks in scripts/).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Callable
+
+
+@dataclass(frozen=True)
+class Claim:
+    doc: str                        # path from the repository's root
+    text: str                       # the sentence, with str.format placeholders
+    values: Callable[[], dict]      # computes the placeholders' values
+
+
+@lru_cache(maxsize=None)
+def _summary(rig_name: str, t_end: float, **params) -> dict:
+    import pdbfs.models as models
+    rig = getattr(models, rig_name)()
+    return rig.simulate(t_end, params=params or None).summary()
+
+
+def _summary_of(rig_name, t_end, params=()):
+    return _summary(rig_name, t_end, **dict(params))
+
+
+def paper_linear():
+    s = _summary_of("paper_rig", 0.02)
+    return {"peak": s["peak_pressure"] / 1e6, "duration": s["pulse_duration"] * 1e3,
+            "e": s["restitution_coefficient"]}
+
+
+def paper_hertz_oil():
+    s = _summary_of("paper_rig", 0.04, (("oil.n", 1.5),))
+    return {"peak": s["peak_pressure"] / 1e6, "t_peak": s["time_of_peak"] * 1e3,
+            "end": s["pulse_duration"] * 1e3}
+
+
+def paper_contact():
+    s = _summary_of("paper_rig", 0.02)
+    return {"force": s["peak_contact_force"] / 1e6}
+
+
+CLAIMS = [
+    Claim("docs/paper-reproduction.md",
+          "Read as linear, the pulse is {peak:.0f} MPa and lasts {duration:.1f} ms", paper_linear),
+    Claim("docs/paper-reproduction.md",
+          "the pulse at 2.73 m/s reaches only {peak:.1f} MPa, at {t_peak:.1f} ms, and ends after {end:.0f} ms", paper_hertz_oil),
+    Claim("docs/paper-reproduction.md", "The largest force is {force:.2f} MN", paper_contact),
+    Claim("README.md", "It then equals the hammer's rebound ratio: {e:.2f} at 2.73 m/s",
+          paper_linear),
+]
