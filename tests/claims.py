@@ -52,7 +52,7 @@ CLAIMS = [
     Claim("docs/paper-reproduction.md",
           "Read as linear, the pulse is {peak:.0f} MPa and lasts {duration:.1f} ms", paper_linear),
     Claim("docs/paper-reproduction.md",
-          "the pulse at 2.73 m/s reaches only {peak:.1f} MPa, at {t_peak:.1f} ms, and ends after {end:.0f} ms", paper_hertz_oil),
+          "the pulse at 2.73 m/s reaches only {peak:.1f} MPa, at {t_peak:.1f} ms, and lasts {end:.0f} ms", paper_hertz_oil),
     Claim("docs/paper-reproduction.md", "The largest force is {force:.2f} MN", paper_contact),
     Claim("README.md", "It then equals the hammer's rebound ratio: {e:.2f} at 2.73 m/s",
           paper_linear),
