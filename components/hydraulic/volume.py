@@ -37,7 +37,11 @@ class Volume(PartialOnePort):
     and the pressure stays at ``p_vap``: ``p = p_vap + smooth_ramp(p_law -
     p_vap, dp_cav)``, exact outside ``p_vap +- dp_cav``, at most
     ``dp_cav/4`` off inside, never below ``p_vap >= 0`` (no negative absolute
-    pressure); oil returning first fills the vapour volume. ``cavitation=
+    pressure); oil returning first fills the vapour volume. Below the clamp
+    the vapour volume is ``(Vc/K(p_vap))*(p_vap - p_law)``; with moving walls
+    the rate gains ``q_swept*(p_law - p)`` (zero above the clamp), so that the
+    oil's mass balance is exact there too, while oil flows and walls move
+    (tests/test_hydraulic_cavitation.py). ``cavitation=
     False`` drops the clamp (``p = p_law``, which may go negative): two such
     volumes joined directly become one (their pressures are aliases, an ODE
     for every back end). Joined cavitating volumes are a constraint between
@@ -100,9 +104,15 @@ class Volume(PartialOnePort):
         Vc = self.Vc if self._swept else self.V
         clamp = (self.p_vap + smooth_ramp(self.p_law - self.p_vap, self.dp_cav)
                  if self._cavitation else self.p_law)
+        rate = self.modulus(self.p) * self.port.q
+        if self._swept and self._cavitation:
+            # below the clamp the vapour volume is (Vc/K)*(p_vap - p_law): moving
+            # walls change it by what they sweep, not in proportion, so the oil's
+            # mass balance stays exact (zero above the clamp, where p = p_law)
+            rate = rate + self.q_swept.value * (self.p_law - self.p)
         eqs = [eq(self.p, clamp),
                eq(self.port.p, self.p),
-               eq(Vc * der(self.p_law), self.modulus(self.p) * self.port.q)]
+               eq(Vc * der(self.p_law), rate)]
         if self._swept:
             eqs.append(eq(der(self.Vc), -self.q_swept.value))
         return eqs
