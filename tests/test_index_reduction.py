@@ -302,3 +302,11 @@ def test_a_set_start_of_a_state_made_algebraic_is_refused_not_ignored():
     # consistent starts are taken as given
     r = rig.simulate(0.1, params={"m1.v0": 2 * V1, "m2.v0": -RATIO * DG0 * 2 * V1})
     assert r["m2.v"][0] == pytest.approx(-RATIO * DG0 * 2 * V1, rel=1e-12)
+
+
+def test_a_sweep_point_whose_start_the_constraint_overrides_is_reported_not_run():
+    import pdbfs
+    res = pdbfs.sweep(CamLine(), {"m1.v0": [V1, 2 * V1]}, t_end=0.05, workers=1)
+    good, bad = res[0], res[1]
+    assert good.error is None
+    assert bad.error_type == "ParameterError" and "m2.v" in bad.error
