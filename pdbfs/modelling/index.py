@@ -17,6 +17,12 @@ become algebraic. All equations, differentiated or not, stay: the result is
 an index-1 DAE for IDAS (often an ODE after BLT), and the constraints hold
 along the solution. One level of differentiation is the special case of the
 two-volume and two-piston rigs.
+
+A state whose derivative alias elimination replaced by an expression (a
+piston's position, der = -A2/A1*v2 on an incompressible line) gets its own
+der() unknown and that replacement as an equation, so that the algorithm can
+differentiate it further and make the position algebraic (a cam driving a
+massless piston).
 """
 from __future__ import annotations
 
