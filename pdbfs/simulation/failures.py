@@ -60,8 +60,11 @@ def walk_failure(sim, grid, x0, p, rtol, atol, method, max_step, err, max_num_st
             # still closes in on where the solver stops
             short = lambda x, a, h: sim.step(x, p, a, h, rtol, atol, method, max_step,
                                              max_num_steps=min(max_num_steps, 2000))
-            t_ok, x, z = _reached(short, x, z, a, b)
-            break
+            t_r, x_r, z_r = _reached(short, x, z, a, b)
+            if t_r < b:
+                t_ok, x, z = t_r, x_r, z_r
+                break
+            x1, z1 = x_r, z_r            # in shorter steps it got through: walk on
         if not np.all(np.isfinite(x1)):
             break
         x, z, t_ok = x1, z1, b
@@ -84,17 +87,18 @@ def _reached(step, x, z, a, b):
     """(time, state, algebraic) the solver reaches from a towards b, to a
     millionth of the interval, by steps halved where they fail."""
     t, h = a, 0.5 * (b - a)
-    while h > 1e-6 * (b - a) and t < b:
+    while h > 1e-6 * (b - a) and b - t > 1e-9 * (b - a):
+        h_try = min(h, b - t)
         try:
-            x1, z1 = step(x, t, h)
+            x1, z1 = step(x, t, h_try)
         except RuntimeError:
             h *= 0.5
             continue
         if not np.all(np.isfinite(x1)):
             h *= 0.5
             continue
-        x, z, t = x1, z1, t + h
-    return t, x, z
+        x, z, t = x1, z1, t + h_try
+    return (b if b - t <= 1e-9 * (b - a) else t), x, z
 
 
 def _undetermined(dae, t, x, z, p):
