@@ -73,8 +73,9 @@ class _Pantelides:
             d = v.der if v.der.name() not in al.gone else al.resolve(v.der)
             if d.is_symbolic() and d.name() != v.name and d.name() not in self.integrates:
                 self.integrates[d.name()] = v
+        have = {id(w) for w in self.integrates.values()}
         for v in states:
-            if any(w is v for w in self.integrates.values()):
+            if id(v) in have:
                 continue
             # its derivative was eliminated as a scaled alias (a piston's position,
             # der = -A2/A1*v2): it gets its own der() unknown and the alias as an
