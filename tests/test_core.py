@@ -336,6 +336,6 @@ def test_a_value_given_for_a_parameter_the_law_computes_is_refused():
         OilColumn(bulk_modulus=True, k=1e9)
     with pytest.raises(ParameterError, match="ImpactContact: D is computed"):
         ImpactContact(law="flores", D=3.0)
-    with pytest.raises(ParameterError, match=r"Volume: unknown parameter\(s\) K1"):
+    with pytest.raises(ParameterError, match=r"Volume: K1 belong\(s\) to law='linear'"):
         from pdbfs.components.hydraulic import Volume
         Volume(K1=5.0)                       # the constant law has no K1

@@ -7,6 +7,8 @@ from .laws import ATMOSPHERE, bulk_modulus_air, bulk_modulus_linear, smooth_ramp
 
 #: bulk-modulus laws a Volume offers (``law=``)
 BULK_MODULUS_LAWS = ("constant", "linear", "air")
+#: the parameters each law adds (declared in declare(), settable in the constructor)
+LAW_PARAMETERS = {"constant": (), "linear": ("K1",), "air": ("alpha", "n_air", "p_air")}
 
 
 class Volume(PartialOnePort):
@@ -68,6 +70,11 @@ class Volume(PartialOnePort):
         if law not in BULK_MODULUS_LAWS:
             raise ParameterError(f"Volume: unknown bulk-modulus law {law!r}; choose one of "
                                  + ", ".join(BULK_MODULUS_LAWS))
+        for other, names in LAW_PARAMETERS.items():
+            wrong = sorted(set(names) & set(params)) if other != law else []
+            if wrong:
+                raise ParameterError(f"Volume: {', '.join(wrong)} belong(s) to law={other!r}, "
+                                     f"not to this Volume's law={law!r}")
         self._law, self._swept, self._cavitation = law, swept, cavitation
         super().__init__(**params)
 
