@@ -35,14 +35,6 @@ def paper_hydraulic_oil_rig():
     return rig
 
 
-def paper_hydraulic_oil_rig():
-    """paper-hydraulic with a bulk modulus growing with pressure (K + 7.5 p,
-    K at p = 0 the paper's k2*L/A) in a column that shrinks with the stroke."""
-    rig = paper_hydraulic_rig(law="linear", swept=True)
-    rig.name = "pdbfs_hydraulic_oil"
-    return rig
-
-
 RIGS = {
     "paper": paper_rig,
     **{f"paper-{s}": _paper_with_law(s) for s in LAW_RIGS},

@@ -265,3 +265,77 @@ def test_lever_with_parameter_ratio_reduces_to_one_body():
         assert np.allclose(res["m1.s"], s1, rtol=1e-9, atol=1e-12)
         assert np.allclose(res["m2.s"], r * s1, rtol=1e-9, atol=1e-12)
         assert np.allclose(res["lever.flange_b.f"] * 1.0, -0.5 * res["m2.a"], atol=1e-9)
+
+
+# -- every documented parameter through its constructor (issue 21) -------------------------
+def _constructors():
+    import inspect
+    import pdbfs.components as C
+    import pdbfs.components.hydraulic as H
+    from pdbfs.modelling import Component
+    options = {"Volume": [{"law": law} for law in H.BULK_MODULUS_LAWS],
+               "Cylinder": [{"law": law} for law in H.BULK_MODULUS_LAWS],
+               "OilColumn": [{}, {"bulk_modulus": True}],
+               "HuntCrossleyDamper": [{}] + [{"law": law} for law in C.DAMPING_LAWS],
+               "ImpactContact": [{}] + [{"law": law} for law in C.DAMPING_LAWS],
+               "ElasticBar": [{"n": 3}]}
+    out = []
+    for mod in (C, H):
+        for name in sorted(dir(mod)):
+            cls = getattr(mod, name)
+            if inspect.isclass(cls) and issubclass(cls, Component) \
+                    and not name.startswith("Partial") and name != "MassChain":   # abstract
+                out += [(cls, opts) for opts in options.get(name, [{}])]
+    return out
+
+
+def _another_value(decl, where):
+    """A value the declaration allows, other than its default."""
+    from pdbfs.errors import ParameterError
+    d = float(decl.default)
+    for v in (1.5 * d, 0.5 * d, d + 1.0, 0.5, decl.min, decl.max):
+        if v is None or v == d:
+            continue
+        try:
+            return decl.check(v, where)
+        except ParameterError:
+            continue
+    raise AssertionError(f"no value other than the default for {where}")
+
+
+@pytest.mark.parametrize("cls, opts", _constructors(),
+                         ids=lambda x: x.__name__ if isinstance(x, type) else
+                         ",".join(f"{k}={v}" for k, v in x.items()) or "-")
+def test_every_documented_parameter_is_settable_in_the_constructor(cls, opts):
+    """Law-specific parameters too (Volume(law="linear", K1=5.0) was refused
+    as unknown); a Cylinder's chamber parameters go to its chamber."""
+    import casadi as ca
+    base = cls(**opts)
+    owners = [(base, lambda c: c)]
+    if cls.__name__ == "Cylinder":
+        owners.append((base.chamber, lambda c: c.chamber))
+    checked = set()
+    for comp, where in owners:
+        for name, slot in comp._params.items():
+            if isinstance(slot.value, ca.SX) or (where is not owners[0][1] and name in base._params):
+                continue                     # computed from others, or the Cylinder's own
+            value = _another_value(slot.decl, f"{cls.__name__}.{name}")
+            made = where(cls(**opts, **{name: value}))
+            assert made._params[name].value == value, name
+            checked.add(name)
+    law_own = {"linear": {"K1"}, "air": {"alpha", "n_air", "p_air"}}.get(opts.get("law"), set())
+    assert law_own <= checked
+    if opts.get("law") in ("hunt-crossley", "flores", "lankarani-nikravesh"):
+        assert {"e", "v_impact"} <= checked
+
+
+def test_a_value_given_for_a_parameter_the_law_computes_is_refused():
+    from pdbfs.components import ImpactContact, OilColumn
+    from pdbfs.errors import ParameterError
+    with pytest.raises(ParameterError, match="OilColumn: k is computed from A, K, L"):
+        OilColumn(bulk_modulus=True, k=1e9)
+    with pytest.raises(ParameterError, match="ImpactContact: D is computed"):
+        ImpactContact(law="flores", D=3.0)
+    with pytest.raises(ParameterError, match=r"Volume: K1 belong\(s\) to law='linear'"):
+        from pdbfs.components.hydraulic import Volume
+        Volume(K1=5.0)                       # the constant law has no K1

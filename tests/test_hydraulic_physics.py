@@ -342,3 +342,4 @@ def test_cylinder_is_a_piston_over_its_own_shrinking_chamber():
     assert np.max(np.abs(a["cyl.chamber.p"] - b["vol.p"])) < 1e-9 * 10e6
     assert np.allclose(a["cyl.chamber.Vc"], 1e-3 - 1e-3 * (a["mass.s"] - a["mass.s"][0]),
                        rtol=0, atol=1e-15)
+

@@ -1,5 +1,6 @@
 """Where the domains meet: a piston turns pressure into force and motion
 into flow."""
+from pdbfs.errors import ParameterError
 from pdbfs.modelling import Component, Flange, HydraulicPort, Parameter, SignalOutput, \
     Variable, der, eq
 
@@ -52,8 +53,9 @@ class Cylinder(Component):
     """A Piston over its own chamber (a Volume with ``swept=True``): the
     chamber's volume ``V`` (at the start) shrinks as the piston moves in.
     Flange ``flange``, port ``port`` (closable: unconnected, the chamber is
-    sealed), ``support`` with ``support=True``; ``law`` as in Volume (the
-    law's own parameters stay on ``chamber``)."""
+    sealed), ``support`` with ``support=True``; ``law`` as in Volume. The
+    chamber's other parameters (``p_vap``, ``dp_cav``, the law's own such as
+    ``K1``) may be given here too; they stay on ``chamber``."""
 
     A = Piston.A
     V = Volume.V
@@ -62,13 +64,19 @@ class Cylinder(Component):
 
     def __init__(self, law: str = "constant", support: bool = False, **params):
         self._law, self._support = law, support
+        own = {"A", "V", "K", "p0"}
+        self._chamber_params = {n: params.pop(n) for n in list(params) if n not in own}
         super().__init__(**params)
 
     def declare(self):
         self.flange = Flange()
         self.port = HydraulicPort(closable=True)
         self.piston = Piston(support=self._support, A=self.A)
-        self.chamber = Volume(law=self._law, swept=True, V=self.V, K=self.K, p0=self.p0)
+        try:
+            self.chamber = Volume(law=self._law, swept=True, V=self.V, K=self.K, p0=self.p0,
+                                  **self._chamber_params)
+        except ParameterError as e:
+            raise ParameterError(f"Cylinder: {e}") from None
         self.connect(self.flange, self.piston.flange)
         self.connect(self.port, self.piston.port, self.chamber.port)
         self.connect(self.piston.q_swept, self.chamber.q_swept)

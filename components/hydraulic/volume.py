@@ -7,6 +7,8 @@ from .laws import ATMOSPHERE, bulk_modulus_air, bulk_modulus_linear, smooth_ramp
 
 #: bulk-modulus laws a Volume offers (``law=``)
 BULK_MODULUS_LAWS = ("constant", "linear", "air")
+#: the parameters each law adds (declared in declare(), settable in the constructor)
+LAW_PARAMETERS = {"constant": (), "linear": ("K1",), "air": ("alpha", "n_air", "p_air")}
 
 
 class Volume(PartialOnePort):
@@ -37,7 +39,11 @@ class Volume(PartialOnePort):
     and the pressure stays at ``p_vap``: ``p = p_vap + smooth_ramp(p_law -
     p_vap, dp_cav)``, exact outside ``p_vap +- dp_cav``, at most
     ``dp_cav/4`` off inside, never below ``p_vap >= 0`` (no negative absolute
-    pressure); oil returning first fills the vapour volume. ``cavitation=
+    pressure); oil returning first fills the vapour volume. Below the clamp
+    the vapour volume is ``(Vc/K(p_vap))*(p_vap - p_law)``; with moving walls
+    the rate gains ``q_swept*(p_law - p)`` (zero above the clamp), so that the
+    oil's mass balance is exact there too, while oil flows and walls move
+    (tests/test_hydraulic_cavitation.py). ``cavitation=
     False`` drops the clamp (``p = p_law``, which may go negative): two such
     volumes joined directly become one (their pressures are aliases, an ODE
     for every back end). Joined cavitating volumes are a constraint between
@@ -64,6 +70,11 @@ class Volume(PartialOnePort):
         if law not in BULK_MODULUS_LAWS:
             raise ParameterError(f"Volume: unknown bulk-modulus law {law!r}; choose one of "
                                  + ", ".join(BULK_MODULUS_LAWS))
+        for other, names in LAW_PARAMETERS.items():
+            wrong = sorted(set(names) & set(params)) if other != law else []
+            if wrong:
+                raise ParameterError(f"Volume: {', '.join(wrong)} belong(s) to law={other!r}, "
+                                     f"not to this Volume's law={law!r}")
         self._law, self._swept, self._cavitation = law, swept, cavitation
         super().__init__(**params)
 
@@ -100,9 +111,15 @@ class Volume(PartialOnePort):
         Vc = self.Vc if self._swept else self.V
         clamp = (self.p_vap + smooth_ramp(self.p_law - self.p_vap, self.dp_cav)
                  if self._cavitation else self.p_law)
+        rate = self.modulus(self.p) * self.port.q
+        if self._swept and self._cavitation:
+            # below the clamp the vapour volume is (Vc/K)*(p_vap - p_law): moving
+            # walls change it by what they sweep, not in proportion, so the oil's
+            # mass balance stays exact (zero above the clamp, where p = p_law)
+            rate = rate + self.q_swept.value * (self.p_law - self.p)
         eqs = [eq(self.p, clamp),
                eq(self.port.p, self.p),
-               eq(Vc * der(self.p_law), self.modulus(self.p) * self.port.q)]
+               eq(Vc * der(self.p_law), rate)]
         if self._swept:
             eqs.append(eq(der(self.Vc), -self.q_swept.value))
         return eqs

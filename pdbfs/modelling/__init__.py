@@ -10,6 +10,7 @@ analysis, and the one CasADi DAE every back end consumes.
       aliases.py     alias elimination (derivatives included)
       blt.py         matching, BLT sorting, symbolic solution of linear blocks
       index.py       index reduction to any index (Pantelides, dummy derivatives)
+      reduced_start.py  declared starts of states index reduction made algebraic
     dae.py         the DAE (x, z, p, ode, alg, outputs, events) and its infos
 
 May import: pdbfs.errors only. Nothing here knows about solvers, C code,

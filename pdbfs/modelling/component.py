@@ -49,6 +49,11 @@ class Component:
         set_(self, "_children", {})
         set_(self, "_connections", [])
         set_(self, "_compiled", None)
+        # numbers given by the caller: a parameter that declare() then computes
+        # from others (a law's D, OilColumn's k from K and L) would lose them
+        # silently, so bind() refuses there a given value other than the default
+        set_(self, "_given", {n for n, v in values.items() if not isinstance(v, ca.SX)})
+        set_(self, "_declaring", True)
         decls = {}
         for cls in reversed(type(self).__mro__):
             for n, d in vars(cls).items():
@@ -56,11 +61,15 @@ class Component:
                     decls[n] = d
         for n, d in decls.items():
             self._add_param(n, d, values.pop(n, d.default))
+        # the rest may be parameters that declare() makes (a law's own, such as
+        # Volume(law="linear").K1): taken there, refused after it
+        set_(self, "_pending", values)
+        self.declare()
+        set_(self, "_declaring", False)
         if values:
             raise ParameterError(
                 f"{type(self).__name__}: unknown parameter(s) {', '.join(sorted(values))}; "
-                f"it has: {', '.join(decls) or 'none'}")
-        self.declare()
+                f"it has: {', '.join(self._params) or 'none'}")
 
     # -- what subclasses write ------------------------------------------------
     def declare(self):
@@ -89,6 +98,14 @@ class Component:
         """Give parameter ``name`` a new default (a number), or make it
         computed from others (an expression of their symbols)."""
         slot = self._params[name]
+        if isinstance(value, ca.SX) and name in self._given and self._declaring \
+                and slot.value != slot.decl.default:
+            mine = {x.element_hash() for x in ca.symvar(value)}
+            others = [n for n, p in self._params.items()
+                      if n != name and p.sym.element_hash() in mine] or ["the law's parameters"]
+            raise ParameterError(
+                f"{type(self).__name__}: {name} is computed from {', '.join(others)} here "
+                f"and cannot be given; set those instead")
         if not isinstance(value, ca.SX):
             value = slot.decl.check(value, f"{type(self).__name__}.{name}")
         slot.value = value
@@ -99,7 +116,7 @@ class Component:
             return
         if isinstance(value, Parameter):   # a parameter declared in declare()
             value.name = name
-            self._add_param(name, value, value.default)
+            self._add_param(name, value, self.__dict__.get("_pending", {}).pop(name, value.default))
             return
         if isinstance(value, Variable):
             slot = VarSlot(value, name)

@@ -17,6 +17,12 @@ become algebraic. All equations, differentiated or not, stay: the result is
 an index-1 DAE for IDAS (often an ODE after BLT), and the constraints hold
 along the solution. One level of differentiation is the special case of the
 two-volume and two-piston rigs.
+
+A state whose derivative alias elimination replaced by an expression (a
+piston's position, der = -A2/A1*v2 on an incompressible line) gets its own
+der() unknown and that replacement as an equation, so that the algorithm can
+differentiate it further and make the position algebraic (a cam driving a
+massless piston).
 """
 from __future__ import annotations
 
@@ -27,11 +33,13 @@ from scipy.sparse.csgraph import maximum_bipartite_matching
 
 from pdbfs.errors import ModelError
 
+ALIAS_DER = " by alias elimination"
 MAX_LEVEL = 8        # a structurally singular system would be differentiated for ever
 
 
 def reduce_index(eqs, unknowns, labels, states, algebraic, al, t, start=None):
-    """(equations, unknowns, labels, remaining states) with the singular part
+    """(equations, unknowns, labels, remaining states, the labels of the
+    constraints differentiated) with the singular part
     differentiated as often as needed and dummy derivatives chosen, or None
     where Pantelides' algorithm finds no regular system. ``start`` is
     (name -> start value, parameter symbols, their values) for the numerical
@@ -60,10 +68,31 @@ class _Pantelides:
         self.succ, self.pred, self.new = {}, {}, []
         # a state integrates its der() symbol, or the symbol its derivative is an alias of
         self.integrates = {}
+        self.own_der, self.own_labels = {}, []
         for v in states:
             d = v.der if v.der.name() not in al.gone else al.resolve(v.der)
             if d.is_symbolic() and d.name() != v.name and d.name() not in self.integrates:
                 self.integrates[d.name()] = v
+        have = {id(w) for w in self.integrates.values()}
+        for v in states:
+            if id(v) in have:
+                continue
+            # its derivative was eliminated as a scaled alias (a piston's position,
+            # der = -A2/A1*v2): it gets its own der() unknown and the alias as an
+            # equation, so that the reducer can differentiate it further and make the
+            # position algebraic (a cam driving a massless piston)
+            d = ca.SX.sym(f"der({v.name})")
+            self.integrates[d.name()] = v
+            self.own_der[v.name] = d
+            self.eqs.append((d - al.resolve(v.der), f"der({v.name}){ALIAS_DER}"))
+            self.parent.append(None)
+            self.level.append(0)
+            self.child.append(None)
+            self.slot[d.name()] = len(self.highest)
+            self.unknowns.append(d)
+            self.highest.append(d)
+            self.own_labels.append(d.name())
+            self.variables.add(d.name())
 
     def run(self) -> bool:
         while True:
@@ -100,6 +129,8 @@ class _Pantelides:
 
     def _derivative_of(self, s):
         n = s.name()
+        if n in self.own_der:
+            return self.own_der[n]
         if n in self.state_of:
             return self.state_of[n].der
         if n in self.succ:
@@ -141,8 +172,10 @@ class _Pantelides:
         while s.name() in self.pred:
             s = self.pred[s.name()]
         v = self.integrates.get(s.name()) or self.state_of.get(s.name())
-        if u.name() in self.pred and v is None:
+        if u.name() in self.pred and (v is None or v.name in self.own_der):
             return (0, ([d.name() for d in self.new].index(u.name()),))
+        if v is not None and v.name in self.own_der:
+            return (0, (-1,))                # an alias's position: algebraic before a state
         return (1, self.al.rank(v.name)) if v is not None else (2, (0,))
 
     def dummy_derivatives(self, labels, states, start):
@@ -167,8 +200,12 @@ class _Pantelides:
         made_algebraic = [self.integrates[d.name()] for d in picked if d.name() in self.integrates]
         gone = {id(v) for v in made_algebraic}
         return (self.eqs, self.unknowns + self.new + [v.sym for v in made_algebraic],
-                list(labels) + [d.name() for d in self.new] + [v.name for v in made_algebraic],
-                [v for v in states if id(v) not in gone])
+                list(labels) + self.own_labels + [d.name() for d in self.new]
+                + [v.name for v in made_algebraic],
+                [v for v in states if id(v) not in gone],
+                [self.eqs[i][1] for i in range(len(self.eqs))
+                 if self.level[i] == 0 and self.child[i] is not None
+                 and not self.eqs[i][1].endswith(ALIAS_DER)])
 
 
 def _choose(R, cand, need, start, where, owners):

@@ -20,6 +20,7 @@ from pdbfs.errors import ModelError, ParameterError
 
 from .aliases import Aliases
 from .blt import solve_blt
+from . import reduced_start
 from .index import overdetermined, reduce_index
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
@@ -54,7 +55,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         unknowns.append(v.sym)
         labels.append(v.name)
 
-    dropped = []                         # states made algebraic by index reduction
+    dropped, constraints = [], []        # states made algebraic by index reduction, and why
     try:
         solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
     except ModelError as singular:
@@ -69,7 +70,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
             _explain_state_constraint(flat, eqs, unknowns, states)
             raise singular from None
         dropped = [v for v in states if all(v is not w for w in reduced[3])]
-        eqs, unknowns, labels, states = reduced
+        eqs, unknowns, labels, states, constraints = reduced
 
     # everything in terms of (t, x, z, p)
     s_keys = ca.vertcat(*[s for s, _ in solved]) if solved else ca.SX(0, 1)
@@ -104,7 +105,8 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                                "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0)
-    _check_reduced_start(dae, dropped)
+    reduced_start.record(dae, dropped, constraints)
+    reduced_start.check(dae, dae.p_default())
     return dae
 
 
@@ -170,31 +172,6 @@ def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
                 f"{v.name} starts at {s_mine:g} {v.unit}, but {where} ties it to a value "
                 f"that starts at {s_theirs:g} {v.unit}; give rigidly connected bodies "
                 "consistent start values")
-
-
-def _check_reduced_start(dae, dropped):
-    """A state made algebraic by index reduction is computed from the
-    constraints: its declared start must be what they give (checked at the
-    default parameter values), or the user's start would be ignored silently."""
-    if not dropped:
-        return
-    p = dae.p_default()
-    x0 = np.array(dae.function("start")(p)).ravel()
-    z = np.array(ca.Function("z0", [dae.p], [dae.z0])(p)).ravel()
-    if not dae.is_ode:
-        rf = ca.rootfinder("z0", "newton", {"x": dae.z, "p": ca.vertcat(dae.t, dae.x, dae.p),
-                                            "g": dae.alg}, {"error_on_fail": False})
-        z = np.array(rf(z, np.concatenate([[0.0], x0, p]))).ravel()
-    y = np.array(dae.function("out")(0.0, x0, z, p)).ravel()
-    at = {n: k for k, n in enumerate(dae.y_names)}
-    for v in dropped:
-        mine = float(ca.Function("s", [dae.p], [ca.SX(_start(v))])(p))
-        theirs = y[at[v.name]]
-        if np.isfinite(theirs) and abs(mine - theirs) > 1e-8 * (1.0 + abs(mine) + abs(theirs)):
-            raise ModelError(
-                f"{v.name} starts at {mine:g} {v.unit}, but the constraint that index reduction "
-                f"solves for it gives {theirs:g} {v.unit} at the start: give start values "
-                "that satisfy the constraint")
 
 
 # -- constraints among states ----------------------------------------------------------

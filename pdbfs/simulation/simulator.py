@@ -19,7 +19,7 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError, SolverError
-from pdbfs.modelling import DAE, check_value
+from pdbfs.modelling import DAE, check_value, reduced_start
 
 from . import compiled as C
 from .failures import compiled_failure, walk_failure
@@ -94,12 +94,19 @@ class Simulator:
                 raise ParameterError(f"unknown parameter {name!r} of rig {dae.name}{hint}")
             info = dae.params[index[name]]
             p[index[name]] = check_value(value, name, info)
+        if params and getattr(dae, "reduced_starts", None):
+            # a start of a state index reduction made algebraic is not free: never ignored
+            reduced_start.check(dae, p, ParameterError)
         return p
 
     def start_vector(self, p, start=None) -> np.ndarray:
         x0 = np.array(self.dae.function("start")(p), dtype=float).ravel()
         index = {n: i for i, n in enumerate(self.dae.x_names)}
         for name, value in (start or {}).items():
+            if name in {n for n, *_ in getattr(self.dae, "reduced_starts", ())}:
+                raise ParameterError(
+                    f"{name} is not a state of rig {self.dae.name}: index reduction computes it "
+                    f"from {'; '.join(self.dae.reduced_by)}, so its start is not free")
             if name not in index:
                 raise ParameterError(f"{name!r} is not a state of rig {self.dae.name}; "
                                      f"states: {', '.join(self.dae.x_names)}")

@@ -19,7 +19,7 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError, PulseIncompleteWarning
-from pdbfs.modelling import check_value
+from pdbfs.modelling import check_value, reduced_start
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.summary import keys_for
 
@@ -80,6 +80,11 @@ class Runner:
                 except ParameterError as err:
                     error[i] = f"ParameterError: {err}"
                     break
+            if not error[i] and getattr(self.sim.dae, "reduced_starts", None):
+                try:                # a start index reduction computes is not free
+                    reduced_start.check(self.sim.dae, P[i], ParameterError)
+                except ParameterError as err:
+                    error[i] = f"ParameterError: {err}"
         ok = np.array([not e for e in error])
         summary = {k: ([""] * n if k in LIST_KEYS else np.full(n, np.nan)) for k in self.keys}
         results = [None] * n if self.settings.trajectories else []
