@@ -21,6 +21,7 @@ from pdbfs.errors import ModelError, ParameterError
 from .aliases import Aliases
 from .blt import solve_blt
 from .index import overdetermined, reduce_index
+from .initialization import attach_initial
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
@@ -105,6 +106,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0)
     _check_reduced_start(dae, dropped)
+    attach_initial(dae, flat, states, al, lambda e: final(_subst(e, p_old, p_new)))
     return dae
 
 
