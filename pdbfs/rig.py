@@ -38,6 +38,19 @@ class Rig(Component):
             if check is not None:
                 check(dt, kwargs.get("params"))
 
+    def linearize(self, at="start", **kwargs):
+        """State-space matrices A, B, C, D at ``at`` ("start", "steady" or a
+        time of a run, s); see pdbfs.simulation.linearize."""
+        from pdbfs.simulation.linearize import linearize
+        return linearize(self, at, **kwargs)
+
+    def modes(self, at="start", **kwargs):
+        """The rig's modes at ``at`` as a pandas DataFrame: omega (rad/s),
+        frequency (Hz), damping (ratio; NaN for a zero eigenvalue), shape
+        (amplitude by state name), eigenvalue; slowest first."""
+        from pdbfs.simulation.linearize import modes_frame
+        return modes_frame(self.linearize(at, **kwargs).modes())
+
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
         """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig;
         ``fmi_version=3`` writes FMI 3.0."""
