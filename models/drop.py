@@ -59,6 +59,8 @@ class DropRig(PaperRig):
 
     def __init__(self, law=None, rest: bool = False, **params):
         self._rest = bool(rest)
+        if self._rest:
+            self.name = "pdbfs_drop_rest"
         super().__init__(law=law, **params)
 
     def declare(self):

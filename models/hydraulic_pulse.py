@@ -44,6 +44,8 @@ class HydraulicPulseRig(Rig):
             raise ParameterError(f"HydraulicPulseRig: unknown supply {supply!r}; choose one of "
                                  + ", ".join(SUPPLIES))
         self._supply, self._line = supply, bool(line)
+        if self._line:
+            self.name = "pdbfs_hydraulic_pulse_line"
         super().__init__(**params)
 
     def declare(self):
