@@ -176,3 +176,20 @@ def test_cli_reports_the_solved_start_and_refuses_an_undetermined_one(tmp_path):
     assert r.returncode == 2
     assert r.stderr.count("\n") == 1 and "der(hammer.v) = 0" in r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "p").exists()
+
+
+def test_sweeps_start_each_point_from_its_solved_start():
+    import pdbfs
+    rig = hydraulic_pulse_rig(line=True)
+    sw = pdbfs.sweep(rig, {"supply.p0": [150e6, 200e6]}, t_end=0.02, n_out=401, backend="c")
+    got = sw.to_pandas()["peak_pressure"].to_numpy()
+    for p0, peak in zip((150e6, 200e6), got):
+        want = rig.simulate(0.02, n_out=401, params={"supply.p0": p0}).summary()
+        assert peak == pytest.approx(want["peak_pressure"], rel=1e-6)
+    assert got[1] > got[0] * 1.1     # the line's pressure follows the supply's
+
+
+def test_paths_that_cannot_solve_the_start_refuse_it():
+    from pdbfs.simulation import trajectory_function
+    with pytest.raises(ParameterError, match="solved at initialization"):
+        trajectory_function(drop_rig(rest=True), ["contact.fc"], 0.001, 11, inputs=["g"])

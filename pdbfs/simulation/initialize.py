@@ -66,6 +66,16 @@ def needs_solving(dae, initial) -> bool:
     return initial is not None or not all(fixed) or (dae.init is not None and dae.init.numel() > 0)
 
 
+def refuse_solved_start(dae, what: str):
+    """One line for the paths that start from the declared start values as a
+    function of the parameters (and so cannot take a solved start yet)."""
+    if needs_solving(dae, None):
+        free = [n for n, f in zip(dae.x_names, dae.x_fixed or []) if not f]
+        raise ParameterError(f"rig {dae.name}: its start is solved at initialization "
+                             f"({', '.join(free) or 'initial equations'}), which {what} does "
+                             "not do yet")
+
+
 def system(dae, initial):
     """(free state indices, equations in (t, x, z, p), their names)."""
     check_initial(initial, dae)
