@@ -62,12 +62,6 @@ class Rig(Component):
         if Path(path).is_dir():
             raise ExportError(f"{path}: is a folder; name the FMU file to write")
         dae = self.compile()
-        if not all(dae.x_fixed or ()) or (dae.init is not None and dae.init.numel()):
-            # the FMU would start from the guesses, not the solved start
-            free = [n for n, f in zip(dae.x_names, dae.x_fixed) if not f]
-            raise ExportError(f"rig {dae.name}: its start is solved at initialization "
-                              f"({', '.join(free) or 'initial equations'}), which the FMU "
-                              "does not do yet; export the rig with fixed start values")
         t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)
         kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))

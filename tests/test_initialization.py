@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from pdbfs.components import Fixed, Force, Mass, Spring
-from pdbfs.errors import ExportError, ModelError, ParameterError
+from pdbfs.errors import ModelError, ParameterError
 from pdbfs.models import drop_rig, hydraulic_pulse_rig, paper_rig
 from pdbfs.modelling import eq
 from pdbfs.rig import Rig
@@ -150,12 +150,6 @@ def test_hydraulic_line_starts_at_the_supply_pressure_on_both_back_ends(supply):
     guess = dict(zip(rig.compile().x_names, np.asarray(
         rig.compile().function("start")(rig.compile().p_default())).ravel()))
     assert guess["line.p_law"] == pytest.approx(101325.0)
-
-
-def test_fmu_export_of_a_solved_start_is_refused(tmp_path):
-    with pytest.raises(ExportError, match="solved at initialization"):
-        drop_rig(rest=True).export_fmu(tmp_path / "rest.fmu")
-    assert not (tmp_path / "rest.fmu").exists()
 
 
 def cli(*args, cwd):

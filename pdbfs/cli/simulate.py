@@ -22,8 +22,8 @@ def cmd_simulate(args):
     res.to_csv(out / "results.csv")
     res.plot(path=out / "results.png")
     if args.json:
-        print(json.dumps({**summary, "stats": res.stats, "initial": res.initial.to_dict()},
-                         allow_nan=False))
+        solved = {"initial": res.initial.to_dict()} if res.initial.solved else {}
+        print(json.dumps({**summary, "stats": res.stats, **solved}, allow_nan=False))
     else:
         print(f"rig {res.rig}: t = 0 .. {res.t[-1]:g} s, {len(res.t)} points")
         print_initial(res)
@@ -59,8 +59,8 @@ def add_parsers(sub):
     add_rig_options(s)
     add_run_options(s)
     add_initial_option(s)
-    add_output_options(s, json_help="print the summary, the solver statistics and the start "
-                       "as JSON")
+    add_output_options(s, json_help="print the summary, the solver statistics and (if it "
+                       "was solved) the start as JSON")
     s.set_defaults(func=cmd_simulate)
 
     s = sub.add_parser("params", help="list the parameters of a rig")

@@ -21,6 +21,8 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ModelError, ParameterError
+from pdbfs.modelling.initialization import (check_initial, needs_solving, start_residual,  # noqa: F401
+                                            start_system)
 
 MAX_ITER = 100
 STEP_TOL = 1e-13      # converged when every step is below this, relative to the unknown
@@ -49,23 +51,6 @@ class InitialState:
                 "max_residual": max(self.residuals.values(), default=0.0)}
 
 
-def check_initial(initial, dae):
-    """``initial`` is None, "steady" or a list of state names."""
-    if initial is None or initial == "steady":
-        return
-    if isinstance(initial, str) or not all(isinstance(n, str) for n in initial):
-        raise ParameterError(f"initial={initial!r}: give 'steady' or a list of state names")
-    bad = [n for n in initial if n not in dae.x_names]
-    if bad:
-        raise ParameterError(f"initial: {', '.join(bad)} not a state of rig {dae.name}; "
-                             f"states: {', '.join(dae.x_names)}")
-
-
-def needs_solving(dae, initial) -> bool:
-    fixed = dae.x_fixed or [True] * dae.x.numel()
-    return initial is not None or not all(fixed) or (dae.init is not None and dae.init.numel() > 0)
-
-
 def refuse_solved_start(dae, what: str):
     """One line for the paths that start from the declared start values as a
     function of the parameters (and so cannot take a solved start yet)."""
@@ -76,24 +61,6 @@ def refuse_solved_start(dae, what: str):
                              "not do yet")
 
 
-def system(dae, initial):
-    """(free state indices, equations in (t, x, z, p), their names)."""
-    check_initial(initial, dae)
-    nx = dae.x.numel()
-    fixed = list(dae.x_fixed or [True] * nx)
-    init = dae.init if dae.init is not None else ca.SX(0, 1)
-    names = list(dae.init_names)
-    if initial == "steady":     # at rest replaces the declared initial equations
-        steady = list(range(nx))
-        init, names = ca.SX(0, 1), []
-    else:
-        steady = [dae.x_names.index(n) for n in (initial or [])]
-    free = sorted(set(steady) | {i for i in range(nx) if not fixed[i]})
-    eqs = [init[k] for k in range(init.numel())] + [dae.ode[i] for i in steady]
-    names += [f"der({dae.x_names[i]}) = 0" for i in steady]
-    return free, eqs, names
-
-
 def solve_start(sim, p, x_guess, initial=None, t0=0.0):
     """(x0, InitialState): the start of a run, solved where the rig or
     ``initial`` asks (else x_guess as it is)."""
@@ -101,7 +68,7 @@ def solve_start(sim, p, x_guess, initial=None, t0=0.0):
     x_guess = np.asarray(x_guess, float)
     if not needs_solving(dae, initial):
         return x_guess, InitialState(dict(zip(dae.x_names, x_guess.tolist())))
-    free, eqs, eq_names = system(dae, initial)
+    free, eqs, eq_names = start_system(dae, initial)
     nz = dae.z.numel()
     unknowns = [dae.x_names[i] for i in free] + dae.z_names
     eq_names = eq_names + [f"algebraic equation {k + 1}" for k in range(nz)]
@@ -128,16 +95,8 @@ def _functions(sim, free, initial):
     F = sim._cache.get(key)
     if F is None:
         dae = sim.dae
-        _, eqs, _ = system(dae, initial)
-        wx = ca.SX.sym("wx", len(free))
-        w = ca.vertcat(wx, dae.z)
-        xs = ca.vertsplit(dae.x, 1) if dae.x.numel() else []
-        for k, i in enumerate(free):
-            xs[i] = wx[k]
-        G = ca.vertcat(*eqs, dae.alg) if (eqs or dae.z.numel()) else ca.SX(0, 1)
-        G = ca.substitute(G, dae.x, ca.vertcat(*xs)) if xs else G
-        xg = ca.SX.sym("xg", dae.x.numel())
-        G = ca.substitute(G, dae.x, xg) if xs else G       # the fixed states' values
+        _, eqs, _ = start_system(dae, initial)
+        w, xg, G = start_residual(dae, list(free), eqs)
         F = ca.Function("init", [w, dae.t, xg, dae.p], [G, ca.jacobian(G, w)])
         sim._cache[key] = F
     return F
