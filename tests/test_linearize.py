@@ -248,3 +248,22 @@ def test_cli_modes(tmp_path):
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "hammer.s" in r.stderr
     r = cli("modes", "--rig", "paper", "--at", "soon", cwd=tmp_path)
     assert r.returncode == 2 and "--at" in r.stderr
+
+
+def test_a_free_body_is_a_zero_mode_of_its_position_only():
+    # the drop rig before the blow: the falling hammer touches nothing
+    modes = drop_rig().linearize(0.1).modes()
+    zero = [m for m in modes if m.damping is None]
+    assert len(zero) == 2 and all(m.omega < 1e-9 for m in zero)
+    for m in zero:
+        assert abs(m.shape["hammer.s"]) == 1.0
+        assert all(v == 0.0 for n, v in m.shape.items() if n != "hammer.s")
+    # the piston and the breech on the oil and the mount, the seal damping the piston
+    P = {p.name: p.value for p in drop_rig().compile().params}
+    M = np.diag([P["piston.m"], P["breech.m"]])
+    K = np.array([[P["oil.k"], -P["oil.k"]], [-P["oil.k"], P["oil.k"] + P["mount.k"]]])
+    C = np.diag([P["seal.c"] + P["seal.F_c"] / P["seal.v_eps"], 0.0])
+    A = np.block([[np.zeros((2, 2)), np.eye(2)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+    want = sorted(abs(l) for l in np.linalg.eigvals(A) if l.imag > 0)
+    got = [m.omega for m in modes if m.damping is not None]
+    assert len(got) == 2 and all(close(a, b) for a, b in zip(got, want))

@@ -90,17 +90,20 @@ def modes_of(A, states, units=None) -> list:
             continue
         omega = float(abs(lk))
         damping = None if omega <= tiny else float(-lk.real / omega)
+        # a zero eigenvalue (a body free to drift) is defective: its vector is
+        # only good to about sqrt(eps), so units below 1e-4 of it are noise
         out.append(Mode(omega, omega / (2 * np.pi), damping,
-                        _shape(V[:, k], states, units), complex(lk)))
+                        _shape(V[:, k], states, units, 1e-4 if damping is None else 1e-13),
+                        complex(lk)))
     return out
 
 
-def _shape(v, states, units):
+def _shape(v, states, units, floor=1e-13):
     """Amplitudes by state, normalised within each unit (positions against
     positions, velocities against velocities, pressures against pressures:
     their sizes are not comparable), the largest of each unit +1 and the
-    signs relative to it; a unit that takes no part (below 1e-13 of the
-    largest entry) is 0."""
+    signs relative to it; a unit that takes no part (below ``floor`` times
+    the largest entry) is 0."""
     mag = np.abs(v)
     top = mag.max() if mag.max() > 0 else 1.0
     ref = {}
@@ -111,7 +114,7 @@ def _shape(v, states, units):
     out = {}
     for i, n in enumerate(states):
         r = ref[units.get(n, "")]
-        if mag[r] <= 1e-13 * top or mag[i] <= 1e-13 * mag[r]:
+        if mag[r] <= floor * top or mag[i] <= 1e-13 * mag[r]:
             out[n] = 0.0
             continue
         sign = -1.0 if (v[i] * np.conj(v[r])).real < 0 else 1.0
