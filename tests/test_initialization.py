@@ -12,7 +12,7 @@ import pytest
 from pdbfs.components import Fixed, Force, Mass, Spring
 from pdbfs.errors import ModelError, ParameterError
 from pdbfs.models import drop_rig, hydraulic_pulse_rig, paper_rig
-from pdbfs.modelling import eq
+from pdbfs.modelling import Component, Flange, Parameter, Variable, eq
 from pdbfs.rig import Rig
 
 TIGHT = dict(rtol=1e-10, atol=1e-12)
@@ -187,3 +187,48 @@ def test_paths_that_cannot_solve_the_start_refuse_it():
     from pdbfs.simulation import trajectory_function
     with pytest.raises(ParameterError, match="solved at initialization"):
         trajectory_function(drop_rig(rest=True), ["contact.fc"], 0.001, 11, inputs=["g"])
+
+
+class Hardening(Component):
+    """A spring f = k (s + b s^3) on its stretch s."""
+    k = Parameter(1.0, "N/m", "Stiffness", positive=True)
+    b = Parameter(0.0, "1/m2", "Cubic hardening")
+
+    def declare(self):
+        self.flange_a, self.flange_b = Flange(), Flange()
+        self.s = Variable("m", "Stretch")
+        self.f = Variable("N", "Force")
+
+    def equations(self):
+        return [eq(self.s, self.flange_b.s - self.flange_a.s),
+                eq(self.flange_b.f, self.f), eq(self.flange_a.f, -self.f),
+                eq(self.f, self.k * (self.s + self.b * self.s ** 3))]
+
+
+class Hanging(Rig):
+    """frame - two hardening springs in series (the node between them an
+    algebraic variable) - a body pulled by a force."""
+
+    def declare(self):
+        self.frame = Fixed()
+        self.a = Hardening(k=3000.0, b=5e4)
+        self.b = Hardening(k=6000.0, b=5e4)
+        self.body = Mass(m=2.0, v0=1.0, s0=0.0)
+        self.load = Force(F=400.0)
+        self.connect(self.frame.flange, self.a.flange_a)
+        self.connect(self.a.flange_b, self.b.flange_a)
+        self.connect(self.b.flange_b, self.body.flange_a)
+        self.connect(self.load.flange, self.body.flange_b)
+
+
+def test_steady_start_of_a_rig_with_algebraic_variables():
+    from scipy.optimize import brentq
+    rig = Hanging()
+    assert not rig.compile().is_ode
+    res = rig.simulate(0.05, n_out=51, initial="steady", **TIGHT)
+    stretch = [brentq(lambda s, k=k: k * (s + 5e4 * s ** 3) - 400.0, 0.0, 1.0, xtol=1e-15)
+               for k in (3000.0, 6000.0)]
+    assert res.initial["body.s"] == pytest.approx(sum(stretch), rel=1e-10)
+    assert res.initial["body.v"] == 0.0 or abs(res.initial["body.v"]) < 1e-15
+    assert "algebraic equation 1" in res.initial.equations
+    assert np.max(np.abs(res["body.v"])) < 1e-9 and np.ptp(res["body.s"]) < 1e-12
