@@ -60,9 +60,9 @@ def solved_start_function(dae, name: str = "pdbfs_start") -> ca.Function:
     xs = ca.vertsplit(xg0, 1)
     for k, i in enumerate(free):
         xs[i] = wx[k]
-    x = ca.densify(ca.vertcat(*xs))     # a structural zero cannot hold the NaN below
-    # x / 0 where the residual is too large (NaN compares false too): every
-    # entry then infinite or NaN, which ExitInitializationMode refuses
+    x = ca.densify(ca.vertcat(*xs))
+    # x / 0 where the residual is too large (a NaN residual compares false
+    # too): the start is then not finite, which ExitInitializationMode refuses
     out = x / ca.if_else(resid <= RESIDUAL_TOL, 1.0, 0.0)
     return ca.Function(name, [P], [out], ["p"], ["x0"])
 
