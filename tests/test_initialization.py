@@ -232,3 +232,27 @@ def test_steady_start_of_a_rig_with_algebraic_variables():
     assert res.initial["body.v"] == 0.0 or abs(res.initial["body.v"]) < 1e-15
     assert "algebraic equation 1" in res.initial.equations
     assert np.max(np.abs(res["body.v"])) < 1e-9 and np.ptp(res["body.s"]) < 1e-12
+
+
+class Charged(Rig):
+    """An accumulator behind a hose on a sealed line at 80 MPa: in equilibrium
+    with the line at the start."""
+
+    def declare(self):
+        from pdbfs.components.hydraulic import Accumulator, Orifice, Volume
+        self.acc = Accumulator(V0=4e-3, p_pre=60e6 / 4, p0=200e6, n=1.4, steady_start=True)
+        self.hose = Orifice(Cd=0.7, A=2e-4, dp_t=1e5)
+        self.line = Volume(V=0.5e-3, K=1.5e9, p0=80e6)
+        self.connect(self.acc.port, self.hose.port_a)
+        self.connect(self.hose.port_b, self.line.port)
+
+
+def test_an_accumulator_in_equilibrium_with_its_line():
+    res = Charged().simulate(0.01, n_out=11, **TIGHT)
+    assert res.initial.solved == ["acc.V_oil"]
+    # the gas law at the line's pressure: V_oil = V0 (1 - (p_pre / p)^(1/n))
+    want = 4e-3 * (1 - (15e6 / 80e6) ** (1 / 1.4))
+    assert res.initial["acc.V_oil"] == pytest.approx(want, rel=1e-10)
+    assert res["acc.p"][0] == pytest.approx(80e6, rel=1e-10)
+    # nothing flows: the line stays at its pressure
+    assert np.ptp(res["line.p"]) < 1e-6 * 80e6
