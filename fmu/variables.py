@@ -11,6 +11,7 @@ import numpy as np
 
 from pdbfs.errors import ExportError
 from pdbfs.modelling import DAE
+from pdbfs.modelling.initialization import start_pattern
 from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
 
 from . import units as _units
@@ -235,9 +236,10 @@ class FmuModel:
         outputs.sort()
         derivs = [(self.index[f"der({n})"], jf[k]) for k, n in enumerate(d.x_names)]
         # initial unknowns: dependencies on the parameters, with x = x0(p)
-        sub = lambda e: ca.substitute(e, d.x, d.x0)  # noqa: E731
+        x0 = start_pattern(d)  # a solved start depends on what its equations use
+        sub = lambda e: ca.substitute(e, d.x, x0)  # noqa: E731
         init = []
-        jx0 = _deps(ca.jacobian_sparsity(d.x0, d.p), p_idx)
+        jx0 = _deps(ca.jacobian_sparsity(x0, d.p), p_idx)
         jy0 = _deps(ca.jacobian_sparsity(sub(d.y), d.p), p_idx)
         jf0 = _deps(ca.jacobian_sparsity(sub(d.ode), d.p), p_idx)
         for k in range(self.nx):

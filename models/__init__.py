@@ -44,12 +44,16 @@ RIGS = {
     "bar-piston": bar_piston_rig,
     # gravity and a drop height: repeated blows
     "drop": drop_rig,
+    # ... the hammer resting on the piston: the start solved at static equilibrium
+    "drop-rest": lambda: drop_rig(rest=True),
     # the oil column from hydraulic components (issue 17): the paper's k2 as oil
     "paper-hydraulic": paper_hydraulic_rig,
     # ... with oil whose bulk modulus grows with pressure, in a chamber that shrinks
     "paper-hydraulic-oil": paper_hydraulic_oil_rig,
     # the conventional alternative: a chamber pressurised through a fast valve
     "hydraulic-pulse": hydraulic_pulse_rig,
+    # ... with a hose and a line that start at the supply pressure (solved)
+    "hydraulic-pulse-line": lambda: hydraulic_pulse_rig(line=True),
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",

@@ -22,6 +22,12 @@ bodies). With ``law=`` the contact's ``v_impact`` is bound to
 
 Every blow is reported by the summary: ``impact_count``, ``impact_times``,
 ``impact_peak_pressures`` (the summary role ``impact_indentation``).
+
+``DropRig(rest=True)`` (``--rig drop-rest``): the hammer rests on the
+piston instead, and the whole stack starts in static equilibrium under
+gravity, solved at initialization (every state free, ``der(x) = 0`` as the
+rig's initial equations; the contact carries the hammer's weight with the
+indentation ``(m g / k)^(1/n)``); ``h`` is then unused.
 """
 from __future__ import annotations
 
@@ -29,7 +35,7 @@ import casadi as ca
 
 from pdbfs.components import Gravity
 from pdbfs.components.laws import STANDARD_GRAVITY
-from pdbfs.modelling import Parameter
+from pdbfs.modelling import Parameter, der
 
 from .paper import PAPER_SIGNALS, PaperRig
 
@@ -50,6 +56,12 @@ class DropRig(PaperRig):
                   positive=True, tunable=False)
     g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration on every body",
                   min=0.0, tunable=False)
+
+    def __init__(self, law=None, rest: bool = False, **params):
+        self._rest = bool(rest)
+        if self._rest:
+            self.name = "pdbfs_drop_rest"
+        super().__init__(law=law, **params)
 
     def declare(self):
         super().declare()   # the paper's rig ...
@@ -72,11 +84,23 @@ class DropRig(PaperRig):
         # the hammer is released at rest, h above the piston face
         self.hammer.bind("v0", 0.0)
         self.hammer.bind("s0", s2 - self.h - self.contact.gap)
+        if self._rest:   # resting on it: a guess in contact, the start is solved
+            sink = (self.hammer.m * g / self.contact.k) ** (1.0 / self.contact.n)
+            self.hammer.bind("s0", s2 - self.contact.gap + sink)
+            for body in (self.hammer, self.piston, self.breech):
+                body.free("s", "v")
         if self._law is not None:
             self.contact.bind("v_impact", ca.sqrt(2.0 * g * self.h))
+
+    def initial_equations(self):
+        if not self._rest:
+            return []
+        return [der(x) for body in (self.hammer, self.piston, self.breech)
+                for x in (body.s, body.v)]
 
 
 def drop_rig(**kw) -> DropRig:
     """The rig with gravity, hammer dropped from ``h`` (parameter, default
-    0.38 m = 2.73 m/s at impact). ``law=`` as in paper_rig."""
+    0.38 m = 2.73 m/s at impact). ``law=`` as in paper_rig; ``rest=True``:
+    the hammer rests on the piston, the start solved at equilibrium."""
     return DropRig(**kw)

@@ -11,6 +11,11 @@ orifice lets the chamber down to the tank.
 The defaults give a pulse like the gun's (and the paper rig's): 95 MPa
 peak at 5.5 ms, 14 ms above 1 % of the peak (accumulator supply).
 
+``line=True`` (``--rig hydraulic-pulse-line``): a hose (an orifice) and a
+line volume between the supply and the valve; the line starts at the supply
+pressure, solved at initialization (``Volume(steady_start=True)``: no flow
+through the hose at t = 0).
+
 The orifices round their square-root law below 0.1 MPa (``dp_t``; the
 flow is then within 0.25 % of the turbulent law from 1 MPa up): with the
 components' default of 1 kPa the draining chamber is stiff at the end of
@@ -34,11 +39,13 @@ class HydraulicPulseRig(Rig):
     name = "pdbfs_hydraulic_pulse"
     summary_signals = PULSE_SIGNALS
 
-    def __init__(self, supply: str = "accumulator", **params):
+    def __init__(self, supply: str = "accumulator", line: bool = False, **params):
         if supply not in SUPPLIES:
             raise ParameterError(f"HydraulicPulseRig: unknown supply {supply!r}; choose one of "
                                  + ", ".join(SUPPLIES))
-        self._supply = supply
+        self._supply, self._line = supply, bool(line)
+        if self._line:
+            self.name = "pdbfs_hydraulic_pulse_line"
         super().__init__(**params)
 
     def declare(self):
@@ -51,11 +58,17 @@ class HydraulicPulseRig(Rig):
         self.chamber = Volume(V=1e-3, K=1.5e9)
         self.drain = Orifice(Cd=0.7, A=4e-5, dp_t=1e5)
         self.tank = Tank()
-        self.connect(self.supply.port, self.valve.port_a)
+        if self._line:   # hose and line: the line's start pressure is solved
+            self.hose = Orifice(Cd=0.7, A=2e-4, dp_t=1e5)
+            self.line = Volume(V=0.5e-3, K=1.5e9, steady_start=True)
+            self.connect(self.supply.port, self.hose.port_a)
+            self.connect(self.hose.port_b, self.line.port, self.valve.port_a)
+        else:
+            self.connect(self.supply.port, self.valve.port_a)
         self.connect(self.valve.port_b, self.chamber.port, self.drain.port_a)
         self.connect(self.drain.port_b, self.tank.port)
 
 
 def hydraulic_pulse_rig(**kw) -> HydraulicPulseRig:
-    """The valve-driven pulse rig; ``supply`` as in HydraulicPulseRig."""
+    """The valve-driven pulse rig; ``supply`` and ``line`` as in HydraulicPulseRig."""
     return HydraulicPulseRig(**kw)

@@ -38,6 +38,19 @@ class Rig(Component):
             if check is not None:
                 check(dt, kwargs.get("params"))
 
+    def linearize(self, at="start", **kwargs):
+        """State-space matrices A, B, C, D at ``at`` ("start", "steady" or a
+        time of a run, s); see pdbfs.simulation.linearize."""
+        from pdbfs.simulation.linearize import linearize
+        return linearize(self, at, **kwargs)
+
+    def modes(self, at="start", **kwargs):
+        """The rig's modes at ``at`` as a pandas DataFrame: omega (rad/s),
+        frequency (Hz), damping (ratio; NaN for a zero eigenvalue), shape
+        (amplitude by state name), eigenvalue; slowest first."""
+        from pdbfs.simulation.linearize import modes_frame
+        return modes_frame(self.linearize(at, **kwargs).modes())
+
     def export_fmu(self, path="pdbfs.fmu", **kwargs):
         """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig;
         ``fmi_version=3`` writes FMI 3.0."""
@@ -48,10 +61,11 @@ class Rig(Component):
         check_fmi_version(kwargs.get("fmi_version", 2))   # before the rig is compiled
         if Path(path).is_dir():
             raise ExportError(f"{path}: is a folder; name the FMU file to write")
+        dae = self.compile()
         t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)
         kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))
-        return export_fmu(self.compile(), path, **kwargs)
+        return export_fmu(dae, path, **kwargs)
 
     def parameters(self):
         """The rig's free parameters (ParamInfo), in the DAE's order."""

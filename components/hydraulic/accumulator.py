@@ -16,7 +16,12 @@ class Accumulator(PartialOnePort):
     oil). The oil is taken as incompressible beside the gas. Drawn below
     empty (``V_oil < 0``, ``p < p_pre``) the gas law is continued (a real
     bladder would close its poppet): keep ``p0 >= p_pre`` and watch
-    ``V_oil``."""
+    ``V_oil``.
+
+    ``steady_start=True``: in equilibrium with its line at the start (no oil
+    flows in, ``der(V_oil) = 0``); the oil it holds is then solved at
+    initialization and ``p0`` is only a guess (the line behind a
+    resistance, e.g. a Volume, must fix the pressure)."""
 
     closable = True
     V0 = Parameter(1e-3, "m3", "Gas volume at precharge (the accumulator's size)",
@@ -27,11 +32,19 @@ class Accumulator(PartialOnePort):
     n = Parameter(1.4, "1", "Polytropic exponent of the gas (1 isothermal, 1.4 adiabatic)",
                   min=1.0, max=1.67, tunable=False)
 
+    def __init__(self, steady_start: bool = False, **params):
+        self._steady_start = bool(steady_start)
+        super().__init__(**params)
+
     def declare(self):
         super().declare()
         self.V_oil = State("m3", "Oil volume held",
-                           start=self.V0 * (1.0 - (self.p_pre / self.p0) ** (1.0 / self.n)))
+                           start=self.V0 * (1.0 - (self.p_pre / self.p0) ** (1.0 / self.n)),
+                           fixed=not self._steady_start)
         self.p = Variable("Pa", "Gas and oil pressure (absolute)", output=True)
+
+    def initial_equations(self):
+        return [der(self.V_oil)] if self._steady_start else []
 
     def equations(self):
         return [eq(der(self.V_oil), self.port.q),

@@ -46,7 +46,9 @@ class Volume(PartialOnePort):
     (tests/test_hydraulic_cavitation.py). ``cavitation=
     False`` drops the clamp (``p = p_law``, which may go negative): two such
     volumes joined directly become one (their pressures are aliases, an ODE
-    for every back end). Joined cavitating volumes are a constraint between
+    for every back end). ``steady_start=True``: the start pressure is solved
+    at initialization so that no oil flows in (``p0`` is then a guess): a
+    line in equilibrium with its supply. Joined cavitating volumes are a constraint between
     states that the compiler reduces by one differentiation: all but one of
     their ``p_law`` become algebraic (their start values are then only
     guesses), the rig needs IDAS (backend "casadi"), and the reduction
@@ -66,7 +68,7 @@ class Volume(PartialOnePort):
                        "p_vap (0: a sharp clamp)", min=0.0, tunable=False)
 
     def __init__(self, law: str = "constant", swept: bool = False, cavitation: bool = True,
-                 **params):
+                 steady_start: bool = False, **params):
         if law not in BULK_MODULUS_LAWS:
             raise ParameterError(f"Volume: unknown bulk-modulus law {law!r}; choose one of "
                                  + ", ".join(BULK_MODULUS_LAWS))
@@ -76,6 +78,9 @@ class Volume(PartialOnePort):
                 raise ParameterError(f"Volume: {', '.join(wrong)} belong(s) to law={other!r}, "
                                      f"not to this Volume's law={law!r}")
         self._law, self._swept, self._cavitation = law, swept, cavitation
+        # steady_start: the start pressure is solved (p0 only a guess) so that no
+        # oil flows in at t = 0, i.e. in equilibrium with what feeds the chamber
+        self._steady_start = steady_start
         super().__init__(**params)
 
     def declare(self):
@@ -83,7 +88,7 @@ class Volume(PartialOnePort):
         self.p = Variable("Pa", "Oil pressure (absolute)", output=True)
         self.p_law = State("Pa", "Pressure of the compression law before the cavitation clamp "
                            "(below p_vap: the vapour volume, in pressure units)", start=self.p0,
-                           output=False)
+                           output=False, fixed=not self._steady_start)
         if self._law == "linear":
             self.K1 = Parameter(7.5, "1", "Growth of the bulk modulus with pressure, dK/dp",
                                 min=0.0)
@@ -123,6 +128,9 @@ class Volume(PartialOnePort):
         if self._swept:
             eqs.append(eq(der(self.Vc), -self.q_swept.value))
         return eqs
+
+    def initial_equations(self):
+        return [der(self.p_law)] if self._steady_start else []
 
     def events(self):
         return [(self.p_law - self.p_vap, "cavitation")] if self._cavitation else []

@@ -1,4 +1,4 @@
-"""Command line: ``pdbfs simulate | params | export-fmu | sweep | sensitivity | reproduce |
+"""Command line: ``pdbfs simulate | params | export-fmu | modes | sweep | sensitivity | reproduce |
 calibrate | design | design-map | app``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
@@ -15,9 +15,9 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import app, calibrate, design, reproduce, sensitivity, simulate, sweep
+from . import app, calibrate, design, modes, reproduce, sensitivity, simulate, sweep
 
-COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design, app)
+COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, app)
 
 
 def build_parser():

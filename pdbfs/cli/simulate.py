@@ -5,6 +5,7 @@ import json
 
 from .common import (add_output_options, add_rig_options, add_run_options, check_output_file,
                      horizon, parse_sets, prepare_out, print_summary, rig_by_name)
+from .modes import add_initial_option, parse_initial, print_initial
 
 
 def cmd_simulate(args):
@@ -13,16 +14,19 @@ def cmd_simulate(args):
     out = prepare_out(args.out)
     # rigs may suggest their own horizon (the drop rig needs about a second)
     t_end, n_out = horizon(args, rig)
-    res = rig.simulate(t_end, n_out=n_out, params=params,
+    initial = parse_initial(args.initial)
+    res = rig.simulate(t_end, n_out=n_out, params=params, initial=initial,
                        rtol=args.rtol, method=args.method, backend=args.backend)
     summary = res.summary()
     out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "results.csv")
     res.plot(path=out / "results.png")
     if args.json:
-        print(json.dumps({**summary, "stats": res.stats}, allow_nan=False))
+        solved = {"initial": res.initial.to_dict()} if res.initial.solved else {}
+        print(json.dumps({**summary, "stats": res.stats, **solved}, allow_nan=False))
     else:
         print(f"rig {res.rig}: t = 0 .. {res.t[-1]:g} s, {len(res.t)} points")
+        print_initial(res)
         print_summary(summary)
         st = res.stats
         print(f"  solver: {st.get('method')} ({st.get('backend')}), {st.get('steps')} steps, "
@@ -54,7 +58,9 @@ def add_parsers(sub):
     s = sub.add_parser("simulate", help="simulate a rig, write results.csv and a plot")
     add_rig_options(s)
     add_run_options(s)
-    add_output_options(s, json_help="print the summary and the solver statistics as JSON")
+    add_initial_option(s)
+    add_output_options(s, json_help="print the summary, the solver statistics and (if it "
+                       "was solved) the start as JSON")
     s.set_defaults(func=cmd_simulate)
 
     s = sub.add_parser("params", help="list the parameters of a rig")

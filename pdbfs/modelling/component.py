@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import casadi as ca
 
-from pdbfs.errors import ConnectError, ParameterError
+from pdbfs.errors import ConnectError, ModelError, ParameterError
 
 from .connectors import Connector
 from .flatten import flatten
@@ -82,6 +82,21 @@ class Component:
     def events(self) -> list:
         """(expression, label) pairs whose sign changes mark non-smooth points."""
         return []
+
+    def initial_equations(self) -> list:
+        """Residuals that hold at the start only (may use der()); together they
+        determine the states declared ``fixed=False`` (initialization.py)."""
+        return []
+
+    def free(self, *names: str):
+        """Make the start of states ``names`` of this component free (only a
+        guess, solved from initial equations), as Modelica's ``fixed=false``."""
+        for n in names:
+            slot = self._vars.get(n)
+            if slot is None or not slot.decl.is_state:
+                raise ModelError(f"{self.label()}: {n!r} is not a state of it")
+            slot.decl.fixed = False
+        object.__setattr__(self, "_compiled", None)
 
     # -- declaration plumbing -------------------------------------------------
     def _add_param(self, name, decl, value):

@@ -61,6 +61,11 @@ class DAE:
     calculated: dict[str, tuple[ca.SX, VarInfo]] = field(default_factory=dict)
     # initial guess of z for IDAS (declared start values, else 0), function of p
     z0: ca.SX | None = None
+    # initialization (initialization.py): which starts are fixed, and the
+    # initial equations in (t, x, z, p) with where each comes from
+    x_fixed: list[bool] | None = None
+    init: ca.SX | None = None
+    init_names: list[str] = field(default_factory=list)
 
     def __getstate__(self):
         """Pickle the model, not its caches (functions, integrators, compiled

@@ -37,6 +37,7 @@ class FlatVar:
     output: bool
     rank: int             # preference to keep under alias elimination (higher keeps)
     der: ca.SX | None = None
+    fixed: bool = True    # start is fixed (False: a guess, solved at initialization)
 
 
 @dataclass
@@ -46,6 +47,7 @@ class FlatSystem:
     vars: list[FlatVar] = field(default_factory=list)
     equations: list[tuple[ca.SX, str]] = field(default_factory=list)
     events: list[tuple[ca.SX, str]] = field(default_factory=list)
+    initial: list[tuple[ca.SX, str]] = field(default_factory=list)   # initial equations
 
 
 def _join(prefix, name):
@@ -77,6 +79,8 @@ def flatten(root) -> FlatSystem:
                   comp.events()) for comp in root.walk()]
     for comp, eqs, _ in local_eqs:
         _check_balance(comp, sum(r.numel() for r in eqs))
+    local_init = [(comp, [r if isinstance(r, ca.SX) else ca.SX(r)
+                          for r in comp.initial_equations()]) for comp in root.walk()]
     for comp in root.walk():
         prefix = comp.path()
         for p in comp._params.values():
@@ -84,8 +88,9 @@ def flatten(root) -> FlatSystem:
                                          p.decl, p.value))
         for v in comp._vars.values():
             d = v.decl
-            add_var(_join(prefix, v.name), v.sym, d.unit, d.description, d.is_state, d.start,
-                    d.output or d.is_state, 2)
+            fv = add_var(_join(prefix, v.name), v.sym, d.unit, d.description, d.is_state,
+                         d.start, d.output or d.is_state, 2)
+            fv.fixed = getattr(d, "fixed", True)
         for c in comp._connectors.values():
             for local_name, sym, unit, desc, _ in c.variables():
                 add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,
@@ -109,6 +114,11 @@ def flatten(root) -> FlatSystem:
                 later.equation(flat.equations, rk, f"{where}, equation {i + 1}")
         for expr, label in events:
             later.equation(flat.events, expr, _join(comp.path(), label))
+
+    for comp, eqs in local_init:
+        for i, r in enumerate(eqs):
+            for rk in (ca.vertsplit(ca.vec(r), 1) if r.numel() > 1 else [r]):
+                later.equation(flat.initial, rk, f"{comp.label()}, initial equation {i + 1}")
 
     _connection_equations(root, flat, later)
     later.apply(ca.vertcat(*old), ca.vertcat(*new))

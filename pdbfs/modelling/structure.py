@@ -22,6 +22,7 @@ from .aliases import Aliases
 from .blt import solve_blt
 from . import reduced_start
 from .index import overdetermined, reduce_index
+from .initialization import attach_initial
 from .dae import DAE, ParamInfo, VarInfo
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
@@ -107,6 +108,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                event_names=[w for _, w in events], calculated=calculated, z0=z0)
     reduced_start.record(dae, dropped, constraints)
     reduced_start.check(dae, dae.p_default())
+    attach_initial(dae, flat, states, al, lambda e: final(_subst(e, p_old, p_new)))
     return dae
 
 

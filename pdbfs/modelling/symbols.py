@@ -78,12 +78,15 @@ class Variable:
 
 class State(Variable):
     """A variable that appears differentiated; ``start`` is a number or an
-    expression of the component's parameters."""
+    expression of the component's parameters. ``fixed=False`` (Modelica's
+    word) makes ``start`` only a guess: the state's start is then solved
+    from initial equations (``Component.initial_equations``)."""
 
     is_state = True
 
-    def __init__(self, unit: str, description: str, *, start=0.0, output=True):
+    def __init__(self, unit: str, description: str, *, start=0.0, output=True, fixed=True):
         super().__init__(unit, description, output=output, start=start)
+        self.fixed = bool(fixed)
 
 
 # der() symbols, keyed by the element hash of the variable they differentiate.

@@ -5,6 +5,8 @@ points with dense output), and the static SUNDIALS it needs (located, or
 built once with SUNDIALS' own CMake by ``build_sundials.sh``).
 
     codegen.py          model functions -> C; compile and link commands
+    initial.py          a solved start (initial equations) as a C-generatable
+                        damped Newton of the parameters
     sundials.py         find_sundials(): an install prefix of CVODE
     build_sundials.sh   SUNDIALS' CMake build, cached under ~/.cache/pdbfs
     c/pdbfs_cvode.[ch]  the CVODE driver

@@ -27,6 +27,9 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 
+from pdbfs.modelling.initialization import needs_solving
+
+from .initial import solved_start_function
 from .sundials import Sundials, find_sundials
 
 #: the C shared by every generated binary: CVODE through the events
@@ -71,7 +74,9 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
         "jac": lambda: ca.Function("pdbfs_jac", args, [ca.jacobian(dae.ode, dae.x)], names, ["jac"]),
         "out": lambda: ca.Function("pdbfs_out", args, [ca.densify(dae.y)], names, ["y"]),
         "events": lambda: ca.Function("pdbfs_events", args, [ca.densify(dae.events)], names, ["e"]),
-        "start": lambda: ca.Function("pdbfs_start", [dae.p], [ca.densify(dae.x0)], ["p"], ["x0"]),
+        # a solved start (initial equations, free states): Newton in the C (initial.py)
+        "start": lambda: solved_start_function(dae) if needs_solving(dae) else
+        ca.Function("pdbfs_start", [dae.p], [ca.densify(dae.x0)], ["p"], ["x0"]),
         "calc": lambda: ca.Function("pdbfs_calc", [dae.p],
                                     [ca.densify(calc_expr if calc_expr is not None else ca.SX(0, 1))],
                                     ["p"], ["c"]),

@@ -11,6 +11,10 @@
     summary_run.py the summary's own solution: a fixed grid, until the pulse is over
     impulse.py     impulses and Guo & Batzer's restitution (the one implementation)
     stats.py       solver statistics under one set of names
+    initialize.py  the start solved before integration: free states, initial
+                   equations, initial="steady" (Newton, exact Jacobian)
+    linearize.py   A, B, C, D at an operating point (algebraic variables
+                   eliminated), modes: omega, frequency, damping, shape
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows
@@ -25,7 +29,8 @@ from .simulator import MAX_NUM_STEPS, Simulator, simulate
 from .summary import KEYS as SUMMARY_KEYS
 from .summary import UNITS as SUMMARY_UNITS
 from .summary import summarize
+from .linearize import Linearization, linearize
 from .trajectory import trajectory_function
 
 __all__ = ["Result", "Simulator", "simulate", "MAX_NUM_STEPS", "summarize", "SUMMARY_KEYS",
-           "SUMMARY_UNITS", "trajectory_function"]
+           "SUMMARY_UNITS", "trajectory_function", "linearize", "Linearization"]

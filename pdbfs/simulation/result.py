@@ -34,6 +34,8 @@ class Result:
         self.units = {v.name: v.unit for v in dae.y_info}
         self.descriptions = {v.name: v.description for v in dae.y_info}
         self.params = dict(zip(dae.p_names, p.tolist()))
+        #: the start the run began from (initialize.InitialState), where known
+        self.initial = None
 
     @property
     def rig(self) -> str:

@@ -33,12 +33,18 @@ from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, output_g
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
              start=None, rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
              max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
-             backend: str = "casadi"):
+             backend: str = "casadi", initial=None):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
 
     t_out     output times (overrides t_end and n_out); must start at 0
     params    {dotted name: value} overriding parameter defaults
-    start     {state name: value} overriding start values
+    start     {state name: value} overriding start values (guesses of free ones)
+    initial   None: states start at their start values, free ones
+              (fixed=False) solved from the rig's initial equations;
+              "steady": every state at rest (der(x) = 0, solved; the
+              declared initial equations are not used); a list of state
+              names: those at rest, the rest as declared (initialize.py).
+              The start used is ``Result.initial``.
     rtol/atol relative and absolute tolerances of the integrator
     method    'auto' (the default: Adams unless a fast mode decays without
               oscillating, see stiffness.py), 'adams' (non-stiff) or 'bdf'
@@ -59,7 +65,7 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     sim = Simulator.of(model)
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,
                    method=method, max_step=max_step, max_num_steps=max_num_steps,
-                   backend=backend)
+                   backend=backend, initial=initial)
 
 
 class Simulator:
@@ -218,14 +224,16 @@ class Simulator:
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=1e-8, atol=1e-10, method="auto", max_step=None,
-            max_num_steps=MAX_NUM_STEPS, backend="casadi"):
+            max_num_steps=MAX_NUM_STEPS, backend="casadi", initial=None):
+        from .initialize import check_initial, solve_start
         from .result import Result
         self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
+        check_initial(initial, self.dae)
         if backend == "c" and self.dae.x.numel():
             self.compiled()          # a DAE rig is refused before anything else
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
-        x0 = self.start_vector(p, start)
+        x0, init = solve_start(self, p, self.start_vector(p, start), initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0])
         wall = time.perf_counter()
         if backend == "c":
@@ -236,7 +244,9 @@ class Simulator:
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
                         max_num_steps=max_num_steps, backend=backend)
-        return Result(self, grid, p, X, Z, settings, stats)
+        res = Result(self, grid, p, X, Z, settings, stats)
+        res.initial = init
+        return res
 
     grid = staticmethod(output_grid)
 

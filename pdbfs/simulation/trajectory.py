@@ -15,6 +15,7 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError
+from .initialize import refuse_solved_start
 from .simulator import MAX_NUM_STEPS, Simulator
 
 
@@ -42,6 +43,7 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     if unknown:
         sim.param_vector({unknown[0]: 0.0})   # raises the usual error, with suggestions
     p0 = sim.param_vector(params)
+    refuse_solved_start(dae, "trajectory_function")
 
     u = ca.MX.sym("p", len(inputs))
     p = ca.MX(p0)                         # dense MX column of the full parameter vector

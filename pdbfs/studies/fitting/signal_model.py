@@ -22,6 +22,7 @@ from scipy.interpolate import CubicHermiteSpline
 
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.initialize import refuse_solved_start
 
 #: spacing of the fine grid, s
 DT = 5e-6
@@ -131,6 +132,7 @@ class SignalModel:
             p[index[name]] = u[k]
         # the method "auto" picks at the start values: BDF for a stiff rig (a valve,
         # an orifice), whose sensitivities would cost Adams 50x the time
+        refuse_solved_start(dae, "calibration and design")
         method = sim.resolve_method("auto", self.p0, sim.start_vector(self.p0), t_end)
         F = sim.integrator(self.grid, rtol, atol, method, None)
         r = F(x0=dae.function("start")(p), p=p, z0=sim.z_guess(self.p0))

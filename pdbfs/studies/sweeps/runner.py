@@ -21,6 +21,7 @@ import numpy as np
 from pdbfs.errors import ParameterError, PdbfsError, PulseIncompleteWarning
 from pdbfs.modelling import check_value, reduced_start
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.initialize import needs_solving
 from pdbfs.simulation.summary import keys_for
 
 #: list-valued summary entries (one value per blow) are stored as JSON text
@@ -62,7 +63,9 @@ class Runner:
         self.base = sim.param_vector(fixed)
         self.keys = keys_for(dae)
         self.fast = None
-        if settings.backend == "c" and not settings.start and not settings.trajectories:
+        # the compiled batch starts from the declared starts: not for a solved start
+        if settings.backend == "c" and not settings.start and not settings.trajectories \
+                and not needs_solving(dae, None):
             lib = sim.compiled()
             if set(self.keys) <= set(lib.summary_keys):
                 self.fast = lib

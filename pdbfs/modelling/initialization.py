@@ -1,0 +1,112 @@
+"""What the start of a rig is made of, in the DAE's terms: which states
+start where their ``start`` says (``fixed``, the default) and which are
+free (``State(..., fixed=False)`` or ``Component.free``), and the initial
+equations the components declare (``initial_equations()``), expressed in
+(t, x, z, p) like every other equation: derivatives become the right-hand
+side of the ODE, aliases their replacements.
+
+``start_system`` and ``start_residual`` state the start as equations in
+the unknowns w = [free states; z]; solving them is the simulation's
+business (pdbfs.simulation.initialize) and the FMU's (pdbfs.native.initial).
+"""
+from __future__ import annotations
+
+import casadi as ca
+
+from pdbfs.errors import ModelError, ParameterError
+
+
+def attach_initial(dae, flat, states, al, final):
+    """Set ``dae.x_fixed``, ``dae.init`` and ``dae.init_names`` from the flat
+    system. ``final`` maps an expression of the flat symbols (parameters
+    substituted) to one of (t, x, z, p)."""
+    free = {v.name for v in states if not v.fixed}
+    # a free state eliminated as an alias frees the state that replaces it
+    x_names = {v.name for v in states}
+    for v, _, _ in al.states_gone:
+        if not v.fixed:
+            free |= {s.name() for s in ca.symvar(al.resolve(v.sym))} & x_names
+    dae.x_fixed = [v.name not in free for v in states]
+    if not flat.initial:
+        dae.init, dae.init_names = ca.SX(0, 1), []
+        return
+    exprs = final(ca.vertcat(*[e for e, _ in flat.initial]))
+    known = {s.name() for s in ca.symvar(ca.vertcat(dae.t, dae.x, dae.z, dae.p))}
+    for k, (_, where) in enumerate(flat.initial):
+        strangers = sorted({s.name() for s in ca.symvar(exprs[k])} - known)
+        if strangers:
+            raise ModelError(f"{where}: uses {', '.join(strangers)}, which the rig's simplified "
+                             "equations do not keep (a derivative of a variable that is not a "
+                             "state?)")
+    dae.init = exprs
+    dae.init_names = [w for _, w in flat.initial]
+
+
+def check_initial(initial, dae):
+    """``initial`` is None, "steady" or a list of state names."""
+    if initial is None or initial == "steady":
+        return
+    if isinstance(initial, str) or not all(isinstance(n, str) for n in initial):
+        raise ParameterError(f"initial={initial!r}: give 'steady' or a list of state names")
+    bad = [n for n in initial if n not in dae.x_names]
+    if bad:
+        raise ParameterError(f"initial: {', '.join(bad)} not a state of rig {dae.name}; "
+                             f"states: {', '.join(dae.x_names)}")
+
+
+def needs_solving(dae, initial=None) -> bool:
+    """Whether the start must be solved (free states, initial equations or ``initial``)."""
+    fixed = dae.x_fixed or [True] * dae.x.numel()
+    return initial is not None or not all(fixed) or (dae.init is not None and dae.init.numel() > 0)
+
+
+def start_system(dae, initial=None):
+    """(indices of the free states, equations in (t, x, z, p), their names)
+    of the start: the declared initial equations, or with ``initial="steady"``
+    der(x) = 0 for every state (which replaces them), or with a list of
+    states der(x) = 0 for those besides them."""
+    check_initial(initial, dae)
+    nx = dae.x.numel()
+    fixed = list(dae.x_fixed or [True] * nx)
+    init = dae.init if dae.init is not None else ca.SX(0, 1)
+    names = list(dae.init_names)
+    if initial == "steady":
+        steady = list(range(nx))
+        init, names = ca.SX(0, 1), []
+    else:
+        steady = [dae.x_names.index(n) for n in (initial or [])]
+    free = sorted(set(steady) | {i for i in range(nx) if not fixed[i]})
+    eqs = [init[k] for k in range(init.numel())] + [dae.ode[i] for i in steady]
+    names += [f"der({dae.x_names[i]}) = 0" for i in steady]
+    return free, eqs, names
+
+
+def start_residual(dae, free, eqs):
+    """(w, xg, G): the unknowns w = [free states; z], a symbol xg for the
+    values of every state (the fixed ones are taken from it) and the
+    residuals G(w, t, xg, p) = [eqs; algebraic equations]."""
+    wx = ca.SX.sym("wx", len(free))
+    w = ca.vertcat(wx, dae.z)
+    xg = ca.SX.sym("xg", dae.x.numel())
+    xs = ca.vertsplit(xg, 1) if dae.x.numel() else []
+    for k, i in enumerate(free):
+        xs[i] = wx[k]
+    G = ca.vertcat(*eqs, dae.alg) if (eqs or dae.z.numel()) else ca.SX(0, 1)
+    if xs:
+        G = ca.substitute(G, dae.x, ca.vertcat(*xs))
+    return w, xg, G
+
+
+def start_pattern(dae):
+    """An expression of p with the dependency pattern of the solved start
+    (for the FMU's InitialUnknowns): a free state depends on every
+    parameter the start system uses (the fixed states' starts included)."""
+    if not needs_solving(dae):
+        return dae.x0
+    free, eqs, _ = start_system(dae)
+    _, xg, G = start_residual(dae, free, eqs)
+    G = ca.vertcat(ca.substitute(G, xg, dae.x0), *[dae.x0[i] for i in free])
+    used = [dae.p[j] for j in range(dae.p.numel()) if ca.depends_on(G, dae.p[j])]
+    link = sum(used, ca.SX(0.0))        # a structural term in each used parameter
+    return ca.vertcat(*[dae.x0[i] + link if i in free else dae.x0[i]
+                        for i in range(dae.x.numel())])
