@@ -12,8 +12,9 @@ from dash.exceptions import PreventUpdate
 
 from pdbfs.errors import PdbfsError
 
+from . import traces
 from .figures import pulse_figure
-from .page import controls, fmt, free_options, initial_settings, marks, study_defaults
+from .page import SHOWN, controls, fmt, free_options, initial_settings, marks, study_defaults
 from .workbench import workbench
 
 MAX_PINS = 5
@@ -22,7 +23,6 @@ LABELS = {"peak_pressure": "peak pressure", "time_of_peak": "time of peak",
           "peak_contact_force": "peak contact force",
           "max_piston_displacement": "max. piston displacement",
           "restitution_coefficient": "restitution"}
-SHOWN = {"Pa": (1e-6, "MPa"), "s": (1e3, "ms"), "N": (1e-3, "kN"), "m": (1e3, "mm")}
 
 
 def _apply(wb, values, changes):
@@ -123,31 +123,78 @@ def redraw(pins, trace, cal, des, settings):
     return draw(settings, pins, trace, cal, des)
 
 
+def page_hint(text: str) -> str:
+    """A solver's hint worded for the page (it has a method, not a max_step)."""
+    text = text.replace("try method='bdf' or a max_step", "try the method bdf (beside t_end)")
+    return text.replace("method='bdf'", "the method bdf (beside t_end)")
+
+
+def stale_figure(text: str) -> dict:
+    return {"data": [], "layout": {
+        "height": 300, "xaxis": {"visible": False}, "yaxis": {"visible": False},
+        "annotations": [{"text": text, "showarrow": False, "font": {"size": 14, "color": "#b00020"},
+                         "xref": "paper", "yref": "paper", "x": 0.5, "y": 0.5}]}}
+
+
+def run_args(settings) -> dict:
+    return {"t_end": settings.get("t_end"), "method": settings.get("method", "auto")}
+
+
 def draw(settings, pins, trace, cal, des):
     """The run of the settings: its figure (with pins, trace and fits), its
-    summary and a status line; a PdbfsError goes to the status line."""
+    summary and a status line. A failed run clears the plot and the summary
+    (they would show the last good run as if it were this one) and says why."""
     wb = workbench(settings["rig"])
     try:
-        res = wb.run(settings["values"])
-        rows = wb.summary(res)
+        out = wb.outcome(settings["values"], **run_args(settings))
     except PdbfsError as err:
-        return no_update, no_update, html.Span(str(err), style={"color": "#b00020"})
+        msg = page_hint(str(err))
+        summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}),
+                            html.Div("no result for these settings: the run failed",
+                                     id="run-failed", style={"color": "#b00020"})])
+        return (stale_figure("no result: the run failed (see the message above)"), summary,
+                html.Span(msg, style={"color": "#b00020"}, id="status-error"))
     pinned = []
     for pin in pins or []:
         try:
-            pinned.append((pin["label"], wb.curves(wb.run(pin["values"]))))
+            pinned.append((pin["label"], wb.outcome(pin["values"], **run_args(pin))["curves"]))
         except PdbfsError:
             continue
     overlays = []
     pressure_unit = "Pa"
     if trace:
-        overlays.append((f"trace {trace['name']}", trace["t"], trace["y"], pressure_unit))
+        try:
+            t, y = traces.load(trace)
+            overlays.append((f"trace {trace['name']}", *traces.decimate(t, y), pressure_unit))
+        except PdbfsError:
+            pass
     for label, r in (("calibrated fit", cal), ("designed pulse", des)):
         if r and r.get("t") and r.get("fit"):
             overlays.append((label, r["t"], r["fit"], r.get("unit", pressure_unit)))
-    fig = pulse_figure(wb.curves(res), pinned, overlays, title=f"rig {wb.name}")
-    summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}), _summary_table(rows)])
-    return fig, summary, f"backend {wb.backend}: {len(res.t)} points to {fmt(res.t[-1] * 1e3)} ms"
+    fig = pulse_figure(out["curves"], pinned, overlays, title=f"rig {wb.name}")
+    summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}), _summary_table(out["rows"])])
+    status = [f"backend {wb.backend}, method {settings.get('method', 'auto')}: {out['n']} points "
+              f"to {fmt(out['t_last'] * 1e3)} ms"]
+    status += [html.Div(note.split(": ", 1)[-1], className="note", style={"color": "#8a5a00"})
+               for note in out["notes"]]
+    return fig, summary, status
+
+
+def edit_run(t_end, method, settings, pins, trace, cal, des):
+    """The run length (ms) or the method changed: the run again, or the
+    field's one-line message."""
+    wb = workbench(settings["rig"])
+    try:
+        t, m = wb.check_run(t_end, method)
+    except PdbfsError as err:
+        return no_update, str(err), no_update, no_update, no_update
+    old = settings.get("t_end") or t
+    if abs(t - old) <= 1e-9 * old:        # the field's text of the same length
+        t = old
+    if t == settings.get("t_end") and m == settings.get("method"):
+        return no_update, None, no_update, no_update, no_update
+    settings = {**settings, "t_end": t, "method": m}
+    return (settings, None) + draw(settings, pins, trace, cal, des)
 
 
 def pin(_pin, _unpin, settings, pins):
@@ -156,21 +203,25 @@ def pin(_pin, _unpin, settings, pins):
     wb = workbench(settings["rig"])
     changed = [f"{k}={fmt(v)}" for k, v in settings["values"].items()
                if v != wb.defaults().get(k) and not (wb.height and k == wb.height.derived)]
-    label = f"pin {len(pins or []) + 1}" + (f" ({', '.join(changed[:2])})" if changed else " (defaults)")
-    return ((pins or []) + [{"label": label, "values": settings["values"]}])[-MAX_PINS:]
+    # numbered past every pin still shown: labels never repeat
+    number = 1 + max([int(p["label"].split()[1]) for p in pins or []] + [0])
+    label = f"pin {number}" + (f" ({', '.join(changed[:2])})" if changed else " (defaults)")
+    new = {"label": label, "values": settings["values"], **run_args(settings)}
+    return ((pins or []) + [new])[-MAX_PINS:]
 
 
-def upload(contents, filename, settings):
-    if contents is None:
+def upload(data, settings):
+    if not data:
         raise PreventUpdate
     wb = workbench(settings["rig"])
+    filename, contents = data.get("name"), data.get("contents")
     try:
         tr = wb.read_upload(filename, contents)
+        kept = traces.store(filename, tr.t, tr.y)
     except PdbfsError as err:
-        return no_update, str(err), no_update
-    info = f"{filename}: {len(tr.t)} samples, t = {fmt(tr.t[0])} .. {fmt(tr.t[-1])} s"
-    data = {"name": filename, "t": [float(x) for x in tr.t], "y": [float(x) for x in tr.y]}
-    return data, None, info
+        return no_update, str(err), None, None
+    info = f"{kept['name']}: {kept['n']} samples, t = {fmt(kept['t0'])} .. {fmt(kept['t1'])} s"
+    return kept, None, info, None
 
 
 def change_rig(rig, settings):
@@ -179,27 +230,30 @@ def change_rig(rig, settings):
     try:
         wb = workbench(rig)
     except PdbfsError as err:
-        return (no_update,) * 12 + (str(err),)
+        return (no_update,) * 18 + (str(err), str(err))
     opts = free_options(wb)
     s = initial_settings(wb)
-    picks = study_defaults(wb)
+    p = study_defaults(wb)
     return (controls(wb, s["values"]), s, [], None, opts, opts, opts, opts,
-            picks["cal-free"], picks["des-free"], picks["map-x"], picks["map-y"],
-            f"backend: {wb.backend_note}")
+            p["cal-free"], p["des-free"], p["map-x"], p["map-y"],
+            fmt(p["map-x-lo"]), fmt(p["map-x-hi"]), fmt(p["map-y-lo"]), fmt(p["map-y-hi"]),
+            fmt(s["t_end"] * 1e3), s["method"], f"backend: {wb.backend_note}", "")
 
 
 def download(_csv, _png, _json, settings):
     wb = workbench(settings["rig"])
     try:
         if ctx.triggered_id == "dl-csv":
-            return dcc.send_bytes(wb.results_csv(settings["values"]), "results.csv"), None
+            return dcc.send_bytes(wb.results_csv(settings["values"], **run_args(settings)),
+                                  "results.csv"), None
         if ctx.triggered_id == "dl-png":
-            return dcc.send_bytes(wb.results_png(settings["values"]), "results.png"), None
+            return dcc.send_bytes(wb.results_png(settings["values"], **run_args(settings)),
+                                  "results.png"), None
         if ctx.triggered_id == "dl-json":
             text = json.dumps(wb.settings_json(settings["values"]), indent=2)
             return dcc.send_string(text, "settings.json"), None
     except PdbfsError as err:
-        return no_update, str(err)
+        return no_update, page_hint(str(err))
     raise PreventUpdate
 
 
@@ -227,15 +281,26 @@ def register(app):
                  State("settings", "data"), State("pins", "data"),
                  prevent_initial_call=True)(pin)
     app.callback(Output("trace", "data"), Output("upload-msg", "children"),
-                 Output("trace-info", "children"),
-                 Input("upload", "contents"), State("upload", "filename"), State("settings", "data"),
+                 Output("trace-info", "children"), Output("upload-data", "data", allow_duplicate=True),
+                 Input("upload-data", "data"), State("settings", "data"),
                  prevent_initial_call=True)(upload)
+    app.callback(Output("settings", "data", allow_duplicate=True), Output("run-msg", "children"),
+                 Output("pulse", "figure", allow_duplicate=True),
+                 Output("summary", "children", allow_duplicate=True),
+                 Output("status", "children", allow_duplicate=True),
+                 Input("t-end", "value"), Input("method", "value"), State("settings", "data"),
+                 State("pins", "data"), State("trace", "data"), State("cal", "data"),
+                 State("des", "data"), prevent_initial_call=True)(edit_run)
     app.callback(Output("controls", "children"), Output("settings", "data", allow_duplicate=True),
                  Output("pins", "data", allow_duplicate=True), Output("cal", "data", allow_duplicate=True),
                  Output("cal-free", "options"), Output("des-free", "options"),
                  Output("map-x", "options"), Output("map-y", "options"),
                  Output("cal-free", "value"), Output("des-free", "value"),
-                 Output("map-x", "value"), Output("map-y", "value"), Output("backend", "children"),
+                 Output("map-x", "value"), Output("map-y", "value"),
+                 Output("map-x-lo", "value"), Output("map-x-hi", "value"),
+                 Output("map-y-lo", "value"), Output("map-y-hi", "value"),
+                 Output("t-end", "value"), Output("method", "value"),
+                 Output("backend", "children"), Output("rig-note", "children", allow_duplicate=True),
                  Input("rig", "value"), State("settings", "data"),
                  prevent_initial_call=True)(change_rig)
     app.callback(Output("download", "data"), Output("dl-msg", "children"),
