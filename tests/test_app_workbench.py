@@ -107,3 +107,136 @@ def test_long_actions_report_their_progress():
     cal = pdbfs.calibrate(paper_rig(), (res.t, res["oil.pressure"]), ["oil.k"], starts=1,
                           progress=runs.append)
     assert runs == list(range(1, cal.evaluations + 1))
+
+
+# -- issue 21: every value a field takes simulates or is refused -----------------------
+
+@pytest.mark.parametrize("name,text", [("hammer.v0", "1e300"), ("piston.v0", "1e308"),
+                                       ("hammer.m", "1e308"), ("hammer.v0", "-1e308"),
+                                       ("oil.k", "1e300"), ("seal.c", "5e-324")])
+def test_a_huge_value_simulates_or_is_refused_in_one_line(wb, name, text):
+    """No OverflowError: a value is refused with a ParameterError naming the
+    parameter, or its settings draw a slider and simulate (or fail to, with
+    the solver's own PdbfsError, which the page shows)."""
+    from pdbfs.errors import PdbfsError
+    try:
+        changed = wb.check(name, text)
+    except ParameterError as err:
+        assert str(err).startswith(name) and "\n" not in str(err)
+        return
+    for k, v in changed.items():
+        lo, hi = wb.control(k).slider_range(v)
+        assert math.isfinite(lo) and math.isfinite(hi) and lo < hi
+    try:
+        res = wb.run({**wb.defaults(), **changed})
+    except PdbfsError as err:
+        assert "\n" not in str(err)
+    else:
+        assert np.all(np.isfinite(res["oil.pressure"]))
+
+
+def test_an_impact_speed_whose_drop_height_overflows_is_refused(wb):
+    with pytest.raises(ParameterError, match=r"^hammer.v0 = 1e300 m/s: too large .*hammer.h"):
+        wb.check("hammer.v0", "1e300")
+
+
+def test_failed_runs_are_worded_for_the_page():
+    from pdbfs.app.interact import page_hint
+    msg = page_hint("rig pdbfs: the solver failed ...; try method='bdf' or a max_step (CVODE ...)")
+    assert "method='bdf'" not in msg and "max_step" not in msg and "method bdf" in msg
+    assert page_hint("...; use t_end >= 0.016 s (duration ...)") == \
+        "...; set t_end to 16 ms or more (duration ...)"
+
+
+def test_a_failed_run_clears_the_plot_and_the_summary():
+    """The page must not show the last good run under new settings."""
+    from pdbfs.app.interact import draw
+    settings = {"rig": "paper", "values": {**workbench("paper").defaults(), "oil.k": 1e30},
+                "t_end": 0.02, "method": "bdf"}
+    fig, summary, status = draw(settings, [], None, None, None)
+    assert fig["data"] == [] and "failed" in fig["layout"]["annotations"][0]["text"]
+    assert "sum-peak_pressure" not in str(summary) and "run-failed" in str(summary)
+    assert "solver failed" in str(status)
+
+
+def test_t_end_and_method_reach_the_run_and_the_hint_reaches_the_page(wb):
+    """A run cut off names on the page the t_end that would hold the pulse;
+    run at that length the pulse is complete, as simulate says."""
+    short = wb.outcome(wb.defaults(), t_end=0.005)
+    assert dict((k, v) for k, v, _ in short["rows"])["complete"] is False
+    assert len(short["notes"]) == 1 and "use t_end >= " in short["notes"][0]
+    need = float(short["notes"][0].split("use t_end >= ")[1].split(" s")[0])
+    full = wb.outcome(wb.defaults(), t_end=need, method="bdf")
+    rows = dict((k, v) for k, v, _ in full["rows"])
+    assert rows["complete"] is True and not full["notes"]
+    api = paper_rig().simulate(need, n_out=full["n"], backend=wb.backend, method="bdf").summary()
+    assert rows["pulse_duration"] == api["pulse_duration"]
+    assert wb.check_run("16", "adams") == (0.016, "adams")
+    for t_end, method, match in (("0", "auto", "positive"), ("abc", "auto", "not a number"),
+                                 ("1e9", "auto", "at most"), ("20", "rk4", "choose one of")):
+        with pytest.raises(ParameterError, match=match):
+            wb.check_run(t_end, method)
+
+
+def test_each_rig_declares_its_page_defaults():
+    """Calibration's free parameter and the design map's axes are the rig's
+    own (a hydraulic rig gets no mount.s_rel0, nor the paper's oil.k range)."""
+    from pdbfs.models import RIGS
+    for name in ("paper", "drop", "paper-hydraulic", "hydraulic-pulse"):
+        assert getattr(RIGS[name](), "page_defaults", None), name
+        wb_ = workbench(name)
+        d = wb_.study_defaults()
+        names = [c.name for c in wb_.controls]
+        for key in ("cal-free", "des-free"):
+            assert d[key] and all(n in names for n in d[key]), (name, key)
+        assert d["map-x"] in names and d["map-y"] in names and d["map-x"] != d["map-y"]
+        assert d["map-x-lo"] < d["map-x-hi"] and d["map-y-lo"] < d["map-y-hi"]
+        assert "mount.s_rel0" not in d["cal-free"]
+    assert workbench("hydraulic-pulse").study_defaults()["cal-free"] == ["chamber.K"]
+    assert workbench("drop").study_defaults()["map-x"] == "h"
+    k = workbench("paper-hydraulic").study_defaults()
+    assert k["map-y"] == "oil.K" and k["map-y-lo"] >= 1e9      # oil.K is about 2e9 Pa here
+
+
+def test_forged_upload_names_and_sizes_get_one_line(wb):
+    from pdbfs.app import traces
+    from pdbfs.app.interact import upload
+    rows = "".join(f"{k * 1e-3},{1 + (k == 5)}\n" for k in range(12))
+    ok = "data:text/csv;base64," + base64.b64encode(("t,p\n" + rows).encode()).decode()
+    settings = {"rig": "paper"}
+    for name, why in (("..", "not a plain file name"), ("a" * 300 + ".csv", "at most 255"),
+                      ("x\x00.csv", "NUL byte"), ("", "empty"), ("../etc/passwd", "not a plain"),
+                      ("/tmp/x.csv", "not a plain")):
+        kept, msg, _, _ = upload({"name": name, "contents": ok}, settings)
+        assert why in msg and msg.startswith("trace file ") and "\n" not in msg and \
+            "\x00" not in msg, (name, msg)
+    big = "data:text/csv;base64," + "A" * int(traces.MAX_UPLOAD * 4 / 3 + 8)
+    with pytest.raises(DataError, match=r"^trace file 'big.csv': 20.0 MB, more than the page"):
+        wb.read_upload("big.csv", big)
+    kept, msg, info, _ = upload({"name": "good.csv", "contents": ok}, settings)
+    assert msg is None and "12 samples" in info and set(kept) == {"key", "name", "n", "t0", "t1"}
+    t, y = traces.load(kept)
+    assert list(y) == [1.0] * 5 + [2.0] + [1.0] * 6
+    for forged in ({"key": "../../etc/passwd"}, {"key": "0" * 32}, None):
+        with pytest.raises(DataError):
+            traces.load(forged)
+
+
+def test_a_long_trace_is_drawn_decimated_with_its_peaks():
+    from pdbfs.app.traces import MAX_DRAWN, decimate
+    t = np.linspace(0, 1, 1_000_001)
+    y = np.sin(40 * t) + (t == t[777_777]) * 5.0
+    td, yd = decimate(t, y)
+    assert len(td) <= MAX_DRAWN + 1 and yd.max() == y.max() and yd.min() == y.min()
+    assert td[0] == 0 and td[-1] == 1 and np.all(np.diff(td) > 0)
+
+
+def test_a_run_is_kept_for_pins_and_undo(wb):
+    """Pins and going back to earlier settings do not simulate again."""
+    import time
+    s = {**wb.defaults(), "oil.k": 3.1e8}
+    first = wb.outcome(s, t_end=0.02)
+    t0 = time.perf_counter()
+    again = wb.outcome(dict(s), t_end=0.02)
+    assert again is first and time.perf_counter() - t0 < 0.01
+    assert wb.outcome(s, t_end=0.019) is not first

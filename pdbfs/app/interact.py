@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 from dash import ALL, Input, Output, State, ctx, dcc, html, no_update
 from dash.exceptions import PreventUpdate
@@ -124,9 +125,12 @@ def redraw(pins, trace, cal, des, settings):
 
 
 def page_hint(text: str) -> str:
-    """A solver's hint worded for the page (it has a method, not a max_step)."""
+    """A message worded for the page: it has a method field, not a max_step,
+    and its t_end field is in ms."""
     text = text.replace("try method='bdf' or a max_step", "try the method bdf (beside t_end)")
-    return text.replace("method='bdf'", "the method bdf (beside t_end)")
+    text = text.replace("method='bdf'", "the method bdf (beside t_end)")
+    return re.sub(r"use t_end >= ([0-9.eE+-]+) s",
+                  lambda m: f"set t_end to {float(m.group(1)) * 1e3:g} ms or more", text)
 
 
 def stale_figure(text: str) -> dict:
@@ -175,7 +179,8 @@ def draw(settings, pins, trace, cal, des):
     summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}), _summary_table(out["rows"])])
     status = [f"backend {wb.backend}, method {settings.get('method', 'auto')}: {out['n']} points "
               f"to {fmt(out['t_last'] * 1e3)} ms"]
-    status += [html.Div(note.split(": ", 1)[-1], className="note", style={"color": "#8a5a00"})
+    status += [html.Div(page_hint(note.split(": ", 1)[-1]), className="note",
+                        style={"color": "#8a5a00"})
                for note in out["notes"]]
     return fig, summary, status
 
