@@ -145,7 +145,9 @@ def test_the_layout_a_newcomer_sees(server, browser):
                                  ".getBoundingClientRect().bottom <= window.innerHeight")
     assert top, "the study tabs are below the fold"
     rects = browser.execute_script("""
-        const box = document.getElementById('controls').getBoundingClientRect();
+        const col = document.getElementById('controls').parentElement;   // it clips
+        const r = col.getBoundingClientRect();
+        const box = {left: r.left, right: r.left + col.clientWidth};     // no scroll bar
         return [...document.querySelectorAll('#controls .slider-box')].flatMap(s =>
             [...s.querySelectorAll('*')].filter(e => e.children.length === 0 && e.textContent.trim())
               .map(e => e.getBoundingClientRect())
@@ -184,3 +186,20 @@ def test_listening_beyond_this_machine_is_warned_about(tmp_path):
         proc.terminate()
         proc.wait(20)
     assert line.startswith("pdbfs: warning: --host 0.0.0.0: the page is open to every machine")
+
+
+def test_bar_piston_draws_its_parts_when_asked(server, browser):
+    load(browser, server)
+    _, text = shown_peak(browser)
+    browser.find_element(By.ID, "rig").click()
+    wait(browser, "[role=option]", lambda e: e.text == "bar-piston").click()
+    _, text = shown_peak(browser, text)
+    fields = browser.find_elements(By.CSS_SELECTOR, "#controls .field")
+    assert 15 < len(fields) < 30
+    browser.find_element(By.CSS_SELECTOR, "#parts input").click()
+    wait(browser, "#controls", lambda e: len(e.find_elements(By.CSS_SELECTOR, ".field")) > 200)
+    type_into(browser, "piston.E", "1.5e11")            # edits still reach the run
+    peak, _ = shown_peak(browser, text)
+    from pdbfs.models import RIGS
+    api = RIGS["bar-piston"]().simulate(0.02, params={"piston.E": 1.5e11}, backend="c")
+    assert peak == pytest.approx(api.summary()["peak_pressure"], rel=1e-9)

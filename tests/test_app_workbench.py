@@ -240,3 +240,17 @@ def test_a_run_is_kept_for_pins_and_undo(wb):
     again = wb.outcome(dict(s), t_end=0.02)
     assert again is first and time.perf_counter() - t0 < 0.01
     assert wb.outcome(s, t_end=0.019) is not first
+
+
+def test_repeated_parts_are_drawn_only_when_asked():
+    """bar-piston's 178 parameters of segments, links and seal parts cost the
+    browser 4-10 s per edit when drawn: the page draws the others first."""
+    from pdbfs.models import RIGS
+    bar = Workbench("bar-piston")
+    names = [c.name for c in bar.shown()]
+    assert "piston.L" in names and "oil.k" in names and "hammer.h" in names
+    assert not any(".seg" in n or ".link" in n or ".part" in n for n in names)
+    assert len(bar.shown(True)) == len(bar.controls) == len(RIGS["bar-piston"]().compile().params) + 1
+    assert "178 parameters of repeated parts" in bar.parts_note()
+    assert workbench("paper").shown() == workbench("paper").controls
+    assert workbench("paper").parts_note() == ""

@@ -15,7 +15,7 @@ from pdbfs.errors import PdbfsError
 
 from . import traces
 from .figures import pulse_figure
-from .page import SHOWN, controls, fmt, free_options, initial_settings, marks, study_defaults
+from .page import SHOWN, controls, parts_toggle, fmt, free_options, initial_settings, marks, study_defaults
 from .workbench import workbench
 
 MAX_PINS = 5
@@ -43,7 +43,8 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
     follow, the messages, and the new run drawn, all in one answer (one
     round trip per slider step)."""
     wb = workbench(settings["rig"])
-    names = [c.name for c in wb.controls]
+    shown = wb.shown(settings.get("parts", False))
+    names = [c.name for c in shown]
     sliders = [s["id"]["name"] for s in ctx.inputs_list[0]]
     if sliders != names:                  # the controls of another rig are being drawn
         raise PreventUpdate
@@ -66,7 +67,7 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
     elif isinstance(trig, dict):
         name = trig["name"]
         k = names.index(name)
-        c = wb.controls[k]
+        c = shown[k]
         if trig["type"] == "slider":
             s = slider_vals[k]
             if s is None or abs(s - c.to_slider(values[name])) < c.step / 2:
@@ -86,7 +87,7 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
         raise PreventUpdate
     values.update(changed)
     out_s, out_lo, out_hi, out_m, out_f = [], [], [], [], []
-    for k, (c, name) in enumerate(zip(wb.controls, names)):
+    for k, (c, name) in enumerate(zip(shown, names)):
         v = values[name]
         lo, hi = c.slider_range(v)
         moved = name in changed
@@ -235,14 +236,25 @@ def change_rig(rig, settings):
     try:
         wb = workbench(rig)
     except PdbfsError as err:
-        return (no_update,) * 18 + (str(err), str(err))
+        return (no_update,) * 18 + (str(err), str(err)) + (no_update,) * 3
     opts = free_options(wb)
     s = initial_settings(wb)
     p = study_defaults(wb)
+    toggle = parts_toggle(wb)
     return (controls(wb, s["values"]), s, [], None, opts, opts, opts, opts,
             p["cal-free"], p["des-free"], p["map-x"], p["map-y"],
             fmt(p["map-x-lo"]), fmt(p["map-x-hi"]), fmt(p["map-y-lo"]), fmt(p["map-y-hi"]),
-            fmt(s["t_end"] * 1e3), s["method"], f"backend: {wb.backend_note}", "")
+            fmt(s["t_end"] * 1e3), s["method"], f"backend: {wb.backend_note}", "",
+            toggle["options"], toggle["value"], toggle["style"])
+
+
+def show_parts(value, settings):
+    """The parameters of repeated parts drawn too, or not."""
+    parts = "parts" in (value or [])
+    if parts == settings.get("parts", False):
+        raise PreventUpdate
+    wb = workbench(settings["rig"])
+    return controls(wb, settings["values"], parts), {**settings, "parts": parts}
 
 
 def download(_csv, _png, _json, settings):
@@ -306,8 +318,13 @@ def register(app):
                  Output("map-y-lo", "value"), Output("map-y-hi", "value"),
                  Output("t-end", "value"), Output("method", "value"),
                  Output("backend", "children"), Output("rig-note", "children", allow_duplicate=True),
+                 Output("parts", "options"), Output("parts", "value"), Output("parts", "style"),
                  Input("rig", "value"), State("settings", "data"),
                  prevent_initial_call=True)(change_rig)
+    app.callback(Output("controls", "children", allow_duplicate=True),
+                 Output("settings", "data", allow_duplicate=True),
+                 Input("parts", "value"), State("settings", "data"),
+                 prevent_initial_call=True)(show_parts)
     app.callback(Output("download", "data"), Output("dl-msg", "children"),
                  Input("dl-csv", "n_clicks"), Input("dl-png", "n_clicks"), Input("dl-json", "n_clicks"),
                  State("settings", "data"), prevent_initial_call=True)(download)

@@ -45,17 +45,26 @@ def control_row(c: Control, value: float):
         html.Div(dcc.Slider(id={"type": "slider", "name": c.name}, min=lo, max=hi, step=c.step,
                             value=c.to_slider(value), marks=marks(c, lo, hi), updatemode="drag",
                             included=False, allow_direct_input=False),
-                 style={"padding": "0 26px"}, className="slider-box"),
+                 style={"padding": "0 34px"}, className="slider-box"),
         html.Div(id={"type": "msg", "name": c.name}, style=MSG, className="msg"),
     ], style={"padding": "4px 0", "borderBottom": "1px solid #eee"}, className="control")
 
 
-def controls(wb: Workbench, values: dict):
-    return [control_row(c, values[c.name]) for c in wb.controls]
+def controls(wb: Workbench, values: dict, parts: bool = False):
+    return [control_row(c, values[c.name]) for c in wb.shown(parts)]
+
+
+def parts_toggle(wb: Workbench):
+    """The checkbox that draws the parameters of repeated parts too (hidden
+    for a rig without them)."""
+    note = wb.parts_note()
+    return {"options": [{"label": " " + note, "value": "parts"}] if note else [], "value": [],
+            "style": {"fontSize": "12px", "display": "block" if note else "none"}}
 
 
 def initial_settings(wb: Workbench) -> dict:
-    return {"rig": wb.name, "values": wb.defaults(), "t_end": wb.t_end, "method": "auto"}
+    return {"rig": wb.name, "values": wb.defaults(), "t_end": wb.t_end, "method": "auto",
+            "parts": False}
 
 
 def free_options(wb: Workbench):
@@ -185,7 +194,8 @@ def layout(wb: Workbench):
                     style={"display": "none", "position": "fixed", "top": "0", "left": "0",
                            "right": "0", "zIndex": "1000", "padding": "8px",
                            "background": "#b00020", "color": "white", "fontWeight": "bold"})
-    left = html.Div(id="controls", children=controls(wb, settings["values"]),
+    left = html.Div([dcc.Checklist(id="parts", **parts_toggle(wb)),
+                     html.Div(id="controls", children=controls(wb, settings["values"]))],
                     style={"width": "360px", "flex": "0 0 360px", "overflowY": "auto",
                            "maxHeight": "calc(100vh - 80px)", "paddingRight": "8px",
                            "overflowX": "hidden"})

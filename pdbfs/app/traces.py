@@ -116,15 +116,18 @@ def load(info) -> tuple:
 
 def decimate(t, y, n: int = MAX_DRAWN):
     """At most about ``n`` points of (t, y) for drawing: each bin's first,
-    minimum and maximum, so no peak is lost."""
+    minimum and maximum, so no peak is lost (NaN counts as neither)."""
     t, y = np.asarray(t, float), np.asarray(y, float)
     if t.size <= n:
         return t, y
-    bins = max(n // 3, 1)
-    edges = np.linspace(0, t.size, bins + 1).astype(int)
-    keep = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        seg = y[a:b]
-        keep += [a, a + int(np.nanargmin(seg)), a + int(np.nanargmax(seg))]
-    idx = np.unique(np.array(keep + [t.size - 1]))
+    width = -(-t.size // max(n // 3, 1))          # samples per bin, rounded up
+    bins = -(-t.size // width)
+    pad = bins * width - t.size
+    grid = np.concatenate([y, np.full(pad, np.nan)]).reshape(bins, width)
+    lo_fill = np.where(np.isnan(grid), np.inf, grid)
+    hi_fill = np.where(np.isnan(grid), -np.inf, grid)
+    start = np.arange(bins) * width
+    idx = np.concatenate([start, start + lo_fill.argmin(axis=1), start + hi_fill.argmax(axis=1),
+                          [t.size - 1]])
+    idx = np.unique(np.minimum(idx, t.size - 1))
     return t[idx], y[idx]

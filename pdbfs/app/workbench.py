@@ -6,6 +6,7 @@ No Dash in this module: the page (page.py, actions.py) is drawn over it."""
 from __future__ import annotations
 
 import math
+import re
 import tempfile
 import threading
 import warnings
@@ -136,6 +137,7 @@ class Workbench:
         if self.height:
             self.controls.insert(self.index(self.height.derived) + 1, self.height)
             self.units[self.height.name] = "m"
+        self.parts = self._parts()
         self._lock = threading.Lock()     # one run of this rig at a time (CasADi's buffers)
         self._outcomes: dict = {}
         self.backend, self.backend_note = self._pick_backend()
@@ -165,6 +167,27 @@ class Workbench:
         except PdbfsError as err:
             return "casadi", f"CasADi (no compiled backend: {err})"
         return "c", "compiled C + CVODE"
+
+    def shown(self, parts: bool = False) -> list:
+        """The controls the page draws: without the parameters of repeated
+        parts (a bar's 30 segments, a seal's parts) unless ``parts``: each
+        control costs the browser time on every edit (200 of them, 4-10 s)."""
+        return self.controls if parts else [c for c in self.controls if c.name not in self.parts]
+
+    def _parts(self) -> dict:
+        """{name: pattern} of the parameters of parts repeated 3 times or more
+        (``piston.seg12.s0`` -> ``piston.seg#.s0``)."""
+        pattern = {c.name: re.sub(r"(?<=[A-Za-z_])\d+(?=\.)", "#", c.name) for c in self.controls}
+        count: dict = {}
+        for p in pattern.values():
+            count[p] = count.get(p, 0) + 1
+        return {n: p for n, p in pattern.items() if "#" in p and count[p] >= 3}
+
+    def parts_note(self) -> str:
+        groups = sorted(set(self.parts.values()))
+        return (f"show the {len(self.parts)} parameters of repeated parts ("
+                + ", ".join(groups[:3]) + (", ..." if len(groups) > 3 else "")
+                + "; editing is slower with them)") if groups else ""
 
     def index(self, name: str) -> int:
         return [c.name for c in self.controls].index(name)
