@@ -171,6 +171,7 @@ def test_design_for_a_peak_and_download_what_it_gives(server, browser):
             time.sleep(0.05)
         assert target.exists(), f"{name} was not downloaded"
     settings = json.loads((browser.downloads / "settings.json").read_text())
+    assert (settings["t_end"], settings["method"]) == (0.02, "auto")
     v0 = settings["params"]["hammer.v0"]
     assert v0 == pytest.approx(impact_velocity(api.params["hammer.h"]), rel=1e-5)
     table = np.genfromtxt(browser.downloads / "results.csv", delimiter=",", names=True)

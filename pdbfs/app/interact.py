@@ -267,7 +267,7 @@ def download(_csv, _png, _json, settings):
             return dcc.send_bytes(wb.results_png(settings["values"], **run_args(settings)),
                                   "results.png"), None
         if ctx.triggered_id == "dl-json":
-            text = json.dumps(wb.settings_json(settings["values"]), indent=2)
+            text = json.dumps(wb.settings_json(settings["values"], **run_args(settings)), indent=2)
             return dcc.send_string(text, "settings.json"), None
     except PdbfsError as err:
         return no_update, page_hint(str(err))

@@ -2,7 +2,7 @@
 and a summary, uploads and downloads. Everything goes through the public
 API (``rig.simulate``, ``pdbfs.calibrate``, ``pdbfs.design``,
 ``pdbfs.design_map``, ``rig.export_fmu``); nothing here knows the physics.
-No Dash in this module: the page (page.py, actions.py) is drawn over it."""
+No Dash in this module: the page (page.py, interact.py, jobs.py) is drawn over it."""
 from __future__ import annotations
 
 import math
@@ -10,111 +10,27 @@ import re
 import tempfile
 import threading
 import warnings
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from pdbfs.components.laws import STANDARD_GRAVITY, impact_velocity
+from pdbfs.components.laws import impact_velocity
 from pdbfs.errors import ParameterError, PdbfsError
 from pdbfs.models import RIGS
 from pdbfs.simulation import SUMMARY_UNITS, Simulator
 
 from . import traces
+from .controls import LOG_UNITS, Control, control_of, drop_height, linear_range, parse_number
 
-#: units whose values span decades: stiffness and damping get a logarithmic slider
-LOG_UNITS = ("N/m", "N.s/m")
+__all__ = ["Workbench", "workbench", "Control", "LOG_UNITS", "METHODS", "drop_height",
+           "parse_number", "control_of"]
+
 #: the integrator's methods the page offers (rig.simulate's ``method``)
 METHODS = ("auto", "adams", "bdf")
 #: longest run the page offers, in multiples of the rig's default run length
 MAX_T_END = 50
 #: runs whose curves and summary are kept, per rig (pins and undo are not run again)
 KEEP_OUTCOMES = 12
-
-
-@dataclass(frozen=True)
-class Control:
-    """A parameter as the page offers it: a number field and a slider."""
-
-    name: str
-    unit: str
-    description: str
-    default: float
-    lo: float              # slider range, in the parameter's value (not its log)
-    hi: float
-    log: bool
-    step: float            # slider step, in slider units (log10 of the value when log)
-    derived: str = ""      # "hammer.v0" for a drop height that stands for it
-
-    def to_slider(self, value: float) -> float:
-        if self.log:
-            return math.log10(value) if value > 0 else math.log10(self.lo)
-        return value
-
-    def from_slider(self, s: float) -> float:
-        return 10.0 ** s if self.log else s
-
-    def slider_range(self, value: float | None = None) -> tuple[float, float]:
-        """The slider's (min, max), widened to hold ``value`` (up to a million
-        steps: a larger value leaves the slider at its end, the field holds it)."""
-        lo, hi = self.to_slider(self.lo), self.to_slider(self.hi)
-        if value is not None and math.isfinite(value) and (value > 0 or not self.log):
-            s = self.to_slider(value)
-            reach = 1e6 * self.step
-            s = min(max(s, lo - reach), hi + reach)
-            lo, hi = min(lo, _floor(s, self.step)), max(hi, _ceil(s, self.step))
-        return lo, hi
-
-
-def _floor(x, step):
-    q = x / step
-    return round(math.floor(q) * step, 12) if math.isfinite(q) else x
-
-
-def _ceil(x, step):
-    q = x / step
-    return round(math.ceil(q) * step, 12) if math.isfinite(q) else x
-
-
-def _linear_range(default: float, pmin):
-    """A round range about a default: 0 .. about 2.5 x default (or both signs)."""
-    if default == 0:
-        return (0.0, 1.0, 0.01) if pmin is not None and pmin >= 0 else (-1.0, 1.0, 0.01)
-    mag = 10.0 ** math.floor(math.log10(abs(default) * 2.5))
-    top = math.ceil(abs(default) * 2.5 / mag) * mag
-    step = 10.0 ** (math.floor(math.log10(top)) - 2)
-    lo = 0.0 if default > 0 else -top
-    hi = top if default > 0 else 0.0
-    if pmin is not None and pmin > lo:
-        lo = _floor(pmin, step)
-    return lo, hi, step
-
-
-def control_of(info) -> Control:
-    log = info.unit.startswith(LOG_UNITS) and info.value > 0
-    if log:
-        c = math.log10(info.value)
-        lo, hi = 10.0 ** _floor(c - 1, 0.01), 10.0 ** _ceil(c + 1, 0.01)
-        return Control(info.name, info.unit, info.description, info.value, lo, hi, True, 0.01)
-    lo, hi, step = _linear_range(info.value, info.min)
-    if info.max is not None:
-        hi = min(hi, info.max)
-    return Control(info.name, info.unit, info.description, info.value, lo, hi, False, step)
-
-
-def drop_height(v0: float) -> float:
-    """The drop height whose free fall gives ``v0`` (impact_velocity inverted)."""
-    return v0 * v0 / (2.0 * STANDARD_GRAVITY)
-
-
-def parse_number(name: str, text) -> float:
-    """A field's text as a number, or the one-line error the command line gives."""
-    if isinstance(text, (int, float)) and not isinstance(text, bool):
-        return float(text)
-    try:
-        return float(str(text).strip())
-    except ValueError:
-        raise ParameterError(f"{name}: {str(text).strip()!r} is not a number") from None
 
 
 class Workbench:
@@ -154,7 +70,7 @@ class Workbench:
         if info.value <= 0:
             return None
         h0 = drop_height(info.value)
-        lo, hi, step = _linear_range(h0, 0.0)
+        lo, hi, step = linear_range(h0, 0.0)
         return Control(v0[:-3] + ".h", "m", f"Drop height; sets {v0} = sqrt(2 g h)",
                        h0, lo, hi, False, step, derived=v0)
 
@@ -327,8 +243,9 @@ class Workbench:
             self.run(settings, **run).plot(path=path)
             return path.read_bytes()
 
-    def settings_json(self, settings: dict) -> dict:
-        return {"rig": self.name, "params": self.params(settings),
+    def settings_json(self, settings: dict, t_end=None, method="auto") -> dict:
+        return {"rig": self.name, "t_end": self.t_end if t_end is None else t_end,
+                "method": method, "params": self.params(settings),
                 "units": {k: self.units[k] for k in self.params(settings)},
                 **({"drop_height": settings.get(self.height.name)} if self.height else {})}
 
