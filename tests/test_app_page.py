@@ -116,6 +116,9 @@ def test_cancel_says_so(server, browser):
     e = browser.find_element(By.ID, "map-n")
     e.send_keys(Keys.CONTROL, "a")
     e.send_keys("40")
+    browser.find_element(By.ID, "map-cancel").click()       # nothing running: nothing said
+    time.sleep(0.5)
+    assert browser.find_element(By.ID, "map-progress").text == ""
     browser.find_element(By.ID, "map-run").click()
     wait(browser, "#map-progress", lambda e: "mapping" in e.text)
     browser.find_element(By.ID, "map-cancel").click()

@@ -198,8 +198,9 @@ def test_each_rig_declares_its_page_defaults():
     assert k["map-y"] == "oil.K" and k["map-y-lo"] >= 1e9      # oil.K is about 2e9 Pa here
 
 
-def test_forged_upload_names_and_sizes_get_one_line(wb):
+def test_forged_upload_names_and_sizes_get_one_line(wb, tmp_path, monkeypatch):
     from pdbfs.app import traces
+    monkeypatch.setenv(traces.ENV, str(tmp_path / "traces"))
     from pdbfs.app.interact import upload
     rows = "".join(f"{k * 1e-3},{1 + (k == 5)}\n" for k in range(12))
     ok = "data:text/csv;base64," + base64.b64encode(("t,p\n" + rows).encode()).decode()
@@ -217,6 +218,7 @@ def test_forged_upload_names_and_sizes_get_one_line(wb):
     assert msg is None and "12 samples" in info and set(kept) == {"key", "name", "n", "t0", "t1"}
     t, y = traces.load(kept)
     assert list(y) == [1.0] * 5 + [2.0] + [1.0] * 6
+    assert [p.name for p in (tmp_path / "traces").iterdir()] == [kept["key"] + ".npy"]
     for forged in ({"key": "../../etc/passwd"}, {"key": "0" * 32}, None):
         with pytest.raises(DataError):
             traces.load(forged)

@@ -53,10 +53,11 @@ function(rig) {
 }
 """
 
+# said only of a job that was running (its button is disabled while it runs)
 CANCELLED = """
-function(n) {
-    return n ? "cancelled at " + new Date().toLocaleTimeString() + ": nothing was changed" :
-               window.dash_clientside.no_update;
+function(n, running) {
+    return n && running ? "cancelled at " + new Date().toLocaleTimeString() +
+                          ": nothing was changed" : window.dash_clientside.no_update;
 }
 """
 
@@ -80,4 +81,5 @@ def register(app):
     for job in ("cal", "des", "map"):
         app.clientside_callback(CANCELLED, Output(f"{job}-progress", "children",
                                                   allow_duplicate=True),
-                                Input(f"{job}-cancel", "n_clicks"), prevent_initial_call=True)
+                                Input(f"{job}-cancel", "n_clicks"), State(f"{job}-run", "disabled"),
+                                prevent_initial_call=True)

@@ -82,7 +82,7 @@ def _button(id_, text, **kw):
 
 def _labelled(text, comp):
     return html.Label([html.Span(text, style={"marginRight": "4px"}), comp],
-                      style={"marginRight": "10px", "display": "inline-block"})
+                      style={"marginRight": "10px", "display": "inline-flex", "alignItems": "center"})
 
 
 def studies_panels(wb: Workbench):

@@ -6,10 +6,12 @@ named by an environment variable, so the processes of background jobs find
 it too) and drawn decimated to at most ``MAX_DRAWN`` points."""
 from __future__ import annotations
 
+import atexit
 import base64
 import inspect
 import os
 import re
+import shutil
 import tempfile
 import uuid
 from pathlib import Path
@@ -86,8 +88,13 @@ def read_upload(filename, contents: str, signal=None):
 
 
 def folder() -> Path:
-    path = os.environ.get(ENV) or str(Path(tempfile.gettempdir()) / "pdbfs-app-traces")
-    p = Path(path)
+    """Where traces are kept: the app's (create_app sets the variable), else a
+    temporary folder of this process, removed when it ends."""
+    if not os.environ.get(ENV):
+        path = tempfile.mkdtemp(prefix="pdbfs-app-traces-")
+        atexit.register(shutil.rmtree, path, True)
+        os.environ[ENV] = path
+    p = Path(os.environ[ENV])
     p.mkdir(parents=True, exist_ok=True)
     return p
 
