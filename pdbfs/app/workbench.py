@@ -145,8 +145,12 @@ class Workbench:
         c = self.control(name)
         if c.derived:
             if not value >= 0 or not math.isfinite(value):
-                raise ParameterError(f"{name} = {text} m: must be >= 0 ({c.description})")
+                raise ParameterError(f"{name} = {text} m: must be a finite number >= 0 "
+                                     f"({c.description})")
             v0 = impact_velocity(value)
+            if not math.isfinite(v0):        # 2 g h beyond floating point
+                raise ParameterError(f"{name} = {text} m: too large (its impact speed "
+                                     f"{c.derived} = sqrt(2 g h) is beyond floating point)")
             self.sim.param_vector({c.derived: v0})
             return {name: value, c.derived: v0}
         self.sim.param_vector({name: value})
