@@ -199,9 +199,11 @@ def test_bar_piston_draws_its_parts_when_asked(server, browser):
     _, text = shown_peak(browser, text)
     fields = browser.find_elements(By.CSS_SELECTOR, "#controls .field")
     assert 15 < len(fields) < 30
-    browser.find_element(By.CSS_SELECTOR, "#parts input").click()
+    wait(browser, "#parts input", lambda e: e.click() is None)    # again if re-drawn meanwhile
     wait(browser, "#controls", lambda e: len(e.find_elements(By.CSS_SELECTOR, ".field")) > 200)
-    type_into(browser, "piston.E", "1.5e11")            # edits still reach the run
+    time.sleep(0.5)
+    wait(browser, pid("field", "piston.E"),
+         lambda e: e.send_keys(Keys.CONTROL, "a") or e.send_keys("1.5e11" + Keys.ENTER) or True)
     peak, _ = shown_peak(browser, text)
     from pdbfs.models import RIGS
     api = RIGS["bar-piston"]().simulate(0.02, params={"piston.E": 1.5e11}, backend="c")
