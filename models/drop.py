@@ -51,6 +51,8 @@ class DropRig(PaperRig):
     #: what ``pdbfs simulate --rig drop`` runs unless told otherwise: three blows
     default_t_end = 1.5
     default_n_out = 30001
+    page_defaults = {"calibrate": ("oil.k",), "design": ("h",),
+                     "map_x": ("h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
 
     h = Parameter(0.38, "m", "Drop height: gap between hammer and piston face at release",
                   positive=True, tunable=False)

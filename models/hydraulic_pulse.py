@@ -38,6 +38,11 @@ class HydraulicPulseRig(Rig):
 
     name = "pdbfs_hydraulic_pulse"
     summary_signals = PULSE_SIGNALS
+    #: what the workbench page (pdbfs app) offers first: the chamber's
+    #: bulk modulus to calibrate, the valve's area to design, a map of the
+    #: valve's and the drain's areas
+    page_defaults = {"calibrate": ("chamber.K",), "design": ("valve.A",),
+                     "map_x": ("valve.A", 2e-5, 2e-4), "map_y": ("drain.A", 1e-5, 1e-4)}
 
     def __init__(self, supply: str = "accumulator", line: bool = False, **params):
         if supply not in SUPPLIES:

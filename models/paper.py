@@ -20,6 +20,11 @@ class PaperRig(Rig):
 
     name = "pdbfs"
     summary_signals = PAPER_SIGNALS
+    #: what the workbench page (pdbfs app) offers first: the parameters to
+    #: calibrate and to design, and the design map's axes (name, from, to);
+    #: ``hammer.h`` is the page's drop height standing for hammer.v0
+    page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.h",),
+                     "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
 
     def __init__(self, law=None, **params):
         self._law = law

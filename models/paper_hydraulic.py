@@ -42,6 +42,8 @@ class PaperHydraulicRig(PaperRig):
 
     name = "pdbfs_hydraulic"
     summary_signals = PAPER_HYDRAULIC_SIGNALS
+    page_defaults = {"calibrate": ("oil.K",), "design": ("hammer.h",),
+                     "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.K", 1e9, 1e10)}
 
     L = Parameter(0.2, "m", "Length of the oil column (its volume is column.A * L)",
                   positive=True, tunable=False)

@@ -94,6 +94,9 @@ class SplitPistonRig(Rig):
     ``n`` masses. Parameters as in PaperRig, plus ``piston.k_axial``."""
 
     summary_signals = SPLIT_SIGNALS
+    #: what the workbench page (pdbfs app) offers first, as PaperRig's
+    page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.h",),
+                     "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
     #: the rig's name is this prefix and n; who checks n in error messages
     name_prefix, builder = "pdbfs_split", "split_piston_rig"
 

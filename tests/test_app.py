@@ -21,121 +21,10 @@ import pdbfs
 from pdbfs.components.laws import impact_velocity
 from pdbfs.models import paper_rig
 
-ROOT = Path(__file__).resolve().parents[1]
-CHROMIUM, CHROMEDRIVER = "/usr/bin/chromium", "/usr/bin/chromedriver"
-HAVE = all(os.access(p, os.X_OK) for p in (CHROMIUM, CHROMEDRIVER))
-try:
-    import dash  # noqa: F401
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-    from selenium.webdriver.common.by import By
-    from selenium.webdriver.common.keys import Keys
-except ImportError:
-    HAVE = False
-if not HAVE and os.environ.get("CI"):
-    pytest.fail("CI must have chromium, chromium-driver, dash and selenium (scripts/setup.sh)",
-                pytrace=False)
+from app_support import (HAVE, WAIT, By, Keys, api_peak, browser, cli_error, free_port,  # noqa: F401
+                         load, pid, server, shown_peak, tab, trace_names, type_into, wait)
+
 pytestmark = pytest.mark.skipif(not HAVE, reason="needs chromium, chromium-driver, selenium, dash")
-
-WAIT = 30.0
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture(scope="module")
-def server(tmp_path_factory):
-    """`pdbfs app` on a free loopback port; its printed address."""
-    port = free_port()
-    cwd = tmp_path_factory.mktemp("app")
-    proc = subprocess.Popen([sys.executable, "-m", "pdbfs.cli", "app", "--port", str(port)],
-                            cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    line = proc.stdout.readline()
-    url = f"http://127.0.0.1:{port}/"
-    assert url in line, f"pdbfs app printed {line!r}, not its address"
-    t0 = time.time()
-    while time.time() - t0 < WAIT:
-        try:
-            socket.create_connection(("127.0.0.1", port), timeout=1).close()
-            break
-        except OSError:
-            time.sleep(0.1)
-    yield url
-    proc.terminate()
-    proc.wait(10)
-
-
-@pytest.fixture(scope="module")
-def browser(tmp_path_factory):
-    profile = tmp_path_factory.mktemp("chromium-profile")
-    downloads = tmp_path_factory.mktemp("downloads")
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = CHROMIUM
-    for a in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-              "--disable-background-networking", "--disable-component-update", "--disable-sync",
-              f"--user-data-dir={profile}", "--window-size=1400,1000",
-              "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1"):
-        opts.add_argument(a)
-    opts.add_experimental_option("prefs", {"download.default_directory": str(downloads)})
-    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    d = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
-    d.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow",
-                                                      "downloadPath": str(downloads)})
-    d.downloads = downloads
-    yield d
-    d.quit()
-
-
-def wait(d, css, cond=lambda e: True, timeout=WAIT):
-    t0 = time.time()
-    while time.time() - t0 < timeout:
-        for e in d.find_elements(By.CSS_SELECTOR, css):
-            try:
-                if cond(e):
-                    return e
-            except Exception:       # noqa: BLE001 - re-rendered while read: look again
-                pass
-        time.sleep(0.05)
-    raise AssertionError(f"{css} did not appear (or change) within {timeout} s")
-
-
-def pid(kind, name):
-    return f"[id='{{\"name\":\"{name}\",\"type\":\"{kind}\"}}']"
-
-
-def load(d, url):
-    d.get(url)
-    return wait(d, "#sum-peak_pressure", lambda e: e.text).text
-
-
-def shown_peak(d, old=None) -> float:
-    e = wait(d, "#sum-peak_pressure", lambda e: e.text and e.text != old)
-    return float(json.loads(e.get_attribute("data-value"))), e.text
-
-
-def type_into(d, name, text):
-    f = d.find_element(By.CSS_SELECTOR, pid("field", name))
-    f.send_keys(Keys.CONTROL, "a")
-    f.send_keys(text + Keys.ENTER)
-
-
-def trace_names(d):
-    return d.execute_script("const g = document.querySelector('#pulse .js-plotly-plot');"
-                            "return g && g.data ? g.data.map(t => t.name) : [];")
-
-
-def api_peak(**params) -> float:
-    return paper_rig().simulate(0.02, params=params, backend="c").summary()["peak_pressure"]
-
-
-def cli_error(*args, cwd) -> str:
-    p = subprocess.run([sys.executable, "-m", "pdbfs.cli", *args], capture_output=True, text=True,
-                       cwd=cwd)
-    assert p.returncode == 2, p.stderr
-    return p.stderr.strip().removeprefix("pdbfs: error: ")
 
 
 @pytest.fixture(scope="module")
@@ -194,7 +83,7 @@ def test_bad_input_is_shown_beside_the_field_and_the_server_lives_on(server, bro
     junk = tmp_path / "junk.csv"
     junk.write_bytes(bytes(range(256)) * 8)
     browser.find_element(By.CSS_SELECTOR, "#upload input[type=file]").send_keys(str(junk))
-    shown = wait(browser, "#upload-msg", lambda e: e.text).text
+    shown = wait(browser, "#upload-msg", lambda e: e.text.startswith("trace file")).text
     cli = cli_error("calibrate", "--trace", str(junk), "--free", "oil.k", cwd=tmp_path)
     assert shown == cli.replace(str(junk), "junk.csv") and "'junk.csv'" in shown
     _, old = shown_peak(browser)
@@ -227,10 +116,11 @@ def test_two_tabs_do_not_share_state(server, browser):
         == "2.228e+08"
 
 
-def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file):
+def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file, tmp_path):
     load(browser, server)
+    tab(browser, "trace")
     browser.find_element(By.CSS_SELECTOR, "#upload input[type=file]").send_keys(str(trace_file))
-    assert "201 samples" in wait(browser, "#trace-info", lambda e: e.text).text
+    wait(browser, "#trace-info", lambda e: "201 samples" in e.text)
     browser.find_element(By.ID, "cal-run").click()
     shown = wait(browser, "[id='val-oil.k']", lambda e: e.text, timeout=60).text
     value, _, std = shown.partition(" ± ")
@@ -250,7 +140,8 @@ def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file):
     wait(browser, "#pulse .main-svg")
     browser.execute_script("window.scrollTo(0, 0)")
     time.sleep(0.5)
-    out = ROOT / "docs" / "figures" / "app.png"
+    # the README's picture is refreshed only when asked: PDBFS_APP_SCREENSHOT=docs/figures/app.png
+    out = Path(os.environ.get("PDBFS_APP_SCREENSHOT") or tmp_path / "app.png")
     out.parent.mkdir(parents=True, exist_ok=True)
     browser.save_screenshot(str(out))
     assert out.stat().st_size > 20_000
@@ -258,6 +149,7 @@ def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file):
 
 def test_design_for_a_peak_and_download_what_it_gives(server, browser):
     load(browser, server)
+    tab(browser, "design")
     box = browser.find_element(By.ID, "des-peak")
     box.send_keys(Keys.CONTROL, "a")
     box.send_keys("150")
@@ -269,6 +161,7 @@ def test_design_for_a_peak_and_download_what_it_gives(server, browser):
     wait(browser, "#des-apply", lambda e: e.is_enabled()).click()
     peak, _ = shown_peak(browser, old)
     assert peak == pytest.approx(150e6, rel=1e-3)
+    tab(browser, "downloads")
     for button, name in (("dl-csv", "results.csv"), ("dl-json", "settings.json")):
         target = browser.downloads / name
         target.unlink(missing_ok=True)
@@ -278,6 +171,7 @@ def test_design_for_a_peak_and_download_what_it_gives(server, browser):
             time.sleep(0.05)
         assert target.exists(), f"{name} was not downloaded"
     settings = json.loads((browser.downloads / "settings.json").read_text())
+    assert (settings["t_end"], settings["method"]) == (0.02, "auto")
     v0 = settings["params"]["hammer.v0"]
     assert v0 == pytest.approx(impact_velocity(api.params["hammer.h"]), rel=1e-5)
     table = np.genfromtxt(browser.downloads / "results.csv", delimiter=",", names=True)
@@ -322,6 +216,7 @@ def test_another_rig_brings_its_own_parameters(server, browser):
 
 def test_design_map_is_the_api_s(server, browser):
     load(browser, server)
+    tab(browser, "map")
     for box, text in (("map-n", "5"), ("map-x-lo", "0.2"), ("map-x-hi", "1.0")):
         e = browser.find_element(By.ID, box)
         e.send_keys(Keys.CONTROL, "a")
@@ -347,6 +242,7 @@ def test_fmu_download_carries_the_settings(server, browser):
     time.sleep(0.3)
     for f in browser.downloads.glob("*.fmu"):
         f.unlink()
+    tab(browser, "downloads")
     browser.find_element(By.ID, "dl-fmu").click()
     t0 = time.time()
     while not list(browser.downloads.glob("*.fmu")) and time.time() - t0 < 120:

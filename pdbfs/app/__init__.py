@@ -3,9 +3,13 @@ Python API, as the command line is a layer over it; no model logic here.
 
     workbench.py   a rig as the page sees it: controls, runs, uploads,
                    downloads, calibration, design, design map (no Dash)
+    controls.py    a parameter as a field and a slider; a field's text read
+    traces.py      uploaded traces kept on the server by key, capped, decimated
     page.py        the layout; the session's state is kept in the browser tab
     interact.py    quick callbacks: settings, the run and its summary, pins
     jobs.py        long actions as background callbacks with progress
+    browser.py     clientside callbacks: the server's heartbeat, upload size,
+                   study tabs, notes while a rig is built or a job cancelled
     figures.py     the Plotly figures
     server.py      create_app(), serve()
 

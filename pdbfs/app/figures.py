@@ -7,6 +7,12 @@ import base64
 
 import numpy as np
 
+from .traces import decimate
+
+#: most points of a curve sent to the browser (the drop rig's 30001 would cost
+#: a megabyte and a second of drawing per edit)
+DRAWN = 6000
+
 #: display scale of SI units: (factor, label)
 SCALE = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm"), "s": (1e3, "ms")}
 PIN_COLOURS = ("#7f7f7f", "#bcbd22", "#17becf", "#8c564b", "#e377c2")
@@ -56,6 +62,7 @@ def pulse_figure(curves: dict, pins=(), overlays=(), title="") -> dict:
             return
         f, _ = _scale(unit)
         ax = where[unit]
+        t, y = decimate(t, y, DRAWN)             # a screen's width of points, peaks kept
         data.append({"type": "scattergl" if len(t) > 5000 else "scatter", "mode": "lines",
                      "x": typed(np.asarray(t, float) * 1e3), "y": typed(np.asarray(y, float) * f),
                      "name": name,

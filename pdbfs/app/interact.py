@@ -6,14 +6,16 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 from dash import ALL, Input, Output, State, ctx, dcc, html, no_update
 from dash.exceptions import PreventUpdate
 
 from pdbfs.errors import PdbfsError
 
+from . import traces
 from .figures import pulse_figure
-from .page import controls, fmt, free_options, initial_settings, marks, study_defaults
+from .page import SHOWN, controls, parts_toggle, fmt, free_options, initial_settings, marks, study_defaults
 from .workbench import workbench
 
 MAX_PINS = 5
@@ -22,7 +24,6 @@ LABELS = {"peak_pressure": "peak pressure", "time_of_peak": "time of peak",
           "peak_contact_force": "peak contact force",
           "max_piston_displacement": "max. piston displacement",
           "restitution_coefficient": "restitution"}
-SHOWN = {"Pa": (1e-6, "MPa"), "s": (1e3, "ms"), "N": (1e-3, "kN"), "m": (1e3, "mm")}
 
 
 def _apply(wb, values, changes):
@@ -42,7 +43,8 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
     follow, the messages, and the new run drawn, all in one answer (one
     round trip per slider step)."""
     wb = workbench(settings["rig"])
-    names = [c.name for c in wb.controls]
+    shown = wb.shown(settings.get("parts", False))
+    names = [c.name for c in shown]
     sliders = [s["id"]["name"] for s in ctx.inputs_list[0]]
     if sliders != names:                  # the controls of another rig are being drawn
         raise PreventUpdate
@@ -65,7 +67,7 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
     elif isinstance(trig, dict):
         name = trig["name"]
         k = names.index(name)
-        c = wb.controls[k]
+        c = shown[k]
         if trig["type"] == "slider":
             s = slider_vals[k]
             if s is None or abs(s - c.to_slider(values[name])) < c.step / 2:
@@ -85,7 +87,7 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
         raise PreventUpdate
     values.update(changed)
     out_s, out_lo, out_hi, out_m, out_f = [], [], [], [], []
-    for k, (c, name) in enumerate(zip(wb.controls, names)):
+    for k, (c, name) in enumerate(zip(shown, names)):
         v = values[name]
         lo, hi = c.slider_range(v)
         moved = name in changed
@@ -123,31 +125,82 @@ def redraw(pins, trace, cal, des, settings):
     return draw(settings, pins, trace, cal, des)
 
 
+def page_hint(text: str) -> str:
+    """A message worded for the page: it has a method field, not a max_step,
+    and its t_end field is in ms."""
+    text = text.replace("try method='bdf' or a max_step", "try the method bdf (beside t_end)")
+    text = text.replace("method='bdf'", "the method bdf (beside t_end)")
+    return re.sub(r"use t_end >= ([0-9.eE+-]+) s",
+                  lambda m: f"set t_end to {float(m.group(1)) * 1e3:g} ms or more", text)
+
+
+def stale_figure(text: str) -> dict:
+    return {"data": [], "layout": {
+        "height": 300, "xaxis": {"visible": False}, "yaxis": {"visible": False},
+        "annotations": [{"text": text, "showarrow": False, "font": {"size": 14, "color": "#b00020"},
+                         "xref": "paper", "yref": "paper", "x": 0.5, "y": 0.5}]}}
+
+
+def run_args(settings) -> dict:
+    return {"t_end": settings.get("t_end"), "method": settings.get("method", "auto")}
+
+
 def draw(settings, pins, trace, cal, des):
     """The run of the settings: its figure (with pins, trace and fits), its
-    summary and a status line; a PdbfsError goes to the status line."""
+    summary and a status line. A failed run clears the plot and the summary
+    (they would show the last good run as if it were this one) and says why."""
     wb = workbench(settings["rig"])
     try:
-        res = wb.run(settings["values"])
-        rows = wb.summary(res)
+        out = wb.outcome(settings["values"], **run_args(settings))
     except PdbfsError as err:
-        return no_update, no_update, html.Span(str(err), style={"color": "#b00020"})
+        msg = page_hint(str(err))
+        summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}),
+                            html.Div("no result for these settings: the run failed",
+                                     id="run-failed", style={"color": "#b00020"})])
+        return (stale_figure("no result: the run failed (see the message above)"), summary,
+                html.Span(msg, style={"color": "#b00020"}, id="status-error"))
     pinned = []
     for pin in pins or []:
         try:
-            pinned.append((pin["label"], wb.curves(wb.run(pin["values"]))))
+            pinned.append((pin["label"], wb.outcome(pin["values"], **run_args(pin))["curves"]))
         except PdbfsError:
             continue
     overlays = []
     pressure_unit = "Pa"
     if trace:
-        overlays.append((f"trace {trace['name']}", trace["t"], trace["y"], pressure_unit))
+        try:
+            t, y = traces.load(trace)
+            overlays.append((f"trace {trace['name']}", *traces.decimate(t, y), pressure_unit))
+        except PdbfsError:
+            pass
     for label, r in (("calibrated fit", cal), ("designed pulse", des)):
         if r and r.get("t") and r.get("fit"):
             overlays.append((label, r["t"], r["fit"], r.get("unit", pressure_unit)))
-    fig = pulse_figure(wb.curves(res), pinned, overlays, title=f"rig {wb.name}")
-    summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}), _summary_table(rows)])
-    return fig, summary, f"backend {wb.backend}: {len(res.t)} points to {fmt(res.t[-1] * 1e3)} ms"
+    fig = pulse_figure(out["curves"], pinned, overlays, title=f"rig {wb.name}")
+    summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}), _summary_table(out["rows"])])
+    status = [f"backend {wb.backend}, method {settings.get('method', 'auto')}: {out['n']} points "
+              f"to {fmt(out['t_last'] * 1e3)} ms"]
+    status += [html.Div(page_hint(note.split(": ", 1)[-1]), className="note",
+                        style={"color": "#8a5a00"})
+               for note in out["notes"]]
+    return fig, summary, status
+
+
+def edit_run(t_end, method, settings, pins, trace, cal, des):
+    """The run length (ms) or the method changed: the run again, or the
+    field's one-line message."""
+    wb = workbench(settings["rig"])
+    try:
+        t, m = wb.check_run(t_end, method)
+    except PdbfsError as err:
+        return no_update, str(err), no_update, no_update, no_update
+    old = settings.get("t_end") or t
+    if abs(t - old) <= 1e-9 * old:        # the field's text of the same length
+        t = old
+    if t == settings.get("t_end") and m == settings.get("method"):
+        return no_update, None, no_update, no_update, no_update
+    settings = {**settings, "t_end": t, "method": m}
+    return (settings, None) + draw(settings, pins, trace, cal, des)
 
 
 def pin(_pin, _unpin, settings, pins):
@@ -156,21 +209,25 @@ def pin(_pin, _unpin, settings, pins):
     wb = workbench(settings["rig"])
     changed = [f"{k}={fmt(v)}" for k, v in settings["values"].items()
                if v != wb.defaults().get(k) and not (wb.height and k == wb.height.derived)]
-    label = f"pin {len(pins or []) + 1}" + (f" ({', '.join(changed[:2])})" if changed else " (defaults)")
-    return ((pins or []) + [{"label": label, "values": settings["values"]}])[-MAX_PINS:]
+    # numbered past every pin still shown: labels never repeat
+    number = 1 + max([int(p["label"].split()[1]) for p in pins or []] + [0])
+    label = f"pin {number}" + (f" ({', '.join(changed[:2])})" if changed else " (defaults)")
+    new = {"label": label, "values": settings["values"], **run_args(settings)}
+    return ((pins or []) + [new])[-MAX_PINS:]
 
 
-def upload(contents, filename, settings):
-    if contents is None:
+def upload(data, settings):
+    if not data:
         raise PreventUpdate
     wb = workbench(settings["rig"])
+    filename, contents = data.get("name"), data.get("contents")
     try:
         tr = wb.read_upload(filename, contents)
+        kept = traces.store(filename, tr.t, tr.y)
     except PdbfsError as err:
-        return no_update, str(err), no_update
-    info = f"{filename}: {len(tr.t)} samples, t = {fmt(tr.t[0])} .. {fmt(tr.t[-1])} s"
-    data = {"name": filename, "t": [float(x) for x in tr.t], "y": [float(x) for x in tr.y]}
-    return data, None, info
+        return no_update, str(err), None, None
+    info = f"{kept['name']}: {kept['n']} samples, t = {fmt(kept['t0'])} .. {fmt(kept['t1'])} s"
+    return kept, None, info, None
 
 
 def change_rig(rig, settings):
@@ -179,27 +236,41 @@ def change_rig(rig, settings):
     try:
         wb = workbench(rig)
     except PdbfsError as err:
-        return (no_update,) * 12 + (str(err),)
+        return (no_update,) * 18 + (str(err), str(err)) + (no_update,) * 3
     opts = free_options(wb)
     s = initial_settings(wb)
-    picks = study_defaults(wb)
+    p = study_defaults(wb)
+    toggle = parts_toggle(wb)
     return (controls(wb, s["values"]), s, [], None, opts, opts, opts, opts,
-            picks["cal-free"], picks["des-free"], picks["map-x"], picks["map-y"],
-            f"backend: {wb.backend_note}")
+            p["cal-free"], p["des-free"], p["map-x"], p["map-y"],
+            fmt(p["map-x-lo"]), fmt(p["map-x-hi"]), fmt(p["map-y-lo"]), fmt(p["map-y-hi"]),
+            fmt(s["t_end"] * 1e3), s["method"], f"backend: {wb.backend_note}", "",
+            toggle["options"], toggle["value"], toggle["style"])
+
+
+def show_parts(value, settings):
+    """The parameters of repeated parts drawn too, or not."""
+    parts = "parts" in (value or [])
+    if parts == settings.get("parts", False):
+        raise PreventUpdate
+    wb = workbench(settings["rig"])
+    return controls(wb, settings["values"], parts), {**settings, "parts": parts}
 
 
 def download(_csv, _png, _json, settings):
     wb = workbench(settings["rig"])
     try:
         if ctx.triggered_id == "dl-csv":
-            return dcc.send_bytes(wb.results_csv(settings["values"]), "results.csv"), None
+            return dcc.send_bytes(wb.results_csv(settings["values"], **run_args(settings)),
+                                  "results.csv"), None
         if ctx.triggered_id == "dl-png":
-            return dcc.send_bytes(wb.results_png(settings["values"]), "results.png"), None
+            return dcc.send_bytes(wb.results_png(settings["values"], **run_args(settings)),
+                                  "results.png"), None
         if ctx.triggered_id == "dl-json":
-            text = json.dumps(wb.settings_json(settings["values"]), indent=2)
+            text = json.dumps(wb.settings_json(settings["values"], **run_args(settings)), indent=2)
             return dcc.send_string(text, "settings.json"), None
     except PdbfsError as err:
-        return no_update, str(err)
+        return no_update, page_hint(str(err))
     raise PreventUpdate
 
 
@@ -227,17 +298,33 @@ def register(app):
                  State("settings", "data"), State("pins", "data"),
                  prevent_initial_call=True)(pin)
     app.callback(Output("trace", "data"), Output("upload-msg", "children"),
-                 Output("trace-info", "children"),
-                 Input("upload", "contents"), State("upload", "filename"), State("settings", "data"),
+                 Output("trace-info", "children"), Output("upload-data", "data", allow_duplicate=True),
+                 Input("upload-data", "data"), State("settings", "data"),
                  prevent_initial_call=True)(upload)
+    app.callback(Output("settings", "data", allow_duplicate=True), Output("run-msg", "children"),
+                 Output("pulse", "figure", allow_duplicate=True),
+                 Output("summary", "children", allow_duplicate=True),
+                 Output("status", "children", allow_duplicate=True),
+                 Input("t-end", "value"), Input("method", "value"), State("settings", "data"),
+                 State("pins", "data"), State("trace", "data"), State("cal", "data"),
+                 State("des", "data"), prevent_initial_call=True)(edit_run)
     app.callback(Output("controls", "children"), Output("settings", "data", allow_duplicate=True),
                  Output("pins", "data", allow_duplicate=True), Output("cal", "data", allow_duplicate=True),
                  Output("cal-free", "options"), Output("des-free", "options"),
                  Output("map-x", "options"), Output("map-y", "options"),
                  Output("cal-free", "value"), Output("des-free", "value"),
-                 Output("map-x", "value"), Output("map-y", "value"), Output("backend", "children"),
+                 Output("map-x", "value"), Output("map-y", "value"),
+                 Output("map-x-lo", "value"), Output("map-x-hi", "value"),
+                 Output("map-y-lo", "value"), Output("map-y-hi", "value"),
+                 Output("t-end", "value"), Output("method", "value"),
+                 Output("backend", "children"), Output("rig-note", "children", allow_duplicate=True),
+                 Output("parts", "options"), Output("parts", "value"), Output("parts", "style"),
                  Input("rig", "value"), State("settings", "data"),
                  prevent_initial_call=True)(change_rig)
+    app.callback(Output("controls", "children", allow_duplicate=True),
+                 Output("settings", "data", allow_duplicate=True),
+                 Input("parts", "value"), State("settings", "data"),
+                 prevent_initial_call=True)(show_parts)
     app.callback(Output("download", "data"), Output("dl-msg", "children"),
                  Input("dl-csv", "n_clicks"), Input("dl-png", "n_clicks"), Input("dl-json", "n_clicks"),
                  State("settings", "data"), prevent_initial_call=True)(download)

@@ -13,8 +13,11 @@ from dash import Input, Output, State, dcc, html, no_update
 
 from pdbfs.errors import ParameterError, PdbfsError
 
+from pdbfs.simulation import SUMMARY_UNITS
+
+from . import traces
 from .figures import map_figure
-from .page import fmt
+from .page import SHOWN, fmt
 from .workbench import parse_number, workbench
 
 POLL = 400    # ms between the page's looks at a job's progress
@@ -59,6 +62,14 @@ def _error(err):
     return html.Div(str(err), style={"color": "#b00020"}, className="msg")
 
 
+def shown(v, unit) -> str:
+    """A value with its unit, in the unit the page shows (MPa, ms, kN, mm)."""
+    if v is None:
+        return "n/a"
+    f, label = SHOWN.get(unit, (1.0, "" if unit == "1" else unit))
+    return f"{fmt(v * f)} {label}".strip()
+
+
 def _values_table(values, std=None, units=None, note=None):
     rows = []
     for name, v in values.items():
@@ -76,9 +87,9 @@ def calibrate(set_progress, _n, settings, trace, free):
     if not free:
         return None, _error("choose the free parameters"), True
     try:
+        ty = traces.load(trace)
         out = with_progress(set_progress, "calibrating",
-                            lambda report: wb.calibrate(settings["values"], (trace["t"], trace["y"]),
-                                                       free, report))
+                            lambda report: wb.calibrate(settings["values"], ty, free, report))
     except (PdbfsError, RuntimeError) as err:
         return None, _error(err), True
     note = f"RMS residual {fmt(out['rms_residual'])} {out['unit']}"
@@ -96,7 +107,7 @@ def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free)
         if mode == "curve":
             if not trace:
                 return None, _error("upload a target curve first"), True
-            target = (trace["t"], trace["y"])
+            target = traces.load(trace)
         else:
             target = {}
             for key, text, f in (("peak_pressure", peak, 1e6), ("pulse_duration", duration, 1e-3),
@@ -109,10 +120,11 @@ def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free)
                             lambda report: wb.design(settings["values"], target, free, report))
     except (PdbfsError, RuntimeError) as err:
         return None, _error(err), True
-    feats = ", ".join(f"{k} {fmt(v)}" for k, v in out["features"].items())
+    feats = ", ".join(f"{k.replace('_', ' ')} {shown(v, SUMMARY_UNITS.get(k, ''))}"
+                      for k, v in out["features"].items())
     note = ("reached" if out["reachable"] else f"not reachable: {out['limit']}") + \
         (f"; features: {feats}" if feats else "") + \
-        (f"; RMS error {fmt(out['rms_error'])} {out['unit']}" if out["rms_error"] is not None else "")
+        (f"; RMS error {shown(out['rms_error'], out['unit'])}" if out["rms_error"] is not None else "")
     return out, _values_table(out["params"], None, {**wb.units, **out["units"]}, note), False
 
 

@@ -8,11 +8,20 @@ from dash import dcc, html
 
 from pdbfs.models import RIGS
 
-from .workbench import Control, Workbench
+from .traces import MAX_UPLOAD
+from .workbench import METHODS, Control, Workbench
 
 FIELD = {"width": "7.5em", "fontFamily": "monospace"}
 MSG = {"color": "#b00020", "fontSize": "12px", "minHeight": "0"}
+#: the study panels, one shown at a time (key, tab label)
+TABS = (("trace", "Trace and calibration"), ("design", "Design"), ("map", "Design map"),
+        ("downloads", "Downloads"))
+HEARTBEAT = 2000     # ms between the page's looks at whether the server is there
 BOX = {"border": "1px solid #ddd", "borderRadius": "6px", "padding": "8px", "margin": "6px 0"}
+
+
+#: how the page shows SI units: (factor, label)
+SHOWN = {"Pa": (1e-6, "MPa"), "s": (1e3, "ms"), "N": (1e-3, "kN"), "m": (1e3, "mm")}
 
 
 def fmt(v) -> str:
@@ -32,19 +41,30 @@ def control_row(c: Control, value: float):
                             debounce=True, style=FIELD, className="field")],
                  style={"display": "flex", "justifyContent": "space-between", "gap": "6px"}),
         html.Div(c.description, style={"fontSize": "11px", "color": "#555"}),
-        dcc.Slider(id={"type": "slider", "name": c.name}, min=lo, max=hi, step=c.step,
-                   value=c.to_slider(value), marks=marks(c, lo, hi), updatemode="drag",
-                   included=False, allow_direct_input=False),
+        # side padding: the end marks are centred on the ends and would be clipped
+        html.Div(dcc.Slider(id={"type": "slider", "name": c.name}, min=lo, max=hi, step=c.step,
+                            value=c.to_slider(value), marks=marks(c, lo, hi), updatemode="drag",
+                            included=False, allow_direct_input=False),
+                 style={"padding": "0 34px"}, className="slider-box"),
         html.Div(id={"type": "msg", "name": c.name}, style=MSG, className="msg"),
     ], style={"padding": "4px 0", "borderBottom": "1px solid #eee"}, className="control")
 
 
-def controls(wb: Workbench, values: dict):
-    return [control_row(c, values[c.name]) for c in wb.controls]
+def controls(wb: Workbench, values: dict, parts: bool = False):
+    return [control_row(c, values[c.name]) for c in wb.shown(parts)]
+
+
+def parts_toggle(wb: Workbench):
+    """The checkbox that draws the parameters of repeated parts too (hidden
+    for a rig without them)."""
+    note = wb.parts_note()
+    return {"options": [{"label": " " + note, "value": "parts"}] if note else [], "value": [],
+            "style": {"fontSize": "12px", "display": "block" if note else "none"}}
 
 
 def initial_settings(wb: Workbench) -> dict:
-    return {"rig": wb.name, "values": wb.defaults()}
+    return {"rig": wb.name, "values": wb.defaults(), "t_end": wb.t_end, "method": "auto",
+            "parts": False}
 
 
 def free_options(wb: Workbench):
@@ -52,12 +72,8 @@ def free_options(wb: Workbench):
 
 
 def study_defaults(wb: Workbench) -> dict:
-    """What the study panels offer first: the oil stiffness to calibrate, the
-    drop height to design, both for a design map."""
-    names = [c.name for c in wb.controls]
-    first = wb.height.name if wb.height else ("h" if "h" in names else names[0])
-    second = "oil.k" if "oil.k" in names else names[-1]
-    return {"cal-free": [second], "des-free": [first], "map-x": first, "map-y": second}
+    """What the study panels offer first: the rig's own declaration."""
+    return wb.study_defaults()
 
 
 def _button(id_, text, **kw):
@@ -66,16 +82,18 @@ def _button(id_, text, **kw):
 
 def _labelled(text, comp):
     return html.Label([html.Span(text, style={"marginRight": "4px"}), comp],
-                      style={"marginRight": "10px", "display": "inline-block"})
+                      style={"marginRight": "10px", "display": "inline-flex", "alignItems": "center"})
 
 
 def studies_panels(wb: Workbench):
     opts = free_options(wb)
     picks = study_defaults(wb)
     first, second = picks["map-x"], picks["map-y"]
+    lim = f"at most {MAX_UPLOAD / 1e6:.0f} MB"
     trace = html.Div([
         html.H4("Measured trace and calibration", style={"margin": "2px"}),
-        dcc.Upload(id="upload", children=html.Div(["Drop a trace CSV here or ", html.A("choose one")]),
+        dcc.Upload(id="upload", children=html.Div(["Drop a trace CSV here or ", html.A("choose one"),
+                                                      f" ({lim})"]),
                    style={**BOX, "borderStyle": "dashed", "textAlign": "center"}),
         html.Div(id="upload-msg", style=MSG, className="msg"),
         html.Div(id="trace-info", style={"fontSize": "12px"}),
@@ -95,7 +113,8 @@ def studies_panels(wb: Workbench):
         _labelled("peak (MPa)", dcc.Input(id="des-peak", type="text", value="150", style=FIELD)),
         _labelled("duration (ms)", dcc.Input(id="des-duration", type="text", value="", style=FIELD)),
         _labelled("time of peak (ms)", dcc.Input(id="des-tpeak", type="text", value="", style=FIELD)),
-        _labelled("free", dcc.Dropdown(id="des-free", options=opts, multi=True, value=[first],
+        _labelled("free", dcc.Dropdown(id="des-free", options=opts, multi=True,
+                                       value=picks["des-free"],
                                        style={"minWidth": "18em"})),
         _button("des-run", "Design"), _button("des-cancel", "Cancel"),
         _button("des-apply", "Apply designed values", disabled=True),
@@ -105,12 +124,16 @@ def studies_panels(wb: Workbench):
     dmap = html.Div([
         html.H4("Design map", style={"margin": "2px"}),
         _labelled("x", dcc.Dropdown(id="map-x", options=opts, value=first, style={"minWidth": "12em"})),
-        _labelled("from", dcc.Input(id="map-x-lo", type="text", value="0.1", style=FIELD)),
-        _labelled("to", dcc.Input(id="map-x-hi", type="text", value="1.5", style=FIELD)),
+        _labelled("from", dcc.Input(id="map-x-lo", type="text", value=fmt(picks["map-x-lo"]),
+                                         style=FIELD)),
+        _labelled("to", dcc.Input(id="map-x-hi", type="text", value=fmt(picks["map-x-hi"]),
+                                       style=FIELD)),
         html.Br(),
         _labelled("y", dcc.Dropdown(id="map-y", options=opts, value=second, style={"minWidth": "12em"})),
-        _labelled("from", dcc.Input(id="map-y-lo", type="text", value="1e8", style=FIELD)),
-        _labelled("to", dcc.Input(id="map-y-hi", type="text", value="1e9", style=FIELD)),
+        _labelled("from", dcc.Input(id="map-y-lo", type="text", value=fmt(picks["map-y-lo"]),
+                                         style=FIELD)),
+        _labelled("to", dcc.Input(id="map-y-hi", type="text", value=fmt(picks["map-y-hi"]),
+                                       style=FIELD)),
         _labelled("points per axis", dcc.Input(id="map-n", type="text", value="15", style=FIELD)),
         _button("map-run", "Map"), _button("map-cancel", "Cancel"),
         html.Div(id="map-progress", style={"fontSize": "12px", "color": "#555"}),
@@ -125,7 +148,33 @@ def studies_panels(wb: Workbench):
         html.Div(id="dl-msg", style=MSG, className="msg"),
         dcc.Download(id="download"), dcc.Download(id="download-fmu"),
     ], style=BOX)
-    return [trace, design, dmap, downloads]
+    panels = [trace, design, dmap, downloads]
+    for k, panel in enumerate(panels):
+        panel.id = f"panel-{TABS[k][0]}"
+        panel.style = {**BOX, "display": "block" if k == 0 else "none"}
+    return panels
+
+
+def run_row(wb: Workbench, settings: dict):
+    """The run's length and the integrator's method, and the status line."""
+    return html.Div([
+        _button("pin", "Pin this curve"), _button("unpin", "Clear pins"),
+        _button("reset", "Reset to defaults"),
+        _labelled(" t_end (ms)", dcc.Input(id="t-end", type="text", value=fmt(settings["t_end"] * 1e3),
+                                           debounce=True, style=FIELD)),
+        _labelled("method", dcc.Dropdown(id="method", options=list(METHODS), value=settings["method"],
+                                         clearable=False, style={"minWidth": "6em"})),
+        html.Span(id="run-msg", style=MSG, className="msg"),
+        html.Div(id="status", style={"fontSize": "12px", "minHeight": "1.2em"}),
+    ], style={"display": "flex", "flexWrap": "wrap", "alignItems": "center"})
+
+
+INTRO = ("A drop-hammer test rig as a model: each parameter on the left has a field and a "
+         "slider; any change runs the rig again and redraws the pressure pulse, the contact "
+         "force and the displacements, with the summary beside them. Pin a curve to compare "
+         "the next. Below the plot: lay a measured trace over the pulse and calibrate "
+         "parameters to it, design for a peak or duration, map two settings, download results. "
+         "Hover over a parameter's name for its description.")
 
 
 def layout(wb: Workbench):
@@ -134,29 +183,46 @@ def layout(wb: Workbench):
         html.H2("pdbfs workbench", style={"margin": "0 12px 0 0"}),
         _labelled("rig", dcc.Dropdown(id="rig", options=list(RIGS), value=wb.name, clearable=False,
                                       style={"minWidth": "12em"})),
+        html.Span(id="rig-note", style={"fontSize": "13px", "color": "#8a5a00"}),
         html.Span(id="backend", children=f"backend: {wb.backend_note}",
                   style={"fontSize": "12px", "color": "#555"}),
     ], style={"display": "flex", "alignItems": "center", "gap": "8px"})
-    left = html.Div(id="controls", children=controls(wb, settings["values"]),
+    intro = html.Details([html.Summary("What is this page?"), html.P(INTRO, style={"margin": "4px"})],
+                         id="intro", style={"fontSize": "13px", "margin": "4px 0"})
+    lost = html.Div("The connection to the pdbfs server is lost: edits are not simulated. "
+                    "Start `pdbfs app` again and reload the page.", id="conn-lost",
+                    style={"display": "none", "position": "fixed", "top": "0", "left": "0",
+                           "right": "0", "zIndex": "1000", "padding": "8px",
+                           "background": "#b00020", "color": "white", "fontWeight": "bold"})
+    left = html.Div([dcc.Checklist(id="parts", **parts_toggle(wb)),
+                     html.Div(id="controls", children=controls(wb, settings["values"]))],
                     style={"width": "360px", "flex": "0 0 360px", "overflowY": "auto",
                            "maxHeight": "calc(100vh - 80px)", "paddingRight": "8px",
                            "overflowX": "hidden"})
+    tabs = dcc.RadioItems(id="study-tab", value=TABS[0][0], inline=True,
+                          options=[{"label": text, "value": key} for key, text in TABS],
+                          className="tabs", inputStyle={"marginRight": "4px"},
+                          labelStyle={"marginRight": "14px", "padding": "4px 8px",
+                                      "border": "1px solid #ccc", "borderRadius": "6px 6px 0 0"})
     plot = html.Div([
-        html.Div([_button("pin", "Pin this curve"), _button("unpin", "Clear pins"),
-                  _button("reset", "Reset to defaults"),
-                  html.Span(id="status", style={"marginLeft": "10px", "fontSize": "12px"})]),
-        html.Div([
+        run_row(wb, settings),
+        dcc.Loading(html.Div([
             dcc.Graph(id="pulse", style={"flex": "1 1 auto"},
                       config={"displaylogo": False,
                               "toImageButtonOptions": {"format": "png", "filename": "pulse"}}),
             html.Div(id="summary", style={"flex": "0 0 260px", "fontSize": "13px"}),
-        ], style={"display": "flex", "gap": "8px"}),
+        ], style={"display": "flex", "gap": "8px"}), delay_show=400, overlay_style={
+            "visibility": "visible", "opacity": 0.45}, custom_spinner=html.B(
+                "simulating ...", id="busy", style={"fontSize": "16px", "color": "#8a5a00"})),
+        tabs,
         html.Div(studies_panels(wb), id="studies"),
     ], style={"flex": "1 1 auto", "minWidth": "0"})
     stores = [dcc.Store(id="settings", data=settings, storage_type="memory"),
               dcc.Store(id="pins", data=[], storage_type="memory"),
               dcc.Store(id="trace", data=None, storage_type="memory"),
+              dcc.Store(id="upload-data", data=None, storage_type="memory"),
               dcc.Store(id="cal", data=None, storage_type="memory"),
-              dcc.Store(id="des", data=None, storage_type="memory")]
-    return html.Div([head, html.Div([left, plot], style={"display": "flex", "gap": "12px"}),
+              dcc.Store(id="des", data=None, storage_type="memory"),
+              dcc.Interval(id="heartbeat", interval=HEARTBEAT)]
+    return html.Div([lost, head, intro, html.Div([left, plot], style={"display": "flex", "gap": "12px"}),
                      *stores], style={"fontFamily": "sans-serif", "margin": "8px"})

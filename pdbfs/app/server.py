@@ -5,17 +5,22 @@ from __future__ import annotations
 
 import atexit
 import logging
+import os
 import shutil
+import signal
 import socket
+import sys
 import tempfile
 import threading
 import webbrowser
 
 from pdbfs.errors import ParameterError
 
-from . import interact, jobs
+from . import browser, interact, jobs, traces
 from .page import layout
 from .workbench import workbench
+
+LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
 def create_app(rig: str = "paper", cache_dir=None):
@@ -29,13 +34,18 @@ def create_app(rig: str = "paper", cache_dir=None):
     if cache_dir is None:
         cache_dir = tempfile.mkdtemp(prefix="pdbfs-app-cache-")
         atexit.register(shutil.rmtree, cache_dir, True)
+    # uploaded traces beside the jobs' cache; the jobs' processes inherit the variable
+    os.environ[traces.ENV] = os.path.join(cache_dir, "traces")
     cache = diskcache.Cache(cache_dir)
     app = Dash(__name__, title=f"pdbfs workbench: {rig}", serve_locally=True,
                background_callback_manager=DiskcacheManager(cache),
                suppress_callback_exceptions=True, update_title=None)
     app.layout = lambda: layout(workbench(wb.name))   # a fresh page (and state) per load
+    # a request larger than an upload the page takes is refused by Flask
+    app.server.config["MAX_CONTENT_LENGTH"] = int(traces.MAX_UPLOAD * 1.4) + 2_000_000
     interact.register(app)
     jobs.register(app)
+    browser.register(app)
     return app
 
 
@@ -43,6 +53,12 @@ def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_br
           ready=None):
     """Serve the page until interrupted; ``ready(url)`` is called once it is built."""
     check_address(host, port)
+    if host not in LOOPBACK:
+        print(f"pdbfs: warning: --host {host}: the page is open to every machine that can reach "
+              "this one (no login; anyone may run simulations and upload files); use --host "
+              "127.0.0.1 to keep it to this machine", file=sys.stderr, flush=True)
+    # SIGTERM ends the server as Ctrl-C does, so the cache folder is removed (atexit)
+    signal.signal(signal.SIGTERM, _terminate)
     app = create_app(rig)
     logging.getLogger("werkzeug").setLevel(logging.ERROR)   # no line per request
     url = f"http://{host}:{port}/"
@@ -51,6 +67,10 @@ def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_br
     if open_browser:
         threading.Timer(1.0, webbrowser.open, args=(url,)).start()
     app.run(host=host, port=port, debug=False, threaded=True)
+
+
+def _terminate(signum, frame):
+    raise SystemExit(128 + signum)
 
 
 def check_address(host: str, port: int):

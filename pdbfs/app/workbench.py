@@ -2,106 +2,35 @@
 and a summary, uploads and downloads. Everything goes through the public
 API (``rig.simulate``, ``pdbfs.calibrate``, ``pdbfs.design``,
 ``pdbfs.design_map``, ``rig.export_fmu``); nothing here knows the physics.
-No Dash in this module: the page (page.py, actions.py) is drawn over it."""
+No Dash in this module: the page (page.py, interact.py, jobs.py) is drawn over it."""
 from __future__ import annotations
 
-import base64
-import inspect
 import math
+import re
 import tempfile
 import threading
-from dataclasses import dataclass
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from pdbfs.components.laws import STANDARD_GRAVITY, impact_velocity
-from pdbfs.errors import DataError, ParameterError, PdbfsError
+from pdbfs.components.laws import impact_velocity
+from pdbfs.errors import ParameterError, PdbfsError
 from pdbfs.models import RIGS
 from pdbfs.simulation import SUMMARY_UNITS, Simulator
 
-#: units whose values span decades: stiffness and damping get a logarithmic slider
-LOG_UNITS = ("N/m", "N.s/m")
+from . import traces
+from .controls import LOG_UNITS, Control, control_of, drop_height, linear_range, parse_number
 
+__all__ = ["Workbench", "workbench", "Control", "LOG_UNITS", "METHODS", "drop_height",
+           "parse_number", "control_of"]
 
-@dataclass(frozen=True)
-class Control:
-    """A parameter as the page offers it: a number field and a slider."""
-
-    name: str
-    unit: str
-    description: str
-    default: float
-    lo: float              # slider range, in the parameter's value (not its log)
-    hi: float
-    log: bool
-    step: float            # slider step, in slider units (log10 of the value when log)
-    derived: str = ""      # "hammer.v0" for a drop height that stands for it
-
-    def to_slider(self, value: float) -> float:
-        if self.log:
-            return math.log10(value) if value > 0 else math.log10(self.lo)
-        return value
-
-    def from_slider(self, s: float) -> float:
-        return 10.0 ** s if self.log else s
-
-    def slider_range(self, value: float | None = None) -> tuple[float, float]:
-        """The slider's (min, max), widened to hold ``value``."""
-        lo, hi = self.to_slider(self.lo), self.to_slider(self.hi)
-        if value is not None and (value > 0 or not self.log):
-            s = self.to_slider(value)
-            lo, hi = min(lo, _floor(s, self.step)), max(hi, _ceil(s, self.step))
-        return lo, hi
-
-
-def _floor(x, step):
-    return round(math.floor(x / step) * step, 12)
-
-
-def _ceil(x, step):
-    return round(math.ceil(x / step) * step, 12)
-
-
-def _linear_range(default: float, pmin):
-    """A round range about a default: 0 .. about 2.5 x default (or both signs)."""
-    if default == 0:
-        return (0.0, 1.0, 0.01) if pmin is not None and pmin >= 0 else (-1.0, 1.0, 0.01)
-    mag = 10.0 ** math.floor(math.log10(abs(default) * 2.5))
-    top = math.ceil(abs(default) * 2.5 / mag) * mag
-    step = 10.0 ** (math.floor(math.log10(top)) - 2)
-    lo = 0.0 if default > 0 else -top
-    hi = top if default > 0 else 0.0
-    if pmin is not None and pmin > lo:
-        lo = _floor(pmin, step)
-    return lo, hi, step
-
-
-def control_of(info) -> Control:
-    log = info.unit.startswith(LOG_UNITS) and info.value > 0
-    if log:
-        c = math.log10(info.value)
-        lo, hi = 10.0 ** _floor(c - 1, 0.01), 10.0 ** _ceil(c + 1, 0.01)
-        return Control(info.name, info.unit, info.description, info.value, lo, hi, True, 0.01)
-    lo, hi, step = _linear_range(info.value, info.min)
-    if info.max is not None:
-        hi = min(hi, info.max)
-    return Control(info.name, info.unit, info.description, info.value, lo, hi, False, step)
-
-
-def drop_height(v0: float) -> float:
-    """The drop height whose free fall gives ``v0`` (impact_velocity inverted)."""
-    return v0 * v0 / (2.0 * STANDARD_GRAVITY)
-
-
-def parse_number(name: str, text) -> float:
-    """A field's text as a number, or the one-line error the command line gives."""
-    if isinstance(text, (int, float)) and not isinstance(text, bool):
-        return float(text)
-    try:
-        return float(str(text).strip())
-    except ValueError:
-        raise ParameterError(f"{name}: {str(text).strip()!r} is not a number") from None
+#: the integrator's methods the page offers (rig.simulate's ``method``)
+METHODS = ("auto", "adams", "bdf")
+#: longest run the page offers, in multiples of the rig's default run length
+MAX_T_END = 50
+#: runs whose curves and summary are kept, per rig (pins and undo are not run again)
+KEEP_OUTCOMES = 12
 
 
 class Workbench:
@@ -124,7 +53,9 @@ class Workbench:
         if self.height:
             self.controls.insert(self.index(self.height.derived) + 1, self.height)
             self.units[self.height.name] = "m"
+        self.parts = self._parts()
         self._lock = threading.Lock()     # one run of this rig at a time (CasADi's buffers)
+        self._outcomes: dict = {}
         self.backend, self.backend_note = self._pick_backend()
 
     def _height_control(self) -> Control | None:
@@ -139,7 +70,7 @@ class Workbench:
         if info.value <= 0:
             return None
         h0 = drop_height(info.value)
-        lo, hi, step = _linear_range(h0, 0.0)
+        lo, hi, step = linear_range(h0, 0.0)
         return Control(v0[:-3] + ".h", "m", f"Drop height; sets {v0} = sqrt(2 g h)",
                        h0, lo, hi, False, step, derived=v0)
 
@@ -153,11 +84,55 @@ class Workbench:
             return "casadi", f"CasADi (no compiled backend: {err})"
         return "c", "compiled C + CVODE"
 
+    def shown(self, parts: bool = False) -> list:
+        """The controls the page draws: without the parameters of repeated
+        parts (a bar's 30 segments, a seal's parts) unless ``parts``: each
+        control costs the browser time on every edit (200 of them, 4-10 s)."""
+        return self.controls if parts else [c for c in self.controls if c.name not in self.parts]
+
+    def _parts(self) -> dict:
+        """{name: pattern} of the parameters of parts repeated 3 times or more
+        (``piston.seg12.s0`` -> ``piston.seg#.s0``)."""
+        pattern = {c.name: re.sub(r"(?<=[A-Za-z_])\d+(?=\.)", "#", c.name) for c in self.controls}
+        count: dict = {}
+        for p in pattern.values():
+            count[p] = count.get(p, 0) + 1
+        return {n: p for n, p in pattern.items() if "#" in p and count[p] >= 3}
+
+    def parts_note(self) -> str:
+        groups = sorted(set(self.parts.values()))
+        return (f"show the {len(self.parts)} parameters of repeated parts ("
+                + ", ".join(groups[:3]) + (", ..." if len(groups) > 3 else "")
+                + "; editing is slower with them)") if groups else ""
+
     def index(self, name: str) -> int:
         return [c.name for c in self.controls].index(name)
 
     def control(self, name: str) -> Control:
         return self.controls[self.index(name)]
+
+    def study_defaults(self) -> dict:
+        """What the study panels offer first: the rig's own ``page_defaults``
+        (parameters to calibrate and design, the design map's axes), each
+        name checked against the page's controls; a rig that declares none
+        gets its first stiffness to calibrate and its drop height to design."""
+        names = [c.name for c in self.controls]
+        decl = dict(getattr(self.rig, "page_defaults", None) or {})
+        stiff = [c.name for c in self.controls if c.log] or names
+        first = self.height.name if self.height else ("h" if "h" in names else names[0])
+        cal = [n for n in decl.get("calibrate", ()) if n in names] or stiff[:1]
+        des = [n for n in decl.get("design", ()) if n in names] or [first]
+
+        def axis(key, name):
+            got = decl.get(key)
+            if got and got[0] in names:
+                return tuple(got)
+            c = self.control(name)
+            return (name, c.lo, c.hi)
+        mx = axis("map_x", des[0])
+        my = axis("map_y", cal[0] if cal[0] != mx[0] else stiff[-1])
+        return {"cal-free": cal, "des-free": des, "map-x": mx[0], "map-x-lo": mx[1],
+                "map-x-hi": mx[2], "map-y": my[0], "map-y-lo": my[1], "map-y-hi": my[2]}
 
     # -- settings ----------------------------------------------------------------
     def defaults(self) -> dict:
@@ -170,14 +145,22 @@ class Workbench:
         c = self.control(name)
         if c.derived:
             if not value >= 0 or not math.isfinite(value):
-                raise ParameterError(f"{name} = {text} m: must be >= 0 ({c.description})")
+                raise ParameterError(f"{name} = {text} m: must be a finite number >= 0 "
+                                     f"({c.description})")
             v0 = impact_velocity(value)
+            if not math.isfinite(v0):        # 2 g h beyond floating point
+                raise ParameterError(f"{name} = {text} m: too large (its impact speed "
+                                     f"{c.derived} = sqrt(2 g h) is beyond floating point)")
             self.sim.param_vector({c.derived: v0})
             return {name: value, c.derived: v0}
         self.sim.param_vector({name: value})
         out = {name: value}
         if self.height and name == self.height.derived and value >= 0:
-            out[self.height.name] = drop_height(value)
+            h = drop_height(value)
+            if not math.isfinite(h):      # v0**2 beyond floating point: no drop height
+                raise ParameterError(f"{name} = {text} {c.unit}: too large (its drop height "
+                                     f"{self.height.name} = v0^2/(2 g) is beyond floating point)")
+            out[self.height.name] = h
         return out
 
     def params(self, settings: dict) -> dict:
@@ -187,10 +170,46 @@ class Workbench:
         return {k: float(v) for k, v in settings.items() if k in names}
 
     # -- runs --------------------------------------------------------------------
-    def run(self, settings: dict, backend=None):
+    def run(self, settings: dict, backend=None, t_end=None, method="auto"):
+        """A run of the settings; ``t_end`` (s) the page's run length (the
+        rig's default if None), ``method`` the integrator's (auto|adams|bdf)."""
+        t_end = self.t_end if t_end is None else t_end
+        # the rig's output rate kept for other lengths, within 201 .. 30001 points
+        n_out = int(min(max(round((self.n_out - 1) * t_end / self.t_end) + 1, 201), 30001))
         with self._lock:
-            return self.rig.simulate(self.t_end, n_out=self.n_out, params=self.params(settings),
-                                     backend=backend or self.backend)
+            return self.rig.simulate(t_end, n_out=n_out, params=self.params(settings),
+                                     backend=backend or self.backend, method=method)
+
+    def outcome(self, settings: dict, t_end=None, method="auto") -> dict:
+        """What the page draws of a run: its curves, summary rows and warnings,
+        kept for the last few settings (a pin, reset, a run length and back
+        are not simulated again: the drop rig's summary alone takes 0.3 s)."""
+        key = (tuple(sorted(self.params(settings).items())), t_end, method)
+        with self._lock:
+            hit = self._outcomes.pop(key, None)
+        if hit is None:
+            res = self.run(settings, t_end=t_end, method=method)
+            rows, notes = self.summary(res)
+            hit = {"curves": self.curves(res), "rows": rows, "notes": notes,
+                   "n": len(res.t), "t_last": float(res.t[-1])}
+        with self._lock:
+            self._outcomes[key] = hit              # most recent last
+            while len(self._outcomes) > KEEP_OUTCOMES:
+                self._outcomes.pop(next(iter(self._outcomes)))
+        return hit
+
+    def check_run(self, t_end_ms, method) -> tuple:
+        """The page's run length (a field in ms) and method, or a ParameterError."""
+        t_end = parse_number("t_end", t_end_ms) * 1e-3
+        if not (math.isfinite(t_end) and t_end > 0):
+            raise ParameterError(f"t_end = {t_end_ms} ms: must be a positive number")
+        if t_end > MAX_T_END * self.t_end:
+            raise ParameterError(f"t_end = {t_end_ms} ms: at most {MAX_T_END} times the rig's "
+                                 f"{self.t_end * 1e3:g} ms on this page (use pdbfs simulate "
+                                 "--t-end for longer runs)")
+        if method not in METHODS:
+            raise ParameterError(f"method {method!r}: choose one of {', '.join(METHODS)}")
+        return t_end, method
 
     def curves(self, res) -> dict:
         """The signals the page plots: pressure, contact force, displacements."""
@@ -200,47 +219,37 @@ class Workbench:
         return {"t": res.t, **{n: (res[n], res.units[n]) for n in names}}
 
     @staticmethod
-    def summary(res) -> list:
+    def summary(res) -> tuple:
         """(key, value, unit) rows of the run's summary (``complete`` when the
-        API gives it)."""
-        return [(k, v, SUMMARY_UNITS.get(k, "")) for k, v in res.summary().items()]
+        API gives it), and the warnings it gave (the t_end that would hold a
+        pulse cut off), for the page rather than the server's log."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            rows = [(k, v, SUMMARY_UNITS.get(k, "")) for k, v in res.summary().items()]
+        return rows, [str(w.message) for w in caught]
 
     # -- traces ------------------------------------------------------------------
     def read_upload(self, filename: str, contents: str):
-        """A trace uploaded by the browser (a data URL) read as ``pdbfs
-        calibrate --trace`` reads a file; errors name the file as uploaded."""
-        from pdbfs.studies import read_trace
-        name = Path(filename or "trace.csv").name
-        try:
-            data = base64.b64decode(contents.partition(",")[2], validate=False)
-        except (ValueError, TypeError):
-            raise DataError(f"trace file {name!r}: the upload could not be decoded") from None
-        with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
-            path = Path(tmp) / name
-            path.write_bytes(data)
-            kwargs = {}
-            if "signal" in inspect.signature(read_trace).parameters and self.signals.get("pressure"):
-                kwargs["signal"] = self.signals["pressure"]
-            try:
-                return read_trace(path, **kwargs)
-            except PdbfsError as err:
-                raise type(err)(str(err).replace(str(path), name)) from None
+        """A trace uploaded by the browser, read as ``pdbfs calibrate --trace``
+        reads a file (see traces.read_upload)."""
+        return traces.read_upload(filename, contents, self.signals.get("pressure"))
 
     # -- downloads ---------------------------------------------------------------
-    def results_csv(self, settings: dict) -> bytes:
+    def results_csv(self, settings: dict, **run) -> bytes:
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
             path = Path(tmp) / "results.csv"
-            self.run(settings).to_csv(path)
+            self.run(settings, **run).to_csv(path)
             return path.read_bytes()
 
-    def results_png(self, settings: dict) -> bytes:
+    def results_png(self, settings: dict, **run) -> bytes:
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp, _PLOT_LOCK:
             path = Path(tmp) / "results.png"
-            self.run(settings).plot(path=path)
+            self.run(settings, **run).plot(path=path)
             return path.read_bytes()
 
-    def settings_json(self, settings: dict) -> dict:
-        return {"rig": self.name, "params": self.params(settings),
+    def settings_json(self, settings: dict, t_end=None, method="auto") -> dict:
+        return {"rig": self.name, "t_end": self.t_end if t_end is None else t_end,
+                "method": method, "params": self.params(settings),
                 "units": {k: self.units[k] for k in self.params(settings)},
                 **({"drop_height": settings.get(self.height.name)} if self.height else {})}
 

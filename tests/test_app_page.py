@@ -1,0 +1,210 @@
+"""`pdbfs app` in headless Chromium, at the edges a user reaches (issue 21):
+huge values, a failed run, the run length, a large upload, a server that
+stops, rigs switched, jobs cancelled, and the page's own layout."""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from pdbfs.app.workbench import workbench
+from pdbfs.models import paper_rig
+
+from app_support import (HAVE, By, Keys, api_peak, browser, free_port, load, pid,  # noqa: F401
+                         server, shown_peak, start_server, tab, trace_names, type_into, wait)
+
+pytestmark = pytest.mark.skipif(not HAVE, reason="needs chromium, chromium-driver, selenium, dash")
+
+
+def status(d):
+    return d.find_element(By.ID, "status").text
+
+
+def test_a_huge_value_is_refused_beside_its_field_or_simulated(server, browser):
+    load(browser, server)
+    type_into(browser, "hammer.v0", "1e300")
+    msg = wait(browser, pid("msg", "hammer.v0"), lambda e: e.text).text
+    with pytest.raises(Exception) as err:
+        workbench("paper").check("hammer.v0", "1e300")
+    assert msg == str(err.value)
+    type_into(browser, "hammer.v0", "2.73")
+    wait(browser, pid("msg", "hammer.v0"), lambda e: e.text == "")
+    type_into(browser, "piston.v0", "1e308")            # accepted: the solver says no
+    wait(browser, "#run-failed")
+    assert "solver failed" in status(browser)
+    assert browser.find_element(By.CSS_SELECTOR, pid("field", "piston.v0")).get_attribute(
+        "value") == "1e308"
+    type_into(browser, "piston.v0", "0")                # and the server lives on
+    peak, _ = shown_peak(browser)
+    assert peak == pytest.approx(api_peak(), rel=1e-9)
+
+
+def test_a_failed_run_leaves_no_old_result_and_the_method_can_be_chosen(server, browser):
+    load(browser, server)
+    type_into(browser, "oil.k", "1e30")                 # about 2 s of CVODE steps, then failure
+    assert wait(browser, "#busy", lambda e: e.is_displayed(), timeout=10)   # said while it runs
+    wait(browser, "#run-failed")
+    assert not browser.find_elements(By.ID, "sum-peak_pressure")
+    assert trace_names(browser) == []                   # the old curves are gone
+    text = status(browser)
+    assert "method bdf (beside t_end)" in text and "method='bdf'" not in text
+    browser.find_element(By.ID, "method").click()
+    wait(browser, "[role=option]", lambda e: e.text == "bdf").click()
+    wait(browser, "#status", lambda e: "the error test failed" in e.text)
+    type_into(browser, "oil.k", "3e8")
+    peak, _ = shown_peak(browser)
+    assert peak == pytest.approx(paper_rig().simulate(0.02, params={"oil.k": 3e8}, backend="c",
+                                                      method="bdf").summary()["peak_pressure"],
+                                 rel=1e-9)
+    assert "method bdf" in status(browser)
+
+
+def test_t_end_on_the_page_and_the_hint_that_names_it(server, browser):
+    load(browser, server)
+    f = browser.find_element(By.ID, "t-end")
+    f.send_keys(Keys.CONTROL, "a")
+    f.send_keys("5" + Keys.ENTER)
+    wait(browser, "#sum-complete", lambda e: e.text.startswith("no"))
+    note = wait(browser, "#status .note", lambda e: "set t_end to" in e.text).text
+    need = note.split("set t_end to ")[1].split(" ms")[0]
+    f.send_keys(Keys.CONTROL, "a")
+    f.send_keys(need + Keys.ENTER)
+    wait(browser, "#sum-complete", lambda e: e.text == "yes")
+    api = paper_rig().simulate(float(need) * 1e-3, backend="c").summary()
+    shown = float(browser.find_element(By.ID, "sum-pulse_duration").get_attribute("data-value"))
+    assert shown == api["pulse_duration"]
+    f.send_keys(Keys.CONTROL, "a")
+    f.send_keys("-3" + Keys.ENTER)
+    wait(browser, "#run-msg", lambda e: e.text == "t_end = -3 ms: must be a positive number")
+
+
+def test_a_large_upload_is_refused_with_its_size(server, browser, tmp_path):
+    load(browser, server)
+    tab(browser, "trace")
+    big = tmp_path / "huge.csv"
+    line = b"0.000123456789,123456789.123456789\n"
+    big.write_bytes(b"time [s],p [Pa]\n" + line * (21_000_000 // len(line)))
+    browser.find_element(By.CSS_SELECTOR, "#upload input[type=file]").send_keys(str(big))
+    msg = wait(browser, "#upload-msg", lambda e: e.text, timeout=60).text
+    assert msg.startswith("trace file 'huge.csv': 21.0 MB, more than the page takes (20 MB)")
+
+
+def test_rigs_bring_their_own_study_defaults_and_say_they_are_building(server, browser):
+    load(browser, server)
+    _, text = shown_peak(browser)
+    browser.find_element(By.ID, "rig").click()
+    wait(browser, "[role=option]", lambda e: e.text == "hydraulic-pulse").click()
+    wait(browser, "#rig-note", lambda e: e.text.startswith("building rig hydraulic-pulse"))
+    shown_peak(browser, text)
+    wait(browser, "#rig-note", lambda e: e.text == "")
+    tab(browser, "trace")
+    assert "chamber.K" in browser.find_element(By.ID, "cal-free").text
+    assert "mount.s_rel0" not in browser.find_element(By.ID, "cal-free").text
+    tab(browser, "map")
+    d = workbench("hydraulic-pulse").study_defaults()
+    assert browser.find_element(By.ID, "map-y-lo").get_attribute("value") == f"{d['map-y-lo']:.6g}"
+    assert browser.find_element(By.ID, "t-end").get_attribute("value") == "20"
+
+
+def test_cancel_says_so(server, browser):
+    load(browser, server)
+    tab(browser, "map")
+    e = browser.find_element(By.ID, "map-n")
+    e.send_keys(Keys.CONTROL, "a")
+    e.send_keys("40")
+    browser.find_element(By.ID, "map-cancel").click()       # nothing running: nothing said
+    time.sleep(0.5)
+    assert browser.find_element(By.ID, "map-progress").text == ""
+    browser.find_element(By.ID, "map-run").click()
+    wait(browser, "#map-progress", lambda e: "mapping" in e.text)
+    browser.find_element(By.ID, "map-cancel").click()
+    wait(browser, "#map-progress", lambda e: e.text.startswith("cancelled at"))
+
+
+def test_pins_never_share_a_label(server, browser):
+    load(browser, server)
+    for k in range(7):
+        type_into(browser, "seal.c", str(20000 + 1000 * k))
+        wait(browser, "#status", lambda e: "points" in e.text)
+        time.sleep(0.3)
+        browser.find_element(By.ID, "pin").click()
+        wait(browser, "#pulse", lambda e: f"pin {k + 1} " in " ".join(trace_names(browser)))
+    labels = {n.split(":")[0] for n in trace_names(browser) if n.startswith("pin")}
+    assert len(labels) == 5 and "pin 7 (seal.c=26000)" in labels
+
+
+def test_the_layout_a_newcomer_sees(server, browser):
+    """An introduction; the study tabs above the fold; slider labels inside
+    their panel; design results with units."""
+    load(browser, server)
+    intro = browser.find_element(By.ID, "intro")
+    intro.click()
+    assert "drop-hammer" in intro.text
+    top = browser.execute_script("return document.getElementById('study-tab')"
+                                 ".getBoundingClientRect().bottom <= window.innerHeight")
+    assert top, "the study tabs are below the fold"
+    rects = browser.execute_script("""
+        const col = document.getElementById('controls').parentElement;   // it clips
+        const r = col.getBoundingClientRect();
+        const box = {left: r.left, right: r.left + col.clientWidth};     // no scroll bar
+        return [...document.querySelectorAll('#controls .slider-box')].flatMap(s =>
+            [...s.querySelectorAll('*')].filter(e => e.children.length === 0 && e.textContent.trim())
+              .map(e => e.getBoundingClientRect())
+              .map(r => [r.left, r.right, box.left, box.right]));""")
+    assert len(rects) >= 12                             # two end labels per slider
+    assert all(b_lo - 0.5 <= lo and hi <= b_hi + 0.5 for lo, hi, b_lo, b_hi in rects), rects
+    tab(browser, "design")
+    browser.find_element(By.ID, "des-run").click()
+    out = wait(browser, "#des-out", lambda e: "reached" in e.text, timeout=60).text
+    assert "MPa" in out and "hammer.h" in out
+
+
+def test_a_stopped_server_is_noticed_and_leaves_no_cache(browser, tmp_path):
+    proc, url = start_server(tmp_path, env={**os.environ, "TMPDIR": str(tmp_path)})
+    try:
+        load(browser, url)
+        assert list(tmp_path.glob("pdbfs-app-cache-*"))
+        assert not browser.find_element(By.ID, "conn-lost").is_displayed()
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(20)
+    assert wait(browser, "#conn-lost", lambda e: e.is_displayed(), timeout=10)
+    assert "connection to the pdbfs server is lost" in browser.find_element(By.ID, "conn-lost").text
+    assert not list(tmp_path.glob("pdbfs-app-cache-*"))
+
+
+def test_listening_beyond_this_machine_is_warned_about(tmp_path):
+    port = free_port()
+    proc = subprocess.Popen([sys.executable, "-m", "pdbfs.cli", "app", "--host", "0.0.0.0",
+                             "--port", str(port)], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "TMPDIR": str(tmp_path)})
+    try:
+        line = proc.stderr.readline()
+    finally:
+        proc.terminate()
+        proc.wait(20)
+    assert line.startswith("pdbfs: warning: --host 0.0.0.0: the page is open to every machine")
+
+
+def test_bar_piston_draws_its_parts_when_asked(server, browser):
+    load(browser, server)
+    _, text = shown_peak(browser)
+    browser.find_element(By.ID, "rig").click()
+    wait(browser, "[role=option]", lambda e: e.text == "bar-piston").click()
+    _, text = shown_peak(browser, text)
+    fields = browser.find_elements(By.CSS_SELECTOR, "#controls .field")
+    assert 15 < len(fields) < 30
+    wait(browser, "#parts input", lambda e: e.click() is None)    # again if re-drawn meanwhile
+    wait(browser, "#controls", lambda e: len(e.find_elements(By.CSS_SELECTOR, ".field")) > 200)
+    time.sleep(0.5)
+    wait(browser, pid("field", "piston.E"),
+         lambda e: e.send_keys(Keys.CONTROL, "a") or e.send_keys("1.5e11" + Keys.ENTER) or True)
+    peak, _ = shown_peak(browser, text)
+    from pdbfs.models import RIGS
+    api = RIGS["bar-piston"]().simulate(0.02, params={"piston.E": 1.5e11}, backend="c")
+    assert peak == pytest.approx(api.summary()["peak_pressure"], rel=1e-9)
