@@ -15,7 +15,7 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import app, calibrate, design, reproduce, sensitivity, simulate, sweep
+from . import app, calibrate, design, interrupt, reproduce, sensitivity, simulate, sweep
 
 COMMANDS = (simulate, sweep, sensitivity, reproduce, calibrate, design, app)
 
@@ -42,12 +42,15 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     warnings.showwarning = _show_warning
+    if args.command != "app":          # the page's server stops on Ctrl-C its own way
+        interrupt.install()
     try:
         status = args.func(args)
     except PdbfsError as err:
         print(f"pdbfs: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as stop:  # Ctrl-C: one line, what was kept (a sweep says more)
+        interrupt.done()
         print(f"pdbfs: interrupted{': ' + str(stop) if str(stop) else ''}", file=sys.stderr)
         return 130
     except BrokenPipeError:          # e.g. piped into head: not an error of pdbfs

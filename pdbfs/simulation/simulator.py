@@ -259,6 +259,8 @@ class Simulator:
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
         t0, span = float(grid[0]), float(grid[-1] - grid[0])
+        if not span > 0:   # a NaN output time would keep CVODE busy for ever
+            raise ValueError(f"integrate_shifted: the grid must span a positive time, not {span!r}")
         tau = (np.asarray(grid, float) - t0) / span
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(t0, x0, p)

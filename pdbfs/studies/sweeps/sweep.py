@@ -130,7 +130,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
                     results[int(i)] = _rebuild(sim, r)
         bar.update(len(chunk.index))
 
-    with deferred_interrupt() as stop:
+    with deferred_interrupt(store is not None) as stop:
         def finish(cid, chunk):
             save(cid, chunk)
             if stop:                # Ctrl-C: once this chunk is saved, not inside a solver
@@ -169,12 +169,13 @@ def _execute(client, sim, points, fixed, settings, chunks, finish, runner, worke
 
 
 @contextmanager
-def deferred_interrupt():
+def deferred_interrupt(defer: bool = True):
     """Ctrl-C held until the chunk at hand is finished and saved: CasADi's
     solvers check for it in the middle of a step and would swallow it. Yields
-    a list that is non-empty once Ctrl-C came (main thread only)."""
+    a list that is non-empty once Ctrl-C came (main thread only). With nothing
+    to save (``defer`` False: a sweep in memory) Ctrl-C stops at once."""
     hit = []
-    if threading.current_thread() is not threading.main_thread():
+    if not defer or threading.current_thread() is not threading.main_thread():
         yield hit
         return
     old = signal.signal(signal.SIGINT, lambda signum, frame: hit.append(signum))
