@@ -115,6 +115,10 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
         else:
             cols[name] = list(vals)
             axis_units.append(units.get(name, ""))
+    if len(cols) < 2:       # X.h and X.v0: the drop height is the impact speed seen again
+        raise ParameterError(f"design map: {xn} and {yn} are the same setting seen twice (a drop "
+                             "height stands for the impact speed v0 = sqrt(2 g h)); choose two "
+                             "different settings")
     (cx, vx), (cy, vy) = cols.items()
     grid = [(a, b) for b in vy for a in vx]          # y rows, x columns
     res = sweep(rig, {cx: [g[0] for g in grid], cy: [g[1] for g in grid]}, grid=False,
