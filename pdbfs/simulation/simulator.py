@@ -23,6 +23,7 @@ from pdbfs.modelling import DAE, check_value
 
 from . import compiled as C
 from .failures import compiled_failure, walk_failure
+from .memory import require, run_bytes
 from .stats import casadi_stats
 from .stiffness import choose_method
 from .vectorize import vectorize
@@ -216,6 +217,10 @@ class Simulator:
         self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
         if backend == "c" and self.dae.x.numel():
             self.compiled()          # a DAE rig is refused before anything else
+        n_points = np.size(t_out) if t_out is not None else n_out
+        if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
+            require(run_bytes(self.dae, n_points), f"rig {self.dae.name}: {n_points} output "
+                    "points", "ask for fewer (n_out, --n-out)")
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError, SampleTooSmallWarning
+from pdbfs.simulation.memory import require, table_bytes
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -125,6 +126,8 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
                              f"e.g. {1 << int(np.ceil(np.log2(n)))}")
     ranges = {k: _check_range(k, v) for k, v in ranges.items()}
     names = list(ranges)
+    require(table_bytes(n * (len(names) + 2), 3 * len(names) + 12),
+            f"sensitivity: {n * (len(names) + 2)} points", "ask for a smaller N (--n)")
     problem = {"num_vars": len(names), "names": names, "bounds": [[0.0, 1.0]] * len(names)}
     U = sample.sample(problem, int(n), calc_second_order=False, seed=seed)
     X = np.column_stack([np.exp(np.log(lo) + U[:, j] * np.log(hi / lo)) if log else lo + U[:, j] * (hi - lo)

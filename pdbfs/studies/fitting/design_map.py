@@ -15,8 +15,10 @@ import numpy as np
 from pdbfs.components.laws import impact_velocity
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.memory import require, table_bytes
 
 from .calibration import _rig
+from .free_parameters import height_stands_for
 from .reports import save_figure, write_columns
 from ..sweeps import sweep
 
@@ -109,8 +111,8 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
     units = {p.name: p.unit for p in sim.dae.params}
     cols, axis_units = {}, []
     for name, vals in ((xn, xv), (yn, yv)):
-        if name not in units and name.endswith(".h") and name[:-2] + ".v0" in units:
-            cols[name[:-2] + ".v0"] = [impact_velocity(h) for h in vals]
+        if height_stands_for(sim.dae, name):
+            cols[height_stands_for(sim.dae, name)] = [impact_velocity(h) for h in vals]
             axis_units.append("m")
         else:
             cols[name] = list(vals)
@@ -120,6 +122,8 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
                              "height stands for the impact speed v0 = sqrt(2 g h)); choose two "
                              "different settings")
     (cx, vx), (cy, vy) = cols.items()
+    require(table_bytes(len(vx) * len(vy), 12), f"design map: {len(vx)} x {len(vy)} points",
+            "ask for fewer (n, --n)")
     grid = [(a, b) for b in vy for a in vx]          # y rows, x columns
     res = sweep(rig, {cx: [g[0] for g in grid], cy: [g[1] for g in grid]}, grid=False,
                 t_end=t_end, n_out=int(round(t_end / 1e-5)) + 1, params=params, backend=backend,

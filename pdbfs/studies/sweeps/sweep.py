@@ -28,6 +28,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Result, Simulator
+from pdbfs.simulation.memory import require, run_bytes, table_bytes
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
@@ -101,6 +102,11 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     runner = Runner(sim, points.names, fixed, settings)
 
     n = points.n
+    if out is None:           # held in memory: refused now if it cannot fit, not at the end
+        per = table_bytes(1, len(points.names) + len(runner.keys) + 2) + \
+            (run_bytes(sim.dae, n_out) if trajectories else 0)
+        require(n * per, f"sweep of rig {sim.dae.name}: {n} points in memory",
+                "give out= (--out DIR) to stream them to disk")
     workers = _workers(workers, n)
     if chunk_size is None:
         per = 512 if runner.fast is not None else 32
