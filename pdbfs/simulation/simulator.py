@@ -28,7 +28,7 @@ from .stats import casadi_stats
 from .stiffness import choose_method
 from .vectorize import vectorize
 
-from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, output_grid  # noqa: F401
+from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, mapping, output_grid  # noqa: F401
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
@@ -73,6 +73,9 @@ class Simulator:
 
     @staticmethod
     def of(model) -> "Simulator":
+        if not isinstance(model, DAE) and not callable(getattr(model, "compile", None)):
+            raise ParameterError(f"rig = {model!r}: give a rig (a Component) or its compiled DAE, "
+                                 f"not a {type(model).__name__}")
         dae = model if isinstance(model, DAE) else model.compile()
         sim = dae.__dict__.get("_simulator")
         if sim is None:
@@ -84,7 +87,7 @@ class Simulator:
         dae = self.dae
         p = dae.p_default()
         index = {n: i for i, n in enumerate(dae.p_names)}
-        for name, value in (params or {}).items():
+        for name, value in mapping(params, "params").items():
             if name not in index:
                 if name in dae.calculated:
                     raise ParameterError(f"{name} is computed from other parameters "
@@ -100,7 +103,7 @@ class Simulator:
     def start_vector(self, p, start=None) -> np.ndarray:
         x0 = np.array(self.dae.function("start")(p), dtype=float).ravel()
         index = {n: i for i, n in enumerate(self.dae.x_names)}
-        for name, value in (start or {}).items():
+        for name, value in mapping(start, "start", "'hammer.s': 0.0").items():
             if name not in index:
                 raise ParameterError(f"{name!r} is not a state of rig {self.dae.name}; "
                                      f"states: {', '.join(self.dae.x_names)}")

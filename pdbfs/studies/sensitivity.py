@@ -19,6 +19,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError, SampleTooSmallWarning
 from pdbfs.simulation.memory import require, table_bytes
+from pdbfs.simulation.settings import mapping, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -117,6 +118,9 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
     (``backend``, ``client``, ``out`` as for pdbfs.sweep)."""
     from SALib.analyze import sobol as analyze
     from SALib.sample import sobol as sample
+    ranges = mapping(ranges, "ranges", "'hammer.v0': (1.5, 5.5)")
+    params = mapping(params, "params")
+    real(t_end, "t_end")
     if not ranges:
         raise ParameterError("sensitivity: give at least one range, e.g. --range hammer.v0=1.5:5.5")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:

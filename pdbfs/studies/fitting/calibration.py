@@ -22,6 +22,7 @@ from pdbfs.simulation import Simulator
 from .least_squares import distinct_optima, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
 from .signal_model import DT, SignalModel, pulse_end, signal_of
+from .arguments import check_fit_arguments
 from .traces import as_trace, check_time_origin
 from .free_parameters import CALIBRATION_RANGE, parse_bounds, rig_unknowns
 
@@ -95,6 +96,8 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
                 shift's range)
     progress    a function called with the number of simulations run so far
     """
+    start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
+                                        starts=starts, t_end=t_end, seed=seed, signal=signal)
     sim = Simulator.of(_rig(rig))
     dae = sim.dae
     signal = signal_of(dae, signal)

@@ -25,6 +25,9 @@ from .features import FEATURES, UNITS
 from .least_squares import solve
 from .objectives import CurveProblem, FeatureProblem
 from .signal_model import DT, SignalModel, signal_of
+from pdbfs.simulation.settings import real
+
+from .arguments import check_fit_arguments
 from .traces import as_trace, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
 
@@ -95,6 +98,10 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     rig's values. More ``starts`` (Latin hypercube) are tried for features
     when the first does not reach them. ``progress``: a function called with
     the number of simulations run so far."""
+    start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
+                                        starts=starts, t_end=t_end, seed=seed, signal=signal)
+    if isinstance(target, dict):     # features; a curve: as_trace says what is wrong with it
+        target = {k: real(v, f"target {k}") for k, v in target.items()}
     rig = _rig(rig)
     sim = Simulator.of(rig)
     dae = sim.dae

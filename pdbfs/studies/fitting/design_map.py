@@ -16,6 +16,7 @@ from pdbfs.components.laws import impact_velocity
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.memory import require, table_bytes
+from pdbfs.simulation.settings import mapping, real
 
 from .calibration import _rig
 from .free_parameters import height_stands_for
@@ -88,7 +89,10 @@ def axis(spec, n: int, log=None):
             spec = (name.strip(), float(lo), float(hi))
         except ValueError:
             raise ParameterError(f"axis {spec!r}: expected NAME=LO:HI, e.g. hammer.v0=1:6") from None
-    name, lo, hi = spec
+    if not (isinstance(spec, (list, tuple)) and len(spec) == 3 and isinstance(spec[0], str)):
+        raise ParameterError(f"axis {spec!r}: give (name, lo, hi) or 'NAME=LO:HI', "
+                             "e.g. 'hammer.v0=1:6'")
+    name, lo, hi = spec[0], real(spec[1], f"axis {spec[0]} lo"), real(spec[2], f"axis {spec[0]} hi")
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         raise ParameterError(f"axis {name}: lo = {lo:g} must be below hi = {hi:g}")
     if not (isinstance(n, int) and n >= 2):
@@ -103,6 +107,8 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
     """Peak pressure, pulse duration and time of peak over the grid of
     ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
     for the impact speed X.v0), ``n`` points per axis, all in one sweep."""
+    real(t_end, "t_end")
+    params = mapping(params, "params")
     rig = _rig(rig)
     sim = Simulator.of(rig)
     (xn, xv), (yn, yv) = axis(x, n, log), axis(y, n, log)

@@ -29,6 +29,7 @@ import numpy as np
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Result, Simulator
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
+from pdbfs.simulation.settings import mapping
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
@@ -82,7 +83,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
         rig = RIGS[rig]()
     sim = Simulator.of(rig)
     points = values if isinstance(values, PointSet) else Grid(values, zip=not grid)
-    fixed = dict(params or {})
+    fixed = mapping(params, "params")
     clash = sorted(set(fixed) & set(points.names))
     if clash:
         raise ParameterError(f"sweep: {', '.join(clash)} is both swept and fixed in params=")
