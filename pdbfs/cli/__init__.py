@@ -10,6 +10,7 @@ May import anything in pdbfs; nothing imports from here.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import warnings
 
@@ -34,9 +35,18 @@ def build_parser():
     return ap
 
 
+_NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint)\d*\(([^()]*)\)")
+
+
+def plain_text(message) -> str:
+    """A message with any numpy scalar repr left in it (``np.float64(3.0)``)
+    shown as the number: a net under pdbfs.errors.plain."""
+    return _NUMPY_REPR.sub(r"\1", str(message))
+
+
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     """Warnings as one line on stderr, without the source line."""
-    print(f"pdbfs: warning: {message}", file=sys.stderr)
+    print(f"pdbfs: warning: {plain_text(message)}", file=sys.stderr)
 
 
 def main(argv=None) -> int:
@@ -47,7 +57,7 @@ def main(argv=None) -> int:
     try:
         status = args.func(args)
     except PdbfsError as err:
-        print(f"pdbfs: error: {err}", file=sys.stderr)
+        print(f"pdbfs: error: {plain_text(err)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as stop:  # Ctrl-C: one line, what was kept (a sweep says more)
         interrupt.done()

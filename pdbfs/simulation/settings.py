@@ -6,7 +6,7 @@ import numbers
 
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 
 METHODS = ("auto", "adams", "bdf")
 BACKENDS = ("casadi", "c")
@@ -19,13 +19,13 @@ def real(value, name: str) -> float:
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ParameterError(f"{name} = {value!r}: must be a number, not {type(value).__name__}")
+        raise ParameterError(f"{name} = {plain(value)}: must be a number, not {type(value).__name__}")
     return float(value)
 
 
 def whole(value, name: str) -> int:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise ParameterError(f"{name} = {value!r}: must be a whole number, not "
+        raise ParameterError(f"{name} = {plain(value)}: must be a whole number, not "
                              f"{type(value).__name__}")
     return int(value)
 
@@ -60,7 +60,7 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
         raise ParameterError(f"max_step = {max_step}: must be a positive number")
     if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \
             or not 1 <= max_num_steps < 2 ** 62:
-        raise ParameterError(f"max_num_steps = {max_num_steps!r}: must be a whole number >= 1")
+        raise ParameterError(f"max_num_steps = {plain(max_num_steps)}: must be a whole number >= 1")
 
 
 def output_grid(t_end, n_out, t_out=None) -> np.ndarray:

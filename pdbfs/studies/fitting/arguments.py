@@ -2,7 +2,7 @@
 type before anything is built: each wrong one is a ParameterError naming it."""
 from __future__ import annotations
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation.settings import mapping, real, whole
 
 
@@ -22,7 +22,7 @@ def check_fit_arguments(*, free, bounds, start, params, starts, t_end, seed=0, s
     if isinstance(bounds, dict):
         for k, v in bounds.items():
             if not (isinstance(v, (list, tuple)) and len(v) == 2):
-                raise ParameterError(f"bounds of {k} = {v!r}: give a pair (lo, hi)")
+                raise ParameterError(f"bounds of {k} = {plain(v)}: give a pair (lo, hi)")
             for x in v:
                 real(x, f"bounds of {k}")
     if whole(starts, "starts") < 1:

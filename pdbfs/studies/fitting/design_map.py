@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdbfs.components.laws import impact_velocity
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.memory import require, table_bytes
 from pdbfs.simulation.settings import mapping, real
@@ -96,7 +96,7 @@ def axis(spec, n: int, log=None):
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         raise ParameterError(f"axis {name}: lo = {lo:g} must be below hi = {hi:g}")
     if not (isinstance(n, int) and n >= 2):
-        raise ParameterError(f"design map: n = {n!r} points per axis; need a whole number >= 2")
+        raise ParameterError(f"design map: n = {plain(n)} points per axis; need a whole number >= 2")
     if log is None:
         log = lo > 0 and hi / lo >= 10
     return name, (np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n))

@@ -26,7 +26,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Result, Simulator
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.settings import mapping
@@ -113,7 +113,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
         per = 512 if runner.fast is not None else 32
         chunk_size = max(1, min(per, math.ceil(n / (4 * workers))))
     elif not (isinstance(chunk_size, int) and chunk_size >= 1):
-        raise ParameterError(f"sweep: chunk_size = {chunk_size!r} must be a whole number >= 1")
+        raise ParameterError(f"sweep: chunk_size = {plain(chunk_size)} must be a whole number >= 1")
     chunks = [(c, c * chunk_size, min(n, (c + 1) * chunk_size)) for c in range(math.ceil(n / chunk_size))]
     store = None
     if out is not None:
@@ -197,7 +197,7 @@ def _workers(workers, n) -> int:
         cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
         return 1 if n < PARALLEL_MIN_POINTS or (cpus or 1) < 2 else min(cpus, n)
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ParameterError(f"sweep: workers = {workers!r} must be a whole number >= 1")
+        raise ParameterError(f"sweep: workers = {plain(workers)} must be a whole number >= 1")
     return min(workers, max(n, 1))
 
 
