@@ -11,6 +11,8 @@
     summary_run.py the summary's own solution: a fixed grid, until the pulse is over
     impulse.py     impulses and Guo & Batzer's restitution (the one implementation)
     stats.py       solver statistics under one set of names
+    settings.py    tolerances, method, output grid and argument types, checked first
+    memory.py      sizes that cannot fit in the memory available, refused up front
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows
