@@ -74,3 +74,16 @@ def test_ctrl_c_stops_every_command_with_one_line(command, tmp_path):
     lines = err.strip().splitlines()
     assert lines == ["pdbfs: interrupted"], err
     assert took < 5.0, f"{command} took {took:.1f} s to stop"
+
+
+def test_the_watch_ends_with_the_command():
+    """main() run in a process of its own (as tests and scripts do) leaves
+    SIGINT, the wakeup fd and the threads as it found them."""
+    import signal
+    import threading
+    from pdbfs.cli import main
+    before = signal.getsignal(signal.SIGINT), threading.active_count()
+    assert main(["params", "--rig", "paper", "--json"]) == 0
+    assert main(["params", "--rig", "drop", "--json"]) == 0
+    assert (signal.getsignal(signal.SIGINT), threading.active_count()) == before
+    assert signal.set_wakeup_fd(-1) == -1

@@ -10,6 +10,7 @@ May import anything in pdbfs; nothing imports from here.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import re
 import sys
 import warnings
@@ -52,10 +53,11 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     warnings.showwarning = _show_warning
-    if args.command != "app":          # the page's server stops on Ctrl-C its own way
-        interrupt.install()
+    # the page's server stops on Ctrl-C its own way
+    watch = interrupt.watching() if args.command != "app" else contextlib.nullcontext()
     try:
-        status = args.func(args)
+        with watch:
+            status = args.func(args)
     except PdbfsError as err:
         print(f"pdbfs: error: {plain_text(err)}", file=sys.stderr)
         return 2
