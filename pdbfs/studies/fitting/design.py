@@ -19,14 +19,13 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.settings import real
 
 from .calibration import _rig
 from .features import FEATURES, UNITS
 from .least_squares import solve
 from .objectives import CurveProblem, FeatureProblem
 from .signal_model import DT, SignalModel, signal_of
-from pdbfs.simulation.settings import real
-
 from .arguments import check_fit_arguments
 from .traces import as_trace, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
