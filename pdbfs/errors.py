@@ -42,3 +42,19 @@ class PulseIncompleteWarning(PdbfsWarning):
 
 class SampleTooSmallWarning(PdbfsWarning):
     """A sample is too small for the statistics computed from it to mean anything."""
+
+
+def plain(value) -> str:
+    """``value`` as a message shows it: numbers plainly (``3.0``, never
+    ``np.float64(3.0)``), containers of them likewise, anything else by repr."""
+    if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:    # a numpy scalar
+        value = value.item()
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{plain(k)}: {plain(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        inner = ", ".join(plain(v) for v in value)
+        return f"({inner}{',' if len(value) == 1 else ''})" if isinstance(value, tuple) \
+            else f"[{inner}]"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return repr(value)

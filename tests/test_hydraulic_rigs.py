@@ -131,9 +131,9 @@ def test_calibration_of_the_pulse_rig_recovers_the_valve():
     assert cal.params["valve.A"] == pytest.approx(7e-5, rel=1e-5)
 
 
-def test_command_line_simulates_and_lists_parameters():
+def test_command_line_simulates_and_lists_parameters(tmp_path):
     out = subprocess.run([sys.executable, "-m", "pdbfs.cli", "simulate", "--rig", "hydraulic-pulse",
-                          "--json"], capture_output=True, text=True, check=True)
+                          "--json", "--out", str(tmp_path)], capture_output=True, text=True, check=True)
     summary = json.loads(out.stdout)
     assert summary["peak_pressure"] == pytest.approx(
         hydraulic_pulse_rig().simulate(0.02).summary()["peak_pressure"], rel=1e-6)

@@ -10,12 +10,14 @@ May import anything in pdbfs; nothing imports from here.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import re
 import sys
 import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import app, calibrate, design, modes, reproduce, sensitivity, simulate, sweep
+from . import app, calibrate, design, interrupt, modes, reproduce, sensitivity, simulate, sweep
 
 COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, app)
 
@@ -34,20 +36,33 @@ def build_parser():
     return ap
 
 
+_NUMPY_REPR = re.compile(r"\bnp\.(?:float|int|uint)\d*\(([^()]*)\)")
+
+
+def plain_text(message) -> str:
+    """A message with any numpy scalar repr left in it (``np.float64(3.0)``)
+    shown as the number: a net under pdbfs.errors.plain."""
+    return _NUMPY_REPR.sub(r"\1", str(message))
+
+
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     """Warnings as one line on stderr, without the source line."""
-    print(f"pdbfs: warning: {message}", file=sys.stderr)
+    print(f"pdbfs: warning: {plain_text(message)}", file=sys.stderr)
 
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     warnings.showwarning = _show_warning
+    # the page's server stops on Ctrl-C its own way
+    watch = interrupt.watching() if args.command != "app" else contextlib.nullcontext()
     try:
-        status = args.func(args)
+        with watch:
+            status = args.func(args)
     except PdbfsError as err:
-        print(f"pdbfs: error: {err}", file=sys.stderr)
+        print(f"pdbfs: error: {plain_text(err)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as stop:  # Ctrl-C: one line, what was kept (a sweep says more)
+        interrupt.done()
         print(f"pdbfs: interrupted{': ' + str(stop) if str(stop) else ''}", file=sys.stderr)
         return 130
     except BrokenPipeError:          # e.g. piped into head: not an error of pdbfs

@@ -20,7 +20,7 @@ def cmd_simulate(args):
     summary = res.summary()
     out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "results.csv")
-    res.plot(path=out / "results.png")
+    res.plot(path=out / "results.png", title=_title(args.rig, res))
     if args.json:
         solved = {"initial": res.initial.to_dict()} if res.initial.solved else {}
         print(json.dumps({**summary, "stats": res.stats, **solved}, allow_nan=False))
@@ -32,6 +32,12 @@ def cmd_simulate(args):
         print(f"  solver: {st.get('method')} ({st.get('backend')}), {st.get('steps')} steps, "
               f"{st.get('rhs_evals')} right-hand sides, {st.get('wall_time', 0) * 1e3:.1f} ms")
         print(f"wrote {out / 'results.csv'} and {out / 'results.png'}")
+
+
+def _title(name, res):
+    """The plot's title: the rig as the command line names it (and as its FMU does)."""
+    from pdbfs.simulation.plotting import _title as describe
+    return describe(res).replace(f"rig {res.rig}", f"rig {name} ({res.rig})", 1)
 
 
 def cmd_params(args):

@@ -46,12 +46,12 @@ class Parameter:
 def check_value(value, where: str, spec) -> float:
     """Check ``value`` against ``spec`` (anything with unit, description, min,
     max, positive) and return it as a float."""
-    from pdbfs.errors import ParameterError
+    from pdbfs.errors import ParameterError, plain
     what = f"({spec.description}, {spec.unit})"
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{where} = {value!r}: not a number {what}") from None
+        raise ParameterError(f"{where} = {plain(value)}: not a number {what}") from None
     if not math.isfinite(v):
         raise ParameterError(f"{where} = {v}: must be finite {what}")
     if spec.positive and v <= 0:

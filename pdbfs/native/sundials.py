@@ -38,6 +38,8 @@ from pathlib import Path
 
 import platformdirs
 
+from pdbfs.errors import ExportError
+
 BUILD_SCRIPT = Path(__file__).with_name("build_sundials.sh")
 #: link order; a CMake build puts everything CVODE needs into the first one
 _ARCHIVES = ["libsundials_cvode.a", "libsundials_nvecserial.a", "libsundials_sunmatrixdense.a",
@@ -64,8 +66,18 @@ class Sundials:
 
 
 def cache_root() -> Path:
-    """pdbfs's cache folder: ``$XDG_CACHE_HOME/pdbfs`` (default ``~/.cache/pdbfs``)."""
-    return Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
+    """pdbfs's cache folder: ``$XDG_CACHE_HOME/pdbfs`` (default ``~/.cache/pdbfs``),
+    made if need be; one that cannot be made is an ExportError naming the folder
+    and the variable it came from."""
+    root = Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        origin = "$XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "$HOME/.cache"
+        raise ExportError(f"cannot make pdbfs's cache folder {root} (from {origin}): "
+                          f"{err.strerror or err}; point XDG_CACHE_HOME at a writable folder") \
+            from None
+    return root
 
 
 #: cache folder of each target's build, under cache_root()

@@ -15,6 +15,8 @@
                    equations, initial="steady" (Newton, exact Jacobian)
     linearize.py   A, B, C, D at an operating point (algebraic variables
                    eliminated), modes: omega, frequency, damping, shape
+    settings.py    tolerances, method, output grid and argument types, checked first
+    memory.py      sizes that cannot fit in the memory available, refused up front
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows

@@ -30,9 +30,21 @@ def plot_result(res, names=None, path=None, title=None):
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best", fontsize=8)
     axes[-1, 0].set_xlabel("time [ms]")
-    fig.suptitle(title or f"{res.rig}")
+    fig.suptitle(title or _title(res), fontsize=10)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=120)
         plt.close(fig)
     return fig
+
+
+def _title(res, most: int = 4) -> str:
+    """Which rig, over what time, and the parameters set away from their defaults."""
+    import numpy as np
+    dae = res._sim.dae
+    changed = [f"{n} = {v:.6g} {u}".rstrip() for n, v, d, u in
+               zip(dae.p_names, np.asarray(res.p, float), dae.p_default(),
+                   [p.unit for p in dae.params]) if not v == d]
+    extra = f", {len(changed) - most} more" if len(changed) > most else ""
+    head = f"rig {res.rig}: t = 0 .. {res.t[-1]:.6g} s"
+    return head + (f"\n{', '.join(changed[:most])}{extra}" if changed else "")

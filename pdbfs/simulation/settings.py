@@ -2,13 +2,47 @@
 method, back end, step limits, and the output grid."""
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 
 METHODS = ("auto", "adams", "bdf")
 BACKENDS = ("casadi", "c")
 MAX_NUM_STEPS = 500000
+
+
+def real(value, name: str) -> float:
+    """``value`` as a float if it is a real number (not a bool, a string or a
+    list: those are mistakes, refused naming ``name``)."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ParameterError(f"{name} = {plain(value)}: must be a number, not {type(value).__name__}")
+    return float(value)
+
+
+def whole(value, name: str) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise ParameterError(f"{name} = {plain(value)}: must be a whole number, not "
+                             f"{type(value).__name__}")
+    return int(value)
+
+
+def mapping(value, name: str, example: str = "'hammer.v0': 3.0") -> dict:
+    """``value`` as a dict {name: value} (None: empty); anything else is refused."""
+    from collections.abc import Mapping
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise ParameterError(f"{name} must be a dict {{name: value}}, e.g. {name}={{{example}}}; "
+                             f"got a {type(value).__name__}")
+    bad = [k for k in value if not isinstance(k, str)]
+    if bad:
+        raise ParameterError(f"{name}: the key {bad[0]!r} is not a name (a str such as "
+                             f"{example.split(':')[0]})")
+    return dict(value)
 
 
 def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
@@ -19,23 +53,30 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
     if method not in METHODS:
         raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
     for name, v in (("rtol", rtol), ("atol", atol)):
+        v = real(v, name)
         if not (np.isfinite(v) and v > 0):
             raise ParameterError(f"{name} = {v}: must be a positive number")
-    if max_step is not None and not (np.isfinite(max_step) and max_step > 0):
+    if max_step is not None and not (np.isfinite(real(max_step, "max_step")) and max_step > 0):
         raise ParameterError(f"max_step = {max_step}: must be a positive number")
     if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \
             or not 1 <= max_num_steps < 2 ** 62:
-        raise ParameterError(f"max_num_steps = {max_num_steps!r}: must be a whole number >= 1")
+        raise ParameterError(f"max_num_steps = {plain(max_num_steps)}: must be a whole number >= 1")
 
 
 def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
     if t_out is None:
-        if not (np.isfinite(t_end) and t_end > 0):
+        if not (np.isfinite(real(t_end, "t_end")) and t_end > 0):
             raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
-        if int(n_out) < 2:
+        if whole(n_out, "n_out") < 2:
             raise ParameterError(f"n_out = {n_out}: need at least 2 output points")
         return np.linspace(0.0, float(t_end), int(n_out))
-    g = np.asarray(t_out, dtype=float).ravel()
+    try:
+        g = np.asarray(t_out, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"t_out: must be a list or array of times in s, not "
+                             f"{type(t_out).__name__}") from None
+    if g.ndim != 1:
+        raise ParameterError(f"t_out: must be one row of times, not an array of shape {g.shape}")
     if g.size < 2 or g[0] != 0.0 or not np.all(np.diff(g) > 0) or not np.all(np.isfinite(g)):
         raise ParameterError("t_out must start at 0 and increase strictly, with 2+ points")
     return g

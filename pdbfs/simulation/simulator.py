@@ -23,11 +23,12 @@ from pdbfs.modelling import DAE, check_value, reduced_start
 
 from . import compiled as C
 from .failures import compiled_failure, walk_failure
+from .memory import require, run_bytes
 from .stats import casadi_stats
 from .stiffness import choose_method
 from .vectorize import vectorize
 
-from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, output_grid  # noqa: F401
+from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, mapping, output_grid  # noqa: F401
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
@@ -78,6 +79,9 @@ class Simulator:
 
     @staticmethod
     def of(model) -> "Simulator":
+        if not isinstance(model, DAE) and not callable(getattr(model, "compile", None)):
+            raise ParameterError(f"rig = {model!r}: give a rig (a Component) or its compiled DAE, "
+                                 f"not a {type(model).__name__}")
         dae = model if isinstance(model, DAE) else model.compile()
         sim = dae.__dict__.get("_simulator")
         if sim is None:
@@ -89,7 +93,7 @@ class Simulator:
         dae = self.dae
         p = dae.p_default()
         index = {n: i for i, n in enumerate(dae.p_names)}
-        for name, value in (params or {}).items():
+        for name, value in mapping(params, "params").items():
             if name not in index:
                 if name in dae.calculated:
                     raise ParameterError(f"{name} is computed from other parameters "
@@ -108,7 +112,7 @@ class Simulator:
     def start_vector(self, p, start=None) -> np.ndarray:
         x0 = np.array(self.dae.function("start")(p), dtype=float).ravel()
         index = {n: i for i, n in enumerate(self.dae.x_names)}
-        for name, value in (start or {}).items():
+        for name, value in mapping(start, "start", "'hammer.s': 0.0").items():
             if name in {n for n, *_ in getattr(self.dae, "reduced_starts", ())}:
                 raise ParameterError(
                     f"{name} is not a state of rig {self.dae.name}: index reduction computes it "
@@ -231,6 +235,10 @@ class Simulator:
         check_initial(initial, self.dae)
         if backend == "c" and self.dae.x.numel():
             self.compiled()          # a DAE rig is refused before anything else
+        n_points = np.size(t_out) if t_out is not None else n_out
+        if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
+            require(run_bytes(self.dae, n_points), f"rig {self.dae.name}: {n_points} output "
+                    "points", "ask for fewer (n_out, --n-out)")
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0, init = solve_start(self, p, self.start_vector(p, start), initial, float(grid[0]))
@@ -276,6 +284,8 @@ class Simulator:
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
         t0, span = float(grid[0]), float(grid[-1] - grid[0])
+        if not span > 0:   # a NaN output time would keep CVODE busy for ever
+            raise ValueError(f"integrate_shifted: the grid must span a positive time, not {span!r}")
         tau = (np.asarray(grid, float) - t0) / span
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(t0, x0, p)

@@ -17,7 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError, SampleTooSmallWarning
+from pdbfs.errors import ParameterError, PdbfsError, SampleTooSmallWarning, plain
+from pdbfs.simulation.memory import require, table_bytes
+from pdbfs.simulation.settings import mapping, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -42,15 +44,17 @@ class Sensitivity:
 
     def problems(self) -> list[str]:
         """Why the sample is too small for the indices to mean anything
-        (empty if it is not): a first-order index below 0 or above the total
+        (empty if it is not): a first-order index below 0 beyond its 95 %
+        interval or above the total
         one, or a 95 % interval wider than +-MAX_CONF."""
         out = []
         for o in self.outputs:
             for i, p in enumerate(self.names):
                 s1, st = float(self.S1[o][i]), float(self.ST[o][i])
                 c1, ct = float(self.S1_conf[o][i]), float(self.ST_conf[o][i])
-                if s1 < 0:
-                    out.append(f"{o}/{p}: first-order index {s1:.3f} < 0")
+                if s1 + c1 < 0:    # below 0 beyond its interval (within it: sampling noise)
+                    out.append(f"{o}/{p}: first-order index {s1:.3g} < 0 (95 % interval "
+                               f"+-{c1:.3g})")
                 elif s1 > st:
                     out.append(f"{o}/{p}: first-order index {s1:.3f} > total {st:.3f}")
                 elif max(c1, ct) > self.MAX_CONF:
@@ -116,15 +120,20 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
     (``backend``, ``client``, ``out`` as for pdbfs.sweep)."""
     from SALib.analyze import sobol as analyze
     from SALib.sample import sobol as sample
+    ranges = mapping(ranges, "ranges", "'hammer.v0': (1.5, 5.5)")
+    params = mapping(params, "params")
+    real(t_end, "t_end")
     if not ranges:
         raise ParameterError("sensitivity: give at least one range, e.g. --range hammer.v0=1.5:5.5")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:
-        raise ParameterError(f"sensitivity: N = {n!r} must be a whole number > 0")
+        raise ParameterError(f"sensitivity: N = {plain(n)} must be a whole number > 0")
     if n & (n - 1):
         raise ParameterError(f"sensitivity: N = {n} must be a power of 2 (Sobol' sequence), "
                              f"e.g. {1 << int(np.ceil(np.log2(n)))}")
     ranges = {k: _check_range(k, v) for k, v in ranges.items()}
     names = list(ranges)
+    require(table_bytes(n * (len(names) + 2), 3 * len(names) + 12),
+            f"sensitivity: {n * (len(names) + 2)} points", "ask for a smaller N (--n)")
     problem = {"num_vars": len(names), "names": names, "bounds": [[0.0, 1.0]] * len(names)}
     U = sample.sample(problem, int(n), calc_second_order=False, seed=seed)
     X = np.column_stack([np.exp(np.log(lo) + U[:, j] * np.log(hi / lo)) if log else lo + U[:, j] * (hi - lo)
@@ -146,7 +155,7 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
             frame = res.frame
             why = frame["error"].iloc[bad[0]] or f"{o} is undefined there"
             raise PdbfsError(f"sensitivity: {bad.size} of {len(y)} points have no {o} (first: "
-                             f"{dict(zip(names, X[bad[0]].round(6)))}: {why}); narrow the ranges")
+                             f"{plain(dict(zip(names, X[bad[0]])))}: {why}); narrow the ranges")
         Si = analyze.analyze(problem, y, calc_second_order=False, seed=seed)
         S1[o], S1c[o], ST[o], STc[o] = Si["S1"], Si["S1_conf"], Si["ST"], Si["ST_conf"]
     result = Sensitivity(names, list(outputs), S1, S1c, ST, STc, int(n), len(X), ranges)

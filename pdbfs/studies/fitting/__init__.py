@@ -6,6 +6,7 @@ settings for a target pulse, and the map of pulse features over two settings.
     design_map.py       design_map(): pulse features over two settings, one sweep
     traces.py           measured traces and target curves, read (units, columns) and checked
     free_parameters.py  the parameters set free: scaling, bounds, drop height for speed
+    arguments.py        the entry points' arguments checked for type, each named when wrong
     signal_model.py     a rig's output with exact sensitivities on the trace's grid
     features.py         peak, time of peak, duration and their gradients
     objectives.py       the least-squares objectives (a curve, or features)

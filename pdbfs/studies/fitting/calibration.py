@@ -22,7 +22,8 @@ from pdbfs.simulation import Simulator
 from .least_squares import distinct_optima, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
 from .signal_model import DT, SignalModel, pulse_end, signal_of
-from .traces import as_trace
+from .arguments import check_fit_arguments
+from .traces import as_trace, check_time_origin
 from .free_parameters import CALIBRATION_RANGE, parse_bounds, rig_unknowns
 
 
@@ -95,6 +96,8 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
                 shift's range)
     progress    a function called with the number of simulations run so far
     """
+    start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
+                                        starts=starts, t_end=t_end, seed=seed, signal=signal)
     sim = Simulator.of(_rig(rig))
     dae = sim.dae
     signal = signal_of(dae, signal)
@@ -138,6 +141,7 @@ def check_trace_fits(trace, unit, signal, pulse_horizon):
     if trace.unit and unit and trace.unit != unit:
         raise DataError(f"{trace.source}: the signal is in {trace.unit}, but {signal} is in "
                         f"{unit}; choose the matching column (--signal) or rig variable")
+    check_time_origin(trace, pulse_horizon)
     if not trace.time_unit and trace.span > 100 * pulse_horizon:
         raise DataError(f"{trace.source}: its times span {trace.span:.6g} s without a unit, "
                         f"for a pulse of about {pulse_horizon * 1e3:.0f} ms; if they are ms, "

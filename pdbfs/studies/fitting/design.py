@@ -19,13 +19,15 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.settings import real
 
 from .calibration import _rig
 from .features import FEATURES, UNITS
 from .least_squares import solve
 from .objectives import CurveProblem, FeatureProblem
 from .signal_model import DT, SignalModel, signal_of
-from .traces import as_trace
+from .arguments import check_fit_arguments
+from .traces import as_trace, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
 
 #: relative miss of a feature target below which it counts as reached
@@ -95,7 +97,12 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     rig's values. More ``starts`` (Latin hypercube) are tried for features
     when the first does not reach them. ``progress``: a function called with
     the number of simulations run so far."""
-    sim = Simulator.of(_rig(rig))
+    start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
+                                        starts=starts, t_end=t_end, seed=seed, signal=signal)
+    if isinstance(target, dict):     # features; a curve: as_trace says what is wrong with it
+        target = {k: real(v, f"target {k}") for k, v in target.items()}
+    rig = _rig(rig)
+    sim = Simulator.of(rig)
     dae = sim.dae
     signal = signal_of(dae, signal)
     unit = next(v.unit for v in dae.y_info if v.name == signal)
@@ -123,6 +130,7 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
             out.limit = _limit(unknowns, fit, feats, goals, prob)
     else:
         trace = as_trace(target, "target")
+        check_time_origin(trace, getattr(rig, "default_t_end", 0.02))
         horizon = max(float(trace.t[-1]), t_end or 0.0)
         model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
                             progress=progress)

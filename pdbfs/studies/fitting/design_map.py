@@ -13,10 +13,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdbfs.components.laws import impact_velocity
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.memory import require, table_bytes
+from pdbfs.simulation.settings import mapping, real
 
 from .calibration import _rig
+from .free_parameters import height_stands_for
 from .reports import save_figure, write_columns
 from ..sweeps import sweep
 
@@ -86,11 +89,14 @@ def axis(spec, n: int, log=None):
             spec = (name.strip(), float(lo), float(hi))
         except ValueError:
             raise ParameterError(f"axis {spec!r}: expected NAME=LO:HI, e.g. hammer.v0=1:6") from None
-    name, lo, hi = spec
+    if not (isinstance(spec, (list, tuple)) and len(spec) == 3 and isinstance(spec[0], str)):
+        raise ParameterError(f"axis {spec!r}: give (name, lo, hi) or 'NAME=LO:HI', "
+                             "e.g. 'hammer.v0=1:6'")
+    name, lo, hi = spec[0], real(spec[1], f"axis {spec[0]} lo"), real(spec[2], f"axis {spec[0]} hi")
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         raise ParameterError(f"axis {name}: lo = {lo:g} must be below hi = {hi:g}")
     if not (isinstance(n, int) and n >= 2):
-        raise ParameterError(f"design map: n = {n!r} points per axis; need a whole number >= 2")
+        raise ParameterError(f"design map: n = {plain(n)} points per axis; need a whole number >= 2")
     if log is None:
         log = lo > 0 and hi / lo >= 10
     return name, (np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n))
@@ -101,6 +107,8 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
     """Peak pressure, pulse duration and time of peak over the grid of
     ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
     for the impact speed X.v0), ``n`` points per axis, all in one sweep."""
+    real(t_end, "t_end")
+    params = mapping(params, "params")
     rig = _rig(rig)
     sim = Simulator.of(rig)
     (xn, xv), (yn, yv) = axis(x, n, log), axis(y, n, log)
@@ -109,13 +117,19 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
     units = {p.name: p.unit for p in sim.dae.params}
     cols, axis_units = {}, []
     for name, vals in ((xn, xv), (yn, yv)):
-        if name not in units and name.endswith(".h") and name[:-2] + ".v0" in units:
-            cols[name[:-2] + ".v0"] = [impact_velocity(h) for h in vals]
+        if height_stands_for(sim.dae, name):
+            cols[height_stands_for(sim.dae, name)] = [impact_velocity(h) for h in vals]
             axis_units.append("m")
         else:
             cols[name] = list(vals)
             axis_units.append(units.get(name, ""))
+    if len(cols) < 2:       # X.h and X.v0: the drop height is the impact speed seen again
+        raise ParameterError(f"design map: {xn} and {yn} are the same setting seen twice (a drop "
+                             "height stands for the impact speed v0 = sqrt(2 g h)); choose two "
+                             "different settings")
     (cx, vx), (cy, vy) = cols.items()
+    require(table_bytes(len(vx) * len(vy), 12), f"design map: {len(vx)} x {len(vy)} points",
+            "ask for fewer (n, --n)")
     grid = [(a, b) for b in vy for a in vx]          # y rows, x columns
     res = sweep(rig, {cx: [g[0] for g in grid], cy: [g[1] for g in grid]}, grid=False,
                 t_end=t_end, n_out=int(round(t_end / 1e-5)) + 1, params=params, backend=backend,

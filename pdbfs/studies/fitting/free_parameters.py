@@ -58,6 +58,22 @@ class Unknown:
         return self.z(self.lo), self.z(self.hi)
 
 
+def height_stands_for(dae, name) -> str | None:
+    """The impact speed X.v0 a drop height ``name`` = X.h stands for, or None
+    if ``name`` is no such height. A rig with a drop height of its own (the
+    drop rig's ``h``) is refused: there X.v0 is a start speed on top of the fall."""
+    names = set(dae.p_names)
+    if name in names or not name.endswith(".h") or name[:-2] + ".v0" not in names:
+        return None
+    own = [p.name for p in dae.params
+           if p.unit == "m" and p.description.lower().startswith("drop height")]
+    if own:
+        raise ParameterError(f"{name}: rig {dae.name} has a drop height of its own, {own[0]}; "
+                             f"name {own[0]} ({name} would set {name[:-2]}.v0, a start speed "
+                             "on top of the fall)")
+    return name[:-2] + ".v0"
+
+
 def parse_bounds(items) -> dict:
     """{name: (lo, hi)} from ``NAME=LO:HI`` strings (or a dict passed through)."""
     if isinstance(items, dict):
@@ -104,8 +120,8 @@ def rig_unknowns(sim, free, *, bounds=None, start=None, fixed=None, factor=CALIB
                                  "free it or set it, not both")
         height = False
         target = name
-        if name not in info and name.endswith(".h") and name[:-2] + ".v0" in info:
-            height, target = True, name[:-2] + ".v0"
+        if height_stands_for(dae, name):
+            height, target = True, height_stands_for(dae, name)
             if target in free or target in fixed:
                 raise ParameterError(f"{name} sets {target}: do not also free or set {target}")
         elif name not in info:
@@ -121,6 +137,9 @@ def rig_unknowns(sim, free, *, bounds=None, start=None, fixed=None, factor=CALIB
         ref = float(start.get(name, ref))
         # a factor is what is uncertain about a quantity that cannot be negative
         log = (positive or (pi.min is not None and pi.min >= 0)) and ref > 0
+        if height and name not in bounds and not ref > 0:
+            raise ParameterError(f"{name}: {target} is {v_rig:g} m/s, a drop height of 0 m; "
+                                 f"give --bounds {name}=LO:HI with LO > 0")
         if name in bounds:
             lo, hi = bounds[name]
             if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
@@ -135,6 +154,10 @@ def rig_unknowns(sim, free, *, bounds=None, start=None, fixed=None, factor=CALIB
                 lo = max(lo, pi.min)
             if pi.max is not None:
                 hi = min(hi, pi.max)
+        if height and not lo > 0:      # sqrt(2 g h): a height is scaled by factors, never 0
+            raise ParameterError(f"{name}: the drop height must stay above 0 m (it starts at "
+                                 f"{ref:g} m, bounds from {lo:g} m); give --bounds {name}=LO:HI "
+                                 "with LO > 0")
         if log and lo <= 0:
             raise ParameterError(f"bounds of {name}: lo = {lo:g} {unit}; it must be > 0")
         if lo >= hi:

@@ -173,6 +173,19 @@ def check_trace(t, y, where: str = "trace", name: str = "") -> Trace:
     return Trace(t, y, where, name)
 
 
+def check_time_origin(trace: Trace, run_horizon: float) -> None:
+    """A trace's times count from the rig's t = 0 (the start of a run). One
+    that begins after the rig's whole run (a 20 ms record time-stamped at
+    1000 s) would be simulated up to there for nothing, for minutes: refused,
+    saying what to subtract."""
+    t0 = float(trace.t[0])
+    if t0 > run_horizon:
+        raise DataError(f"{trace.source}: its times start at t = {t0:.6g} s, but they count from "
+                        f"the start of the run, whose pulse lies within its first "
+                        f"{run_horizon:.6g} s; give times from the trigger (subtract "
+                        f"{t0:.6g} s)")
+
+
 def as_trace(data, what: str = "trace", signal: str | None = None) -> Trace:
     """A Trace from a Trace, a CSV path, or a pair (t, y)."""
     if isinstance(data, Trace):

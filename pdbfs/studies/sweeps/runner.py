@@ -24,8 +24,10 @@ from pdbfs.simulation import Simulator
 from pdbfs.simulation.initialize import needs_solving
 from pdbfs.simulation.summary import keys_for
 
-#: list-valued summary entries (one value per blow) are stored as JSON text
-LIST_KEYS = ("impact_times", "impact_peak_pressures")
+#: list-valued summary entries (one value per blow) are stored as JSON text; the
+#: blows' count is a column of its own (impact_count). tests/test_every_rig_studies.py
+#: checks that every list a rig's summary holds is named here
+LIST_KEYS = ("impact_times", "impact_peak_pressures", "impact_durations")
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 
 SAMPLERS = ("lhs", "sobol", "mc")
 DISTRIBUTIONS = {"normal": 2, "uniform": 2, "lognormal": 2}   # name -> number of arguments
@@ -55,7 +55,7 @@ class Grid(PointSet):
                 self.cols[name] = arr.astype(float)
             except (TypeError, ValueError):
                 bad = next(v for v in arr if not _is_number(v))
-                raise ParameterError(f"sweep: {name} = {bad!r} is not a number") from None
+                raise ParameterError(f"sweep: {name} = {plain(bad)} is not a number") from None
         self.names, self.zip = list(self.cols), zip
         sizes = [c.size for c in self.cols.values()]
         if zip and len(set(sizes)) > 1:
@@ -104,7 +104,7 @@ class Sample(PointSet):
         if kind not in SAMPLERS:
             raise ParameterError(f"unknown sampler {kind!r}; choose one of {', '.join(SAMPLERS)}")
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:
-            raise ParameterError(f"sample size N = {n!r}: must be a whole number > 0")
+            raise ParameterError(f"sample size N = {plain(n)}: must be a whole number > 0")
         self.kind, self.n, self.seed = kind, int(n), int(seed)
         self.ranges = {k: _check_range(k, v) for k, v in (ranges or {}).items()}
         self.dists = {k: _check_dist(k, v) for k, v in (dists or {}).items()}
@@ -156,7 +156,7 @@ def _check_range(name, v):
         lo, hi, *rest = v
         lo, hi = float(lo), float(hi)
     except (TypeError, ValueError):
-        raise ParameterError(f"range of {name}: expected (LO, HI), got {v!r}") from None
+        raise ParameterError(f"range of {name}: expected (LO, HI), got {plain(v)}") from None
     log = bool(rest and rest[0] in ("log", True))
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
         raise ParameterError(f"range of {name}: LO = {lo:g} must be below HI = {hi:g}")

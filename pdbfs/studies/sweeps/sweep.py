@@ -26,8 +26,10 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Result, Simulator
+from pdbfs.simulation.memory import require, run_bytes, table_bytes
+from pdbfs.simulation.settings import mapping
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
@@ -81,7 +83,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
         rig = RIGS[rig]()
     sim = Simulator.of(rig)
     points = values if isinstance(values, PointSet) else Grid(values, zip=not grid)
-    fixed = dict(params or {})
+    fixed = mapping(params, "params")
     clash = sorted(set(fixed) & set(points.names))
     if clash:
         raise ParameterError(f"sweep: {', '.join(clash)} is both swept and fixed in params=")
@@ -101,12 +103,17 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     runner = Runner(sim, points.names, fixed, settings)
 
     n = points.n
+    if out is None:           # held in memory: refused now if it cannot fit, not at the end
+        per = table_bytes(1, len(points.names) + len(runner.keys) + 2) + \
+            (run_bytes(sim.dae, n_out) if trajectories else 0)
+        require(n * per, f"sweep of rig {sim.dae.name}: {n} points in memory",
+                "give out= (--out DIR) to stream them to disk")
     workers = _workers(workers, n)
     if chunk_size is None:
         per = 512 if runner.fast is not None else 32
         chunk_size = max(1, min(per, math.ceil(n / (4 * workers))))
     elif not (isinstance(chunk_size, int) and chunk_size >= 1):
-        raise ParameterError(f"sweep: chunk_size = {chunk_size!r} must be a whole number >= 1")
+        raise ParameterError(f"sweep: chunk_size = {plain(chunk_size)} must be a whole number >= 1")
     chunks = [(c, c * chunk_size, min(n, (c + 1) * chunk_size)) for c in range(math.ceil(n / chunk_size))]
     store = None
     if out is not None:
@@ -130,7 +137,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
                     results[int(i)] = _rebuild(sim, r)
         bar.update(len(chunk.index))
 
-    with deferred_interrupt() as stop:
+    with deferred_interrupt(store is not None) as stop:
         def finish(cid, chunk):
             save(cid, chunk)
             if stop:                # Ctrl-C: once this chunk is saved, not inside a solver
@@ -169,12 +176,13 @@ def _execute(client, sim, points, fixed, settings, chunks, finish, runner, worke
 
 
 @contextmanager
-def deferred_interrupt():
+def deferred_interrupt(defer: bool = True):
     """Ctrl-C held until the chunk at hand is finished and saved: CasADi's
     solvers check for it in the middle of a step and would swallow it. Yields
-    a list that is non-empty once Ctrl-C came (main thread only)."""
+    a list that is non-empty once Ctrl-C came (main thread only). With nothing
+    to save (``defer`` False: a sweep in memory) Ctrl-C stops at once."""
     hit = []
-    if threading.current_thread() is not threading.main_thread():
+    if not defer or threading.current_thread() is not threading.main_thread():
         yield hit
         return
     old = signal.signal(signal.SIGINT, lambda signum, frame: hit.append(signum))
@@ -189,7 +197,7 @@ def _workers(workers, n) -> int:
         cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
         return 1 if n < PARALLEL_MIN_POINTS or (cpus or 1) < 2 else min(cpus, n)
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ParameterError(f"sweep: workers = {workers!r} must be a whole number >= 1")
+        raise ParameterError(f"sweep: workers = {plain(workers)} must be a whole number >= 1")
     return min(workers, max(n, 1))
 
 
