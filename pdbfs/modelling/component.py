@@ -74,6 +74,12 @@ class Component:
         """(expression, label) pairs whose sign changes mark non-smooth points."""
         return []
 
+    def time_events(self) -> list:
+        """(time, label) pairs: the times (numbers or expressions of
+        parameters) at which an input switches. Every integrator stops and
+        restarts there, so that no step can jump over a switch."""
+        return []
+
     # -- declaration plumbing -------------------------------------------------
     def _add_param(self, name, decl, value):
         if isinstance(value, Parameter):
@@ -179,6 +185,22 @@ class Component:
 
     def rig_name(self) -> str:
         return getattr(self, "name", None) or type(self).__name__
+
+
+def switch_times(component, breakpoints) -> list:
+    """``breakpoints`` (numbers or parameter expressions, or a callable
+    returning them) as a component's time_events()."""
+    times = breakpoints() if callable(breakpoints) else breakpoints
+    out = []
+    for i, b in enumerate(times or ()):
+        if not isinstance(b, ca.SX):
+            try:
+                b = float(b)
+            except (TypeError, ValueError):
+                raise ParameterError(f"{component.label()}: breakpoint {b!r} is not a time "
+                                     "(a number in s or an expression of parameters)") from None
+        out.append((ca.SX(b), f"switch {i + 1}"))
+    return out
 
 
 def _describe(obj) -> str:

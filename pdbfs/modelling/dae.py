@@ -5,6 +5,8 @@
          y = out(t, x, z, p)        every named variable of the rig
         x0 = start(p)               start values may depend on parameters
          e = events(t, x, z, p)     event indicators (contact onset, slack oil)
+        te = time_events(p)         switch times known in advance; the first
+                                    len(te) events are t - te (time events)
 
 Parameters stay symbolic: changing one never rebuilds anything.
 """
@@ -61,6 +63,21 @@ class DAE:
     calculated: dict[str, tuple[ca.SX, VarInfo]] = field(default_factory=dict)
     # initial guess of z for IDAS (declared start values, else 0), function of p
     z0: ca.SX | None = None
+    # switch times (valves, prescribed motions), functions of p: every
+    # integrator stops and restarts at each (events[:n] are t - time_events)
+    time_events: ca.SX = field(default_factory=lambda: ca.SX(0, 1))
+
+    def time_event_times(self, p) -> np.ndarray:
+        """The time events at parameters p, sorted (non-finite ones left out)."""
+        n = self.time_events.numel()
+        if not n:
+            return np.zeros(0)
+        f = self.__dict__.setdefault("_functions", {}).get("time_events")
+        if f is None:
+            f = self.__dict__["_functions"]["time_events"] = ca.Function(
+                "time_events", [self.p], [self.time_events])
+        v = np.array(f(np.asarray(p, float)), dtype=float).ravel()
+        return np.sort(v[np.isfinite(v)])
 
     def __getstate__(self):
         """Pickle the model, not its caches (functions, integrators, compiled

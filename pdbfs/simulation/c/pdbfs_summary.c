@@ -209,6 +209,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     set.max_step = max_step;
     set.t_stop = t_end;
     pdbfs_cvode_init(&s, NXQ, PDBFS_NE, &ev, NULL, NULL);
+    s.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
     s.ode = pdbfs_ode_q;
     s.jac = pdbfs_jac_q;
     s.jac_sp = pdbfs_jac_q_sparsity_out(0);
