@@ -43,6 +43,11 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
         sim.param_vector({unknown[0]: 0.0})   # raises the usual error, with suggestions
     p0 = sim.param_vector(params)
 
+    moving = [n for n in inputs if n in time_event_inputs(dae)]
+    if moving:
+        raise ParameterError(f"trajectory_function: input(s) {', '.join(moving)} move a time "
+                             "event of the rig (a switch time); set them in params instead")
+
     u = ca.MX.sym("p", len(inputs))
     p = ca.MX(p0)                         # dense MX column of the full parameter vector
     for k, name in enumerate(inputs):
@@ -50,10 +55,68 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     x0 = dae.function("start")(p)
     method = sim.resolve_method(method, p0, dae.function("start")(p0).full().ravel(),
                                 grid[-1] - grid[0])
-    F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)
-    r = F(x0=x0, p=p, z0=sim.z_guess(p0))
+    X, Z = symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step)
     n = len(grid)
     rows = ca.vertcat(*[dae.y[index[name]] for name in outputs])
     out = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [rows]).map(n)
-    y = out(ca.DM(np.asarray(grid).reshape(1, -1)), r["xf"], r["zf"], ca.repmat(p, 1, n))
-    return ca.Function("trajectory", [u], [y], ["p"], ["y"])
+    y = out(ca.DM(np.asarray(grid).reshape(1, -1)), X, Z, ca.repmat(p, 1, n))
+    return Trajectory(sim, inputs, p0, [u], [y])
+
+
+class Trajectory(ca.Function):
+    """The trajectory Function; called with numbers, it checks them as
+    simulate does (one value per input, each within its parameter's range)."""
+
+    def __init__(self, sim, inputs, p0, ins, outs):
+        super().__init__("trajectory", ins, outs, ["p"], ["y"])
+        self._check = (sim, list(inputs), np.asarray(p0, float))
+
+    def __call__(self, *args, **kwargs):
+        values = args[0] if args else kwargs.get("p")
+        if values is not None and not isinstance(values, (ca.MX, ca.SX)):
+            sim, inputs, p0 = self._check
+            v = np.asarray(values.full() if isinstance(values, ca.DM) else values, dtype=float)
+            if v.size != len(inputs):
+                raise ParameterError(f"trajectory: {v.size} value(s) for {len(inputs)} input(s) "
+                                     f"({', '.join(inputs)}); give one value each")
+            params = dict(zip(sim.dae.p_names, p0))
+            params.update(zip(inputs, v.ravel()))
+            sim.param_vector(params)       # ranges and consistency, as simulate checks them
+        return super().__call__(*args, **kwargs)
+
+
+def time_event_inputs(dae) -> set:
+    """Names of the parameters the rig's switch times depend on."""
+    te = dae.time_events
+    if not te.numel():
+        return set()
+    return {n for k, n in enumerate(dae.p_names) if ca.depends_on(te, dae.p[k])}
+
+
+def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step):
+    """States and algebraics (MX, one column per grid point) from x0 at
+    grid[0], as functions of the MX parameters p: one integrator call per
+    piece between the rig's time events (at p0), each restarted there."""
+    dae = sim.dae
+    grid = np.asarray(grid, float)
+    b = sim.breakpoints(p0, grid[0], grid[-1])
+    z0 = sim.z_guess(p0)
+    if not b.size:
+        F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)
+        r = F(x0=x0, p=p, z0=z0)
+        return r["xf"], r["zf"]
+    edges = np.concatenate([[grid[0]], b, [grid[-1]]])
+    Xs, Zs, x = [], [], x0
+    for i, (a, c) in enumerate(zip(edges[:-1], edges[1:])):
+        inner = grid[(grid > a) & (grid < c)]
+        sub = np.concatenate([[a], inner, [c]])
+        F = sim.integrator((sub - a) / (c - a), rtol, atol, method, max_step, scaled=True,
+                           max_num_steps=MAX_NUM_STEPS)
+        r = F(x0=x, p=ca.vertcat(p, a, c - a), z0=z0)
+        keep = [j for j in range(sub.size) if (j > 0 or i == 0) and (
+            0 < j < sub.size - 1 or sub[j] in grid)]
+        Xs.append(r["xf"][:, keep])
+        Zs.append(ca.reshape(r["zf"], dae.z.numel(), sub.size)[:, keep] if dae.z.numel() else
+                  ca.MX(0, len(keep)))
+        x = r["xf"][:, -1]
+    return ca.horzcat(*Xs), ca.horzcat(*Zs)
