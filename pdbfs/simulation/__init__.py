@@ -11,6 +11,7 @@
     summary_run.py the summary's own solution: a fixed grid, until the pulse is over
     impulse.py     impulses and Guo & Batzer's restitution (the one implementation)
     stats.py       solver statistics under one set of names
+    time_events.py switch times: integrated from switch to switch, never stepped over
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows

@@ -22,6 +22,7 @@ from pdbfs.errors import ParameterError, SolverError
 from pdbfs.modelling import DAE, check_value
 
 from . import compiled as C
+from . import time_events as TE
 from .failures import compiled_failure, walk_failure
 from .stats import casadi_stats
 from .stiffness import choose_method
@@ -200,8 +201,8 @@ class Simulator:
             X = self.integrate_c(grid, np.asarray(x, float), p, rtol, atol, method, max_step,
                                  max_num_steps)
             return X[:, -1], np.zeros(0)
-        if self.breakpoints(p, t0, t0 + h).size:     # a switch inside: stop there
-            X, Z = self._pieces(np.array([t0, t0 + h]), np.asarray(x, float), p, rtol, atol,
+        if TE.breakpoints(self.dae, p, t0, t0 + h).size:     # a switch inside: stop there
+            X, Z = TE.pieces(self, np.array([t0, t0 + h]), np.asarray(x, float), p, rtol, atol,
                                 method, max_step, max_num_steps)
             return X[:, -1], Z[:, -1]
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
@@ -240,8 +241,8 @@ class Simulator:
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
-        if self.breakpoints(p, grid[0], grid[-1]).size:
-            return self._pieces(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
+            return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(grid[0], x0, p)
         F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
@@ -264,46 +265,9 @@ class Simulator:
         integrator for every grid of the same shape (no rebuild per window)."""
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
-        if self.breakpoints(p, grid[0], grid[-1]).size:
-            return self._pieces(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
+            return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         return self._shifted(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-
-    # -- time events: integrate from switch to switch ----------------------------
-    def breakpoints(self, p, t0, t1) -> np.ndarray:
-        """The rig's time events strictly inside (t0, t1)."""
-        b = self.dae.time_event_times(p)
-        tol = 64 * np.finfo(float).eps * max(abs(t0), abs(t1))
-        return np.unique(b[(b > t0 + tol) & (b < t1 - tol)])
-
-    def _pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
-        """States on ``grid``, integrated piece by piece between the time
-        events (a new start at each: no step reaches across a switch)."""
-        grid = np.asarray(grid, float)
-        b = self.breakpoints(p, grid[0], grid[-1])
-        tol = 64 * np.finfo(float).eps * max(abs(grid[0]), abs(grid[-1]))
-        k = np.clip(np.searchsorted(grid, b), 1, grid.size - 1)   # snap onto close grid points
-        near = np.where(np.abs(grid[k] - b) <= np.abs(grid[k - 1] - b), grid[k], grid[k - 1])
-        b = np.unique(np.where(np.abs(near - b) <= tol, near, b))
-        edges = np.concatenate([[grid[0]], b, [grid[-1]]])
-        nx, nz = self.dae.x.numel(), self.dae.z.numel()
-        X, Z = np.zeros((nx, grid.size)), np.zeros((nz, grid.size))
-        X[:, 0] = x0
-        x, total = np.asarray(x0, float), {}
-        for i, (a, c) in enumerate(zip(edges[:-1], edges[1:])):
-            sub = np.concatenate([[a], grid[(grid > a) & (grid < c)], [c]])
-            Xs, Zs = self._shifted(sub, x, p, rtol, atol, method, max_step, max_num_steps)
-            for key in ("steps", "rhs_evals", "jac_evals"):
-                total[key] = total.get(key, 0) + self._last_stats.get(key, 0)
-            at = np.searchsorted(grid, sub)
-            on = (at < grid.size) & (grid[np.minimum(at, grid.size - 1)] == sub)
-            if i > 0:
-                on[0] = False          # the switch point itself: the piece before wrote it
-            X[:, at[on]], Z[:, at[on]] = Xs[:, on], Zs[:, on]
-            if i == 0:
-                Z[:, 0] = Zs[:, 0]
-            x = Xs[:, -1]
-        self._last_stats = dict(self._last_stats, **total, root_events=int(b.size))
-        return X, Z
 
     def _shifted(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
         t0, span = float(grid[0]), float(grid[-1] - grid[0])

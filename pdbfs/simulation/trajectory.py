@@ -16,6 +16,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from .simulator import MAX_NUM_STEPS, Simulator
+from .time_events import breakpoints
 
 
 def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,
@@ -99,7 +100,7 @@ def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step):
     piece between the rig's time events (at p0), each restarted there."""
     dae = sim.dae
     grid = np.asarray(grid, float)
-    b = sim.breakpoints(p0, grid[0], grid[-1])
+    b = breakpoints(dae, p0, grid[0], grid[-1])
     z0 = sim.z_guess(p0)
     if not b.size:
         F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)

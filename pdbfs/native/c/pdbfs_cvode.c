@@ -256,12 +256,8 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
     s->root_pending = 0;
     s->steps_since_start = 0;
     flag = arm_time_event(s);
-    if (flag != CV_SUCCESS) {
-        say(s, PDBFS_LOG_ERROR, "CVODE setup failed (flag %d)", flag);
-        pdbfs_cvode_free(s);
-        return flag < 0 ? flag : NO_MEMORY;
-    }
-    return 0;
+    if (flag != CV_SUCCESS) say(s, PDBFS_LOG_ERROR, "CVODE setup failed (flag %d)", flag);
+    return flag;
 }
 
 /* --------------------------------------------------------------- stepping */
@@ -283,10 +279,8 @@ double pdbfs_next_time_event(PdbfsCvode *s, double t, const double *x) {
 /* stop at the next time event after s->tn (or at the caller's t_stop) */
 static int arm_time_event(PdbfsCvode *s) {
     double stop;
-    if (s->nte <= 0) {
-        s->t_break = INFINITY;
-        return CV_SUCCESS;
-    }
+    s->t_break = INFINITY;
+    if (s->nte <= 0) return CV_SUCCESS;
     s->t_break = pdbfs_next_time_event(s, s->tn, N_VGetArrayPointer(s->y));
     stop = s->t_break < s->t_stop ? s->t_break : s->t_stop;
     /* a stop time outlives CVodeReInit: past the last event, one out of reach */
@@ -308,12 +302,8 @@ static int restart_at_root(PdbfsCvode *s) {
     s->tn = s->t_root;
     s->steps_since_start = 0;
     flag = arm_time_event(s);
-    if (flag != CV_SUCCESS) {
-        say(s, PDBFS_LOG_ERROR, "setting the next time event after t = %.17g failed (flag %d)",
-            s->t_root, flag);
-        return flag;
-    }
-    return 0;
+    if (flag != CV_SUCCESS) say(s, PDBFS_LOG_ERROR, "no stop at the next time event (flag %d)", flag);
+    return flag;
 }
 
 int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_steps, double *x_out) {
