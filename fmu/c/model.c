@@ -99,8 +99,8 @@ int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const
 
 int fmu_setup(Inst *m, const char *fn, int tol_defined, double tol, double start, int stop_defined, double stop) {
     if (fmu_check(m, fn, ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
-    if (tol_defined && !(isfinite(tol) && tol > 0 && tol < 1))
-        return ERR(m, "%s: tolerance %g must be in (0, 1)", fn, tol);
+    if (tol_defined && !(tol >= PDBFS_RTOL_MIN && tol <= PDBFS_RTOL_MAX))   /* solver.rtol's rule */
+        return ERR(m, "%s: tolerance %g must be in [%g, %g]", fn, tol, PDBFS_RTOL_MIN, PDBFS_RTOL_MAX);
     if (!isfinite(start)) return ERR(m, "%s: startTime is not finite", fn);
     if (stop_defined && !(isfinite(stop) && stop >= start))
         return ERR(m, "%s: stopTime %g must be finite and >= startTime %g", fn, stop, start);

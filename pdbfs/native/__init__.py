@@ -6,6 +6,7 @@ built once with SUNDIALS' own CMake by ``build_sundials.sh``).
 
     codegen.py          model functions -> C; compile and link commands
     sundials.py         find_sundials(): an install prefix of CVODE
+    tolerances.py       the one rule for relative tolerances (every path, the FMU's too)
     build_sundials.sh   SUNDIALS' CMake build, cached under ~/.cache/pdbfs
     c/pdbfs_cvode.[ch]  the CVODE driver
 
