@@ -49,3 +49,39 @@ def test_the_fmu_declares_the_same_rule():
     from pdbfs.simulation.settings import RTOL_MAX as S_MAX, RTOL_MIN as S_MIN
     assert (RTOL_MIN, RTOL_MAX) == (S_MIN, S_MAX)
     paper_rig().simulate(0.002, rtol=RTOL_MAX)     # the edges themselves are allowed
+
+
+# -- sensitivity: indices that mean nothing are flagged, long pulses followed --------------
+
+def test_a_sample_of_one_is_never_reliable():
+    from pdbfs.errors import SampleTooSmallWarning
+    with pytest.warns(SampleTooSmallWarning, match="below 64"):
+        s = pdbfs.sensitivity(paper_rig(), {"hammer.v0": (2.0, 3.0)}, n=1, progress=False)
+    d = s.to_dict()
+    assert d["reliable"] is False
+    # S1 = 1.333 and ST = 2 are impossible for any sample: each named
+    assert any("outside [0, 1]" in p for p in d["problems"])
+
+
+def test_indices_outside_0_1_are_flagged_whatever_the_interval():
+    from pdbfs.studies.sensitivity import Sensitivity
+    one = {"y": np.array([1.2])}
+    tight = {"y": np.array([0.0])}
+    s = Sensitivity(["a"], ["y"], one, tight, one, tight, 4096, 4096 * 3, {"a": (0, 1, False)})
+    assert s.problems() and "outside [0, 1]" in s.problems()[0]
+
+
+def test_the_papers_ranges_follow_long_pulses_to_their_end():
+    """seal.c up to 2.5e6 N s/m makes pulses longer than the 20 ms horizon:
+    those points are followed until the pulse ends, so the duration has
+    indices, and every value is the summary of a run long enough to hold it."""
+    ranges = {"hammer.v0": (1.5, 5.5), "oil.k": (1e8, 1e9), "seal.c": (2.5e3, 2.5e6)}
+    s = pdbfs.sensitivity(paper_rig(), ranges, n=8, progress=False, t_end=0.02)
+    assert "pulse_duration" in s.outputs and not s.to_dict()["undefined"]
+    # the durations really are longer than the horizon for the stiffest seals
+    from pdbfs.errors import PulseIncompleteWarning
+    with pytest.warns(PulseIncompleteWarning):
+        stiff = paper_rig().simulate(0.02, params={"seal.c": 2.5e6}).summary()
+    assert stiff["complete"] is False
+    longer = paper_rig().simulate(0.4, params={"seal.c": 2.5e6}).summary()
+    assert longer["pulse_duration"] > 0.02
