@@ -85,3 +85,67 @@ def test_the_papers_ranges_follow_long_pulses_to_their_end():
     assert stiff["complete"] is False
     longer = paper_rig().simulate(0.4, params={"seal.c": 2.5e6}).summary()
     assert longer["pulse_duration"] > 0.02
+
+
+# -- a maximum at the horizon is no peak; no pulse is said as such ---------------------------
+
+from pdbfs.errors import PdbfsWarning, PulseIncompleteWarning  # noqa: E402
+from pdbfs.models import drop_rig, hydraulic_pulse_rig  # noqa: E402
+
+
+@pytest.mark.parametrize("backend", ["casadi", "c"])
+@pytest.mark.parametrize("params, t_end", [({"oil.n": 1.5}, 0.01), ({"hammer.v0": 3.0}, 0.004)])
+def test_a_maximum_before_the_peak_is_not_reported_as_the_peak(backend, params, t_end):
+    whole = paper_rig().simulate(0.06, params=params).summary()
+    with pytest.warns(PulseIncompleteWarning, match="not its peak"):
+        cut = paper_rig().simulate(t_end, params=params, backend=backend).summary()
+    assert whole["complete"] is True and whole["time_of_peak"] > t_end
+    assert cut["complete"] is False
+    assert cut["peak_pressure"] is None and cut["time_of_peak"] is None
+    # the same in a sweep (the compiled driver's rows included)
+    sw = pdbfs.sweep(paper_rig(), {k: [v] for k, v in params.items()}, t_end=t_end,
+                     backend=backend, progress=False)
+    assert np.isnan(sw.values("peak_pressure")[0]) and sw.values("complete")[0] == 0
+
+
+def test_a_blow_cut_by_the_horizon_is_not_complete():
+    with pytest.warns(PulseIncompleteWarning, match="blow 3 .* cut off"):
+        s = drop_rig().simulate(1.3, n_out=1301).summary()
+    whole = drop_rig().simulate(1.5, n_out=1501).summary()
+    assert s["impact_count"] == 3 and whole["impact_durations"][2] is not None
+    assert s["complete"] is False
+    assert s["impact_durations"][2] is None and s["impact_peak_pressures"][2] is None
+    assert s["impact_peak_pressures"][:2] == pytest.approx(whole["impact_peak_pressures"][:2],
+                                                           rel=1e-6)
+
+
+@pytest.mark.parametrize("rig, params, t_end", [
+    (paper_rig, {"hammer.v0": 0.0}, 0.02), (paper_rig, {"hammer.v0": -1.0}, 0.02),
+    (drop_rig, {"g": 0.0}, 0.5), (drop_rig, {}, 0.1),
+    (hydraulic_pulse_rig, {"valve.t_open": 0.03, "valve.t_close": 0.035}, 0.02)])
+def test_no_pulse_is_said_as_such(rig, params, t_end):
+    """No rise above the start (static) pressure: no peak (not the static
+    weight's 104 kPa, nor atmospheric), no duration, and a warning that says
+    'no pulse', not 'has not ended'."""
+    with pytest.warns(PdbfsWarning, match="no pulse") as got:
+        s = rig().simulate(t_end, params=params).summary()
+    assert not any("has not ended" in str(w.message) for w in got)
+    assert s["peak_pressure"] is None and s["time_of_peak"] is None
+    assert s["pulse_duration"] is None and s["complete"] is False
+    c = rig().simulate(t_end, params=params, backend="c").summary()
+    assert c["peak_pressure"] is None
+    sw = pdbfs.sweep(rig(), {k: [v] for k, v in params.items()} or {"g": [9.81]},
+                     t_end=t_end, backend="c", progress=False)
+    assert np.isnan(sw.values("peak_pressure")[0])
+
+
+def test_a_weak_pulse_above_atmospheric_ends():
+    """The duration is measured above the start pressure (atmospheric here):
+    1 % of a small peak lies below atmospheric and was never reached."""
+    weak = {"valve.A": 2e-6}
+    s = hydraulic_pulse_rig().simulate(0.05, params=weak).summary()
+    assert s["complete"] is True and 0 < s["pulse_duration"] < 0.05
+    r = hydraulic_pulse_rig().simulate(0.05, params=weak, n_out=50001)
+    base, peak = r["chamber.p"][0], np.max(r["chamber.p"])
+    above = r.t[r["chamber.p"] > base + 0.01 * (peak - base)]
+    assert s["pulse_duration"] == pytest.approx(above[-1] - above[0], abs=3e-6)

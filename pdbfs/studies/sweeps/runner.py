@@ -103,6 +103,13 @@ class Runner:
                 error[r] = f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
                 for k in self.keys:
                     summary[k][r] = np.nan
+        if "complete" in summary:
+            # a pulse running at t_end: whether its highest pressure so far is its peak
+            # shows only past the horizon, which Result.summary follows (the driver does not)
+            late = np.zeros(len(ok), dtype=bool)
+            late[rows] = (np.asarray(codes) == 0) & (summary["complete"][rows] == 0)
+            if late.any():
+                self._run_points(P, late, summary, error, {})
 
     def _run_points(self, P, ok, summary, error, results):
         s = self.settings
