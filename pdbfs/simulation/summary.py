@@ -111,7 +111,7 @@ def summarize(res, warn: bool = True) -> dict:
     if warn and p and run.pulse is False:
         warnings.warn(f"rig {res._sim.dae.name}: no pulse: the pressure does not rise above "
                       f"its start value {run.base:.6g} Pa in [0, {run.t_end:.6g}] s",
-                      PdbfsWarning, stacklevel=3)
+                      PulseIncompleteWarning, stacklevel=3)
     elif warn and run.complete is False:
         warnings.warn(incomplete_message(res, run, cut), PulseIncompleteWarning, stacklevel=3)
     elif warn and cut:
