@@ -43,8 +43,9 @@ class PaperHydraulicRig(PaperRig):
     name = "pdbfs_hydraulic"
     summary_signals = PAPER_HYDRAULIC_SIGNALS
 
-    L = Parameter(0.2, "m", "Length of the oil column (its volume is column.A * L)",
-                  positive=True, tunable=False)
+    L = Parameter(0.2, "m", "Length of the oil column (its volume is column.A * L; at most "
+                  "10 m, longer than any drop-hammer rig's)", positive=True, max=10.0,
+                  tunable=False)
 
     def __init__(self, law: str = "constant", swept: bool = False, leak: str | None = None,
                  contact_law=None, **params):

@@ -150,3 +150,34 @@ def test_a_weak_pulse_above_atmospheric_ends():
     base, peak = r["chamber.p"][0], np.max(r["chamber.p"])
     above = r.t[r["chamber.p"] > base + 0.01 * (peak - base)]
     assert s["pulse_duration"] == pytest.approx(above[-1] - above[0], abs=3e-6)
+
+
+# -- physically inconsistent settings: refused, naming the parameters -------------------------
+
+from pdbfs.models import paper_hydraulic_rig  # noqa: E402
+
+
+@pytest.mark.parametrize("rig, params, names", [
+    (hydraulic_pulse_rig, {"valve.t_open": 0.01, "valve.t_close": 0.005},
+     ["valve.t_open", "valve.t_close", "before it opens"]),
+    (hydraulic_pulse_rig, {"supply.p_pre": 3e8}, ["supply.p_pre", "supply.p0", "precharge"]),
+    (paper_hydraulic_rig, {"oil.p_vap": 1e5}, ["oil.p_vap", "oil.p0", "vapour"]),
+    (paper_hydraulic_rig, {"L": 1e30}, ["L = 1e+30 m", "10"])])
+def test_inconsistent_settings_are_refused_naming_them(rig, params, names):
+    with pytest.raises(ParameterError) as err:
+        rig().simulate(0.01, params=params)
+    for n in names:
+        assert n in str(err.value)
+    # in a sweep, the point fails with the same reason; the others run
+    key = next(iter(params))
+    good = rig().compile().p_default()[rig().compile().p_names.index(key)]
+    sw = pdbfs.sweep(rig(), {key: [params[key], good]}, params={k: v for k, v in params.items()
+                                                                 if k != key}, t_end=0.01,
+                     progress=False) if key != "valve.t_open" else None
+    if sw is not None:
+        assert names[0] in sw.frame["error"].iloc[0] and not sw.frame["error"].iloc[1]
+
+
+def test_the_cli_refuses_them_in_one_line(tmp_path):
+    one_line_error(cli("simulate", "--rig", "hydraulic-pulse", "--set", "valve.t_open=0.01",
+                       "--set", "valve.t_close=0.005", cwd=tmp_path), "valve.t_close")

@@ -61,6 +61,11 @@ class PulseValve(TimedValve):
     def opening(self):
         return super().opening() * (1.0 - smooth_step((time - self.t_close) / self.T_close))
 
+    def conditions(self):
+        return super().conditions() + [
+            (self.t_close - self.t_open, "the valve would start to close before it opens",
+             ["t_open", "t_close"])]
+
     def time_events(self):
         return super().time_events() + [(self.t_close, "closing"),
                                         (self.t_close + self.T_close, "closed")]

@@ -74,6 +74,13 @@ class Component:
         """(expression, label) pairs whose sign changes mark non-smooth points."""
         return []
 
+    def conditions(self) -> list:
+        """(expression, text, names): physical consistency of the parameters.
+        Each expression (of parameters only) must be >= 0, else a run is
+        refused, naming this component, the parameters ``names`` and their
+        values, and saying ``text``."""
+        return []
+
     def time_events(self) -> list:
         """(time, label) pairs: the times (numbers or expressions of
         parameters) at which an input switches. Every integrator stops and

@@ -67,6 +67,35 @@ class DAE:
     # integrator stops and restarts at each (events[:n] are t - time_events)
     time_events: ca.SX = field(default_factory=lambda: ca.SX(0, 1))
 
+    # physical consistency: (expression of p that must be >= 0, (where, text, names))
+    conditions: list = field(default_factory=list)
+
+    def check_conditions(self, p) -> None:
+        """Refuse parameters that contradict each other physically (each
+        component's conditions()): a ParameterError naming them."""
+        conds = getattr(self, "conditions", None) or []
+        if not conds:
+            return
+        f = self.__dict__.setdefault("_functions", {}).get("conditions")
+        if f is None:
+            f = self.__dict__["_functions"]["conditions"] = ca.Function(
+                "conditions", [self.p], [ca.vertcat(*[e for e, _ in conds])])
+        p = np.asarray(p, float)
+        for (_, (where, text, names)), v in zip(conds, np.array(f(p), float).ravel()):
+            if not v >= 0:
+                from pdbfs.errors import ParameterError
+                units = {q.name: q.unit for q in self.params}
+                values = ", ".join(f"{n} = {self._value_of(n, p):g} {units.get(n, '')}".rstrip()
+                                   for n in names)
+                raise ParameterError(f"{where}: {text} ({values})")
+
+    def _value_of(self, name, p) -> float:
+        if name in self.p_names:
+            return float(p[self.p_names.index(name)])
+        if name not in self.calculated:
+            return float("nan")
+        return float(ca.Function("v", [self.p], [self.calculated[name][0]])(p))
+
     def time_event_times(self, p) -> np.ndarray:
         """The time events at parameters p, sorted (non-finite ones left out)."""
         n = self.time_events.numel()

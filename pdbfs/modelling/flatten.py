@@ -46,6 +46,8 @@ class FlatSystem:
     vars: list[FlatVar] = field(default_factory=list)
     equations: list[tuple[ca.SX, str]] = field(default_factory=list)
     events: list[tuple[ca.SX, str]] = field(default_factory=list)
+    # physical consistency of the parameters: expression >= 0, (where, text, names)
+    conditions: list = field(default_factory=list)
     # switch times known in advance (expressions of parameters): time events
     time_events: list[tuple[ca.SX, str]] = field(default_factory=list)
 
@@ -108,6 +110,9 @@ def flatten(root) -> FlatSystem:
         where = comp.label()
         for expr, label in times:
             later.equation(flat.time_events, expr, _join(comp.path(), label))
+        for expr, text, names in comp.conditions():
+            later.equation(flat.conditions, expr if isinstance(expr, ca.SX) else ca.SX(expr),
+                           (comp.label(), text, [_join(comp.path(), n) for n in names]))
         for i, r in enumerate(eqs):
             for rk in (ca.vertsplit(ca.vec(r), 1) if r.numel() > 1 else [r]):
                 later.equation(flat.equations, rk, f"{where}, equation {i + 1}")

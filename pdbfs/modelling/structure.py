@@ -34,6 +34,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     # time events first among the events (the C drivers read their times from them)
     switch = list(zip(_each(flat.time_events, p_old, p_new), [w for _, w in flat.time_events]))
     events = [(t - c, w) for c, w in switch] + events
+    conditions = list(zip(_each(flat.conditions, p_old, p_new), [w for _, w in flat.conditions]))
     starts = [v for v in flat.vars if isinstance(v.start, ca.SX)]
     for v, e in zip(starts, _each([(v.start, None) for v in starts], p_old, p_new)):
         v.start = e
@@ -107,7 +108,8 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                                "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0,
-               time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1))
+               time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1),
+               conditions=conditions)
     _check_reduced_start(dae, dropped)
     return dae
 

@@ -95,6 +95,7 @@ class Simulator:
                 raise ParameterError(f"unknown parameter {name!r} of rig {dae.name}{hint}")
             info = dae.params[index[name]]
             p[index[name]] = check_value(value, name, info)
+        dae.check_conditions(p)      # the components' physical consistency
         return p
 
     def start_vector(self, p, start=None) -> np.ndarray:

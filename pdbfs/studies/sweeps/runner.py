@@ -80,6 +80,11 @@ class Runner:
                 except ParameterError as err:
                     error[i] = f"ParameterError: {err}"
                     break
+            else:
+                try:                # the components' physical consistency, per point
+                    self.sim.dae.check_conditions(P[i])
+                except ParameterError as err:
+                    error[i] = f"ParameterError: {err}"
         ok = np.array([not e for e in error])
         summary = {k: ([""] * n if k in LIST_KEYS else np.full(n, np.nan)) for k in self.keys}
         results = [None] * n if self.settings.trajectories else []
