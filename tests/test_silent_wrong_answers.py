@@ -181,3 +181,21 @@ def test_inconsistent_settings_are_refused_naming_them(rig, params, names):
 def test_the_cli_refuses_them_in_one_line(tmp_path):
     one_line_error(cli("simulate", "--rig", "hydraulic-pulse", "--set", "valve.t_open=0.01",
                        "--set", "valve.t_close=0.005", cwd=tmp_path), "valve.t_close")
+
+
+# -- calibration: the words about the starts come from where the starts ended -------------------
+
+def test_starts_that_all_reach_the_optimum_are_said_to(tmp_path):
+    """On pdbfs's own results.csv every start reaches oil.k = 3e8 (costs
+    near 0 that differ relatively by much): none 'ended at a worse one'."""
+    r = cli("simulate", "--set", "oil.k=3e8", "--out", str(tmp_path), cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    cal = pdbfs.calibrate(paper_rig(), tmp_path / "results.csv", ["oil.k"],
+                          signal="oil.pressure", starts=3)
+    assert cal.params["oil.k"] == pytest.approx(3e8, rel=1e-4)
+    from pdbfs.studies.fitting.reports import calibration_text
+    text = calibration_text(cal)
+    ends = [s["optimum"] for s in cal.starts]
+    assert ends == [0] * len(ends)
+    assert f"{len(ends)} of {len(ends)} start(s) reached this optimum" in text
+    assert "worse" not in text

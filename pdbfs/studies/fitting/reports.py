@@ -30,11 +30,14 @@ def calibration_text(cal) -> str:
             note = f"   (at its {cal.at_bounds[name][0]} bound)" if name in cal.at_bounds else ""
             lines.append(f"{name:<18} {v:>14.6g} {cal.std[name]:>12.3g}  {unit}{note}")
     k, unit = SCALE.get(cal.unit, (1.0, cal.unit))
-    best = min(s["cost"] for s in cal.starts)
-    n_best = sum(1 for s in cal.starts if s["cost"] <= best * (1 + 1e-3))
+    ends = [s.get("optimum") for s in cal.starts]
+    n_best = ends.count(0)
+    worse, failed = sum(1 for w in ends if w), ends.count(None)
+    others = [f"{worse} ended at a worse one" if worse else "",
+              f"{failed} failed" if failed else ""]
     lines.append(f"RMS residual {cal.rms_residual * k:.4g} {unit}; {n_best} of {len(cal.starts)} "
                  "start(s) reached this optimum"
-                 + ("" if n_best == len(cal.starts) else ", the others ended at a worse one"))
+                 + "".join(f", {o}" for o in others if o))
     names = list(cal.corr)
     if len(names) > 1:
         lines.append("correlation: " + "; ".join(
