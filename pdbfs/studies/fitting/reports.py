@@ -131,10 +131,11 @@ def plot_design(des, path=None):
     if "time_of_peak" in tg:
         ax.axvline(tg["time_of_peak"] * 1e3, color="k", ls=":", lw=0.9, label="target time of peak")
     if "pulse_duration" in tg:
-        level = 0.01 * des.features["peak_pressure"]
+        base = float(des.fit[0])          # the pulse rises from the start pressure
+        level = base + 0.01 * (des.features["peak_pressure"] - base)
         t0 = des.t[int(np.argmax(des.fit > level))]
         ax.plot(np.array([t0, t0 + tg["pulse_duration"]]) * 1e3, [level * k, level * k],
-                color="tab:blue", lw=3, alpha=0.6, label="target duration (above 1 % of peak)")
+                color="tab:blue", lw=3, alpha=0.6, label="target duration (1 % of the rise)")
     settings = ", ".join(f"{n} = {v:.4g}" for n, v in des.params.items())
     ax.set_title(f"rig {des.rig}: {settings}" + ("" if des.reachable else "  (NOT reached)"),
                  fontsize=9)
