@@ -127,3 +127,29 @@ def test_the_fmu_sees_a_shifted_valve(pulse_fmu, reference, fmi_type):
                           stop_time=T_END, output_interval=T_END / 2, output=["chamber.p"])
     assert r["chamber.p"][-1] == pytest.approx(
         hydraulic_pulse_rig().simulate(T_END, params=_shifted(T))["chamber.p"][-1], rel=1e-4)
+
+
+def test_model_exchange_announces_each_switch_as_the_next_event_time(pulse_fmu, tmp_path):
+    """FMI 2 ME: after each event the importer learns the next switch time
+    (nextEventTime), so that its own solver stops there."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Model
+    d = extract(pulse_fmu, unzipdir=str(tmp_path / "u"))
+    md = read_model_description(d)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    fmu = FMU2Model(guid=md.guid, unzipDirectory=d,
+                    modelIdentifier=md.modelExchange.modelIdentifier, instanceName="me")
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.setReal([vr["valve.t_open"], vr["valve.t_close"]], [0.008, 0.0125])
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    seen = []
+    for t in (0.0, 0.008, 0.012, 0.0125, 0.0145):     # t_open, +T_open, t_close, +T_close
+        fmu.setTime(t)
+        *_, defined, next_time = fmu.newDiscreteStates()
+        seen.append(next_time if defined else None)
+    assert seen[:4] == pytest.approx([0.008, 0.012, 0.0125, 0.0145], abs=1e-15), seen
+    assert seen[4] is None
+    fmu.terminate()
+    fmu.freeInstance()
