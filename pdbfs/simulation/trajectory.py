@@ -44,11 +44,6 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
         sim.param_vector({unknown[0]: 0.0})   # raises the usual error, with suggestions
     p0 = sim.param_vector(params)
 
-    moving = [n for n in inputs if n in time_event_inputs(dae)]
-    if moving:
-        raise ParameterError(f"trajectory_function: input(s) {', '.join(moving)} move a time "
-                             "event of the rig (a switch time); set them in params instead")
-
     u = ca.MX.sym("p", len(inputs))
     p = ca.MX(p0)                         # dense MX column of the full parameter vector
     for k, name in enumerate(inputs):
@@ -56,7 +51,7 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     x0 = dae.function("start")(p)
     method = sim.resolve_method(method, p0, dae.function("start")(p0).full().ravel(),
                                 grid[-1] - grid[0])
-    X, Z = symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step)
+    X, Z = symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs)
     n = len(grid)
     rows = ca.vertcat(*[dae.y[index[name]] for name in outputs])
     out = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [rows]).map(n)
@@ -86,21 +81,29 @@ class Trajectory(ca.Function):
         return super().__call__(*args, **kwargs)
 
 
-def time_event_inputs(dae) -> set:
-    """Names of the parameters the rig's switch times depend on."""
-    te = dae.time_events
-    if not te.numel():
-        return set()
-    return {n for k, n in enumerate(dae.p_names) if ca.depends_on(te, dae.p[k])}
+def moving_time_events(dae, inputs) -> np.ndarray:
+    """Which of the rig's time events depend on the parameters ``inputs``."""
+    cols = [dae.p_names.index(n) for n in inputs]
+    return np.array([any(ca.depends_on(dae.time_events[k], dae.p[i]) for i in cols)
+                     for k in range(dae.time_events.numel())], dtype=bool)
 
 
-def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step):
+def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs=()):
     """States and algebraics (MX, one column per grid point) from x0 at
     grid[0], as functions of the MX parameters p: one integrator call per
-    piece between the rig's time events (at p0), each restarted there."""
+    piece between the rig's time events (at p0), each restarted there.
+    Switch times that move with the ``inputs`` cannot split a fixed grid:
+    they are integrated through, with steps no longer than the grid's, so
+    that none is stepped over."""
     dae = sim.dae
     grid = np.asarray(grid, float)
     b = breakpoints(dae, p0, grid[0], grid[-1])
+    moving = moving_time_events(dae, inputs)
+    if moving.any():
+        still = np.array(ca.Function("te", [dae.p], [dae.time_events])(p0)).ravel()[~moving]
+        b = np.unique(still[(still > grid[0]) & (still < grid[-1])])
+        h = float(np.min(np.diff(grid)))
+        max_step = h if max_step is None else min(max_step, h)
     z0 = sim.z_guess(p0)
     if not b.size:
         F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)

@@ -22,7 +22,7 @@ from scipy.interpolate import CubicHermiteSpline
 
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.trajectory import symbolic_states, time_event_inputs
+from pdbfs.simulation.trajectory import symbolic_states
 
 #: spacing of the fine grid, s
 DT = 5e-6
@@ -133,12 +133,8 @@ class SignalModel:
         # the method "auto" picks at the start values: BDF for a stiff rig (a valve,
         # an orifice), whose sensitivities would cost Adams 50x the time
         method = sim.resolve_method("auto", self.p0, sim.start_vector(self.p0), t_end)
-        moving = [n for n in targets if n in time_event_inputs(dae)]
-        if moving:
-            raise ParameterError(f"{', '.join(moving)} move(s) a switch time of rig {dae.name} "
-                                 "(a time event): not a parameter to fit; hold it with --set")
         X, Z = symbolic_states(sim, self.grid, dae.function("start")(p), p, self.p0, rtol, atol,
-                               method, None)
+                               method, None, targets)
         rows = ca.Function("rows", [dae.t, dae.x, dae.z, dae.p], [ca.vertcat(y, ydot)]).map(n)
         Y = rows(ca.DM(self.grid.reshape(1, -1)), X, Z, ca.repmat(p, 1, n))
         self._f = ca.Function("signal", [u], [Y])
