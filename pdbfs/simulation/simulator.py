@@ -133,7 +133,7 @@ class Simulator:
     check_settings = staticmethod(check_settings)
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
-                   max_num_steps=MAX_NUM_STEPS, xdot0=None):
+                   max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True):
         """A casadi integrator for these settings (cached). ``xdot0`` (DAE
         rigs) is IDAS's guess of der(x) at the start, which its consistent
         initialisation needs; such integrators are built per call."""
@@ -162,7 +162,7 @@ class Simulator:
             plugin = "cvodes" if dae.is_ode else "idas"
             # the output grid includes t0: its z is then the consistent one
             F = ca.integrator("sim", plugin, spec, float(grid[0]), list(grid), opts)
-            if xdot0 is not None:
+            if xdot0 is not None or not keep:     # (pieces between switches: one-off grids)
                 return F
             self._cache[key] = F
         return self._cache[key]
@@ -270,14 +270,14 @@ class Simulator:
             return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         return self._shifted(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
 
-    def _shifted(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
+    def _shifted(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, keep=True):
         t0, span = float(grid[0]), float(grid[-1] - grid[0])
         tau = (np.asarray(grid, float) - t0) / span
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(t0, x0, p)
         F = self.integrator(tau, rtol, atol, method, max_step, scaled=True,
                             max_num_steps=max_num_steps,
-                            xdot0=None if xdot0 is None else span * xdot0)
+                            xdot0=None if xdot0 is None else span * xdot0, keep=keep)
         try:
             r = _call(F, x0=x0, p=np.concatenate([p, [t0, span]]), z0=z0)
         except RuntimeError as err:

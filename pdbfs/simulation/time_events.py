@@ -31,7 +31,9 @@ def pieces(sim, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
     x, total = np.asarray(x0, float), {}
     for i, (a, c) in enumerate(zip(edges[:-1], edges[1:])):
         sub = np.concatenate([[a], grid[(grid > a) & (grid < c)], [c]])
-        Xs, Zs = sim._shifted(sub, x, p, rtol, atol, method, max_step, max_num_steps)
+        # pieces between switches have one-off grids: their integrators are not cached
+        Xs, Zs = sim._shifted(sub, x, p, rtol, atol, method, max_step, max_num_steps,
+                              keep=False)
         for key in ("steps", "rhs_evals", "jac_evals"):
             total[key] = total.get(key, 0) + sim._last_stats.get(key, 0)
         at = np.searchsorted(grid, sub)
