@@ -11,17 +11,16 @@ from __future__ import annotations
 
 import hashlib
 import json
-import warnings
 import pickle
 from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError, PulseIncompleteWarning
+from pdbfs.errors import ParameterError, PdbfsError
 from pdbfs.modelling import check_value
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.summary import keys_for
+from pdbfs.simulation.summary import keys_for, summarize
 
 #: list-valued summary entries (one value per blow) are stored as JSON text
 LIST_KEYS = ("impact_times", "impact_peak_pressures")
@@ -123,9 +122,9 @@ class Runner:
                 res = self.sim.run(s.t_end, s.n_out, params=dict(zip(self.sim.dae.p_names, P[i])),
                                    start=dict(s.start) or None, rtol=s.rtol, atol=s.atol,
                                    method=s.method, max_step=s.max_step, backend=s.backend)
-                with warnings.catch_warnings():       # the complete column says it per point
-                    warnings.simplefilter("ignore", PulseIncompleteWarning)
-                    out = res.summary()
+                # the complete column says it per point: no warnings (catch_warnings is
+                # process-wide, not per thread: the sweep's threads would let them through)
+                out = summarize(res, warn=False)
             except PdbfsError as err:
                 error[i] = f"{type(err).__name__}: {err}"
                 continue
