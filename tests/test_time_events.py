@@ -117,12 +117,12 @@ def pulse_fmu(rig, tmp_path_factory):
     return str(export_fmu(rig.compile(), tmp_path_factory.mktemp("fmu") / "pulse.fmu"))
 
 
+@pytest.mark.parametrize("T", [0.0137, 0.025])     # 0.025: a switch on a communication point
 @pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
-def test_the_fmu_sees_a_shifted_valve(pulse_fmu, reference, fmi_type):
+def test_the_fmu_sees_a_shifted_valve(pulse_fmu, reference, fmi_type, T):
     """Co-simulation stops CVODE at the switch times; model exchange tells
     the importer the next one (nextEventTime), so its solver stops too."""
     import fmpy
-    T = 0.0137
     r = fmpy.simulate_fmu(pulse_fmu, fmi_type=fmi_type, start_values=_shifted(T),
                           stop_time=T_END, output_interval=T_END / 2, output=["chamber.p"])
     assert r["chamber.p"][-1] == pytest.approx(
