@@ -153,3 +153,37 @@ def test_model_exchange_announces_each_switch_as_the_next_event_time(pulse_fmu, 
     assert seen[4] is None
     fmu.terminate()
     fmu.freeInstance()
+
+
+class _PushedChain(Rig):
+    """22 masses on springs (44 states: the compiled driver integrates
+    through its roots there, but still stops at switch times), the first
+    pushed for 0.1 ms: the chain's momentum is the push's impulse."""
+
+    t0 = pdbfs.Parameter(0.0123, "s", "Push starts")
+    t1 = pdbfs.Parameter(0.0124, "s", "Push ends")
+
+    def declare(self):
+        from pdbfs.components.translational import Spring
+        self.push = Force(function=lambda t: ((t >= self.t0) * (t < self.t1)) * self.push.F,
+                          breakpoints=lambda: (self.t0, self.t1), F=100.0)
+        prev = None
+        for i in range(22):
+            m = Mass(m=1.0)
+            setattr(self, f"m{i}", m)
+            if prev is not None:
+                k = Spring(k=1e3)
+                setattr(self, f"k{i}", k)
+                self.connect(prev.flange_b, k.flange_a)
+                self.connect(k.flange_b, m.flange_a)
+            prev = m
+        self.connect(self.push.flange, self.m0.flange_a)
+
+
+@pytest.mark.parametrize("backend", ["casadi", "c"])
+def test_a_large_rig_stops_at_switch_times_too(backend):
+    rig = _PushedChain()
+    assert rig.compile().x.numel() >= 40
+    r = rig.simulate(0.05, n_out=3, backend=backend)
+    momentum = sum(r[f"m{i}.v"][-1] * 1.0 for i in range(22))
+    assert momentum == pytest.approx(100.0 * 1e-4, rel=1e-5)
