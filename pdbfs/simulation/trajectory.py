@@ -93,16 +93,19 @@ def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs=(
     grid[0], as functions of the MX parameters p: one integrator call per
     piece between the rig's time events (at p0), each restarted there.
     Switch times that move with the ``inputs`` cannot split a fixed grid:
-    they are integrated through, with steps no longer than the grid's, so
-    that none is stepped over."""
+    they are integrated through, in steps no longer than half the shortest
+    interval between switch times (at p0), so that every interval between
+    two switches holds steps and none is stepped over whole."""
     dae = sim.dae
     grid = np.asarray(grid, float)
     b = breakpoints(dae, p0, grid[0], grid[-1])
     moving = moving_time_events(dae, inputs)
     if moving.any():
-        still = np.array(ca.Function("te", [dae.p], [dae.time_events])(p0)).ravel()[~moving]
+        times = np.array(ca.Function("te", [dae.p], [dae.time_events])(p0)).ravel()
+        still = times[~moving]
         b = np.unique(still[(still > grid[0]) & (still < grid[-1])])
-        h = float(np.min(np.diff(grid)))
+        gaps = np.diff(np.unique(np.concatenate([times, grid[[0, -1]]])))
+        h = float(np.min(gaps[gaps > 0])) / 2
         max_step = h if max_step is None else min(max_step, h)
     z0 = sim.z_guess(p0)
     if not b.size:
