@@ -1,6 +1,7 @@
-#include <math.h>
 /* The Model Exchange and Co-Simulation calls of FMI 2.0 on the
  * version-neutral model_exchange.c and cosimulation.c. */
+#include <math.h>
+
 #include "fmi2Functions.h"
 #include "fmu_instance.h"
 

@@ -1,8 +1,9 @@
-#include <math.h>
 /* The Model Exchange and Co-Simulation calls of FMI 3.0 on the
  * version-neutral model_exchange.c and cosimulation.c (the same CVODE loop
  * as FMI 2.0).  Co-Simulation has no event mode: fmi3DoStep integrates
  * through the rig's events itself. */
+#include <math.h>
+
 #include "fmi3Functions.h"
 #include "fmu_instance.h"
 
