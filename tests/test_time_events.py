@@ -187,3 +187,18 @@ def test_a_large_rig_stops_at_switch_times_too(backend):
     r = rig.simulate(0.05, n_out=3, backend=backend)
     momentum = sum(r[f"m{i}.v"][-1] * 1.0 for i in range(22))
     assert momentum == pytest.approx(100.0 * 1e-4, rel=1e-5)
+
+
+@pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
+def test_the_fmu_refuses_a_valve_closing_before_it_opens(pulse_fmu, fmi_type):
+    """The components' consistency conditions hold in the FMU too: checked
+    when initialisation ends, naming the parameters."""
+    import fmpy
+    logged = []
+    with pytest.raises(Exception):
+        fmpy.simulate_fmu(pulse_fmu, fmi_type=fmi_type, stop_time=0.01,
+                          start_values={"valve.t_open": 0.01, "valve.t_close": 0.005},
+                          logger=lambda *a: logged.append(a[-1].decode() if isinstance(
+                              a[-1], bytes) else str(a[-1])))
+    assert any("valve.t_open, valve.t_close" in m and "before it opens" in m for m in logged), \
+        logged
