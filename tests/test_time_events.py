@@ -202,3 +202,19 @@ def test_the_fmu_refuses_a_valve_closing_before_it_opens(pulse_fmu, fmi_type):
                               a[-1], bytes) else str(a[-1])))
     assert any("valve.t_open, valve.t_close" in m and "before it opens" in m for m in logged), \
         logged
+
+
+@pytest.mark.parametrize("backend", ["casadi", "c"])
+def test_the_issues_hang_with_a_late_valve_ends_with_the_pulse(tmp_path, reference, backend):
+    """Issue 21 reported no output in 120 s for this command (more than 10
+    minutes in Python); with the switch times as time events it is the
+    shifted pulse."""
+    out = subprocess.run([sys.executable, "-m", "pdbfs.cli", "simulate", "--rig",
+                          "hydraulic-pulse", "--set", "valve.t_open=0.01", "--set",
+                          "valve.t_close=0.0145", "--t-end", "0.060000000000000005", "--json",
+                          "--backend", backend], capture_output=True, text=True, cwd=tmp_path,
+                         timeout=60)
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert doc["peak_pressure"] == pytest.approx(reference["peak_pressure"], rel=1e-5)
+    assert doc["time_of_peak"] == pytest.approx(reference["time_of_peak"] + 0.01, abs=2e-6)
