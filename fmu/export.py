@@ -119,6 +119,11 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          f'#define PDBFS_GUID "{guid}"',
          f"#define PDBFS_NX {model.nx}", f"#define PDBFS_NP {model.np}", f"#define PDBFS_NC {model.nc}",
          f"#define PDBFS_NY {model.ny}", f"#define PDBFS_NYV {model.nyv}", f"#define PDBFS_NE {model.ne}",
+         f"#define PDBFS_NTE {d.time_events.numel()}",   # the first NTE events: t - t_i
+         f"#define PDBFS_NCOND {len(d.conditions)}",      # Component.conditions, each >= 0
+         "static const char *const PDBFS_COND_TEXT[PDBFS_NCOND + 1] = {"
+         + ", ".join([_c_string(f"{w}: {text} ({', '.join(names)})")
+                      for _, (w, text, names) in d.conditions] + ['""']) + "};",
          f"#define PDBFS_VR_P {model.vr_p}", f"#define PDBFS_VR_RTOL {model.vr_rtol}",
          f"#define PDBFS_VR_MAXSTEP {model.vr_maxstep}", f"#define PDBFS_VR_C {model.vr_c}",
          f"#define PDBFS_VR_X {model.vr_x}", f"#define PDBFS_VR_DX {model.vr_dx}",

@@ -13,12 +13,12 @@ from pdbfs.errors import ExportError
 from pdbfs.modelling import DAE
 from pdbfs.modelling.initialization import start_pattern
 from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
+# solver.rtol's range, inclusive, declared and checked alike: the rule of every path
+from pdbfs.native.tolerances import RTOL_MAX, RTOL_MIN
 
 from . import units as _units
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
-#: solver.rtol's range, inclusive, declared and checked alike
-RTOL_MIN, RTOL_MAX = 1e-15, 0.1
 #: the declared min of a parameter that must be > 0: FMI's min is inclusive,
 #: so the smallest normal double stands for "above 0" (0 and denormals are refused)
 POSITIVE_MIN = 2.2250738585072014e-308

@@ -45,8 +45,9 @@ class PaperHydraulicRig(PaperRig):
     page_defaults = {"calibrate": ("oil.K",), "design": ("hammer.h",),
                      "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.K", 1e9, 1e10)}
 
-    L = Parameter(0.2, "m", "Length of the oil column (its volume is column.A * L)",
-                  positive=True, tunable=False)
+    L = Parameter(0.2, "m", "Length of the oil column (its volume is column.A * L; at most "
+                  "10 m, longer than any drop-hammer rig's)", positive=True, max=10.0,
+                  tunable=False)
 
     def __init__(self, law: str = "constant", swept: bool = False, leak: str | None = None,
                  contact_law=None, **params):

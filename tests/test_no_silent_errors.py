@@ -93,7 +93,8 @@ def test_no_pulse_has_no_time_of_peak_and_no_infinity(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "Infinity" not in r.stdout and "NaN" not in r.stdout
     doc = json.loads(r.stdout)
-    assert doc["peak_pressure"] == 0.0 and doc["time_of_peak"] is None
+    assert doc["peak_pressure"] is None and doc["time_of_peak"] is None   # no pulse, no peak
+    assert "no pulse" in r.stderr
     assert doc["restitution_coefficient"] is None
 
 

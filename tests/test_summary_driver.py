@@ -71,7 +71,7 @@ def test_failures_and_undefined_values_per_point(paper):
     # a hammer at rest: no contact, no pulse: no restitution (NaN, None in Python), not complete
     row = dict(zip(SUMMARY_KEYS, values[1]))
     assert codes[1] == 0 and np.isnan(row["restitution_coefficient"]) and row["complete"] == 0
-    assert row["peak_pressure"] == 0 and "no pressure pulse" in msgs[1]
+    assert np.isnan(row["peak_pressure"]) and "no pressure pulse" in msgs[1]   # no peak
     # a hammer that hardly moves (1 nm/s): a pressure of mPa, at the size of the solver's
     # error at atol 1e-10 m, whose crossings integrated again are others: a failure, no numbers
     assert codes[3] == batch.RC_BAD_CROSSINGS and "not resolved" in msgs[3]

@@ -15,8 +15,8 @@ class Accumulator(PartialOnePort):
     It starts at pressure ``p0`` (holding ``V0*(1 - (p_pre/p0)^(1/n))`` of
     oil). The oil is taken as incompressible beside the gas. Drawn below
     empty (``V_oil < 0``, ``p < p_pre``) the gas law is continued (a real
-    bladder would close its poppet): keep ``p0 >= p_pre`` and watch
-    ``V_oil``.
+    bladder would close its poppet): watch ``V_oil``; a start below the
+    precharge (``p0 < p_pre``) is refused.
 
     ``steady_start=True``: in equilibrium with its line at the start (no oil
     flows in, ``der(V_oil) = 0``); the oil it holds is then solved at
@@ -45,6 +45,10 @@ class Accumulator(PartialOnePort):
 
     def initial_equations(self):
         return [der(self.V_oil)] if self._steady_start else []
+
+    def conditions(self):
+        return [(self.p0 - self.p_pre, "starts below its gas precharge, holding no oil (the "
+                 "start pressure must be at least the precharge)", ["p_pre", "p0"])]
 
     def equations(self):
         return [eq(der(self.V_oil), self.port.q),

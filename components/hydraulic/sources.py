@@ -1,5 +1,5 @@
 """Boundary conditions: a tank, prescribed pressure and prescribed flow."""
-from pdbfs.modelling import Parameter, Variable, eq, time
+from pdbfs.modelling import Parameter, Variable, eq, switch_times, time
 
 from .interfaces import PartialOnePort
 from .laws import ATMOSPHERE
@@ -7,11 +7,17 @@ from .laws import ATMOSPHERE
 
 class PartialSource(PartialOnePort):
     """A source whose value is a parameter, or ``function(t)`` giving a
-    CasADi expression of time (which may use the component's parameters)."""
+    CasADi expression of time (which may use the component's parameters).
+    ``breakpoints``: the times (numbers or parameter expressions) at which
+    ``function`` switches; every integrator stops there."""
 
-    def __init__(self, function=None, **params):
+    def __init__(self, function=None, breakpoints=(), **params):
         self._function = function
+        self._breakpoints = breakpoints
         super().__init__(**params)
+
+    def time_events(self):
+        return switch_times(self, self._breakpoints)
 
     def prescribed(self, constant):
         return constant if self._function is None else self._function(time)

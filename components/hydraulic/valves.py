@@ -47,8 +47,8 @@ class TimedValve(PartialOrifice):
     def opening(self):
         return smooth_step((time - self.t_open) / self.T_open)
 
-    def events(self):
-        return [(time - self.t_open, "opening"), (time - self.t_open - self.T_open, "open")]
+    def time_events(self):
+        return [(self.t_open, "opening"), (self.t_open + self.T_open, "open")]
 
 
 class PulseValve(TimedValve):
@@ -61,6 +61,11 @@ class PulseValve(TimedValve):
     def opening(self):
         return super().opening() * (1.0 - smooth_step((time - self.t_close) / self.T_close))
 
-    def events(self):
-        return super().events() + [(time - self.t_close, "closing"),
-                                   (time - self.t_close - self.T_close, "closed")]
+    def conditions(self):
+        return super().conditions() + [
+            (self.t_close - self.t_open, "the valve would start to close before it opens",
+             ["t_open", "t_close"])]
+
+    def time_events(self):
+        return super().time_events() + [(self.t_close, "closing"),
+                                        (self.t_close + self.T_close, "closed")]

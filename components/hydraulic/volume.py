@@ -132,5 +132,10 @@ class Volume(PartialOnePort):
     def initial_equations(self):
         return [der(self.p_law)] if self._steady_start else []
 
+    def conditions(self):
+        return [(self.p0 - self.p_vap, "the oil would start as vapour (the start pressure "
+                 "must be at least the vapour pressure)", ["p_vap", "p0"])] \
+            if self._cavitation else []
+
     def events(self):
         return [(self.p_law - self.p_vap, "cavitation")] if self._cavitation else []

@@ -1,4 +1,4 @@
-from pdbfs.modelling import Parameter, Variable, eq, time
+from pdbfs.modelling import Parameter, Variable, eq, switch_times, time
 
 from .interfaces import PartialOneFlange
 from ..laws import STANDARD_GRAVITY
@@ -7,13 +7,19 @@ from ..laws import STANDARD_GRAVITY
 class Force(PartialOneFlange):
     """A prescribed force ``F`` pushing the attached body in +x (down): the
     parameter ``F``, or ``function(t)`` returning a CasADi expression of time
-    (which may use the component's parameters)."""
+    (which may use the component's parameters). ``breakpoints``: the times
+    (numbers or parameter expressions) at which ``function`` switches; every
+    integrator stops there, so that no step jumps over a switch."""
 
     F = Parameter(0.0, "N", "Constant force, positive down")
 
-    def __init__(self, function=None, **params):
+    def __init__(self, function=None, breakpoints=(), **params):
         self._function = function
+        self._breakpoints = breakpoints
         super().__init__(**params)
+
+    def time_events(self):
+        return switch_times(self, self._breakpoints)
 
     def declare(self):
         super().declare()
@@ -39,13 +45,18 @@ class Gravity(PartialOneFlange):
 class Position(PartialOneFlange):
     """A prescribed position of the attached flange: the parameter ``s0``, or
     ``function(t)`` returning a CasADi expression of time. A body driven by
-    it has no motion of its own left (no state)."""
+    it has no motion of its own left (no state). ``breakpoints``: the times
+    at which ``function`` switches (as for Force)."""
 
     s0 = Parameter(0.0, "m", "Constant position, positive down")
 
-    def __init__(self, function=None, **params):
+    def __init__(self, function=None, breakpoints=(), **params):
         self._function = function
+        self._breakpoints = breakpoints
         super().__init__(**params)
+
+    def time_events(self):
+        return switch_times(self, self._breakpoints)
 
     def equations(self):
         value = self.s0 if self._function is None else self._function(time)

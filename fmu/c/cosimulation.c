@@ -24,7 +24,10 @@ int cosim_start(Inst *m) {
     PdbfsCvodeSettings set = {0};
     double atol[NX + 1];
     int i;
-    if (!m->solver.ev) pdbfs_cvode_init(&m->solver, NX, NE, &m->ev, solver_log, m);
+    if (!m->solver.ev) {
+        pdbfs_cvode_init(&m->solver, NX, NE, &m->ev, solver_log, m);
+        m->solver.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
+    }
     set.method = m->s.method == METHOD_ADAMS ? PDBFS_ADAMS : PDBFS_BDF;
     set.rtol = model_rtol(m);
     for (i = 0; i < NX; i++) atol[i] = set.rtol * PDBFS_X_NOMINAL[i];

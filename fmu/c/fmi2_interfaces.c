@@ -1,5 +1,7 @@
 /* The Model Exchange and Co-Simulation calls of FMI 2.0 on the
  * version-neutral model_exchange.c and cosimulation.c. */
+#include <math.h>
+
 #include "fmi2Functions.h"
 #include "fmu_instance.h"
 
@@ -17,8 +19,9 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     info->terminateSimulation = fmi2False;
     info->nominalsOfContinuousStatesChanged = fmi2False;
     info->valuesOfContinuousStatesChanged = fmi2False;
-    info->nextEventTimeDefined = fmi2False;
-    info->nextEventTime = 0.0;
+    info->nextEventTime = me_next_event_time(m);      /* a valve's switch: a time event */
+    info->nextEventTimeDefined = isfinite(info->nextEventTime) ? fmi2True : fmi2False;
+    if (!info->nextEventTimeDefined) info->nextEventTime = 0.0;
     return fmi2OK;
 }
 

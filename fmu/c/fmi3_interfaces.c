@@ -2,6 +2,8 @@
  * version-neutral model_exchange.c and cosimulation.c (the same CVODE loop
  * as FMI 2.0).  Co-Simulation has no event mode: fmi3DoStep integrates
  * through the rig's events itself. */
+#include <math.h>
+
 #include "fmi3Functions.h"
 #include "fmu_instance.h"
 
@@ -22,8 +24,11 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     if (terminateSimulation) *terminateSimulation = fmi3False;
     if (nominalsOfContinuousStatesChanged) *nominalsOfContinuousStatesChanged = fmi3False;
     if (valuesOfContinuousStatesChanged) *valuesOfContinuousStatesChanged = fmi3False;
-    if (nextEventTimeDefined) *nextEventTimeDefined = fmi3False;
-    if (nextEventTime) *nextEventTime = 0.0;
+    {   /* a valve's switch: a time event */
+        double next = me_next_event_time(m);
+        if (nextEventTimeDefined) *nextEventTimeDefined = isfinite(next) ? fmi3True : fmi3False;
+        if (nextEventTime) *nextEventTime = isfinite(next) ? next : 0.0;
+    }
     return fmi3OK;
 }
 

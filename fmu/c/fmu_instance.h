@@ -168,6 +168,7 @@ int snapshot_deserialize(Inst *m, const char *fn, const unsigned char *bytes, si
 int me_enter_event_mode(Inst *m, const char *fn);
 int me_enter_continuous_mode(Inst *m, const char *fn);
 int me_new_discrete_states(Inst *m, const char *fn);
+double me_next_event_time(Inst *m);
 int me_completed_step(Inst *m, const char *fn, int *enter_event, int *terminate);
 int me_set_time(Inst *m, const char *fn, double t);
 int me_set_states(Inst *m, const char *fn, const double x[], size_t nx);

@@ -99,8 +99,8 @@ int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const
 
 int fmu_setup(Inst *m, const char *fn, int tol_defined, double tol, double start, int stop_defined, double stop) {
     if (fmu_check(m, fn, ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
-    if (tol_defined && !(isfinite(tol) && tol > 0 && tol < 1))
-        return ERR(m, "%s: tolerance %g must be in (0, 1)", fn, tol);
+    if (tol_defined && !(tol >= PDBFS_RTOL_MIN && tol <= PDBFS_RTOL_MAX))   /* solver.rtol's rule */
+        return ERR(m, "%s: tolerance %g must be in [%g, %g]", fn, tol, PDBFS_RTOL_MIN, PDBFS_RTOL_MAX);
     if (!isfinite(start)) return ERR(m, "%s: startTime is not finite", fn);
     if (stop_defined && !(isfinite(stop) && stop >= start))
         return ERR(m, "%s: stopTime %g must be finite and >= startTime %g", fn, stop, start);
@@ -120,9 +120,22 @@ int fmu_enter_init(Inst *m, const char *fn) {
     return FMU_OK;
 }
 
+/* the components' physical consistency (Component.conditions): each >= 0 */
+static int check_conditions(Inst *m, const char *fn) {
+    double c[PDBFS_NCOND + 1];
+    int i;
+    m->arg[0] = m->s.p;
+    m->res[0] = c;
+    if (PDBFS_NCOND > 0) pdbfs_conditions(m->arg, m->res, m->iw, m->w, 0);
+    for (i = 0; i < PDBFS_NCOND; i++)
+        if (!(c[i] >= 0)) return ERR(m, "%s: %s", fn, PDBFS_COND_TEXT[i]);
+    return FMU_OK;
+}
+
 /* the start values fix the state; Co-Simulation starts CVODE */
 int fmu_exit_init(Inst *m, const char *fn) {
     if (fmu_check(m, fn, ST_INIT, -1) != FMU_OK) return FMU_ERROR;
+    if (check_conditions(m, fn) != FMU_OK) return FMU_ERROR;
     model_start(m, m->s.x);
     if (!fmu_all_finite(m->s.x, NX)) return ERR(m, "start values are not finite: check the parameters");
     m->s.x_fixed = 1;

@@ -17,6 +17,20 @@ int me_new_discrete_states(Inst *m, const char *fn) {
     return fmu_check(m, fn, ST_EVENT, FMU_ME);
 }
 
+/* the next time event after the current time (the first PDBFS_NTE event
+ * indicators are t - t_i), for the importer's nextEventTime; INFINITY if none */
+double me_next_event_time(Inst *m) {
+    double next = INFINITY, ti, t = m->s.time;
+    int i;
+    model_update(m);
+    for (i = 0; i < PDBFS_NTE && i < NE; i++) {
+        ti = t - m->e[i];
+        if (isfinite(ti) && ti > t + 64 * 2.220446049250313e-16 * fmax(fabs(t), fabs(ti)) && ti < next)
+            next = ti;
+    }
+    return next;
+}
+
 int me_enter_continuous_mode(Inst *m, const char *fn) {
     if (fmu_check(m, fn, ST_EVENT, FMU_ME) != FMU_OK) return FMU_ERROR;
     m->s.mode = ST_CONT;

@@ -16,10 +16,10 @@ analysis, and the one CasADi DAE every back end consumes.
 May import: pdbfs.errors only. Nothing here knows about solvers, C code,
 FMUs or studies.
 """
-from .component import Component
+from .component import Component, switch_times
 from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
 from .dae import DAE, ParamInfo, VarInfo
 from .symbols import Parameter, State, Variable, check_value, der, eq, time
 
 __all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
-           "Parameter", "State", "Variable", "check_value", "der", "eq", "time"]
+           "Parameter", "State", "Variable", "check_value", "der", "eq", "switch_times", "time"]

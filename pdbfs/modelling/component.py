@@ -98,6 +98,19 @@ class Component:
             slot.decl.fixed = False
         object.__setattr__(self, "_compiled", None)
 
+    def conditions(self) -> list:
+        """(expression, text, names): physical consistency of the parameters.
+        Each expression (of parameters only) must be >= 0, else a run is
+        refused, naming this component, the parameters ``names`` and their
+        values, and saying ``text``."""
+        return []
+
+    def time_events(self) -> list:
+        """(time, label) pairs: the times (numbers or expressions of
+        parameters) at which an input switches. Every integrator stops and
+        restarts there, so that no step can jump over a switch."""
+        return []
+
     # -- declaration plumbing -------------------------------------------------
     def _add_param(self, name, decl, value):
         if isinstance(value, Parameter):
@@ -211,6 +224,22 @@ class Component:
 
     def rig_name(self) -> str:
         return getattr(self, "name", None) or type(self).__name__
+
+
+def switch_times(component, breakpoints) -> list:
+    """``breakpoints`` (numbers or parameter expressions, or a callable
+    returning them) as a component's time_events()."""
+    times = breakpoints() if callable(breakpoints) else breakpoints
+    out = []
+    for i, b in enumerate(times or ()):
+        if not isinstance(b, ca.SX):
+            try:
+                b = float(b)
+            except (TypeError, ValueError):
+                raise ParameterError(f"{component.label()}: breakpoint {b!r} is not a time "
+                                     "(a number in s or an expression of parameters)") from None
+        out.append((ca.SX(b), f"switch {i + 1}"))
+    return out
 
 
 def _describe(obj) -> str:

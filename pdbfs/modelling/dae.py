@@ -5,6 +5,8 @@
          y = out(t, x, z, p)        every named variable of the rig
         x0 = start(p)               start values may depend on parameters
          e = events(t, x, z, p)     event indicators (contact onset, slack oil)
+        te = time_events(p)         switch times known in advance; the first
+                                    len(te) events are t - te (time events)
 
 Parameters stay symbolic: changing one never rebuilds anything.
 """
@@ -66,6 +68,50 @@ class DAE:
     x_fixed: list[bool] | None = None
     init: ca.SX | None = None
     init_names: list[str] = field(default_factory=list)
+    # switch times (valves, prescribed motions), functions of p: every
+    # integrator stops and restarts at each (events[:n] are t - time_events)
+    time_events: ca.SX = field(default_factory=lambda: ca.SX(0, 1))
+
+    # physical consistency: (expression of p that must be >= 0, (where, text, names))
+    conditions: list = field(default_factory=list)
+
+    def check_conditions(self, p) -> None:
+        """Refuse parameters that contradict each other physically (each
+        component's conditions()): a ParameterError naming them."""
+        conds = getattr(self, "conditions", None) or []
+        if not conds:
+            return
+        f = self.__dict__.setdefault("_functions", {}).get("conditions")
+        if f is None:
+            f = self.__dict__["_functions"]["conditions"] = ca.Function(
+                "conditions", [self.p], [ca.vertcat(*[e for e, _ in conds])])
+        p = np.asarray(p, float)
+        for (_, (where, text, names)), v in zip(conds, np.array(f(p), float).ravel()):
+            if not v >= 0:
+                from pdbfs.errors import ParameterError
+                units = {q.name: q.unit for q in self.params}
+                values = ", ".join(f"{n} = {self._value_of(n, p):g} {units.get(n, '')}".rstrip()
+                                   for n in names)
+                raise ParameterError(f"{where}: {text} ({values})")
+
+    def _value_of(self, name, p) -> float:
+        if name in self.p_names:
+            return float(p[self.p_names.index(name)])
+        if name not in self.calculated:
+            return float("nan")
+        return float(ca.Function("v", [self.p], [self.calculated[name][0]])(p))
+
+    def time_event_times(self, p) -> np.ndarray:
+        """The time events at parameters p, sorted (non-finite ones left out)."""
+        n = self.time_events.numel()
+        if not n:
+            return np.zeros(0)
+        f = self.__dict__.setdefault("_functions", {}).get("time_events")
+        if f is None:
+            f = self.__dict__["_functions"]["time_events"] = ca.Function(
+                "time_events", [self.p], [self.time_events])
+        v = np.array(f(np.asarray(p, float)), dtype=float).ravel()
+        return np.sort(v[np.isfinite(v)])
 
     def __getstate__(self):
         """Pickle the model, not its caches (functions, integrators, compiled

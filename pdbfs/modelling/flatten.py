@@ -48,6 +48,10 @@ class FlatSystem:
     equations: list[tuple[ca.SX, str]] = field(default_factory=list)
     events: list[tuple[ca.SX, str]] = field(default_factory=list)
     initial: list[tuple[ca.SX, str]] = field(default_factory=list)   # initial equations
+    # physical consistency of the parameters: expression >= 0, (where, text, names)
+    conditions: list = field(default_factory=list)
+    # switch times known in advance (expressions of parameters): time events
+    time_events: list[tuple[ca.SX, str]] = field(default_factory=list)
 
 
 def _join(prefix, name):
@@ -76,8 +80,8 @@ def flatten(root) -> FlatSystem:
 
     # equations first: der() calls in them create the derivative symbols
     local_eqs = [(comp, [r if isinstance(r, ca.SX) else ca.SX(r) for r in comp.equations()],
-                  comp.events()) for comp in root.walk()]
-    for comp, eqs, _ in local_eqs:
+                  comp.events(), comp.time_events()) for comp in root.walk()]
+    for comp, eqs, _, _ in local_eqs:
         _check_balance(comp, sum(r.numel() for r in eqs))
     local_init = [(comp, [r if isinstance(r, ca.SX) else ca.SX(r)
                           for r in comp.initial_equations()]) for comp in root.walk()]
@@ -107,8 +111,13 @@ def flatten(root) -> FlatSystem:
             later.add(start, lambda e, v=v: setattr(v, "start", e))
 
     # component equations and events
-    for comp, eqs, events in local_eqs:
+    for comp, eqs, events, times in local_eqs:
         where = comp.label()
+        for expr, label in times:
+            later.equation(flat.time_events, expr, _join(comp.path(), label))
+        for expr, text, names in comp.conditions():
+            later.equation(flat.conditions, expr if isinstance(expr, ca.SX) else ca.SX(expr),
+                           (comp.label(), text, [_join(comp.path(), n) for n in names]))
         for i, r in enumerate(eqs):
             for rk in (ca.vertsplit(ca.vec(r), 1) if r.numel() > 1 else [r]):
                 later.equation(flat.equations, rk, f"{where}, equation {i + 1}")
@@ -299,6 +308,7 @@ def _check_foreign_symbols(flat):
     """Every symbol in an equation must belong to this rig (or be time)."""
     known = {"time"} | {p.name for p in flat.params} | {v.name for v in flat.vars}
     known |= {f"der({v.name})" for v in flat.vars}
+    _check_time_events(flat)
     exprs = [e for e, _ in flat.equations] + [e for e, _ in flat.events]
     if not exprs or not {s.name() for s in ca.symvar(ca.vertcat(*exprs))} - known:
         return                           # the usual case, found in one pass
@@ -308,3 +318,13 @@ def _check_foreign_symbols(flat):
             raise ModelError(
                 f"{where}: uses {', '.join(strangers)}, which belong(s) to no component of "
                 f"this rig (a variable of another rig, or a symbol made outside declare())")
+
+
+def _check_time_events(flat):
+    """A time event is a time known before the run: parameters only."""
+    params = {p.name for p in flat.params}
+    for expr, where in flat.time_events:
+        others = sorted({s.name() for s in ca.symvar(expr)} - params)
+        if others:
+            raise ModelError(f"time event {where}: depends on {', '.join(others)}; a time "
+                             "event must be a time known in advance (parameters only)")

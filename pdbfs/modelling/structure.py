@@ -33,6 +33,10 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     free, calculated, p_old, p_new = _parameters(flat)
     eqs = list(zip(_each(flat.equations, p_old, p_new), [w for _, w in flat.equations]))
     events = list(zip(_each(flat.events, p_old, p_new), [w for _, w in flat.events]))
+    # time events first among the events (the C drivers read their times from them)
+    switch = list(zip(_each(flat.time_events, p_old, p_new), [w for _, w in flat.time_events]))
+    events = [(t - c, w) for c, w in switch] + events
+    conditions = list(zip(_each(flat.conditions, p_old, p_new), [w for _, w in flat.conditions]))
     starts = [v for v in flat.vars if isinstance(v.start, ca.SX)]
     for v, e in zip(starts, _each([(v.start, None) for v in starts], p_old, p_new)):
         v.start = e
@@ -105,7 +109,9 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                z_info=[VarInfo(n, by_name[n].unit if n in by_name else "",
                                "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
-               event_names=[w for _, w in events], calculated=calculated, z0=z0)
+               event_names=[w for _, w in events], calculated=calculated, z0=z0,
+               time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1),
+               conditions=conditions)
     reduced_start.record(dae, dropped, constraints)
     reduced_start.check(dae, dae.p_default())
     attach_initial(dae, flat, states, al, lambda e: final(_subst(e, p_old, p_new)))

@@ -8,6 +8,7 @@ built once with SUNDIALS' own CMake by ``build_sundials.sh``).
     initial.py          a solved start (initial equations) as a C-generatable
                         damped Newton of the parameters
     sundials.py         find_sundials(): an install prefix of CVODE
+    tolerances.py       the one rule for relative tolerances (every path, the FMU's too)
     build_sundials.sh   SUNDIALS' CMake build, cached under ~/.cache/pdbfs
     c/pdbfs_cvode.[ch]  the CVODE driver
 

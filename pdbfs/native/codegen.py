@@ -44,7 +44,7 @@ CFLAGS = ["-std=gnu99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-fno-
 LDFLAGS = ["-lm", "-Wl,--exclude-libs,ALL", "-Wl,-z,defs", "-static-libgcc"]
 
 #: the model functions a driver can ask for
-FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc")
+FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc", "conditions")
 
 
 def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()) -> list[ca.Function]:
@@ -53,6 +53,7 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     its nonzeros in CasADi's column-compressed order), ``out`` (y),
     ``events`` (event indicators), ``start``
     (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters),
+    ``conditions`` (of p: the components' consistency conditions, each >= 0),
     ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
     derivatives for a state derivative v: (d/dx) v + d/dt, a function of
     (t, x, v, p)), ``roles_dot`` (their derivatives along the solution),
@@ -80,6 +81,10 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
         "calc": lambda: ca.Function("pdbfs_calc", [dae.p],
                                     [ca.densify(calc_expr if calc_expr is not None else ca.SX(0, 1))],
                                     ["p"], ["c"]),
+        # the components' physical consistency (Component.conditions): each >= 0
+        "conditions": lambda: ca.Function("pdbfs_conditions", [dae.p], [ca.densify(
+            ca.vertcat(*[e for e, _ in getattr(dae, "conditions", None) or []])
+            if getattr(dae, "conditions", None) else ca.SX(0, 1))], ["p"], ["c"]),
         "roles": lambda: ca.Function("pdbfs_roles", args, [ca.densify(r)], names, ["r"]),
         "roles_rate": lambda: ca.Function("pdbfs_roles_rate", [dae.t, dae.x, v, dae.p],
                                           [ca.densify(r_rate)], ["t", "x", "v", "p"], ["r_dot"]),

@@ -17,6 +17,7 @@
                    eliminated), modes: omega, frequency, damping, shape
     settings.py    tolerances, method, output grid and argument types, checked first
     memory.py      sizes that cannot fit in the memory available, refused up front
+    time_events.py switch times: integrated from switch to switch, never stepped over
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows

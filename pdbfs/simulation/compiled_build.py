@@ -57,6 +57,7 @@ def header(dae, work) -> str:
         "#ifndef PDBFS_BATCH_MODEL_H", "#define PDBFS_BATCH_MODEL_H",
         f"#define PDBFS_NX {dae.x.numel()}", f"#define PDBFS_NP {dae.p.numel()}",
         f"#define PDBFS_NE {dae.events.numel()}", f"#define PDBFS_NR {len(present)}", *macros,
+        f"#define PDBFS_NTE {dae.time_events.numel()}",   # the first NTE events: t - t_i
         *sizes_header_lines(work), "#endif", ""])
 
 

@@ -7,6 +7,7 @@ import numbers
 import numpy as np
 
 from pdbfs.errors import ParameterError, plain
+from pdbfs.native.tolerances import RTOL_MAX, RTOL_MIN, check_rtol  # noqa: F401
 
 METHODS = ("auto", "adams", "bdf")
 BACKENDS = ("casadi", "c")
@@ -52,10 +53,10 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
                              f"{', '.join(BACKENDS)}")
     if method not in METHODS:
         raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
-    for name, v in (("rtol", rtol), ("atol", atol)):
-        v = real(v, name)
-        if not (np.isfinite(v) and v > 0):
-            raise ParameterError(f"{name} = {v}: must be a positive number")
+    check_rtol(real(rtol, "rtol"))       # the one rule of every path, the FMU's included
+    atol = real(atol, "atol")
+    if not (np.isfinite(atol) and atol > 0):
+        raise ParameterError(f"atol = {atol}: must be a positive number")
     if max_step is not None and not (np.isfinite(real(max_step, "max_step")) and max_step > 0):
         raise ParameterError(f"max_step = {max_step}: must be a positive number")
     if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \

@@ -22,6 +22,7 @@ from pdbfs.errors import ParameterError, SolverError
 from pdbfs.modelling import DAE, check_value, reduced_start
 
 from . import compiled as C
+from . import time_events as TE
 from .failures import compiled_failure, walk_failure
 from .memory import require, run_bytes
 from .stats import casadi_stats
@@ -104,6 +105,7 @@ class Simulator:
                 raise ParameterError(f"unknown parameter {name!r} of rig {dae.name}{hint}")
             info = dae.params[index[name]]
             p[index[name]] = check_value(value, name, info)
+        dae.check_conditions(p)      # the components' physical consistency
         if params and getattr(dae, "reduced_starts", None):
             # a start of a state index reduction made algebraic is not free: never ignored
             reduced_start.check(dae, p, ParameterError)
@@ -148,7 +150,7 @@ class Simulator:
     check_settings = staticmethod(check_settings)
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
-                   max_num_steps=MAX_NUM_STEPS, xdot0=None):
+                   max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True):
         """A casadi integrator for these settings (cached). ``xdot0`` (DAE
         rigs) is IDAS's guess of der(x) at the start, which its consistent
         initialisation needs; such integrators are built per call."""
@@ -177,7 +179,7 @@ class Simulator:
             plugin = "cvodes" if dae.is_ode else "idas"
             # the output grid includes t0: its z is then the consistent one
             F = ca.integrator("sim", plugin, spec, float(grid[0]), list(grid), opts)
-            if xdot0 is not None:
+            if xdot0 is not None or not keep:     # (pieces between switches: one-off grids)
                 return F
             self._cache[key] = F
         return self._cache[key]
@@ -217,6 +219,10 @@ class Simulator:
             X = self.integrate_c(grid, np.asarray(x, float), p, rtol, atol, method, max_step,
                                  max_num_steps)
             return X[:, -1], np.zeros(0)
+        if TE.breakpoints(self.dae, p, t0, t0 + h).size:     # a switch inside: stop there
+            X, Z = TE.pieces(self, np.array([t0, t0 + h]), np.asarray(x, float), p, rtol, atol,
+                                method, max_step, max_num_steps)
+            return X[:, -1], Z[:, -1]
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(t0, x, p)
         F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True,
@@ -261,6 +267,8 @@ class Simulator:
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
+        if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
+            return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(grid[0], x0, p)
         F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
@@ -283,6 +291,11 @@ class Simulator:
         integrator for every grid of the same shape (no rebuild per window)."""
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
+        if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
+            return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        return self._shifted(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+
+    def _shifted(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, keep=True):
         t0, span = float(grid[0]), float(grid[-1] - grid[0])
         if not span > 0:   # a NaN output time would keep CVODE busy for ever
             raise ValueError(f"integrate_shifted: the grid must span a positive time, not {span!r}")
@@ -291,7 +304,7 @@ class Simulator:
             self.consistent_start(t0, x0, p)
         F = self.integrator(tau, rtol, atol, method, max_step, scaled=True,
                             max_num_steps=max_num_steps,
-                            xdot0=None if xdot0 is None else span * xdot0)
+                            xdot0=None if xdot0 is None else span * xdot0, keep=keep)
         try:
             r = _call(F, x0=x0, p=np.concatenate([p, [t0, span]]), z0=z0)
         except RuntimeError as err:
@@ -299,6 +312,7 @@ class Simulator:
                                 max_num_steps) from None
         X = r["xf"].full()
         Z = r["zf"].full().reshape(self.dae.z.numel(), X.shape[1])
+        self._last_stats = casadi_stats(F.stats(), method if self.dae.is_ode else "bdf")
         self._check_finite(grid, X)
         return X, Z
 

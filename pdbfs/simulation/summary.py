@@ -24,7 +24,7 @@ import numpy as np
 from pdbfs.errors import PdbfsWarning, PulseIncompleteWarning
 
 from .impulse import impulse_ratio
-from .summary_run import PULSE_LEVEL, summary_run
+from .summary_run import PULSE_LEVEL, has_pulse, pulse_level, summary_run
 
 KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
         "max_piston_displacement", "restitution_coefficient", "complete")
@@ -69,31 +69,54 @@ def summarize(res, warn: bool = True) -> dict:
     blow_list = None
     d = roles.get("impact_indentation")
     if d:
-        blow_list = blows(R, d, p)
+        blow_list = blows(R, d, p, run.base, run.peak_after)
         if blow_list["impact_count"] > 1:
             blow = (0.0, blow_list["impact_times"][1])
-    out = {}
+    out, cut = {}, []
+    complete = run.complete
     if p:
         t_pk, p_pk = R.peak(p, window=blow)
-        has_pulse = p_pk > 0
-        out["peak_pressure"] = p_pk if has_pulse else 0.0
-        out["time_of_peak"] = t_pk if has_pulse else None
-        out["pulse_duration"] = time_above(R, p, PULSE_LEVEL * p_pk, blow) \
-            if has_pulse and run.complete else None
+        pulse = bool(run.pulse)
+        # the highest pressure so far is no peak when the pulse rises higher after t_end
+        at_end = pulse and blow[1] >= R.t[-1] and run.peak_after > p_pk
+        if at_end:
+            cut.append(f"its highest pressure so far, {p_pk:.4g} Pa, is not its peak: it rises "
+                       f"to {run.peak_after:.4g} Pa after t_end")
+        out["peak_pressure"] = p_pk if pulse and not at_end else None
+        out["time_of_peak"] = t_pk if pulse and not at_end else None
+        out["pulse_duration"] = time_above(R, p, pulse_level(run.base, p_pk), blow) \
+            if pulse and complete else None
+        if blow_list is not None and blow_list.get("cut_last"):
+            complete = False
+            cut.append(f"blow {blow_list['impact_count']} (at "
+                       f"{blow_list['impact_times'][-1]:.4g} s) is cut off at t_end")
+    horizon = blow[1] >= R.t[-1] and complete is False     # a maximum there is no peak
     if f:
-        out["peak_contact_force"] = max(R.peak(f, window=blow)[1], 0.0)
+        t_f, f_pk = R.peak(f, window=blow)
+        out["peak_contact_force"] = None if horizon and f_pk > 0 and \
+            t_f >= R.t[-1] * (1 - 1e-9) else max(f_pk, 0.0)
     s = roles.get("piston_displacement")
     if s:
-        out["max_piston_displacement"] = R.peak(s, window=blow)[1]
+        t_s, s_pk = R.peak(s, window=blow)
+        out["max_piston_displacement"] = None if horizon and t_s >= R.t[-1] * (1 - 1e-9) \
+            else s_pk
     if f:
         out["restitution_coefficient"] = restitution(R, f, roles.get("striker_velocity"),
                                                      blow) if run.complete else None
-    if run.complete is not None:
-        out["complete"] = bool(run.complete)
+    if complete is not None:
+        out["complete"] = bool(complete)
     if blow_list is not None:
+        blow_list.pop("cut_last", None)
         out.update(blow_list)
-    if warn and run.complete is False:
-        warnings.warn(incomplete_message(res, run), PulseIncompleteWarning, stacklevel=3)
+    if warn and p and run.pulse is False:
+        warnings.warn(f"rig {res._sim.dae.name}: no pulse: the pressure does not rise above "
+                      f"its start value {run.base:.6g} Pa in [0, {run.t_end:.6g}] s",
+                      PulseIncompleteWarning, stacklevel=3)
+    elif warn and run.complete is False:
+        warnings.warn(incomplete_message(res, run, cut), PulseIncompleteWarning, stacklevel=3)
+    elif warn and cut:
+        warnings.warn(f"rig {res._sim.dae.name}: {'; '.join(cut)} (t_end = {run.t_end:.6g} s)",
+                      PulseIncompleteWarning, stacklevel=3)
     if warn and run.listed_until is not None:
         warnings.warn(f"rig {res._sim.dae.name}: blows are listed up to t = "
                       f"{run.listed_until:.6g} s of {run.t_end:.6g} s (the summary keeps "
@@ -102,8 +125,10 @@ def summarize(res, warn: bool = True) -> dict:
     return out
 
 
-def incomplete_message(res, run) -> str:
+def incomplete_message(res, run, cut=()) -> str:
     where = f"rig {res._sim.dae.name}: the pulse is still running at t_end = {run.t_end:.6g} s"
+    if cut:
+        where += f" ({'; '.join(cut)})"
     if run.t_done is not None:
         need = _round_up(1.2 * run.t_done)
         return (f"{where}: it ends at about {run.t_done:.4g} s; use t_end >= {need:.3g} s "
@@ -174,14 +199,16 @@ def restitution(R, force, striker_velocity=None, window=None) -> float | None:
                          None if rate is None else rate[:k_end + 1])
 
 
-def blows(R, indentation, pressure=None) -> dict:
+def blows(R, indentation, pressure=None, base=0.0, peak_after=-np.inf) -> dict:
     """Every blow of a hammer that strikes repeatedly. Contacts start where
     ``indentation`` crosses 0 upwards; contacts follow one another within
     one blow (the hammer chatters on the piston); once the pressure has risen
     above PULSE_LEVEL of its overall peak and fallen below it again, the next
     contact starts a new blow. Returns impact_count, impact_times (first
     contact of each blow), and with a pressure impact_peak_pressures and
-    impact_durations (None for a blow cut off by the horizon)."""
+    impact_durations (None for a blow cut off by the horizon; its peak too
+    when the pressure rises higher after it, ``peak_after``), all above the
+    start pressure ``base``; ``cut_last`` says whether the last blow is cut off."""
     d = R[indentation]
     onsets = [float(tt) for tt in R.crossings(indentation, 0.0)
               if d[min(int(np.searchsorted(R.t, tt)), len(d) - 1)] > 0]
@@ -190,7 +217,7 @@ def blows(R, indentation, pressure=None) -> dict:
     if not pressure:
         return {"impact_count": len(onsets), "impact_times": onsets}
     y = R[pressure]
-    level = PULSE_LEVEL * float(np.max(y))
+    level = pulse_level(base, float(np.max(y)))
     starts, prev = [], None
     for tt in onsets:
         if prev is not None:   # a new blow only once the previous pulse has risen and fallen
@@ -203,13 +230,16 @@ def blows(R, indentation, pressure=None) -> dict:
         starts.append(tt)
         prev = tt
     ends = starts[1:] + [float(R.t[-1])]
-    peaks, durations = [], []
+    peaks, durations, cut = [], [], False
     for i, (a, b) in enumerate(zip(starts, ends)):
         t_pk, p_pk = R.peak(pressure, window=(a, b))
-        peaks.append(p_pk)
         last = i == len(starts) - 1
-        cut = last and y[-1] >= PULSE_LEVEL * p_pk
-        durations.append(None if cut or not p_pk > 0 else
-                         time_above(R, pressure, PULSE_LEVEL * p_pk, (a, b)))
+        rose = has_pulse(base, p_pk)
+        higher = last and peak_after > p_pk       # its peak lies past the horizon
+        cut = last and (not rose or higher or y[-1] >= pulse_level(base, p_pk))
+        peaks.append(None if higher else p_pk)
+        durations.append(None if cut or not rose else
+                         time_above(R, pressure, pulse_level(base, p_pk), (a, b)))
     return {"impact_count": len(starts), "impact_times": [float(s) for s in starts],
-            "impact_peak_pressures": peaks, "impact_durations": durations}
+            "impact_peak_pressures": peaks, "impact_durations": durations,
+            "cut_last": bool(cut and len(starts) > 1)}

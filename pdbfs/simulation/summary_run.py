@@ -35,7 +35,19 @@ MAX_POINTS = 2_000_000
 LOOK_AHEAD = 20.0
 MAX_WINDOWS_AHEAD = 100
 
-PULSE_LEVEL = 0.01   # the pulse lasts while the pressure exceeds 1 % of its peak
+PULSE_LEVEL = 0.01   # the pulse lasts while the pressure's rise exceeds 1 % of its peak rise
+
+
+def pulse_level(base: float, peak: float) -> float:
+    """The level above which the pressure is in the pulse: the start (static)
+    pressure plus PULSE_LEVEL of the rise from it to the peak."""
+    return base + PULSE_LEVEL * (peak - base)
+
+
+def has_pulse(base: float, peak: float) -> bool:
+    """A pulse is a rise above the start pressure beyond rounding (1e-6 of
+    the start pressure, and 1 mPa)."""
+    return bool(peak - base > 1e-6 * abs(base) + 1e-3)
 
 
 @dataclass
@@ -46,6 +58,9 @@ class SummaryRun:
     t_done: float | None        # where the pulse ended (also past the horizon), if it did
     looked_until: float         # how far the run was followed
     listed_until: float | None = None   # blows listed up to here only (MAX_POINTS)
+    base: float = 0.0           # the start (static) pressure the pulse rises from
+    pulse: bool | None = None   # the pressure rose above it inside the horizon (None: no pressure)
+    peak_after: float = -np.inf  # the highest pressure on the run followed past the horizon
 
 
 def summary_step(dae) -> float:
@@ -68,7 +83,9 @@ def summary_run(res) -> SummaryRun:
 
     ts, Xs, Zs = [], [], []
     x, t_last = res._X[:, 0], 0.0
-    p_peak, t_done, t_busy = 0.0, None, 0.0       # t_busy: last sample inside the pulse
+    p_peak, t_done, t_busy = -np.inf, None, 0.0   # t_busy: last sample inside the pulse
+    base, p_peak_in = None, -np.inf               # the start pressure; the peak inside the horizon
+    p_after = -np.inf                             # the highest pressure past the horizon
     while True:
         k = int(np.floor(t_last / h + 1e-6)) + 1              # the next point of the fixed grid
         grid = np.concatenate([[t_last], h * np.arange(k, k + WINDOW)])
@@ -90,30 +107,40 @@ def summary_run(res) -> SummaryRun:
             Y = np.atleast_2d(sim.outputs(grid, X, Z, res.p, rows))
             P = Y[watch.index(p_name)] if p_name else None
             F = Y[watch.index(f_name)] if f_name else None
-            if P is not None:
-                p_peak = max(p_peak, float(np.max(P)))
             busy = np.zeros(grid.size, dtype=bool)
             if P is not None:
-                busy |= P >= PULSE_LEVEL * p_peak
+                base = float(P[0]) if base is None else base
+                p_peak = max(p_peak, float(np.max(P)))
+                if grid[0] < t_end:
+                    p_peak_in = max(p_peak_in, float(np.max(P[grid <= t_end])))
+                if grid[-1] > t_end:
+                    p_after = max(p_after, float(np.max(P[grid > t_end])))
+                if has_pulse(base, p_peak):
+                    busy |= P >= pulse_level(base, p_peak)
             if F is not None:
                 busy |= F > 0
             if busy.any():
                 t_busy = float(grid[np.flatnonzero(busy)[-1]])
-            over = (p_peak > 0 or P is None) and not busy[-1]
+            rose = P is None or has_pulse(base, p_peak)
+            over = rose and not busy[-1]
         else:
-            over = True
+            over = rose = True
         if over and t_done is None:
             t_done = t_busy if t_busy > 0 else t_last
+        if t_last >= t_end and not rose and not busy[-1]:
+            break                # no pulse by the horizon: nothing to follow
         if t_last >= limit or (over and (t_last >= t_end or not follow_all)) or \
                 (listed_until is not None and t_done is not None and t_last >= listed_until):
             break
     t_all, X_all, Z_all = np.concatenate(ts), np.hstack(Xs), np.hstack(Zs)
     inside = t_all <= t_end
     traj = Result(sim, t_all[inside], res.p, X_all[:, inside], Z_all[:, inside], dict(s))
-    complete = (t_done is not None and t_done <= t_end and p_peak > 0 if p_name else
+    pulse = has_pulse(base, p_peak_in) if p_name else None
+    complete = (t_done is not None and t_done <= t_end and bool(pulse) if p_name else
                 t_done is not None and t_done <= t_end) if watch else None
     return SummaryRun(traj, t_end, complete, t_done, t_last,
-                      t_last if listed_until is not None and t_last < t_end else None)
+                      t_last if listed_until is not None and t_last < t_end else None,
+                      base=base if base is not None else 0.0, pulse=pulse, peak_after=p_after)
 
 
 def _integrate(sim, grid, x, p, s):

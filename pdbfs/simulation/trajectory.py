@@ -17,6 +17,7 @@ import numpy as np
 from pdbfs.errors import ParameterError
 from .initialize import refuse_solved_start
 from .simulator import MAX_NUM_STEPS, Simulator
+from .time_events import breakpoints
 
 
 def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,
@@ -52,10 +53,79 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     x0 = dae.function("start")(p)
     method = sim.resolve_method(method, p0, dae.function("start")(p0).full().ravel(),
                                 grid[-1] - grid[0])
-    F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)
-    r = F(x0=x0, p=p, z0=sim.z_guess(p0))
+    X, Z = symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs)
     n = len(grid)
     rows = ca.vertcat(*[dae.y[index[name]] for name in outputs])
     out = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [rows]).map(n)
-    y = out(ca.DM(np.asarray(grid).reshape(1, -1)), r["xf"], r["zf"], ca.repmat(p, 1, n))
-    return ca.Function("trajectory", [u], [y], ["p"], ["y"])
+    y = out(ca.DM(np.asarray(grid).reshape(1, -1)), X, Z, ca.repmat(p, 1, n))
+    return Trajectory(sim, inputs, p0, [u], [y])
+
+
+class Trajectory(ca.Function):
+    """The trajectory Function; called with numbers, it checks them as
+    simulate does (one value per input, each within its parameter's range)."""
+
+    def __init__(self, sim, inputs, p0, ins, outs):
+        super().__init__("trajectory", ins, outs, ["p"], ["y"])
+        self._check = (sim, list(inputs), np.asarray(p0, float))
+
+    def __call__(self, *args, **kwargs):
+        values = args[0] if args else kwargs.get("p")
+        if values is not None and not isinstance(values, (ca.MX, ca.SX)):
+            sim, inputs, p0 = self._check
+            v = np.asarray(values.full() if isinstance(values, ca.DM) else values, dtype=float)
+            if v.size != len(inputs):
+                raise ParameterError(f"trajectory: {v.size} value(s) for {len(inputs)} input(s) "
+                                     f"({', '.join(inputs)}); give one value each")
+            params = dict(zip(sim.dae.p_names, p0))
+            params.update(zip(inputs, v.ravel()))
+            sim.param_vector(params)       # ranges and consistency, as simulate checks them
+        return super().__call__(*args, **kwargs)
+
+
+def moving_time_events(dae, inputs) -> np.ndarray:
+    """Which of the rig's time events depend on the parameters ``inputs``."""
+    cols = [dae.p_names.index(n) for n in inputs]
+    return np.array([any(ca.depends_on(dae.time_events[k], dae.p[i]) for i in cols)
+                     for k in range(dae.time_events.numel())], dtype=bool)
+
+
+def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs=()):
+    """States and algebraics (MX, one column per grid point) from x0 at
+    grid[0], as functions of the MX parameters p: one integrator call per
+    piece between the rig's time events (at p0), each restarted there.
+    Switch times that move with the ``inputs`` cannot split a fixed grid:
+    they are integrated through, in steps no longer than half the shortest
+    interval between switch times (at p0), so that every interval between
+    two switches holds steps and none is stepped over whole."""
+    dae = sim.dae
+    grid = np.asarray(grid, float)
+    b = breakpoints(dae, p0, grid[0], grid[-1])
+    moving = moving_time_events(dae, inputs)
+    if moving.any():
+        times = np.array(ca.Function("te", [dae.p], [dae.time_events])(p0)).ravel()
+        still = times[~moving]
+        b = np.unique(still[(still > grid[0]) & (still < grid[-1])])
+        gaps = np.diff(np.unique(np.concatenate([times, grid[[0, -1]]])))
+        h = float(np.min(gaps[gaps > 0])) / 2
+        max_step = h if max_step is None else min(max_step, h)
+    z0 = sim.z_guess(p0)
+    if not b.size:
+        F = sim.integrator(grid, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS)
+        r = F(x0=x0, p=p, z0=z0)
+        return r["xf"], r["zf"]
+    edges = np.concatenate([[grid[0]], b, [grid[-1]]])
+    Xs, Zs, x = [], [], x0
+    for i, (a, c) in enumerate(zip(edges[:-1], edges[1:])):
+        inner = grid[(grid > a) & (grid < c)]
+        sub = np.concatenate([[a], inner, [c]])
+        F = sim.integrator((sub - a) / (c - a), rtol, atol, method, max_step, scaled=True,
+                           max_num_steps=MAX_NUM_STEPS)
+        r = F(x0=x, p=ca.vertcat(p, a, c - a), z0=z0)
+        keep = [j for j in range(sub.size) if (j > 0 or i == 0) and (
+            0 < j < sub.size - 1 or sub[j] in grid)]
+        Xs.append(r["xf"][:, keep])
+        Zs.append(ca.reshape(r["zf"], dae.z.numel(), sub.size)[:, keep] if dae.z.numel() else
+                  ca.MX(0, len(keep)))
+        x = r["xf"][:, -1]
+    return ca.horzcat(*Xs), ca.horzcat(*Zs)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError, SampleTooSmallWarning, plain
+from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain
 from pdbfs.simulation.memory import require, table_bytes
 from pdbfs.simulation.settings import mapping, real
 
@@ -25,6 +25,12 @@ from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
 
 OUTPUTS = ("peak_pressure", "time_of_peak", "pulse_duration")
+#: below this base sample the bootstrap intervals mean nothing (N = 1 gives
+#: S1 = 1.333 +- 0): the indices are always flagged
+MIN_N = 64
+#: a point whose pulse outlasts the horizon is run again over this many
+#: horizons (the summary is the same whatever the horizon, once the pulse is in it)
+FOLLOW = 20
 
 
 @dataclass
@@ -38,23 +44,32 @@ class Sensitivity:
     n: int                     # base sample size N
     points: int                # simulations: N (D + 2)
     ranges: dict
+    undefined: dict = None     # output -> why it has no indices (undefined at some points)
 
     #: a confidence half-width above this leaves an index meaningless
     MAX_CONF = 0.1
+    #: an index outside [0, 1] by more than this is impossible, whatever the interval
+    SLACK = 0.01
 
     def problems(self) -> list[str]:
         """Why the sample is too small for the indices to mean anything
         (empty if it is not): a first-order index below 0 beyond its 95 %
         interval or above the total
         one, or a 95 % interval wider than +-MAX_CONF."""
-        out = []
+        out = [f"N = {self.n} is below {MIN_N}: too few points for Sobol' indices"] \
+            if self.n < MIN_N else []
         for o in self.outputs:
             for i, p in enumerate(self.names):
                 s1, st = float(self.S1[o][i]), float(self.ST[o][i])
                 c1, ct = float(self.S1_conf[o][i]), float(self.ST_conf[o][i])
-                if s1 + c1 < 0:    # below 0 beyond its interval (within it: sampling noise)
-                    out.append(f"{o}/{p}: first-order index {s1:.3g} < 0 (95 % interval "
-                               f"+-{c1:.3g})")
+                outside = [f"{k} = {v:.3g}" for k, v in (("S1", s1), ("ST", st))
+                           if not -self.SLACK <= v <= 1 + self.SLACK]
+                if outside:
+                    out.append(f"{o}/{p}: {' and '.join(outside)} outside [0, 1]")
+                elif not (np.isfinite(c1) and np.isfinite(ct)):
+                    out.append(f"{o}/{p}: no confidence interval")
+                elif s1 < -max(c1, 1e-3):
+                    out.append(f"{o}/{p}: first-order index {s1:.2g} < 0")
                 elif s1 > st:
                     out.append(f"{o}/{p}: first-order index {s1:.3f} > total {st:.3f}")
                 elif max(c1, ct) > self.MAX_CONF:
@@ -64,6 +79,7 @@ class Sensitivity:
     def to_dict(self) -> dict:
         return {"parameters": self.names, "n": self.n, "points": self.points,
                 "reliable": not self.problems(), "problems": self.problems(),
+                "undefined": dict(self.undefined or {}),
                 "ranges": {k: list(v) for k, v in self.ranges.items()},
                 "indices": {o: {p: {"S1": float(self.S1[o][i]), "S1_conf": float(self.S1_conf[o][i]),
                                     "ST": float(self.ST[o][i]), "ST_conf": float(self.ST_conf[o][i])}
@@ -76,6 +92,8 @@ class Sensitivity:
             for i, p in enumerate(self.names):
                 lines.append(f"{o:<16} {p:<14} {self.S1[o][i]:>9.3f} ± {self.S1_conf[o][i]:<6.3f}"
                              f" {self.ST[o][i]:>9.3f} ± {self.ST_conf[o][i]:<6.3f}")
+        for o, why in (self.undefined or {}).items():
+            lines.append(f"{o}: no indices ({why})")
         if self.problems():
             lines.append(self.warning())
         return "\n".join(lines)
@@ -84,7 +102,7 @@ class Sensitivity:
         found = self.problems()
         return (f"the sample (N = {self.n}) is too small for these indices to mean anything "
                 f"({found[0]}{f', and {len(found) - 1} more' if len(found) > 1 else ''}); "
-                f"run again with a larger N, e.g. --n {self.n * 4}")
+                f"run again with a larger N, e.g. --n {max(self.n * 4, MIN_N)}")
 
     def plot(self, path=None):
         import matplotlib
@@ -147,18 +165,39 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
     if unknown:
         raise ParameterError(f"sensitivity: rig {res.rig} has no summary value {unknown[0]!r}; "
                              f"it has {', '.join(res.keys)}")
-    S1, S1c, ST, STc = {}, {}, {}, {}
+    Y = {o: np.array(res.values(o), dtype=float) for o in outputs}
+    errors = np.array(res.frame["error"].to_numpy(), dtype=object)
+    # pulses outlasting the horizon: followed (run again over FOLLOW horizons) until they end
+    late = np.flatnonzero(np.any([~np.isfinite(y) for y in Y.values()], axis=0)
+                          & np.array([not e for e in errors]))
+    if late.size:
+        longer = FOLLOW * t_end
+        again = sweep(rig, Points(names, X[late], {"kind": "followed", "t_end": longer}),
+                      t_end=longer, n_out=int(round(longer / 1e-5)) + 1, params=params,
+                      backend=backend, client=client, workers=workers, progress=progress)
+        for o in outputs:
+            Y[o][late] = again.values(o)
+        errors[late] = again.frame["error"].to_numpy()
+    S1, S1c, ST, STc, undefined = {}, {}, {}, {}, {}
     for o in outputs:
-        y = res.values(o)
-        bad = np.flatnonzero(~np.isfinite(y))
+        bad = np.flatnonzero(~np.isfinite(Y[o]))
         if bad.size:
-            frame = res.frame
-            why = frame["error"].iloc[bad[0]] or f"{o} is undefined there"
-            raise PdbfsError(f"sensitivity: {bad.size} of {len(y)} points have no {o} (first: "
-                             f"{plain(dict(zip(names, X[bad[0]])))}: {why}); narrow the ranges")
-        Si = analyze.analyze(problem, y, calc_second_order=False, seed=seed)
+            why = errors[bad[0]] or (f"{o} is undefined there" + (
+                f", the pulse still running after {FOLLOW * t_end:.3g} s" if bad[0] in late
+                else ""))
+            undefined[o] = (f"undefined at {bad.size} of {len(X)} points, first "
+                            f"{plain(dict(zip(names, X[bad[0]])))}: {why}")
+            continue
+        Si = analyze.analyze(problem, Y[o], calc_second_order=False, seed=seed)
         S1[o], S1c[o], ST[o], STc[o] = Si["S1"], Si["S1_conf"], Si["ST"], Si["ST_conf"]
-    result = Sensitivity(names, list(outputs), S1, S1c, ST, STc, int(n), len(X), ranges)
+    if not S1:
+        why = "; ".join(f"{o}: {w}" for o, w in undefined.items())
+        raise PdbfsError(f"sensitivity: no output is defined at every point ({why}); narrow "
+                         "the ranges")
+    result = Sensitivity(names, [o for o in outputs if o in S1], S1, S1c, ST, STc, int(n),
+                         len(X), ranges, undefined)
+    for o, why in undefined.items():
+        warnings.warn(f"sensitivity: no indices of {o}: {why}", PdbfsWarning, stacklevel=2)
     if result.problems():
         warnings.warn(result.warning(), SampleTooSmallWarning, stacklevel=2)
     return result

@@ -16,6 +16,8 @@
 
 #define NO_MEMORY (-100)
 
+static int arm_time_event(PdbfsCvode *s);
+
 static void say(PdbfsCvode *s, int kind, const char *fmt, ...) PDBFS_PRINTF(3, 4);
 
 static void say(PdbfsCvode *s, int kind, const char *fmt, ...) {
@@ -146,6 +148,8 @@ void pdbfs_cvode_free(PdbfsCvode *s) {
     if (s->ctx) SUNContext_Free(&s->ctx);
     free(s->jac_nz);
     s->jac_nz = NULL;
+    free(s->g);
+    s->g = NULL;
     s->cv = NULL; s->LS = NULL; s->NLS = NULL; s->A = NULL;
     s->y = NULL; s->tmp = NULL; s->atol = NULL; s->ctx = NULL;
 }
@@ -251,10 +255,37 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
     s->tn = t0;
     s->root_pending = 0;
     s->steps_since_start = 0;
-    return 0;
+    flag = arm_time_event(s);
+    if (flag != CV_SUCCESS) say(s, PDBFS_LOG_ERROR, "CVODE setup failed (flag %d)", flag);
+    return flag;
 }
 
 /* --------------------------------------------------------------- stepping */
+
+double pdbfs_next_time_event(PdbfsCvode *s, double t, const double *x) {
+    double next = INFINITY, ti, tol;
+    int i;
+    if (s->nte <= 0 || s->ne <= 0) return INFINITY;
+    if (!s->g && !(s->g = malloc(sizeof(double) * (size_t)s->ne))) return INFINITY;
+    if (pdbfs_eval_txp(s->ev, pdbfs_events, t, x, s->g)) return INFINITY;
+    for (i = 0; i < s->nte && i < s->ne; i++) {
+        ti = t - s->g[i];                     /* the indicator is t - t_i */
+        tol = 64 * 2.220446049250313e-16 * fmax(fabs(t), fabs(ti));
+        if (isfinite(ti) && ti > t + tol && ti < next) next = ti;
+    }
+    return next;
+}
+
+/* stop at the next time event after s->tn (or at the caller's t_stop) */
+static int arm_time_event(PdbfsCvode *s) {
+    double stop;
+    s->t_break = INFINITY;
+    if (s->nte <= 0) return CV_SUCCESS;
+    s->t_break = pdbfs_next_time_event(s, s->tn, N_VGetArrayPointer(s->y));
+    stop = s->t_break < s->t_stop ? s->t_break : s->t_stop;
+    /* a stop time outlives CVodeReInit: past the last event, one out of reach */
+    return CVodeSetStopTime(s->cv, isfinite(stop) ? stop : 1e300);
+}
 
 /* restart at the pending root: the right-hand side is not smooth there */
 static int restart_at_root(PdbfsCvode *s) {
@@ -270,7 +301,9 @@ static int restart_at_root(PdbfsCvode *s) {
     s->root_pending = 0;
     s->tn = s->t_root;
     s->steps_since_start = 0;
-    return 0;
+    flag = arm_time_event(s);
+    if (flag != CV_SUCCESS) say(s, PDBFS_LOG_ERROR, "no stop at the next time event (flag %d)", flag);
+    return flag;
 }
 
 int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_steps, double *x_out) {
@@ -296,7 +329,11 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
         }
         s->steps++;
         s->steps_since_start++;
-        if (flag == CV_ROOT_RETURN && s->nx < PDBFS_RESTART_BELOW) {
+        if (isfinite(s->t_break) && (flag == CV_TSTOP_RETURN || flag == CV_ROOT_RETURN)
+            && fabs(tret - s->t_break) <= 64 * 2.220446049250313e-16 * fabs(s->t_break)) {
+            s->root_pending = 1;        /* a time event: restart there, whatever the size */
+            s->t_root = tret;
+        } else if (flag == CV_ROOT_RETURN && s->nx < PDBFS_RESTART_BELOW) {
             s->root_pending = 1;
             s->t_root = tret;
         } else if (flag == CV_ROOT_RETURN) {   /* integrated through, under error control */

@@ -124,6 +124,12 @@ typedef struct {
     pdbfs_root_fn user_root;
     void *root_env;
     int roots_changed;
+    /* time events: the first nte event indicators are t - t_i, t_i switch
+     * times known in advance (set by the caller after pdbfs_cvode_init);
+     * CVODE stops at each (tstop) and restarts, so that no step jumps over one */
+    int nte;
+    double t_break;       /* the time event CVODE stops at next (INFINITY: none) */
+    double *g;            /* ne event values */
     /* statistics since pdbfs_cvode_init (the steps of pdbfs_cvode_roots included) */
     long steps, roots, rhs_evals, jac_evals;
 } PdbfsCvode;
@@ -150,7 +156,11 @@ void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn
  * of CVODE's memory is freed (the next start builds it anew). */
 int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, const double *x0);
 
-/* Integrate to t_out (restarting at every root on the way, at most
+/* The next time event after t (INFINITY if none), from the event
+ * indicators at (t, x); s->nte of them are time events. */
+double pdbfs_next_time_event(PdbfsCvode *s, double t, const double *x);
+
+/* Integrate to t_out (restarting at every root and time event on the way, at most
  * max_steps internal steps) and write the state at t_out into x_out.
  * ``horizon`` >= t_out is how far CVODE may look ahead (INFINITY: 1 s beyond
  * each (re)start, whatever t_out).  0 on success,

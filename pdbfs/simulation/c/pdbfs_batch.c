@@ -183,6 +183,7 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
     set.max_step = max_step;
     set.t_stop = t[nt - 1];
     pdbfs_cvode_init(&s, NX, NE, &ev, keep_error, &c);
+    s.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
     treached = t[0];
     for (i = 0; i < NX; i++) X[i * nt] = x0[i];
     flag = pdbfs_cvode_start(&s, &set, t[0], x0);

@@ -106,15 +106,20 @@ static int summarise(History *H, double *out, double *x_pk, Note *m) {
         double level;
         int ups = 0, pulse, k;
         char why[256];
+        /* the pulse rises from the start (static) pressure, as summary_run.py's */
+        double base = R(H, 0, j);
         oom |= pdbfs_peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
-        level = PULSE_LEVEL * out[S_PEAK];
-        if (out[S_PEAK] > 0 && out[S_TPEAK] >= t_end)
-            pdbfs_note(m, "the pressure still rises at t_end = %.6g s: its peak is later", t_end);
-        if (!(out[S_PEAK] > 0)) {
-            out[S_DURATION] = 0.0;
+        level = base + PULSE_LEVEL * (out[S_PEAK] - base);
+        if (!(out[S_PEAK] - base > 1e-6 * fabs(base) + 1e-3)) {
+            out[S_PEAK] = out[S_TPEAK] = out[S_DURATION] = NAN;
             out[S_COMPLETE] = 0.0;
-            pdbfs_note(m, "no pressure pulse in [0, %.6g] s", t_end);
+            pdbfs_note(m, "no pressure pulse in [0, %.6g] s (the pressure does not rise above its "
+                       "start value %.6g Pa)", t_end, base);
         } else {
+            if (out[S_TPEAK] >= t_end) {      /* a maximum at the horizon is no peak */
+                pdbfs_note(m, "the pressure still rises at t_end = %.6g s: its peak is later", t_end);
+                out[S_PEAK] = out[S_TPEAK] = NAN;
+            }
             k = pdbfs_crossings(H, j, level, &c);
             if (k) {
                 pdbfs_free_crossings(&c);
@@ -209,6 +214,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     set.max_step = max_step;
     set.t_stop = t_end;
     pdbfs_cvode_init(&s, NXQ, PDBFS_NE, &ev, NULL, NULL);
+    s.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
     s.ode = pdbfs_ode_q;
     s.jac = pdbfs_jac_q;
     s.jac_sp = pdbfs_jac_q_sparsity_out(0);

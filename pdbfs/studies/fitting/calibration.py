@@ -19,7 +19,7 @@ import numpy as np
 from pdbfs.errors import DataError, ParameterError, PdbfsError
 from pdbfs.simulation import Simulator
 
-from .least_squares import distinct_optima, solve, statistics
+from .least_squares import distinct_optima, optimum_of_each_start, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
 from .signal_model import DT, SignalModel, pulse_end, signal_of
 from .arguments import check_fit_arguments
@@ -200,7 +200,8 @@ def _fit(rig_name, signal, unit, model, unknowns, trace, scale, starts, seed) ->
         std={n: std.get(n) for n in order}, corr=corr,
         rms_residual=float(np.sqrt(np.mean((trace.y - y_fit) ** 2))), sigma=st.sigma,
         undetermined=undetermined, held=held, at_bounds=at_bounds,
-        starts=[{"cost": s.cost, "evaluations": s.iterations, "status": s.status}
-                for s in first.starts],
+        starts=[{"cost": s.cost, "evaluations": s.iterations, "status": s.status,
+                 "optimum": w}   # 0: the best one; None: the start failed
+                for s, w in zip(first.starts, optimum_of_each_start(first))],
         optima=distinct_optima(first), t=trace.t, y=trace.y, fit=y_fit,
         evaluations=model.evaluations, units={u.name: u.unit for u in unknowns})

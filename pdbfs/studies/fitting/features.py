@@ -6,7 +6,8 @@ From Samples (values, slopes and sensitivities on a fine grid) the features
 are located on the Hermite interpolant and differentiated exactly:
 the peak is stationary in t, so d(peak)/dp = dy/dp at the peak time; the
 time of peak moves by -(d ydot/dp) / (d2y/dt2); a level crossing t_c of
-the level L = PULSE_LEVEL * peak moves by -(dy/dp - dL/dp) / ydot(t_c).
+the level L = base + PULSE_LEVEL * (peak - base) (base: the start pressure)
+moves by -(dy/dp - dL/dp) / ydot(t_c).
 """
 from __future__ import annotations
 
@@ -45,7 +46,10 @@ def pulse_features(s, want=FEATURES) -> tuple[dict, dict]:
              "time_of_peak": -dydot_pk / yddot_pk if yddot_pk < 0 else np.zeros_like(dy_pk)}
     if "pulse_duration" not in want:
         return values, grads
-    level, dlevel = PULSE_LEVEL * y_pk, PULSE_LEVEL * dy_pk
+    # the level rises from the start (static) pressure, as the summary's (summary_run.py)
+    base, _, dbase = (a[0] for a in s.at([s.t[0]]))
+    level = base + PULSE_LEVEL * (y_pk - base)
+    dlevel = dbase + PULSE_LEVEL * (dy_pk - dbase)
     crossings = _crossings(s, level)
     times, signs = [], []
     if s.y[0] > level:

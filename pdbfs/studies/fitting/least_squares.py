@@ -85,14 +85,28 @@ def solve(fun, z0, lo, hi, *, starts: int = 1, seed: int = 0, xtol=1e-10, ftol=1
     return Fit(best.x, r, J, float(0.5 * r @ r), runs, active, n_eval)
 
 
+def optimum_of_each_start(fit: Fit, rel: float = 1e-3, ztol: float = 1e-3) -> list:
+    """For each start, which optimum it ended at (0: the best, 1: the next
+    best, ...; None: the start failed). Two ends are one optimum when their
+    scaled unknowns agree within ``ztol`` or their costs within ``rel`` (a
+    perfect fit's costs are all near 0, and differ relatively by much)."""
+    ends = sorted((s.cost, i) for i, s in enumerate(fit.starts) if s.z is not None)
+    groups, which = [], [None] * len(fit.starts)   # groups: (cost, z) of each optimum
+    for c, i in ends:
+        z = np.asarray(fit.starts[i].z, float)
+        for g, (c0, z0) in enumerate(groups):
+            if np.max(np.abs(z - z0), initial=0.0) <= ztol or c <= c0 * (1 + rel) + 1e-300:
+                which[i] = g
+                break
+        else:
+            which[i] = len(groups)
+            groups.append((c, z))
+    return which
+
+
 def distinct_optima(fit: Fit, rel: float = 1e-3) -> int:
-    """How many different optima the starts found (by final cost)."""
-    costs = sorted(s.cost for s in fit.starts if s.z is not None)
-    groups = []
-    for c in costs:
-        if not groups or c > groups[-1] * (1 + rel) + 1e-300:
-            groups.append(c)
-    return len(groups)
+    """How many different optima the starts found (optimum_of_each_start)."""
+    return len({w for w in optimum_of_each_start(fit, rel) if w is not None})
 
 
 @dataclass

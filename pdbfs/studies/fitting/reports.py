@@ -30,11 +30,14 @@ def calibration_text(cal) -> str:
             note = f"   (at its {cal.at_bounds[name][0]} bound)" if name in cal.at_bounds else ""
             lines.append(f"{name:<18} {v:>14.6g} {cal.std[name]:>12.3g}  {unit}{note}")
     k, unit = SCALE.get(cal.unit, (1.0, cal.unit))
-    best = min(s["cost"] for s in cal.starts)
-    n_best = sum(1 for s in cal.starts if s["cost"] <= best * (1 + 1e-3))
+    ends = [s.get("optimum") for s in cal.starts]
+    n_best = ends.count(0)
+    worse, failed = sum(1 for w in ends if w), ends.count(None)
+    others = [f"{worse} ended at a worse one" if worse else "",
+              f"{failed} failed" if failed else ""]
     lines.append(f"RMS residual {cal.rms_residual * k:.4g} {unit}; {n_best} of {len(cal.starts)} "
                  "start(s) reached this optimum"
-                 + ("" if n_best == len(cal.starts) else ", the others ended at a worse one"))
+                 + "".join(f", {o}" for o in others if o))
     names = list(cal.corr)
     if len(names) > 1:
         lines.append("correlation: " + "; ".join(
@@ -128,10 +131,11 @@ def plot_design(des, path=None):
     if "time_of_peak" in tg:
         ax.axvline(tg["time_of_peak"] * 1e3, color="k", ls=":", lw=0.9, label="target time of peak")
     if "pulse_duration" in tg:
-        level = 0.01 * des.features["peak_pressure"]
+        base = float(des.fit[0])          # the pulse rises from the start pressure
+        level = base + 0.01 * (des.features["peak_pressure"] - base)
         t0 = des.t[int(np.argmax(des.fit > level))]
         ax.plot(np.array([t0, t0 + tg["pulse_duration"]]) * 1e3, [level * k, level * k],
-                color="tab:blue", lw=3, alpha=0.6, label="target duration (above 1 % of peak)")
+                color="tab:blue", lw=3, alpha=0.6, label="target duration (1 % of the rise)")
     settings = ", ".join(f"{n} = {v:.4g}" for n, v in des.params.items())
     ax.set_title(f"rig {des.rig}: {settings}" + ("" if des.reachable else "  (NOT reached)"),
                  fontsize=9)

@@ -23,6 +23,7 @@ from scipy.interpolate import CubicHermiteSpline
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.initialize import refuse_solved_start
+from pdbfs.simulation.trajectory import symbolic_states
 
 #: spacing of the fine grid, s
 DT = 5e-6
@@ -134,10 +135,10 @@ class SignalModel:
         # an orifice), whose sensitivities would cost Adams 50x the time
         refuse_solved_start(dae, "calibration and design")
         method = sim.resolve_method("auto", self.p0, sim.start_vector(self.p0), t_end)
-        F = sim.integrator(self.grid, rtol, atol, method, None)
-        r = F(x0=dae.function("start")(p), p=p, z0=sim.z_guess(self.p0))
+        X, Z = symbolic_states(sim, self.grid, dae.function("start")(p), p, self.p0, rtol, atol,
+                               method, None, targets)
         rows = ca.Function("rows", [dae.t, dae.x, dae.z, dae.p], [ca.vertcat(y, ydot)]).map(n)
-        Y = rows(ca.DM(self.grid.reshape(1, -1)), r["xf"], r["zf"], ca.repmat(p, 1, n))
+        Y = rows(ca.DM(self.grid.reshape(1, -1)), X, Z, ca.repmat(p, 1, n))
         self._f = ca.Function("signal", [u], [Y])
         self._fj = ca.Function("signal_sens", [u], [Y, ca.jacobian(ca.vec(Y), u)])
         self.evaluations = 0

@@ -11,18 +11,17 @@ from __future__ import annotations
 
 import hashlib
 import json
-import warnings
 import pickle
 from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError, PulseIncompleteWarning
+from pdbfs.errors import ParameterError, PdbfsError
 from pdbfs.modelling import check_value, reduced_start
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.initialize import needs_solving
-from pdbfs.simulation.summary import keys_for
+from pdbfs.simulation.summary import keys_for, summarize
 
 #: list-valued summary entries (one value per blow) are stored as JSON text; the
 #: blows' count is a column of its own (impact_count). tests/test_every_rig_studies.py
@@ -85,9 +84,12 @@ class Runner:
                 except ParameterError as err:
                     error[i] = f"ParameterError: {err}"
                     break
-            if not error[i] and getattr(self.sim.dae, "reduced_starts", None):
-                try:                # a start index reduction computes is not free
-                    reduced_start.check(self.sim.dae, P[i], ParameterError)
+            else:
+                try:                # the components' physical consistency, per point
+                    self.sim.dae.check_conditions(P[i])
+                    if getattr(self.sim.dae, "reduced_starts", None):
+                        # a start index reduction computes is not free
+                        reduced_start.check(self.sim.dae, P[i], ParameterError)
                 except ParameterError as err:
                     error[i] = f"ParameterError: {err}"
         ok = np.array([not e for e in error])
@@ -113,6 +115,13 @@ class Runner:
                 error[r] = f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
                 for k in self.keys:
                     summary[k][r] = np.nan
+        if "complete" in summary:
+            # a pulse running at t_end: whether its highest pressure so far is its peak
+            # shows only past the horizon, which Result.summary follows (the driver does not)
+            late = np.zeros(len(ok), dtype=bool)
+            late[rows] = (np.asarray(codes) == 0) & (summary["complete"][rows] == 0)
+            if late.any():
+                self._run_points(P, late, summary, error, {})
 
     def _run_points(self, P, ok, summary, error, results):
         s = self.settings
@@ -121,9 +130,9 @@ class Runner:
                 res = self.sim.run(s.t_end, s.n_out, params=dict(zip(self.sim.dae.p_names, P[i])),
                                    start=dict(s.start) or None, rtol=s.rtol, atol=s.atol,
                                    method=s.method, max_step=s.max_step, backend=s.backend)
-                with warnings.catch_warnings():       # the complete column says it per point
-                    warnings.simplefilter("ignore", PulseIncompleteWarning)
-                    out = res.summary()
+                # the complete column says it per point: no warnings (catch_warnings is
+                # process-wide, not per thread: the sweep's threads would let them through)
+                out = summarize(res, warn=False)
             except PdbfsError as err:
                 error[i] = f"{type(err).__name__}: {err}"
                 continue
