@@ -183,7 +183,8 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
         bad = np.flatnonzero(~np.isfinite(Y[o]))
         if bad.size:
             why = errors[bad[0]] or (f"{o} is undefined there" + (
-                f", the pulse still running after {FOLLOW * t_end:.3g} s" if bad[0] in late
+                f" (no pulse, or a pulse still running after {FOLLOW * t_end:.3g} s)"
+                if bad[0] in late
                 else ""))
             undefined[o] = (f"undefined at {bad.size} of {len(X)} points, first "
                             f"{plain(dict(zip(names, X[bad[0]])))}: {why}")
