@@ -18,6 +18,7 @@ import fmu_support as T
 from pdbfs.errors import ExportError
 from pdbfs.fmu import export_fmu
 from pdbfs.fmu.export import wrapper_files
+from pdbfs.fmu.symbols import INCLUDE_LINE
 
 
 @pytest.fixture(scope="module")
@@ -117,8 +118,8 @@ def test_build_description_lists_the_sources(path3):
     assert {"sources/fmi3Functions.h", "sources/pdbfs_model.h", "binaries/x86_64-linux/pdbfs.so"} <= names
     assert not any(n.startswith("sources/fmi2") for n in names)
     # one generic wrapper per version: the shipped files are the package's, and the loop is shared
-    for f in wrapper_files(3):
-        assert shipped[f.name] == f.read_text(), f.name
+    for f in wrapper_files(3):   # (C files: the private names' include on top, fmu/symbols.py)
+        assert shipped[f.name] == (INCLUDE_LINE if f.suffix == ".c" else "") + f.read_text(), f.name
     assert {f.name for f in wrapper_files(2)} & {f.name for f in wrapper_files(3)} >= {
         "cosimulation.c", "model.c", "model_exchange.c", "pdbfs_cvode.c"}
 
@@ -177,4 +178,5 @@ def test_shared_c_knows_no_fmi_version():
     for v, files in VERSION_FILES.items():
         for name in files:
             code = (C_DIR / name).read_text()
-            assert f'#include "fmi{v}Functions.h"' in code and f"fmi{5 - v}" not in code, name
+            include = "fmi2_prefix.h" if v == 2 and name != "fmi2_prefix.h" else f"fmi{v}Functions.h"
+            assert f'#include "{include}"' in code and f"fmi{5 - v}" not in code, name

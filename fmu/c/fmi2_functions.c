@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi2Functions.h"
+#include "fmi2_prefix.h"
 #include "fmu_instance.h"
 
 /* ------------------------------------------------------------------ logging */

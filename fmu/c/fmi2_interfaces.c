@@ -1,6 +1,6 @@
 /* The Model Exchange and Co-Simulation calls of FMI 2.0 on the
  * version-neutral model_exchange.c and cosimulation.c. */
-#include "fmi2Functions.h"
+#include "fmi2_prefix.h"
 #include "fmu_instance.h"
 
 /* ------------------------------------------------------- Model Exchange */
