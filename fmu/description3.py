@@ -118,20 +118,32 @@ def _event_text(name: str) -> str:
             "(contact onset or separation)")
 
 
+#: platforms whose C runtime keeps the math functions in a library of their own (libm: -lm)
+LIBM_PLATFORMS = ("x86_64-linux", "aarch64-linux")
+
+
 def build_description(model: FmuModel, sources: list[str], sundials_version: str | None) -> str:
     """sources/buildDescription.xml: the C files of the FMU (relative to
     sources/, which is the include folder). With ``sundials_version`` the
     build must provide SUNDIALS' CVODE (an external library); None when the
-    sources carry CVODE's own C among ``sources``."""
-    L = ['<?xml version="1.0" encoding="UTF-8"?>',
-         '<fmiBuildDescription fmiVersion="3.0">',
-         f'  <BuildConfiguration modelIdentifier="{model.ident}" '
-         'description="the generic FMI 3.0 wrapper, the co-simulation loop and the generated model">',
-         '    <SourceFileSet language="C99">']
-    L += [f'      <SourceFile name={quoteattr(s)}/>' for s in sources]
-    L += ['      <IncludeDirectory name="."/>', '    </SourceFileSet>']
-    if sundials_version is not None:
-        L.append(f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
-                 'description="SUNDIALS CVODE, built as a static, position-independent library: see README.txt"/>')
-    L += ['  </BuildConfiguration>', '</fmiBuildDescription>']
+    sources carry CVODE's own C among ``sources``. One configuration per
+    platform that must link the C math library (Linux: libm, which a plain
+    ``cc -shared`` does not link), then one for every other platform."""
+    L = ['<?xml version="1.0" encoding="UTF-8"?>', '<fmiBuildDescription fmiVersion="3.0">']
+    for platform in (*LIBM_PLATFORMS, None):
+        where = f' platform="{platform}"' if platform else ""
+        L += [f'  <BuildConfiguration modelIdentifier="{model.ident}"{where} '
+              'description="the generic FMI 3.0 wrapper, the co-simulation loop and the generated model">',
+              '    <SourceFileSet language="C99">']
+        L += [f'      <SourceFile name={quoteattr(s)}/>' for s in sources]
+        L += ['      <IncludeDirectory name="."/>', '    </SourceFileSet>']
+        if sundials_version is not None:
+            L.append(f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
+                     'description="SUNDIALS CVODE, built as a static, position-independent library: '
+                     'see README.txt"/>')
+        if platform:
+            L.append('    <Library name="m" external="true" description="the C math library (link with -lm): '
+                     'the model and CVODE call the functions of math.h"/>')
+        L.append('  </BuildConfiguration>')
+    L.append('</fmiBuildDescription>')
     return "\n".join(L) + "\n"

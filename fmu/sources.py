@@ -172,7 +172,16 @@ with this folder as the only include directory:
                 -o {ident}.dll -static
   macOS:    clang -O2 -shared -fvisibility=hidden -I. *.c {SRC_DIR}/*.c -o {ident}.dylib
 
-and put the library in binaries/<platform>/ of the FMU. (pdbfs's tests build
+and put the library in binaries/<platform>/ of the FMU.
+
+The C math library: on Linux the binary must be linked with -lm ({libm}).
+`fmpy compile` links none: its binary loads only into a host that has libm
+loaded already (Python has; a C program may not: "undefined symbol: tanh").
+With FMPy, add it at the end of the link line:
+
+  python -c "from fmpy.build import build_platform_binary as b; b('<unzipped FMU>',
+      cmake_options={{'CMAKE_C_STANDARD_LIBRARIES:STRING': '-lm'}})"
+ (pdbfs's tests build
 these sources with `fmpy compile` on Linux (GCC) and with the MinGW line
 above; GCC attributes are used only under __GNUC__, so MSVC may take them
 too, untested.)
@@ -193,8 +202,11 @@ _LISTING = {2: "modelDescription.xml (<SourceFiles>)", 3: "buildDescription.xml"
 def readme_txt(ident: str, fmi_version: int, casadi: str, sundials: str, platforms: list[str],
                with_sundials: bool) -> str:
     """sources/README.txt: what each file is and how to build the binary by hand."""
+    libm = {2: "FMI 2.0's <SourceFiles> cannot say so",
+            3: 'buildDescription.xml names it, <Library name="m">, in the configurations of '
+               "x86_64-linux and aarch64-linux"}[fmi_version]
     part = (_README_SUNDIALS if with_sundials else _README_NO_SUNDIALS).format(
-        ident=ident, sundials=sundials, SRC_DIR=SRC_DIR, LICENSE=LICENSE, listing=_LISTING[fmi_version])
+        libm=libm, ident=ident, sundials=sundials, SRC_DIR=SRC_DIR, LICENSE=LICENSE, listing=_LISTING[fmi_version])
     prefix_h = ("fmi2_prefix.h         fmi2Functions.h with FMI2_FUNCTION_PREFIX honoured (FMPy's copy\n"
                 "                      of the header ignores it)\n") if fmi_version == 2 else ""
     return _README.format(prefix_h=prefix_h, ident=ident, v=fmi_version, casadi=casadi, sundials=sundials, sundials_part=part,
