@@ -95,7 +95,7 @@ def model_description3(model: FmuModel, token: str) -> str:
              'description="simulation time" unit="s"/>')
     for k, n in enumerate(event_variable_names(model)):
         L.append(f'    <Float64 name={quoteattr(n)} valueReference="{t + 1 + k}" causality="local" '
-                 f'variability="continuous" description={quoteattr(_event_text(d.event_names[k]))}/>')
+                 f'variability="continuous" description={quoteattr(_event_text(d, d.event_names[k]))}/>')
     L.append('  </ModelVariables>')
     outputs, derivs, init = model.structure()
     x_vrs = [model.vr_x + k for k in range(model.nx)]
@@ -113,9 +113,11 @@ def model_description3(model: FmuModel, token: str) -> str:
     return "\n".join(L) + "\n"
 
 
-def _event_text(name: str) -> str:
-    return (f"event indicator {name}: changes sign where the right-hand side has a kink "
-            "(contact onset or separation)")
+def _event_text(dae, name: str) -> str:
+    """What the indicator's sign change marks, as its component says."""
+    what = getattr(dae, "event_text", {}).get(name)
+    return f"event indicator {name}: changes sign where " + (
+        what if what else "the right-hand side switches (a non-smooth point)")
 
 
 #: platforms whose C runtime keeps the math functions in a library of their own (libm: -lm)

@@ -19,7 +19,7 @@ RIG_BUILDERS = {
     "law": lambda: paper_rig(law="lankarani-nikravesh"),
     # the piston split into three masses: ten states
     "split3": lambda: split_piston_rig(3),
-    # oil column with cavitation and a relief valve: other states, other event indicators
+    # an oil column with a cavitation clamp: other states, other event indicators
     "hydraulic": paper_hydraulic_rig,
 }
 

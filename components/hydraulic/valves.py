@@ -20,7 +20,7 @@ class PartialPressureValve(PartialOrifice):
         return smooth_step((self.dp - self.p_crack) / self.dp_open)
 
     def events(self):
-        return [(self.dp - self.p_crack, "cracking")]
+        return [(self.dp - self.p_crack, "cracking", "the valve cracks open or reseats (dp = p_crack)")]
 
 
 class CheckValve(PartialPressureValve):
@@ -48,7 +48,8 @@ class TimedValve(PartialOrifice):
         return smooth_step((time - self.t_open) / self.T_open)
 
     def events(self):
-        return [(time - self.t_open, "opening"), (time - self.t_open - self.T_open, "open")]
+        return [(time - self.t_open, "opening", "the valve starts opening (time = t_open)"),
+                (time - self.t_open - self.T_open, "open", "the valve is fully open (time = t_open + T_open)")]
 
 
 class PulseValve(TimedValve):
@@ -62,5 +63,6 @@ class PulseValve(TimedValve):
         return super().opening() * (1.0 - smooth_step((time - self.t_close) / self.T_close))
 
     def events(self):
-        return super().events() + [(time - self.t_close, "closing"),
-                                   (time - self.t_close - self.T_close, "closed")]
+        return super().events() + [
+            (time - self.t_close, "closing", "the valve starts closing (time = t_close)"),
+            (time - self.t_close - self.T_close, "closed", "the valve is closed (time = t_close + T_close)")]

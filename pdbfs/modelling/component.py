@@ -71,7 +71,9 @@ class Component:
         return []
 
     def events(self) -> list:
-        """(expression, label) pairs whose sign changes mark non-smooth points."""
+        """(expression, label) or (expression, label, description) tuples whose
+        sign changes mark non-smooth points (the description says which: an
+        FMU's event indicators carry it)."""
         return []
 
     # -- declaration plumbing -------------------------------------------------

@@ -61,6 +61,8 @@ class DAE:
     calculated: dict[str, tuple[ca.SX, VarInfo]] = field(default_factory=dict)
     # initial guess of z for IDAS (declared start values, else 0), function of p
     z0: ca.SX | None = None
+    # event name -> what its sign change marks (from the component)
+    event_text: dict[str, str] = field(default_factory=dict)
 
     def __getstate__(self):
         """Pickle the model, not its caches (functions, integrators, compiled

@@ -103,7 +103,8 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                z_info=[VarInfo(n, by_name[n].unit if n in by_name else "",
                                "algebraic unknown of a nonlinear block") for n in z_labels],
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
-               event_names=[w for _, w in events], calculated=calculated, z0=z0)
+               event_names=[w for _, w in events], calculated=calculated, z0=z0,
+               event_text=dict(flat.event_text))
     _check_reduced_start(dae, dropped)
     return dae
 
