@@ -143,6 +143,9 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          "static const char *const PDBFS_P_NAME[PDBFS_NP + 1] = {"
          + pad([p.name for p in d.params], _c_string, "0") + "};",
          "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
+         "static const char *const PDBFS_Y_NAME[PDBFS_NYV + 1] = {"
+         + pad([d.y_names[i] for i in model.y_exposed], _c_string, "0") + "};",
+         "static const char *const PDBFS_X_NAME[PDBFS_NX + 1] = {" + pad(d.x_names, _c_string, "0") + "};",
          "static const double PDBFS_X_NOMINAL[PDBFS_NX + 1] = {"
          + pad(model.x_nominal, _c_double, "0") + "};",
          *extra, "#endif", ""]

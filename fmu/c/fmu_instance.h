@@ -146,6 +146,7 @@ const double *model_x(Inst *m);
 void model_update(Inst *m);
 double model_rtol(const Inst *m);
 int model_check_param(Inst *m, int k, double v);
+int model_check_finite(Inst *m, const char *fn);
 int fmu_all_finite(const double *v, int n);
 
 /* values.c: variables by value reference (a rejected set changes nothing) */

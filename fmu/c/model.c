@@ -127,6 +127,7 @@ int fmu_exit_init(Inst *m, const char *fn) {
     if (!fmu_all_finite(m->s.x, NX)) return ERR(m, "start values are not finite: check the parameters");
     m->s.x_fixed = 1;
     m->derived_ok = 0;
+    if (model_check_finite(m, fn) != FMU_OK) return FMU_ERROR;
     m->need_restart = 1;
     m->s.mode = m->s.type == FMU_CS ? ST_STEPDONE : ST_EVENT;
     if (m->s.type == FMU_CS) return cosim_start(m);
@@ -213,6 +214,28 @@ void model_update(Inst *m) {
         pdbfs_calc(m->arg, m->res, m->iw, m->w, 0);
     }
     m->derived_ok = 1;
+}
+
+/* the state, its derivatives and the outputs at (time, x, p) finite, else one
+ * error naming the first that is not: a parameter at a value the model cannot
+ * run at (an area of 1e-308 m2: an infinite pressure) must not pass as OK */
+int model_check_finite(Inst *m, const char *fn) {
+    int i;
+    const double *x = model_x(m);
+    for (i = 0; i < NX; i++)
+        if (!isfinite(x[i]))
+            return ERR(m, "%s: state %s = %g at t=%.17g: check the parameters", fn, PDBFS_X_NAME[i], x[i],
+                       m->s.time);
+    model_update(m);
+    for (i = 0; i < NX; i++)
+        if (!isfinite(m->xdot[i]))
+            return ERR(m, "%s: der(%s) = %g at t=%.17g: check the parameters", fn, PDBFS_X_NAME[i],
+                       m->xdot[i], m->s.time);
+    for (i = 0; i < NYV; i++)
+        if (!isfinite(m->y[PDBFS_Y_INDEX[i]]))
+            return ERR(m, "%s: output %s = %g at t=%.17g: check the parameters", fn, PDBFS_Y_NAME[i],
+                       m->y[PDBFS_Y_INDEX[i]], m->s.time);
+    return FMU_OK;
 }
 
 int model_check_param(Inst *m, int k, double v) {
