@@ -11,7 +11,7 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 
-from .description import LOG_CATEGORIES, _x, type_attrs, unit_lines
+from .description import LOG_CATEGORIES, _x, model_text, package_attrs, type_attrs, unit_lines
 from .variables import FmuModel, _deps
 
 #: FMI 2.0 type -> FMI 3.0 element
@@ -63,7 +63,6 @@ def model_description3(model: FmuModel, token: str) -> str:
     _check_names(model)
     d = model.dae
     vr_of_index = lambda i: model.vars[i - 1].vr  # noqa: E731  (2.0 indices are 1-based)
-    descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
     caps = ('canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false" '
             'providesDirectionalDerivatives="false" providesAdjointDerivatives="false"')
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
@@ -71,7 +70,8 @@ def model_description3(model: FmuModel, token: str) -> str:
          '  fmiVersion="3.0"',
          f'  modelName={quoteattr(d.name)}',
          f'  instantiationToken="{token}"',
-         f'  description={quoteattr(descr)}',
+         f'  description={quoteattr(model_text(model))}',
+         *package_attrs(),
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured">',
          f'  <ModelExchange modelIdentifier="{model.ident}" {caps} needsCompletedIntegratorStep="false"/>',

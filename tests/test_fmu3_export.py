@@ -115,7 +115,7 @@ def test_build_description_lists_the_sources(path3):
     assert {lib.get("name") for lib in doc.iter("Library")} == {"m"}   # the C math library only
     assert all(f"sources/{n}" in names for n in listed)
     assert "sources/sundials/LICENSE" in names and "documentation/licenses/SUNDIALS-LICENSE" in names
-    assert {"sources/fmi3Functions.h", "sources/pdbfs_model.h", "binaries/x86_64-linux/pdbfs.so"} <= names
+    assert {"sources/fmi3Functions.h", "sources/pdbfs_model.h", "binaries/x86_64-linux/pdbfs_paper.so"} <= names
     assert not any(n.startswith("sources/fmi2") for n in names)
     # one generic wrapper per version: the shipped files are the package's, and the loop is shared
     for f in wrapper_files(3):   # (C files: the private names' include on top, fmu/symbols.py)
@@ -126,7 +126,7 @@ def test_build_description_lists_the_sources(path3):
 
 def test_only_fmi3_symbols_are_exported(path3, tmp_path):
     with zipfile.ZipFile(path3) as z:
-        so = z.extract("binaries/x86_64-linux/pdbfs.so", tmp_path)
+        so = z.extract("binaries/x86_64-linux/pdbfs_paper.so", tmp_path)
     nm = subprocess.run(["nm", "-D", "--defined-only", so], capture_output=True, text=True, check=True)
     exported = {line.split()[-1] for line in nm.stdout.splitlines() if line.split()[1] in "TDBR"}
     assert exported and all(s.startswith("fmi3") for s in exported), exported

@@ -176,11 +176,18 @@ class Component:
         if self._compiled is None:
             dae = simplify(flatten(self), name=self.rig_name())
             dae.signals = dict(getattr(self, "summary_signals", {}) or {})
+            dae.description = _first_sentence(type(self).__doc__)
             object.__setattr__(self, "_compiled", dae)
         return self._compiled
 
     def rig_name(self) -> str:
         return getattr(self, "name", None) or type(self).__name__
+
+
+def _first_sentence(doc: str | None) -> str:
+    """What a rig is, from its class docstring: the first sentence."""
+    text = " ".join((doc or "").split("\n\n")[0].split())
+    return text.split(". ")[0].rstrip(".") + "." if text else ""
 
 
 def _describe(obj) -> str:

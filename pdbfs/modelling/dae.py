@@ -63,6 +63,8 @@ class DAE:
     z0: ca.SX | None = None
     # event name -> what its sign change marks (from the component)
     event_text: dict[str, str] = field(default_factory=dict)
+    # what the rig is (the first sentence of its class docstring)
+    description: str = ""
 
     def __getstate__(self):
         """Pickle the model, not its caches (functions, integrators, compiled
