@@ -133,7 +133,8 @@ Sources of the FMU '{ident}' exported by pdbfs.fmu (FMI {v}.0)
 fmi{v}_functions.c      generic FMI {v}.0 plumbing: life cycle, variables, logging
 fmi{v}_interfaces.c     the Model Exchange and Co-Simulation calls
 fmi{v}_state.c          FMU state: get, set, serialise
-{prefix_h}model.c               the model on the generated functions, the life cycle
+{prefix_h}lifecycle.c           the life cycle: instantiate, initialise, terminate, reset, free
+model.c               the model on the generated functions, logging
 values.c              variables by value reference
 snapshot.c            the FMU state
 model_exchange.c      what Model Exchange asks of the model

@@ -180,3 +180,24 @@ def test_shared_c_knows_no_fmi_version():
             code = (C_DIR / name).read_text()
             include = "fmi2_prefix.h" if v == 2 and name != "fmi2_prefix.h" else f"fmi{v}Functions.h"
             assert f'#include "{include}"' in code and f"fmi{5 - v}" not in code, name
+
+
+def test_version_neutral_c_calls_run_one_way():
+    """No circle among the version-neutral C files (issue 22): the life cycle
+    calls down into the interface parts and the model, never the reverse."""
+    import re
+
+    from pdbfs.fmu.export import C_DIR, COMMON_FILES
+    from pdbfs.fmu.symbols import external_definitions
+    files = [f for f in COMMON_FILES if f.endswith(".c")]
+    texts = {f: re.sub(r"/\*.*?\*/", "", (C_DIR / f).read_text(), flags=re.S) for f in files}
+    defined = {f: external_definitions(texts[f]) for f in files}
+    calls = {f: {g for g in files if g != f and any(re.search(rf"\b{n}\s*\(", texts[f]) for n in defined[g])}
+             for f in files}
+    assert calls["model.c"] == set(), calls["model.c"]
+    assert "lifecycle.c" not in set().union(*calls.values())
+    assert "cosimulation.c" in calls["lifecycle.c"]
+
+    def reach(f, seen=()):
+        return set().union(*({g} | reach(g, seen + (f,)) for g in calls[f] if g not in seen)) if calls[f] else set()
+    assert all(f not in reach(f) for f in files), calls

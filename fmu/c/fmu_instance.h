@@ -1,13 +1,19 @@
 /*
  * One instance of a pdbfs FMU, independent of the FMI version.
  *
- *   model.c            the model on the CasADi-generated functions, logging,
- *                      the state machine, the life cycle
+ *   lifecycle.c        the life cycle: instantiate, set up, initialise,
+ *                      terminate, reset, free
  *   values.c           variables by value reference
  *   snapshot.c         the FMU state: get, set, serialise
  *   model_exchange.c   what Model Exchange asks of the model
  *   cosimulation.c     the co-simulation loop: CVODE through the events
  *                      (native/c/pdbfs_cvode.c)
+ *   model.c            the model on the CasADi-generated functions, logging,
+ *                      the state machine's check
+ *
+ * Calls run one way, down this list: the life cycle calls the interface
+ * parts (cosimulation.c) and the model; the interface parts call the model;
+ * model.c calls none of them.
  *
  * These files know no FMI header: they return FMU_* status codes (the
  * numbers of fmi2Status and fmi3Status) and log through the hook the
@@ -126,10 +132,12 @@ struct Inst {
     double w[PDBFS_SZ_W + 1];
 };
 
-/* model.c: logging, the state machine, the life cycle */
+/* model.c: logging, the state machine's check */
 void fmu_log(Inst *m, int st, const char *cat, const char *fmt, ...) PDBFS_PRINTF(4, 5);
 int fmu_check(Inst *m, const char *fn, int allowed, int needType);
 #define ERR(m, ...) (fmu_log((m), FMU_ERROR, "logStatusError", __VA_ARGS__), FMU_ERROR)
+
+/* lifecycle.c */
 Inst *fmu_new(const char *name, int type, const FmuHost *host, int logging);
 void fmu_free(Inst *m);
 int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const categories[]);
