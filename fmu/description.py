@@ -112,13 +112,13 @@ def model_description(model: FmuModel, guid: str, source_files: list[str] | tupl
          *_interface("ModelExchange", f'modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
                      'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
                      'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-                     'providesDirectionalDerivative="false"', source_files),
+                     'providesDirectionalDerivative="true"', source_files),
          *_interface("CoSimulation", f'modelIdentifier="{model.ident}" '
                      'canHandleVariableCommunicationStepSize="true" '
                      'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
                      'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
                      'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-                     'providesDirectionalDerivative="false"', source_files),
+                     'providesDirectionalDerivative="true"', source_files),
          '  <UnitDefinitions>']
     L += unit_lines(model)
     L += ['  </UnitDefinitions>',

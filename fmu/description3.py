@@ -64,7 +64,7 @@ def model_description3(model: FmuModel, token: str) -> str:
     d = model.dae
     vr_of_index = lambda i: model.vars[i - 1].vr  # noqa: E731  (2.0 indices are 1-based)
     caps = ('canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false" '
-            'providesDirectionalDerivatives="false" providesAdjointDerivatives="false"')
+            'providesDirectionalDerivatives="true" providesAdjointDerivatives="true"')
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
          '<fmiModelDescription',
          '  fmiVersion="3.0"',

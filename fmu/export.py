@@ -43,7 +43,7 @@ C_DIR = Path(__file__).with_name("c")
 FMI_VERSIONS = (2, 3)
 #: the version-neutral C: the model, variables, FMU state, Model Exchange, the co-simulation loop
 COMMON_FILES = ("fmu_instance.h", "lifecycle.c", "model.c", "values.c", "snapshot.c", "model_exchange.c",
-                "cosimulation.c")
+                "derivatives.c", "cosimulation.c")
 #: the generic wrapper of each FMI version over them
 VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c", "fmi2_prefix.h"),
                  3: ("fmi3_functions.c", "fmi3_interfaces.c", "fmi3_state.c")}

@@ -138,6 +138,7 @@ model.c               the model on the generated functions, logging
 values.c              variables by value reference
 snapshot.c            the FMU state
 model_exchange.c      what Model Exchange asks of the model
+derivatives.c         directional and adjoint derivatives (CasADi's forward and reverse AD)
 cosimulation.c        the co-simulation loop, on pdbfs_cvode.c
 pdbfs_cvode.c/h       CVODE through the rig's non-smooth points (restart at every
                       root of the event indicators, dense output)

@@ -14,6 +14,7 @@ from pdbfs.modelling import DAE
 from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
 
 from . import units as _units
+from .derivatives import derivative_functions
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
 #: solver.rtol's range, inclusive, declared and checked alike
@@ -140,7 +141,8 @@ class FmuModel:
 
     # -- CasADi functions -----------------------------------------------------
     def functions(self) -> list[ca.Function]:
-        return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr)
+        return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr) + \
+            derivative_functions(self.dae, self.y_exposed)
 
     # -- variables --------------------------------------------------------------
     def _build_variables(self) -> None:

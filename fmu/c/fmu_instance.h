@@ -6,6 +6,7 @@
  *   values.c           variables by value reference
  *   snapshot.c         the FMU state: get, set, serialise
  *   model_exchange.c   what Model Exchange asks of the model
+ *   derivatives.c      directional and adjoint derivatives (exact: CasADi's AD)
  *   cosimulation.c     the co-simulation loop: CVODE through the events
  *                      (native/c/pdbfs_cvode.c)
  *   model.c            the model on the CasADi-generated functions, logging,
@@ -184,6 +185,12 @@ int me_get_derivatives(Inst *m, const char *fn, double dx[], size_t nx);
 int me_get_event_indicators(Inst *m, const char *fn, double e[], size_t ne);
 int me_get_states(Inst *m, const char *fn, double x[], size_t nx);
 int me_get_nominals(Inst *m, const char *fn, double nominals[], size_t nx);
+
+/* derivatives.c: d[der(x); y] / d[x; p] times a seed (forward) or a seed times it (adjoint) */
+int deriv_forward(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                  const double seed[], double sens[]);
+int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                  const double seed[], double sens[]);
 
 /* cosimulation.c */
 int cosim_start(Inst *m);
