@@ -118,9 +118,10 @@ class Model:
         self.m.freeInstance()
 
 
-@pytest.fixture(scope="module", params=[2, 3])
+@pytest.fixture(scope="module", params=[("paper", 2), ("paper", 3), ("hydraulic", 3)],
+                ids=["paper-2", "paper-3", "hydraulic-3"])
 def model(request):
-    m = Model("paper", request.param)
+    m = Model(*request.param)
     yield m
     m.close()
 
@@ -161,6 +162,7 @@ def test_model_structure_holds_every_nonzero(model):
     by_vr = {v.valueReference: v for v in model.md.modelVariables}
     listed = {u.variable.valueReference: {d.valueReference for d in (u.dependencies or [])}
               for u in list(model.md.derivatives) + list(model.md.outputs)}
+    assert set(model.dx_vr) <= set(listed) and len(listed) > len(model.dx_vr)
     for i, vr in enumerate(model.dx_vr + model.y_vr):
         if vr not in listed:
             continue
