@@ -14,13 +14,13 @@
 /* a known's place in [x; p], or -1 (logged) */
 static int known_slot(Inst *m, const char *fn, unsigned r) {
     if (r >= PDBFS_VR_X && r < PDBFS_VR_X + NX) return (int)(r - PDBFS_VR_X);
-    if (r >= PDBFS_VR_P && r < PDBFS_VR_P + NP) {
+    if (r - PDBFS_VR_P < (unsigned)NP) {   /* (unsigned: r < PDBFS_VR_P wraps past NP) */
         if (PDBFS_P_TUNABLE[r - PDBFS_VR_P]) return NX + (int)(r - PDBFS_VR_P);
-        ERR(m, "%s: parameter %s is fixed: derivatives are with respect to states and tunable parameters",
+        (void)ERR(m, "%s: parameter %s is fixed: derivatives are with respect to states and tunable parameters",
             fn, PDBFS_P_NAME[r - PDBFS_VR_P]);
         return -1;
     }
-    ERR(m, "%s: value reference %u is not a state or a tunable parameter", fn, r);
+    (void)ERR(m, "%s: value reference %u is not a state or a tunable parameter", fn, r);
     return -1;
 }
 
@@ -29,7 +29,7 @@ static int unknown_slot(Inst *m, const char *fn, unsigned r) {
     if (r >= PDBFS_VR_DX && r < PDBFS_VR_DX + NX) return (int)(r - PDBFS_VR_DX);
     if (r >= PDBFS_VR_Y && r < PDBFS_VR_Y + NYV) return NX + (int)(r - PDBFS_VR_Y);
     if (r >= PDBFS_VR_X && r < PDBFS_VR_X + NX) return NF + (int)(r - PDBFS_VR_X);
-    ERR(m, "%s: value reference %u is not a state derivative, an output or a state", fn, r);
+    (void)ERR(m, "%s: value reference %u is not a state derivative, an output or a state", fn, r);
     return -1;
 }
 
