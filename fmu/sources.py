@@ -174,19 +174,19 @@ with this folder as the only include directory:
                 -o {ident}.dll -static
   macOS:    clang -O2 -shared -fvisibility=hidden -I. *.c {SRC_DIR}/*.c -o {ident}.dylib
 
-and put the library in binaries/<platform>/ of the FMU.
+and put the library in binaries/<platform>/ of the FMU. (pdbfs's tests build
+these sources with `fmpy compile` on Linux (GCC) and with the MinGW line
+above; GCC attributes are used only under __GNUC__, so MSVC may take them
+too, untested.)
 
-The C math library: on Linux the binary must be linked with -lm ({libm}).
-`fmpy compile` links none: its binary loads only into a host that has libm
-loaded already (Python has; a C program may not: "undefined symbol: tanh").
+The C math library: on Linux the binary must be linked with -lm
+({libm}). `fmpy compile` links none: its binary loads only into a
+host that has libm loaded already (Python has; a C program may not:
+"undefined symbol: tanh").
 With FMPy, add it at the end of the link line:
 
   python -c "from fmpy.build import build_platform_binary as b; b('<unzipped FMU>',
       cmake_options={{'CMAKE_C_STANDARD_LIBRARIES:STRING': '-lm'}})"
- (pdbfs's tests build
-these sources with `fmpy compile` on Linux (GCC) and with the MinGW line
-above; GCC attributes are used only under __GNUC__, so MSVC may take them
-too, untested.)
 """
 
 _README_NO_SUNDIALS = """\
