@@ -20,19 +20,16 @@ def _declared_min(fmu, name):
 
 @pytest.mark.parametrize("fmi_version", [2, 3])
 @pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
-def test_infinite_pressure_is_an_error(fmi_version, fmi_type):
+def test_infinite_pressure_is_an_error(fmi_version, fmi_type, capsys):
     fmu = T.built_fmu("paper", fmi_version)
     assert _declared_min(fmu, "oil.A") == TINY       # allowed by the declared range
-    messages = []
-
-    def logger(*args):
-        messages.append(" ".join(a.decode(errors="replace") if isinstance(a, bytes) else str(a)
-                                 for a in args))
-
+    # FMPy's own logger prints (a logger of our own would stay behind in FMPy's
+    # process-wide logger proxy after the run and be called by later FMUs)
     with pytest.raises(FMICallException):
         fmpy.simulate_fmu(fmu, fmi_type=fmi_type, stop_time=0.02, output_interval=1e-5,
-                          start_values={"oil.A": TINY}, output=["oil.pressure"], logger=logger)
-    assert any("output oil.pressure = inf at t=" in m and "check the parameters" in m for m in messages), messages
+                          start_values={"oil.A": TINY}, output=["oil.pressure"])
+    out = capsys.readouterr().out
+    assert "output oil.pressure = inf at t=" in out and "check the parameters" in out, out
 
 
 def test_the_same_step_with_a_real_area_is_ok():
