@@ -11,6 +11,8 @@ validated by fmpy, simulated by any importer.
     units.py        unit strings -> FMI base units
     platforms.py    linux64, win64 (MinGW-w64): which can be built, and the build
     sources.py      SUNDIALS' CVODE sources for a source FMU
+    derivatives.py  CasADi's forward and reverse AD for the directional and adjoint derivatives
+    symbols.py      private names for everything but the FMI functions (pdbfs_names.h)
     documentation.py documentation/index.html
     export.py       pdbfs_model.h, compile, zip
     c/              the generic C: one wrapper per FMI version (fmi2_*, fmi3_*)

@@ -2,6 +2,7 @@
 Co-Simulation): every parameter with its unit, bounds and description."""
 from __future__ import annotations
 
+from importlib import metadata
 from xml.sax.saxutils import quoteattr
 
 from . import units as _units
@@ -20,6 +21,29 @@ LOG_CATEGORIES = ['  <LogCategories>',
                   '    <Category name="logStatusError" description="errors"/>',
                   '    <Category name="logAll" description="everything"/>',
                   '  </LogCategories>']
+
+
+def model_text(model: FmuModel) -> str:
+    """modelDescription's description: what the rig is (its class docstring), its size."""
+    d = model.dae
+    what = getattr(d, "description", "") or "A rig built with pdbfs."
+    return f"{what} pdbfs rig '{d.name}': {model.nx} states, {model.np} parameters."
+
+
+def package_attrs() -> list[str]:
+    """version, author, license and copyright of the FMU (FMI 2.0 and 3.0
+    alike) from pdbfs's package metadata (pyproject.toml); those it does not
+    declare are left out."""
+    try:
+        meta = metadata.metadata("pdbfs")
+    except metadata.PackageNotFoundError:
+        return []
+    author = meta.get("Author") or ", ".join(
+        a.split("<")[0].strip().strip('"') for a in (meta.get("Author-email") or "").split(",") if a.strip())
+    licence = meta.get("License-Expression") or meta.get("License")
+    attrs = [("version", meta.get("Version")), ("author", author), ("license", licence),
+             ("copyright", f"Copyright (c) {author}" if author else None)]
+    return [f"  {k}={quoteattr(v)}" for k, v in attrs if v]
 
 
 def _interface(tag: str, attrs: str, source_files) -> list[str]:
@@ -75,26 +99,26 @@ def model_description(model: FmuModel, guid: str, source_files: list[str] | tupl
     """modelDescription.xml of ``model`` with ``guid``; ``source_files``
     (relative to sources/) are declared under both interfaces."""
     d = model.dae
-    descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
          '<fmiModelDescription',
          '  fmiVersion="2.0"',
          f'  modelName={quoteattr(d.name)}',
          f'  guid="{guid}"',
-         f'  description={quoteattr(descr)}',
+         f'  description={quoteattr(model_text(model))}',
+         *package_attrs(),
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured"',
          f'  numberOfEventIndicators="{model.ne}">',
          *_interface("ModelExchange", f'modelIdentifier="{model.ident}" canGetAndSetFMUstate="true" '
                      'canSerializeFMUstate="true" completedIntegratorStepNotNeeded="true" '
                      'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-                     'providesDirectionalDerivative="false"', source_files),
+                     'providesDirectionalDerivative="true"', source_files),
          *_interface("CoSimulation", f'modelIdentifier="{model.ident}" '
                      'canHandleVariableCommunicationStepSize="true" '
                      'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
                      'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
                      'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
-                     'providesDirectionalDerivative="false"', source_files),
+                     'providesDirectionalDerivative="true"', source_files),
          '  <UnitDefinitions>']
     L += unit_lines(model)
     L += ['  </UnitDefinitions>',

@@ -11,7 +11,7 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 
-from .description import LOG_CATEGORIES, _x, type_attrs, unit_lines
+from .description import LOG_CATEGORIES, _x, model_text, package_attrs, type_attrs, unit_lines
 from .variables import FmuModel, _deps
 
 #: FMI 2.0 type -> FMI 3.0 element
@@ -63,15 +63,15 @@ def model_description3(model: FmuModel, token: str) -> str:
     _check_names(model)
     d = model.dae
     vr_of_index = lambda i: model.vars[i - 1].vr  # noqa: E731  (2.0 indices are 1-based)
-    descr = f"pdbfs drop-hammer impact rig '{d.name}': {model.nx} states, {model.np} parameters"
     caps = ('canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false" '
-            'providesDirectionalDerivatives="false" providesAdjointDerivatives="false"')
+            'providesDirectionalDerivatives="true" providesAdjointDerivatives="true"')
     L = ['<?xml version="1.0" encoding="UTF-8"?>',
          '<fmiModelDescription',
          '  fmiVersion="3.0"',
          f'  modelName={quoteattr(d.name)}',
          f'  instantiationToken="{token}"',
-         f'  description={quoteattr(descr)}',
+         f'  description={quoteattr(model_text(model))}',
+         *package_attrs(),
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured">',
          f'  <ModelExchange modelIdentifier="{model.ident}" {caps} needsCompletedIntegratorStep="false"/>',
@@ -95,7 +95,7 @@ def model_description3(model: FmuModel, token: str) -> str:
              'description="simulation time" unit="s"/>')
     for k, n in enumerate(event_variable_names(model)):
         L.append(f'    <Float64 name={quoteattr(n)} valueReference="{t + 1 + k}" causality="local" '
-                 f'variability="continuous" description={quoteattr(_event_text(d.event_names[k]))}/>')
+                 f'variability="continuous" description={quoteattr(_event_text(d, d.event_names[k]))}/>')
     L.append('  </ModelVariables>')
     outputs, derivs, init = model.structure()
     x_vrs = [model.vr_x + k for k in range(model.nx)]
@@ -113,25 +113,39 @@ def model_description3(model: FmuModel, token: str) -> str:
     return "\n".join(L) + "\n"
 
 
-def _event_text(name: str) -> str:
-    return (f"event indicator {name}: changes sign where the right-hand side has a kink "
-            "(contact onset or separation)")
+def _event_text(dae, name: str) -> str:
+    """What the indicator's sign change marks, as its component says."""
+    what = getattr(dae, "event_text", {}).get(name)
+    return f"event indicator {name}: changes sign where " + (
+        what if what else "the right-hand side switches (a non-smooth point)")
+
+
+#: platforms whose C runtime keeps the math functions in a library of their own (libm: -lm)
+LIBM_PLATFORMS = ("x86_64-linux", "aarch64-linux")
 
 
 def build_description(model: FmuModel, sources: list[str], sundials_version: str | None) -> str:
     """sources/buildDescription.xml: the C files of the FMU (relative to
     sources/, which is the include folder). With ``sundials_version`` the
     build must provide SUNDIALS' CVODE (an external library); None when the
-    sources carry CVODE's own C among ``sources``."""
-    L = ['<?xml version="1.0" encoding="UTF-8"?>',
-         '<fmiBuildDescription fmiVersion="3.0">',
-         f'  <BuildConfiguration modelIdentifier="{model.ident}" '
-         'description="the generic FMI 3.0 wrapper, the co-simulation loop and the generated model">',
-         '    <SourceFileSet language="C99">']
-    L += [f'      <SourceFile name={quoteattr(s)}/>' for s in sources]
-    L += ['      <IncludeDirectory name="."/>', '    </SourceFileSet>']
-    if sundials_version is not None:
-        L.append(f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
-                 'description="SUNDIALS CVODE, built as a static, position-independent library: see README.txt"/>')
-    L += ['  </BuildConfiguration>', '</fmiBuildDescription>']
+    sources carry CVODE's own C among ``sources``. One configuration per
+    platform that must link the C math library (Linux: libm, which a plain
+    ``cc -shared`` does not link), then one for every other platform."""
+    L = ['<?xml version="1.0" encoding="UTF-8"?>', '<fmiBuildDescription fmiVersion="3.0">']
+    for platform in (*LIBM_PLATFORMS, None):
+        where = f' platform="{platform}"' if platform else ""
+        L += [f'  <BuildConfiguration modelIdentifier="{model.ident}"{where} '
+              'description="the generic FMI 3.0 wrapper, the co-simulation loop and the generated model">',
+              '    <SourceFileSet language="C99">']
+        L += [f'      <SourceFile name={quoteattr(s)}/>' for s in sources]
+        L += ['      <IncludeDirectory name="."/>', '    </SourceFileSet>']
+        if sundials_version is not None:
+            L.append(f'    <Library name="sundials_cvode" version={quoteattr(sundials_version)} external="true" '
+                     'description="SUNDIALS CVODE, built as a static, position-independent library: '
+                     'see README.txt"/>')
+        if platform:
+            L.append('    <Library name="m" external="true" description="the C math library (link with -lm): '
+                     'the model and CVODE call the functions of math.h"/>')
+        L.append('  </BuildConfiguration>')
+    L.append('</fmiBuildDescription>')
     return "\n".join(L) + "\n"

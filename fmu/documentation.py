@@ -31,6 +31,8 @@ def _table(head: list[str], rows: list[list[str]]) -> list[str]:
 
 
 def _range(v) -> str:
+    if v.type == "Enumeration":   # solver.method: its items, as the type declares them
+        return "1 (BDF), 2 (Adams)"
     lo = "-&infin;" if v.min is None else _num(v.min)
     hi = "&infin;" if v.max is None else _num(v.max)
     return f"[{lo}, {hi}]"
@@ -54,9 +56,9 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
          "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:2px 6px;text-align:left}"
          "</style></head><body>",
          f"<h1>Rig <code>{e(d.name)}</code></h1>",
-         f"<p>An FMI {fmi_version}.0 FMU (Model Exchange and Co-Simulation) exported by pdbfs: a lumped model of a "
-         f"drop-hammer impact test rig, {model.nx} states, {model.np} parameters, {model.ne} event "
-         "indicators (contact onset and separation, and the rig's other non-smooth points). Units are SI. "
+         f"<p>{e(getattr(d, 'description', '') or 'A rig built with pdbfs.')}</p>",
+         f"<p>An FMI {fmi_version}.0 FMU (Model Exchange and Co-Simulation) exported by pdbfs: a lumped model, "
+         f"{model.nx} states, {model.np} parameters, {model.ne} event indicators (below). Units are SI. "
          "In Co-Simulation the FMU integrates with CVODE (SUNDIALS) inside, through the event "
          "indicators' roots; results do not depend on the communication step.</p>",
          "<h2>Parameters</h2>",
@@ -80,6 +82,10 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
     L += _table(["name", "unit", "nominal", "description"],
                 [[f"<code>{e(v.name)}</code>", e(v.unit or ""), _num(v.nominal), e(v.description)]
                  for v in states])
+    if model.ne:
+        L += ["<h2>Event indicators</h2>", "<p>Each changes sign where the right-hand side switches:</p>"]
+        L += _table(["name", "marks"], [[f"<code>{e(n)}</code>", e(getattr(d, "event_text", {}).get(n, ""))]
+                                        for n in d.event_names])
     L += ["<h2>Solver parameters (Co-Simulation)</h2>"]
     L += _table(["name", "unit", "default", "range", "description"],
                 [[f"<code>{e(v.name)}</code>", e(v.unit or ""), _num(v.start), _range(v), e(v.description)]

@@ -34,16 +34,18 @@ from . import description3
 from .description import model_description
 from .documentation import index_html
 from .platforms import PLATFORMS, build_binary, platform_sundials, resolve_platforms
-from .sources import LICENSE, add_sundials, readme_txt
+from .sources import LICENSE, SRC_DIR, add_sundials, readme_txt
+from .symbols import make_private
 from .variables import DEFAULT_MAX_NUM_STEPS, RTOL_MAX, RTOL_MIN, FmuModel
 
 C_DIR = Path(__file__).with_name("c")
 #: the FMI versions pdbfs writes
 FMI_VERSIONS = (2, 3)
 #: the version-neutral C: the model, variables, FMU state, Model Exchange, the co-simulation loop
-COMMON_FILES = ("fmu_instance.h", "model.c", "values.c", "snapshot.c", "model_exchange.c", "cosimulation.c")
+COMMON_FILES = ("fmu_instance.h", "lifecycle.c", "model.c", "values.c", "snapshot.c", "model_exchange.c",
+                "derivatives.c", "cosimulation.c")
 #: the generic wrapper of each FMI version over them
-VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c"),
+VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c", "fmi2_prefix.h"),
                  3: ("fmi3_functions.c", "fmi3_interfaces.c", "fmi3_state.c")}
 #: the standard headers of each FMI version
 VERSION_HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
@@ -147,6 +149,9 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          "static const char *const PDBFS_P_NAME[PDBFS_NP + 1] = {"
          + pad([p.name for p in d.params], _c_string, "0") + "};",
          "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
+         "static const char *const PDBFS_Y_NAME[PDBFS_NYV + 1] = {"
+         + pad([d.y_names[i] for i in model.y_exposed], _c_string, "0") + "};",
+         "static const char *const PDBFS_X_NAME[PDBFS_NX + 1] = {" + pad(d.x_names, _c_string, "0") + "};",
          "static const double PDBFS_X_NOMINAL[PDBFS_NX + 1] = {"
          + pad(model.x_nominal, _c_double, "0") + "};",
          *extra, "#endif", ""]
@@ -202,6 +207,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
                      (src / f"{FUNCS}.c").read_text(), *(f.read_text() for f in wrapper), ident):
             h.update(part.encode())
         guid = "{" + str(uuid.UUID(bytes=h.digest()[:16], version=5)) + "}"
+        make_private(src, f"{ident}_{h.hexdigest()[:8]}_", fmi_version, SRC_DIR if source_files else None)
         (src / "pdbfs_model.h").write_text(model_header(model, guid, work, extra))
         xml = describe(guid)
         if fmi_version == 3:
@@ -215,7 +221,9 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
             arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
             out = Path(tmp) / arc
             out.parent.mkdir(parents=True, exist_ok=True)
-            binaries[arc] = build_binary(name, [src / c for c in own_c], [src], out, what, cflags, sds[name])
+            # the binary links the platform's CVODE archive: CVODE's names as built there
+            binaries[arc] = build_binary(name, [src / c for c in own_c], [src], out, what,
+                                         [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
         docs = {"documentation/index.html": index_html(model, plats, sd.version, ca.__version__,
                                                        bool(source_files), fmi_version)}
         if source_files:

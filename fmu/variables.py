@@ -17,6 +17,7 @@ from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
 from pdbfs.native.tolerances import RTOL_MAX, RTOL_MIN
 
 from . import units as _units
+from .derivatives import derivative_functions
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
 #: the declared min of a parameter that must be > 0: FMI's min is inclusive,
@@ -141,7 +142,8 @@ class FmuModel:
 
     # -- CasADi functions -----------------------------------------------------
     def functions(self) -> list[ca.Function]:
-        return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr)
+        return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr) + \
+            derivative_functions(self.dae, self.y_exposed)
 
     # -- variables --------------------------------------------------------------
     def _build_variables(self) -> None:

@@ -18,7 +18,7 @@ class PaperRig(Rig):
     the paper's Table 1 values. Linear oil column and mount by default; set
     ``oil.n = 1.5`` (and ``mount.n``) for the other reading of Table 1."""
 
-    name = "pdbfs"
+    name = "pdbfs_paper"
     summary_signals = PAPER_SIGNALS
     #: what the workbench page (pdbfs app) offers first: the parameters to
     #: calibrate and to design, and the design map's axes (name, from, to);

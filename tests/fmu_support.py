@@ -10,7 +10,7 @@ import tempfile
 import numpy as np
 
 from pdbfs.fmu import export_fmu
-from pdbfs.models import paper_rig, split_piston_rig
+from pdbfs.models import paper_hydraulic_rig, paper_rig, split_piston_rig
 
 #: rigs the FMU tests export: name -> builder
 RIG_BUILDERS = {
@@ -19,6 +19,8 @@ RIG_BUILDERS = {
     "law": lambda: paper_rig(law="lankarani-nikravesh"),
     # the piston split into three masses: ten states
     "split3": lambda: split_piston_rig(3),
+    # an oil column with a cavitation clamp: other states, other event indicators
+    "hydraulic": paper_hydraulic_rig,
 }
 
 _CACHE: dict = {}
@@ -47,6 +49,26 @@ def built_fmu(kind: str = "paper", fmi_version: int = 2) -> str:
 def built_fmu3(kind: str = "paper") -> str:
     """The FMI 3.0 FMU of the rig, exported once per process."""
     return built_fmu(kind, fmi_version=3)
+
+
+def source_build(fmu: str, dest, cflags=(), libraries: str = "") -> "Path":
+    """Unzip ``fmu`` into ``dest`` without its binaries and build the binary
+    from sources/ as `fmpy compile` does (FMPy's CMake project, the source
+    files the FMU declares; ``libraries`` at the end of the link line);
+    returns ``dest``."""
+    import zipfile
+    from pathlib import Path
+
+    from fmpy.build import build_platform_binary
+    dest = Path(dest)
+    with zipfile.ZipFile(fmu) as z:
+        z.extractall(dest)
+    shutil.rmtree(dest / "binaries", ignore_errors=True)
+    opts = {"CMAKE_C_FLAGS:STRING": " ".join(cflags)} if cflags else {}
+    if libraries:
+        opts["CMAKE_C_STANDARD_LIBRARIES:STRING"] = libraries
+    build_platform_binary(str(dest.resolve()), build_dir=None, cmake_options=opts or None)
+    return dest
 
 
 def corrupted_states(ser: bytes) -> list[tuple[bytes, str]]:

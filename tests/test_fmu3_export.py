@@ -18,6 +18,7 @@ import fmu_support as T
 from pdbfs.errors import ExportError
 from pdbfs.fmu import export_fmu
 from pdbfs.fmu.export import wrapper_files
+from pdbfs.fmu.symbols import INCLUDE_LINE
 
 
 @pytest.fixture(scope="module")
@@ -111,21 +112,21 @@ def test_build_description_lists_the_sources(path3):
     # CVODE's own C is listed too (a source FMU needs no SUNDIALS installed), so no external library
     assert set(own) <= set(listed) and {"sundials_src/cvode.c", "sundials_src/nvector_serial.c"} <= set(listed)
     assert all(n in own or n.startswith("sundials_src/") for n in listed)
-    assert not list(doc.iter("Library"))
+    assert {lib.get("name") for lib in doc.iter("Library")} == {"m"}   # the C math library only
     assert all(f"sources/{n}" in names for n in listed)
     assert "sources/sundials/LICENSE" in names and "documentation/licenses/SUNDIALS-LICENSE" in names
-    assert {"sources/fmi3Functions.h", "sources/pdbfs_model.h", "binaries/x86_64-linux/pdbfs.so"} <= names
+    assert {"sources/fmi3Functions.h", "sources/pdbfs_model.h", "binaries/x86_64-linux/pdbfs_paper.so"} <= names
     assert not any(n.startswith("sources/fmi2") for n in names)
     # one generic wrapper per version: the shipped files are the package's, and the loop is shared
-    for f in wrapper_files(3):
-        assert shipped[f.name] == f.read_text(), f.name
+    for f in wrapper_files(3):   # (C files: the private names' include on top, fmu/symbols.py)
+        assert shipped[f.name] == (INCLUDE_LINE if f.suffix == ".c" else "") + f.read_text(), f.name
     assert {f.name for f in wrapper_files(2)} & {f.name for f in wrapper_files(3)} >= {
         "cosimulation.c", "model.c", "model_exchange.c", "pdbfs_cvode.c"}
 
 
 def test_only_fmi3_symbols_are_exported(path3, tmp_path):
     with zipfile.ZipFile(path3) as z:
-        so = z.extract("binaries/x86_64-linux/pdbfs.so", tmp_path)
+        so = z.extract("binaries/x86_64-linux/pdbfs_paper.so", tmp_path)
     nm = subprocess.run(["nm", "-D", "--defined-only", so], capture_output=True, text=True, check=True)
     exported = {line.split()[-1] for line in nm.stdout.splitlines() if line.split()[1] in "TDBR"}
     assert exported and all(s.startswith("fmi3") for s in exported), exported
@@ -177,4 +178,26 @@ def test_shared_c_knows_no_fmi_version():
     for v, files in VERSION_FILES.items():
         for name in files:
             code = (C_DIR / name).read_text()
-            assert f'#include "fmi{v}Functions.h"' in code and f"fmi{5 - v}" not in code, name
+            include = "fmi2_prefix.h" if v == 2 and name != "fmi2_prefix.h" else f"fmi{v}Functions.h"
+            assert f'#include "{include}"' in code and f"fmi{5 - v}" not in code, name
+
+
+def test_version_neutral_c_calls_run_one_way():
+    """No circle among the version-neutral C files (issue 22): the life cycle
+    calls down into the interface parts and the model, never the reverse."""
+    import re
+
+    from pdbfs.fmu.export import C_DIR, COMMON_FILES
+    from pdbfs.fmu.symbols import external_definitions
+    files = [f for f in COMMON_FILES if f.endswith(".c")]
+    texts = {f: re.sub(r"/\*.*?\*/", "", (C_DIR / f).read_text(), flags=re.S) for f in files}
+    defined = {f: external_definitions(texts[f]) for f in files}
+    calls = {f: {g for g in files if g != f and any(re.search(rf"\b{n}\s*\(", texts[f]) for n in defined[g])}
+             for f in files}
+    assert calls["model.c"] == set(), calls["model.c"]
+    assert "lifecycle.c" not in set().union(*calls.values())
+    assert "cosimulation.c" in calls["lifecycle.c"]
+
+    def reach(f, seen=()):
+        return set().union(*({g} | reach(g, seen + (f,)) for g in calls[f] if g not in seen)) if calls[f] else set()
+    assert all(f not in reach(f) for f in files), calls

@@ -14,6 +14,7 @@ import fmpy
 from fmpy import read_model_description  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
+from pdbfs.fmu.symbols import INCLUDE_LINE
 import fmu_support as T  # noqa: E402
 from pdbfs.fmu import export_fmu  # noqa: E402
 from pdbfs.fmu.export import WRAPPER_FILES  # noqa: E402
@@ -86,8 +87,12 @@ def test_sources_and_readme(fmu_path):
     assert "SUNDIALS" in readme and "gcc" in readme
     # one generic wrapper for every rig: the shipped files are the package's
     assert {"fmi2_functions.c", "cosimulation.c", "pdbfs_cvode.c"} <= set(shipped)
+    # ... with one line on top of each C file: the FMU's private names (fmu/symbols.py)
     for f in WRAPPER_FILES:
-        assert shipped[f.name] == f.read_text(), f.name
+        expected = f.read_text()
+        if f.suffix == ".c":
+            expected = INCLUDE_LINE + expected
+        assert shipped[f.name] == expected, f.name
 
 
 def test_model_description(md, dae):

@@ -42,7 +42,7 @@ def _fmu(fmi_version):
         pytest.skip("no MinGW-w64 cross compiler (apt-get install gcc-mingw-w64-x86-64)")
     path = T.built_fmu("paper", fmi_version)
     with zipfile.ZipFile(path) as z:
-        assert f"binaries/{WIN_DIR[fmi_version]}/pdbfs.dll" in z.namelist(), "the default platforms include win64"
+        assert f"binaries/{WIN_DIR[fmi_version]}/pdbfs_paper.dll" in z.namelist(), "the default platforms include win64"
     return path
 
 
@@ -66,7 +66,7 @@ def test_default_platforms_are_what_this_machine_builds():
 def test_win64_dll_depends_on_windows_dlls_only(fmi_version, tmp_path):
     if OBJDUMP is None:
         pytest.skip("no x86_64-w64-mingw32-objdump")
-    dll = f"binaries/{WIN_DIR[fmi_version]}/pdbfs.dll"
+    dll = f"binaries/{WIN_DIR[fmi_version]}/pdbfs_paper.dll"
     with zipfile.ZipFile(_fmu(fmi_version)) as z:
         z.extract(dll, tmp_path)
     out = subprocess.run([OBJDUMP, "-p", str(tmp_path / dll)], capture_output=True, text=True, check=True).stdout
@@ -97,7 +97,7 @@ def _run_under_wine(fmu_path, tmp_path, dll=None, fmi_version=2):
     prefix = cache_root() / "wine64-prefix"   # made on Wine's first start (about 10 s), then reused
     prefix.parent.mkdir(parents=True, exist_ok=True)
     env = {**os.environ, "WINEPREFIX": str(prefix), "WINEDEBUG": "-all", "WINEDLLOVERRIDES": "mscoree,mshtml="}
-    dll = dll or tmp_path / f"fmu/binaries/{WIN_DIR[fmi_version]}/pdbfs.dll"
+    dll = dll or tmp_path / f"fmu/binaries/{WIN_DIR[fmi_version]}/pdbfs_paper.dll"
     r = subprocess.run([wine, str(exe), str(dll), guid, vr, "0.02", "1e-5"],
                        capture_output=True, text=True, env=env, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
@@ -192,7 +192,7 @@ def test_linux_only_export_has_no_win64_binary(tmp_path):
     path = rig.export_fmu(tmp_path / "l.fmu", platforms=["linux64"])
     with zipfile.ZipFile(path) as z:
         names = z.namelist()
-    assert "binaries/linux64/pdbfs.so" in names and not any(n.startswith("binaries/win64") for n in names)
+    assert "binaries/linux64/pdbfs_paper.so" in names and not any(n.startswith("binaries/win64") for n in names)
 
 
 def test_a_default_platform_whose_cvode_cannot_be_built_is_left_out(tmp_path, monkeypatch):

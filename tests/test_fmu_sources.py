@@ -60,7 +60,7 @@ def test_fmpy_compile_builds_the_source_fmu(fmi_version, linux_dir, tmp_path):
                         "compile", str(src)], capture_output=True, text=True)
     assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
     with zipfile.ZipFile(src) as z:
-        assert f"binaries/{linux_dir}/pdbfs.so" in z.namelist()
+        assert f"binaries/{linux_dir}/pdbfs_paper.so" in z.namelist()
     assert _peak(src) == pytest.approx(_peak(fmu_path), rel=1e-9)
     assert _peak(src, "ModelExchange") == pytest.approx(_peak(fmu_path, "ModelExchange"), rel=1e-9)
 

@@ -20,7 +20,7 @@ class PartialPressureValve(PartialOrifice):
         return smooth_step((self.dp - self.p_crack) / self.dp_open)
 
     def events(self):
-        return [(self.dp - self.p_crack, "cracking")]
+        return [(self.dp - self.p_crack, "cracking", "the valve cracks open or reseats (dp = p_crack)")]
 
 
 class CheckValve(PartialPressureValve):

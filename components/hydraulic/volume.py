@@ -138,4 +138,14 @@ class Volume(PartialOnePort):
             if self._cavitation else []
 
     def events(self):
-        return [(self.p_law - self.p_vap, "cavitation")] if self._cavitation else []
+        # the clamp switches where its parabola meets its lines, p_law = p_vap -+ dp_cav (at
+        # p_law = p_vap it is smooth, and a column starting at its vapour pressure sits there)
+        if not self._cavitation:
+            return []
+        x = self.p_law - self.p_vap
+        return [(x + self.dp_cav, "cavitation",
+                 "cavitation: the pressure reaches the vapour pressure (p_law = p_vap - dp_cav, "
+                 "where the cavitation clamp holds it)"),
+                (x - self.dp_cav, "cavitation_end",
+                 "cavitation ends: the oil is liquid again above p_vap + dp_cav (the clamp's "
+                 "upper end)")]

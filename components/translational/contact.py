@@ -25,7 +25,7 @@ class HertzContact(PartialCompression):
             eq(self.fc, self.k * positive_power(self.d, self.n))]
 
     def events(self):
-        return [(self.d, "indentation")]
+        return [(self.d, "indentation", "contact onset or separation")]
 
 
 class HuntCrossleyDamper(PartialCompliantWithVelocity):
@@ -70,7 +70,9 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
             eq(self.fc, -self.f)]
 
     def events(self):
-        return [(self.k - self.D * self.v_rel, "force_sign")]
+        return [(self.k - self.D * self.v_rel, "force_sign",
+                 "the damping force reaches -k*d^n (the contact would pull): the force is limited "
+                 "from here")]
 
 
 class ImpactContact(PartialCompression):

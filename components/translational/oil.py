@@ -46,4 +46,4 @@ class OilColumn(PartialCompression):
             eq(self.pressure * self.A, self.fc)]
 
     def events(self):
-        return [(self.d, "compression")]
+        return [(self.d, "compression", "the oil column engages or goes slack")]

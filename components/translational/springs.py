@@ -25,7 +25,8 @@ class Spring(PartialCompliant):
         return super().equations() + [eq(self.f, self.k * signed_power(e, self.n))]
 
     def events(self):
-        return [(self.s_rel - self.s_rel0, "stretch")] if self._compression_only else []
+        return [(self.s_rel - self.s_rel0, "stretch",
+                 "the compression-only spring engages or goes slack")] if self._compression_only else []
 
 
 class Damper(PartialCompliantWithVelocity):

@@ -87,5 +87,9 @@ int cosim_do_step(Inst *m, const char *fn, double t, double h) {
         return FMU_ERROR;
     }
     m->s.time = t + h;
+    if (model_check_finite(m, fn) != FMU_OK) {
+        m->s.mode = ST_ERROR;
+        return FMU_ERROR;
+    }
     return FMU_OK;
 }

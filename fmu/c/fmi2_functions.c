@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi2Functions.h"
+#include "fmi2_prefix.h"
 #include "fmu_instance.h"
 
 /* ------------------------------------------------------------------ logging */
@@ -161,8 +161,6 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
                                         const fmi2ValueReference vKnown_ref[], size_t nKnown,
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
-    Inst *m = (Inst *)c;
-    (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
-    if (fmu_check(m, "fmi2GetDirectionalDerivative", ST_ANY, -1) != fmi2OK) return fmi2Error;
-    return ERR(m, "fmi2GetDirectionalDerivative is not provided (providesDirectionalDerivative=false)");
+    return (fmi2Status)deriv_forward((Inst *)c, "fmi2GetDirectionalDerivative", vUnknown_ref, nUnknown, vKnown_ref,
+                                     nKnown, dvKnown, dvUnknown);
 }

@@ -2,7 +2,7 @@
  * version-neutral model_exchange.c and cosimulation.c. */
 #include <math.h>
 
-#include "fmi2Functions.h"
+#include "fmi2_prefix.h"
 #include "fmu_instance.h"
 
 /* ------------------------------------------------------- Model Exchange */

@@ -1,7 +1,7 @@
 /* FMU state of a pdbfs FMU through FMI 2.0: snapshot.c (a plain copy of
  * time, states, parameters and settings; CVODE restarts from a restored
  * state). */
-#include "fmi2Functions.h"
+#include "fmi2_prefix.h"
 #include "fmu_instance.h"
 
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {

@@ -51,17 +51,21 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
     return not_provided(instance, "fmi3GetVariableDependencies", "see ModelStructure");
 }
 
-#define DERIVATIVE_CALL(NAME, WHY)                                                                         \
+/* scalar variables only: one seed per known (directional) or unknown (adjoint) */
+#define DERIVATIVE_CALL(NAME, FN, NSEED, NSENS)                                                            \
     fmi3Status NAME(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,          \
                     const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, \
                     fmi3Float64 sensitivity[], size_t nSensitivity) {                                       \
-        (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed;             \
-        (void)sensitivity; (void)nSensitivity;                                                             \
-        return not_provided(instance, #NAME, WHY);                                                         \
+        Inst *m = (Inst *)instance;                                                                        \
+        if (fmu_check(m, #NAME, ST_ANY, -1) != FMU_OK) return fmi3Error;                                   \
+        if (nSeed != (NSEED) || nSensitivity != (NSENS))                                                   \
+            return (fmi3Status)ERR(m, "%s: nSeed = %zu and nSensitivity = %zu, expected %zu and %zu", #NAME, \
+                                   nSeed, nSensitivity, (size_t)(NSEED), (size_t)(NSENS));                 \
+        return (fmi3Status)FN(m, #NAME, unknowns, nUnknowns, knowns, nKnowns, seed, sensitivity);          \
     }
 
-DERIVATIVE_CALL(fmi3GetDirectionalDerivative, "providesDirectionalDerivatives=false")
-DERIVATIVE_CALL(fmi3GetAdjointDerivative, "providesAdjointDerivatives=false")
+DERIVATIVE_CALL(fmi3GetDirectionalDerivative, deriv_forward, nKnowns, nUnknowns)
+DERIVATIVE_CALL(fmi3GetAdjointDerivative, deriv_adjoint, nUnknowns, nKnowns)
 
 fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) {
     return not_provided(instance, "fmi3EnterConfigurationMode", "the FMU has no structural parameters");

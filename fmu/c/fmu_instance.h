@@ -1,13 +1,20 @@
 /*
  * One instance of a pdbfs FMU, independent of the FMI version.
  *
- *   model.c            the model on the CasADi-generated functions, logging,
- *                      the state machine, the life cycle
+ *   lifecycle.c        the life cycle: instantiate, set up, initialise,
+ *                      terminate, reset, free
  *   values.c           variables by value reference
  *   snapshot.c         the FMU state: get, set, serialise
  *   model_exchange.c   what Model Exchange asks of the model
+ *   derivatives.c      directional and adjoint derivatives (exact: CasADi's AD)
  *   cosimulation.c     the co-simulation loop: CVODE through the events
  *                      (native/c/pdbfs_cvode.c)
+ *   model.c            the model on the CasADi-generated functions, logging,
+ *                      the state machine's check
+ *
+ * Calls run one way, down this list: the life cycle calls the interface
+ * parts (cosimulation.c) and the model; the interface parts call the model;
+ * model.c calls none of them.
  *
  * These files know no FMI header: they return FMU_* status codes (the
  * numbers of fmi2Status and fmi3Status) and log through the hook the
@@ -126,10 +133,12 @@ struct Inst {
     double w[PDBFS_SZ_W + 1];
 };
 
-/* model.c: logging, the state machine, the life cycle */
+/* model.c: logging, the state machine's check */
 void fmu_log(Inst *m, int st, const char *cat, const char *fmt, ...) PDBFS_PRINTF(4, 5);
 int fmu_check(Inst *m, const char *fn, int allowed, int needType);
 #define ERR(m, ...) (fmu_log((m), FMU_ERROR, "logStatusError", __VA_ARGS__), FMU_ERROR)
+
+/* lifecycle.c */
 Inst *fmu_new(const char *name, int type, const FmuHost *host, int logging);
 void fmu_free(Inst *m);
 int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const categories[]);
@@ -146,6 +155,7 @@ const double *model_x(Inst *m);
 void model_update(Inst *m);
 double model_rtol(const Inst *m);
 int model_check_param(Inst *m, int k, double v);
+int model_check_finite(Inst *m, const char *fn);
 int fmu_all_finite(const double *v, int n);
 
 /* values.c: variables by value reference (a rejected set changes nothing) */
@@ -176,6 +186,12 @@ int me_get_derivatives(Inst *m, const char *fn, double dx[], size_t nx);
 int me_get_event_indicators(Inst *m, const char *fn, double e[], size_t ne);
 int me_get_states(Inst *m, const char *fn, double x[], size_t nx);
 int me_get_nominals(Inst *m, const char *fn, double nominals[], size_t nx);
+
+/* derivatives.c: d[der(x); y] / d[x; p] times a seed (forward) or a seed times it (adjoint) */
+int deriv_forward(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                  const double seed[], double sens[]);
+int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                  const double seed[], double sens[]);
 
 /* cosimulation.c */
 int cosim_start(Inst *m);

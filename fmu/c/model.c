@@ -1,7 +1,8 @@
 /* The model of a pdbfs FMU on its CasADi-generated functions (defaults,
  * start values, derivatives, outputs, event indicators, calculated
- * parameters), and what every FMI version does alike with it: logging, the
- * state machine, the life cycle. */
+ * parameters), logging and the state machine's check: the bottom of the
+ * version-neutral files, calling none of them (lifecycle.c, values.c,
+ * snapshot.c, model_exchange.c and cosimulation.c call it). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -45,117 +46,6 @@ int fmu_check(Inst *m, const char *fn, int allowed, int needType) {
     if (!(m->s.mode & allowed)) {
         return ERR(m, "%s: must not be called in state '%s'", fn, mode_name(m->s.mode));
     }
-    return FMU_OK;
-}
-
-/* --------------------------------------------------------- life cycle */
-
-/* a new instance, or NULL without memory (the wrapper has checked the rest) */
-Inst *fmu_new(const char *name, int type, const FmuHost *host, int logging) {
-    size_t n = strlen(name) + 1;
-    Inst *m = (Inst *)host->alloc(1, sizeof(Inst));
-    if (!m) return NULL;
-    memset(m, 0, sizeof(Inst));
-    m->host = *host;
-    m->name = (char *)host->alloc(n, 1);
-    if (!m->name) {
-        host->free(m);
-        return NULL;
-    }
-    memcpy(m->name, name, n);
-    m->logging = logging ? 1 : 0;
-    m->s.magic = SNAP_MAGIC;
-    m->s.size = (unsigned)sizeof(Snapshot);
-    strncpy(m->s.token, PDBFS_GUID, sizeof m->s.token - 1);
-    m->s.type = type;
-    model_defaults(m);
-    fmu_log(m, FMU_OK, "logAll", "instantiated %s (%s)", PDBFS_MODEL_IDENTIFIER,
-            type == FMU_CS ? "CoSimulation" : "ModelExchange");
-    return m;
-}
-
-void fmu_free(Inst *m) {
-    void (*release)(void *);
-    if (!m || m->s.magic != SNAP_MAGIC) return;
-    cosim_free(m);
-    release = m->host.free;
-    m->s.magic = 0;
-    release(m->name);
-    release(m);
-}
-
-int fmu_set_logging(Inst *m, const char *fn, int on, size_t n, const char *const categories[]) {
-    size_t i;
-    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
-    for (i = 0; i < n; i++) {
-        const char *k = categories ? categories[i] : NULL;
-        if (!k || (strcmp(k, "logEvents") && strcmp(k, "logStatusWarning") && strcmp(k, "logStatusError") &&
-                   strcmp(k, "logAll")))
-            return ERR(m, "%s: unknown log category '%s'", fn, k ? k : "(null)");
-    }
-    m->logging = on ? 1 : 0;
-    return FMU_OK;
-}
-
-int fmu_setup(Inst *m, const char *fn, int tol_defined, double tol, double start, int stop_defined, double stop) {
-    if (fmu_check(m, fn, ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
-    if (tol_defined && !(tol >= PDBFS_RTOL_MIN && tol <= PDBFS_RTOL_MAX))   /* solver.rtol's rule */
-        return ERR(m, "%s: tolerance %g must be in [%g, %g]", fn, tol, PDBFS_RTOL_MIN, PDBFS_RTOL_MAX);
-    if (!isfinite(start)) return ERR(m, "%s: startTime is not finite", fn);
-    if (stop_defined && !(isfinite(stop) && stop >= start))
-        return ERR(m, "%s: stopTime %g must be finite and >= startTime %g", fn, stop, start);
-    m->s.tol_defined = tol_defined ? 1 : 0;
-    if (tol_defined) m->s.tol = tol;
-    m->s.t_start = start;
-    m->s.time = start;
-    m->s.stop_defined = stop_defined ? 1 : 0;
-    m->s.t_stop = stop;
-    m->derived_ok = 0;
-    return FMU_OK;
-}
-
-int fmu_enter_init(Inst *m, const char *fn) {
-    if (fmu_check(m, fn, ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
-    m->s.mode = ST_INIT;
-    return FMU_OK;
-}
-
-/* the components' physical consistency (Component.conditions): each >= 0 */
-static int check_conditions(Inst *m, const char *fn) {
-    double c[PDBFS_NCOND + 1];
-    int i;
-    m->arg[0] = m->s.p;
-    m->res[0] = c;
-    if (PDBFS_NCOND > 0) pdbfs_conditions(m->arg, m->res, m->iw, m->w, 0);
-    for (i = 0; i < PDBFS_NCOND; i++)
-        if (!(c[i] >= 0)) return ERR(m, "%s: %s", fn, PDBFS_COND_TEXT[i]);
-    return FMU_OK;
-}
-
-/* the start values fix the state; Co-Simulation starts CVODE */
-int fmu_exit_init(Inst *m, const char *fn) {
-    if (fmu_check(m, fn, ST_INIT, -1) != FMU_OK) return FMU_ERROR;
-    if (check_conditions(m, fn) != FMU_OK) return FMU_ERROR;
-    model_start(m, m->s.x);
-    if (!fmu_all_finite(m->s.x, NX)) return ERR(m, "start values are not finite: check the parameters");
-    m->s.x_fixed = 1;
-    m->derived_ok = 0;
-    m->need_restart = 1;
-    m->s.mode = m->s.type == FMU_CS ? ST_STEPDONE : ST_EVENT;
-    if (m->s.type == FMU_CS) return cosim_start(m);
-    return FMU_OK;
-}
-
-int fmu_terminate(Inst *m, const char *fn) {
-    if (fmu_check(m, fn, ST_RUNNING, -1) != FMU_OK) return FMU_ERROR;
-    m->s.mode = ST_TERMINATED;
-    return FMU_OK;
-}
-
-int fmu_reset(Inst *m, const char *fn) {
-    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
-    cosim_free(m); /* a fresh CVODE: the second run is the first again */
-    model_defaults(m);
     return FMU_OK;
 }
 
@@ -226,6 +116,28 @@ void model_update(Inst *m) {
         pdbfs_calc(m->arg, m->res, m->iw, m->w, 0);
     }
     m->derived_ok = 1;
+}
+
+/* the state, its derivatives and the outputs at (time, x, p) finite, else one
+ * error naming the first that is not: a parameter at a value the model cannot
+ * run at (an area of 1e-308 m2: an infinite pressure) must not pass as OK */
+int model_check_finite(Inst *m, const char *fn) {
+    int i;
+    const double *x = model_x(m);
+    for (i = 0; i < NX; i++)
+        if (!isfinite(x[i]))
+            return ERR(m, "%s: state %s = %g at t=%.17g: check the parameters", fn, PDBFS_X_NAME[i], x[i],
+                       m->s.time);
+    model_update(m);
+    for (i = 0; i < NX; i++)
+        if (!isfinite(m->xdot[i]))
+            return ERR(m, "%s: der(%s) = %g at t=%.17g: check the parameters", fn, PDBFS_X_NAME[i],
+                       m->xdot[i], m->s.time);
+    for (i = 0; i < NYV; i++)
+        if (!isfinite(m->y[PDBFS_Y_INDEX[i]]))
+            return ERR(m, "%s: output %s = %g at t=%.17g: check the parameters", fn, PDBFS_Y_NAME[i],
+                       m->y[PDBFS_Y_INDEX[i]], m->s.time);
+    return FMU_OK;
 }
 
 int model_check_param(Inst *m, int k, double v) {

@@ -36,6 +36,9 @@ int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, doub
         } else if (r >= PDBFS_VR_Y && r < VR_Y_END) {
             model_update(m);
             v[i] = m->y[PDBFS_Y_INDEX[r - PDBFS_VR_Y]];
+            if (!isfinite(v[i]))
+                return ERR(m, "%s: output %s = %g at t=%.17g: check the parameters", fn,
+                           PDBFS_Y_NAME[r - PDBFS_VR_Y], v[i], m->s.time);
 #ifdef PDBFS_VR_TIME
         } else if (r == PDBFS_VR_TIME) {
             v[i] = m->s.time;

@@ -80,7 +80,9 @@ class Component:
         return []
 
     def events(self) -> list:
-        """(expression, label) pairs whose sign changes mark non-smooth points."""
+        """(expression, label) or (expression, label, description) tuples whose
+        sign changes mark non-smooth points (the description says which: an
+        FMU's event indicators carry it)."""
         return []
 
     def initial_equations(self) -> list:
@@ -219,6 +221,7 @@ class Component:
         if self._compiled is None:
             dae = simplify(flatten(self), name=self.rig_name())
             dae.signals = dict(getattr(self, "summary_signals", {}) or {})
+            dae.description = _first_sentence(type(self).__doc__)
             object.__setattr__(self, "_compiled", dae)
         return self._compiled
 
@@ -240,6 +243,12 @@ def switch_times(component, breakpoints) -> list:
                                      "(a number in s or an expression of parameters)") from None
         out.append((ca.SX(b), f"switch {i + 1}"))
     return out
+
+
+def _first_sentence(doc: str | None) -> str:
+    """What a rig is, from its class docstring: the first sentence."""
+    text = " ".join((doc or "").split("\n\n")[0].split())
+    return text.split(". ")[0].rstrip(".") + "." if text else ""
 
 
 def _describe(obj) -> str:

@@ -63,6 +63,10 @@ class DAE:
     calculated: dict[str, tuple[ca.SX, VarInfo]] = field(default_factory=dict)
     # initial guess of z for IDAS (declared start values, else 0), function of p
     z0: ca.SX | None = None
+    # event name -> what its sign change marks (from the component)
+    event_text: dict[str, str] = field(default_factory=dict)
+    # what the rig is (the first sentence of its class docstring)
+    description: str = ""
     # initialization (initialization.py): which starts are fixed, and the
     # initial equations in (t, x, z, p) with where each comes from
     x_fixed: list[bool] | None = None

@@ -52,6 +52,7 @@ class FlatSystem:
     conditions: list = field(default_factory=list)
     # switch times known in advance (expressions of parameters): time events
     time_events: list[tuple[ca.SX, str]] = field(default_factory=list)
+    event_text: dict[str, str] = field(default_factory=dict)   # event name -> what it marks
 
 
 def _join(prefix, name):
@@ -121,8 +122,10 @@ def flatten(root) -> FlatSystem:
         for i, r in enumerate(eqs):
             for rk in (ca.vertsplit(ca.vec(r), 1) if r.numel() > 1 else [r]):
                 later.equation(flat.equations, rk, f"{where}, equation {i + 1}")
-        for expr, label in events:
+        for expr, label, *text in events:
             later.equation(flat.events, expr, _join(comp.path(), label))
+            if text:
+                flat.event_text[_join(comp.path(), label)] = text[0]
 
     for comp, eqs in local_init:
         for i, r in enumerate(eqs):

@@ -111,7 +111,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0,
                time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1),
-               conditions=conditions)
+               conditions=conditions, event_text=dict(flat.event_text))
     reduced_start.record(dae, dropped, constraints)
     reduced_start.check(dae, dae.p_default())
     attach_initial(dae, flat, states, al, lambda e: final(_subst(e, p_old, p_new)))

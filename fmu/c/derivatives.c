@@ -1,0 +1,97 @@
+/* Directional and adjoint derivatives of a pdbfs FMU, for every FMI version:
+ * of the state derivatives and the outputs with respect to the states and
+ * the tunable parameters, exact, from CasADi's forward (pdbfs_fwd: J v) and
+ * reverse (pdbfs_adj: J^T w) AD of J = d[der(x); y] / d[x; p], one
+ * evaluation per call (fmu/derivatives.py). A state as an unknown is its
+ * own identity. */
+#include <math.h>
+
+#include "fmu_instance.h"
+
+#define NQ (NX + NP)    /* the knowns' space: states, then parameters */
+#define NF (NX + NYV)   /* the unknowns' space: derivatives, then exposed outputs */
+
+/* a known's place in [x; p], or -1 (logged) */
+static int known_slot(Inst *m, const char *fn, unsigned r) {
+    if (r >= PDBFS_VR_X && r < PDBFS_VR_X + NX) return (int)(r - PDBFS_VR_X);
+    if (r - PDBFS_VR_P < (unsigned)NP) {   /* (unsigned: r < PDBFS_VR_P wraps past NP) */
+        if (PDBFS_P_TUNABLE[r - PDBFS_VR_P]) return NX + (int)(r - PDBFS_VR_P);
+        (void)ERR(m, "%s: parameter %s is fixed: derivatives are with respect to states and tunable parameters",
+            fn, PDBFS_P_NAME[r - PDBFS_VR_P]);
+        return -1;
+    }
+    (void)ERR(m, "%s: value reference %u is not a state or a tunable parameter", fn, r);
+    return -1;
+}
+
+/* an unknown's place in [der(x); y], NF + i for state i, or -1 (logged) */
+static int unknown_slot(Inst *m, const char *fn, unsigned r) {
+    if (r >= PDBFS_VR_DX && r < PDBFS_VR_DX + NX) return (int)(r - PDBFS_VR_DX);
+    if (r >= PDBFS_VR_Y && r < PDBFS_VR_Y + NYV) return NX + (int)(r - PDBFS_VR_Y);
+    if (r >= PDBFS_VR_X && r < PDBFS_VR_X + NX) return NF + (int)(r - PDBFS_VR_X);
+    (void)ERR(m, "%s: value reference %u is not a state derivative, an output or a state", fn, r);
+    return -1;
+}
+
+static int eval(Inst *m, pdbfs_casadi_fn f, const double *seed, double *out) {
+    double t = m->s.time;
+    m->arg[0] = &t;
+    m->arg[1] = model_x(m);
+    m->arg[2] = NULL;
+    m->arg[3] = m->s.p;
+    m->arg[4] = seed;
+    m->res[0] = out;
+    return f(m->arg, m->res, m->iw, m->w, 0);
+}
+
+static int check(Inst *m, const char *fn, size_t nu, size_t nk, const void *a, const void *b, const void *c,
+                 const void *d) {
+    if (fmu_check(m, fn, ST_INIT | ST_RUNNING | ST_TERMINATED, -1) != FMU_OK) return FMU_ERROR;
+    if ((nu > 0 && (!a || !d)) || (nk > 0 && (!b || !c))) return ERR(m, "%s: NULL argument", fn);
+    return FMU_OK;
+}
+
+/* sens[i] = sum_j d unknown[i] / d known[j] * seed[j] */
+int deriv_forward(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                  const double seed[], double sens[]) {
+    double v[NQ + 1] = {0}, jv[NF + 1];
+    size_t i;
+    int k;
+    if (check(m, fn, nu, nk, unknown, known, seed, sens) != FMU_OK) return FMU_ERROR;
+    for (i = 0; i < nk; i++) {
+        if ((k = known_slot(m, fn, known[i])) < 0) return FMU_ERROR;
+        v[k] += seed[i];
+    }
+    for (i = 0; i < nu; i++)
+        if (unknown_slot(m, fn, unknown[i]) < 0) return FMU_ERROR;
+    if (eval(m, pdbfs_fwd, v, jv)) return ERR(m, "%s: evaluation failed", fn);
+    for (i = 0; i < nu; i++) {
+        k = unknown_slot(m, fn, unknown[i]);
+        sens[i] = k < NF ? jv[k] : v[k - NF];
+        if (!isfinite(sens[i])) return ERR(m, "%s: the derivative is not finite at t=%.17g", fn, m->s.time);
+    }
+    return FMU_OK;
+}
+
+/* sens[j] = sum_i seed[i] * d unknown[i] / d known[j] */
+int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                  const double seed[], double sens[]) {
+    double w[NF + 1] = {0}, jtw[NQ + 1], x_seed[NX + 1] = {0};
+    size_t i;
+    int k;
+    if (check(m, fn, nu, nk, unknown, known, seed, sens) != FMU_OK) return FMU_ERROR;
+    for (i = 0; i < nu; i++) {
+        if ((k = unknown_slot(m, fn, unknown[i])) < 0) return FMU_ERROR;
+        if (k < NF) w[k] += seed[i];
+        else x_seed[k - NF] += seed[i];
+    }
+    for (i = 0; i < nk; i++)
+        if (known_slot(m, fn, known[i]) < 0) return FMU_ERROR;
+    if (eval(m, pdbfs_adj, w, jtw)) return ERR(m, "%s: evaluation failed", fn);
+    for (i = 0; i < nk; i++) {
+        k = known_slot(m, fn, known[i]);
+        sens[i] = jtw[k] + (k < NX ? x_seed[k] : 0.0);
+        if (!isfinite(sens[i])) return ERR(m, "%s: the derivative is not finite at t=%.17g", fn, m->s.time);
+    }
+    return FMU_OK;
+}
