@@ -190,18 +190,17 @@ def test_a_large_rig_stops_at_switch_times_too(backend):
 
 
 @pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
-def test_the_fmu_refuses_a_valve_closing_before_it_opens(pulse_fmu, fmi_type):
+def test_the_fmu_refuses_a_valve_closing_before_it_opens(pulse_fmu, fmi_type, capfd):
     """The components' consistency conditions hold in the FMU too: checked
     when initialisation ends, naming the parameters."""
     import fmpy
-    logged = []
+    # FMPy's own logger prints (a logger of our own would stay behind in FMPy's
+    # process-wide logger proxy and be called, freed, by later FMUs)
     with pytest.raises(Exception):
         fmpy.simulate_fmu(pulse_fmu, fmi_type=fmi_type, stop_time=0.01,
-                          start_values={"valve.t_open": 0.01, "valve.t_close": 0.005},
-                          logger=lambda *a: logged.append(a[-1].decode() if isinstance(
-                              a[-1], bytes) else str(a[-1])))
-    assert any("valve.t_open, valve.t_close" in m and "before it opens" in m for m in logged), \
-        logged
+                          start_values={"valve.t_open": 0.01, "valve.t_close": 0.005})
+    out = capfd.readouterr().out
+    assert "valve.t_open, valve.t_close" in out and "before it opens" in out, out
 
 
 @pytest.mark.parametrize("backend", ["casadi", "c"])
