@@ -139,3 +139,10 @@ class Recorder:
 
     def clear(self):
         _LOG["messages"][:] = [e for e in _LOG["messages"] if e[0] != self.name]
+
+
+def fmu_log_text(printed: str) -> str:
+    """What FMUs logged in this process: FMPy's printed lines, and the lines
+    that reached the shared callbacks instead (once a test used a Recorder,
+    FMPy's global logger proxy forwards every FMU's log there)."""
+    return printed + "\n".join(m for *_, m in _LOG.get("messages", []))

@@ -17,6 +17,7 @@ from pdbfs.components import Mass
 from pdbfs.components.translational import Force
 from pdbfs.models import hydraulic_pulse_rig
 from pdbfs.rig import Rig
+from fmu_support import fmu_log_text
 
 #: the valve's shift and the default opening (t_open 0, t_close 4.5 ms)
 SHIFTS = (0.0, 0.008, 0.0137, 0.0213, 0.0291)
@@ -199,7 +200,7 @@ def test_the_fmu_refuses_a_valve_closing_before_it_opens(pulse_fmu, fmi_type, ca
     with pytest.raises(Exception):
         fmpy.simulate_fmu(pulse_fmu, fmi_type=fmi_type, stop_time=0.01,
                           start_values={"valve.t_open": 0.01, "valve.t_close": 0.005})
-    out = capfd.readouterr().out
+    out = fmu_log_text(capfd.readouterr().out)
     assert "valve.t_open, valve.t_close" in out and "before it opens" in out, out
 
 

@@ -48,7 +48,8 @@ class TimedValve(PartialOrifice):
         return smooth_step((time - self.t_open) / self.T_open)
 
     def time_events(self):
-        return [(self.t_open, "opening"), (self.t_open + self.T_open, "open")]
+        return [(self.t_open, "opening", "the valve starts opening (time = t_open)"),
+                (self.t_open + self.T_open, "open", "the valve is fully open (time = t_open + T_open)")]
 
 
 class PulseValve(TimedValve):
@@ -67,5 +68,6 @@ class PulseValve(TimedValve):
              ["t_open", "t_close"])]
 
     def time_events(self):
-        return super().time_events() + [(self.t_close, "closing"),
-                                        (self.t_close + self.T_close, "closed")]
+        return super().time_events() + [
+            (self.t_close, "closing", "the valve starts closing (time = t_close)"),
+            (self.t_close + self.T_close, "closed", "the valve is closed (time = t_close + T_close)")]

@@ -108,8 +108,8 @@ class Component:
         return []
 
     def time_events(self) -> list:
-        """(time, label) pairs: the times (numbers or expressions of
-        parameters) at which an input switches. Every integrator stops and
+        """(time, label) or (time, label, description) tuples: the times
+        (numbers or expressions of parameters) at which an input switches. Every integrator stops and
         restarts there, so that no step can jump over a switch."""
         return []
 

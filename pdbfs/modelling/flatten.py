@@ -114,8 +114,10 @@ def flatten(root) -> FlatSystem:
     # component equations and events
     for comp, eqs, events, times in local_eqs:
         where = comp.label()
-        for expr, label in times:
+        for expr, label, *text in times:
             later.equation(flat.time_events, expr, _join(comp.path(), label))
+            if text:
+                flat.event_text[_join(comp.path(), label)] = text[0]
         for expr, text, names in comp.conditions():
             later.equation(flat.conditions, expr if isinstance(expr, ca.SX) else ca.SX(expr),
                            (comp.label(), text, [_join(comp.path(), n) for n in names]))
