@@ -141,7 +141,7 @@ def _extract(data: bytes, dest: Path) -> None:
                 rel = m.name[len(SDIST_ROOT):] if m.name.startswith(SDIST_ROOT) else None
                 if not m.isfile() or rel is None or not rel.startswith(_EXTRACT):
                     continue
-                if not rel.endswith((".c", ".h", "LICENSE")) or ".." in rel.split("/"):
+                if not (rel.endswith((".c", ".h")) or rel == "LICENSE") or ".." in rel.split("/"):
                     continue
                 out = part / rel
                 out.parent.mkdir(parents=True, exist_ok=True)

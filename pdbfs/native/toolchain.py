@@ -101,13 +101,15 @@ def shared_flags(target: str, cmd: list[str]) -> tuple[list[str], list[str]]:
     """(flags before the sources, flags after the archives) of a shared
     library for ``target`` built with ``cmd``: nothing left undefined, the
     static CVODE's symbols kept private."""
+    # zig keeps debug information unless told to strip (it would triple the size)
+    strip = ["-s"] if is_zig(cmd) else []
     if target.endswith("-windows"):
-        return ["-shared"], ["-Wl,--no-undefined"] + ([] if is_zig(cmd) else ["-static", "-lm"])
+        return ["-shared", *strip], ["-Wl,--no-undefined"] + ([] if is_zig(cmd) else ["-static", "-lm"])
     if target.endswith("-darwin"):
-        return ["-shared"], ["-lm"]
+        return ["-shared", *strip], ["-lm"]
     # zig's CVODE is compiled hidden already; another compiler's archive may not be
     extra = [] if is_zig(cmd) else ["-Wl,--exclude-libs,ALL", "-static-libgcc"]
-    return ["-shared"], ["-lm", "-Wl,-z,defs", *extra]
+    return ["-shared", *strip], ["-lm", "-Wl,-z,defs", *extra]
 
 
 def library_suffix(target: str) -> str:
