@@ -187,7 +187,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         for f in wrapper:
             shutil.copy2(f, src / f.name)
         own_c = [f.name for f in wrapper if f.suffix == ".c"] + [f"{FUNCS}.c"]
-        sds = _platform_sundials(plats, explicit=platforms is not None)
+        sds = _platform_sundials(plats)
         plats = list(sds)
         sd = next(iter(sds.values()))
         source_files = _add_sundials_sources(src, own_c)
@@ -258,19 +258,9 @@ def _check_target(path: Path) -> None:
         raise ExportError(f"cannot write the FMU {path}: {err.strerror or err}") from None
 
 
-def _platform_sundials(plats: list[str], explicit: bool) -> dict:
-    """Each platform's CVODE. A platform of the default set whose CVODE
-    cannot be built is left out with a warning (the Linux export never fails
-    for want of a cross build); an explicitly requested one is an error."""
-    out = {}
-    for name in plats:
-        try:
-            out[name] = platform_sundials(name)
-        except ExportError as err:
-            if explicit or name == plats[0]:
-                raise
-            warnings.warn(f"{err}; the FMU has no {name} binary", RuntimeWarning, stacklevel=3)
-    return out
+def _platform_sundials(plats: list[str]) -> dict:
+    """Each platform's CVODE (compiled once per machine and target)."""
+    return {name: platform_sundials(name) for name in plats}
 
 
 def _add_sundials_sources(src: Path, own_c: list[str]) -> list[str]:

