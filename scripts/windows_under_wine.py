@@ -78,7 +78,7 @@ def main() -> int:
     failed = 0
     for what, args in steps:
         r = run(["wine", str(py / "python.exe"), *args], env=env, cwd=work, timeout=900)
-        lines = (r.stdout + r.stderr).strip().splitlines() or [""]
+        lines = ((r.stdout if r.returncode == 0 else "") or r.stderr or r.stdout).strip().splitlines() or [""]
         failed += r.returncode != 0
         print(f"{'OK    ' if r.returncode == 0 else 'FAILED'} {what}: {lines[-1][:300]}")
     return 1 if failed else 0
