@@ -80,9 +80,13 @@ def user_cc(target: str) -> list[str] | None:
 def compiler(target: str | None = None) -> list[str]:
     """The compiler command for ``target`` (default: the host's)."""
     target = target or host_target()
+    cc = user_cc(target)   # also on a host zig has no target of ours for
+    if cc:
+        return cc
     if target not in ZIG_TARGETS:
-        raise ToolchainError(f"unknown target '{target}' (known: {', '.join(ZIG_TARGETS)})")
-    return user_cc(target) or [str(find_zig()), "cc", "-target", ZIG_TARGETS[target]]
+        raise ToolchainError(f"unknown target '{target}' (known: {', '.join(ZIG_TARGETS)}; "
+                             "set CC to build for this machine)")
+    return [str(find_zig()), "cc", "-target", ZIG_TARGETS[target]]
 
 
 def archiver() -> list[str]:
