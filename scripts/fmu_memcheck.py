@@ -177,7 +177,8 @@ def main() -> int:
         ne = root.get("numberOfEventIndicators")
         so = tmp / "x" / "binaries" / "linux64" / f"{ident}.so"
         (tmp / "driver.c").write_text(DRIVER)
-        subprocess.run(["gcc", "-O1", "-g", "-std=gnu99", f"-I{_fmi_header_dir()}", str(tmp / "driver.c"),
+        from pdbfs.native.toolchain import compiler
+        subprocess.run([*compiler(), "-O1", "-g", "-std=gnu99", f"-I{_fmi_header_dir()}", str(tmp / "driver.c"),
                         "-o", str(tmp / "driver"), "-ldl"], check=True)
         cmd = [str(tmp / "driver"), str(so), guid, str(args.cycles), vrs["oil.pressure"], vrs["hammer.v0"],
                vrs["hammer.m"], str(nx), ne, repr(args.t_end), repr(args.step)]

@@ -4,7 +4,7 @@
 # scipy 1.10, casadi 3.6, pandas 1.5, ...), then the core of the test suite in it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh >/dev/null          # system packages and the SUNDIALS build
+bash scripts/setup.sh >/dev/null          # the optional test tools and the CVODE build
 [ -x .venv-floor/bin/python ] || python3 -m venv .venv-floor
 .venv-floor/bin/python -m pip install --quiet --disable-pip-version-check \
     -c scripts/floor-constraints.txt -e . pytest

@@ -12,6 +12,7 @@ import pytest
 
 from pdbfs.models import paper_rig
 from pdbfs.native.codegen import CVODE_DRIVER, generate, model_functions, sizes_header_lines
+from pdbfs.native import toolchain
 from pdbfs.native.sundials import find_sundials
 from pdbfs.simulation import Simulator
 
@@ -30,8 +31,6 @@ def _array(v):
 
 @pytest.fixture(scope="module")
 def harness(tmp_path_factory):
-    if shutil.which("gcc") is None:
-        pytest.skip("no C compiler")
     tmp = tmp_path_factory.mktemp("cvode-failures")
     rig = paper_rig()
     dae, sim = rig.compile(), Simulator.of(rig)
@@ -47,9 +46,10 @@ def harness(tmp_path_factory):
     exe = tmp / "cvode_failures"
     inc = [f"-I{tmp}", f"-I{CVODE_DRIVER[0].parent}", f"-I{sd.include_dir}"]
     renamed = [f"-D{f}=test_{f}" for f in ("malloc", *FAILED)]   # pdbfs_cvode.c's calls only
-    for cmd in (["gcc", "-std=gnu99", "-O1", "-g", "-c", *inc, *renamed, str(CVODE_DRIVER[0]),
+    cc = toolchain.compiler()   # zig cc, or $CC
+    for cmd in ([*cc, "-std=gnu99", "-O1", "-g", "-c", *inc, *renamed, str(CVODE_DRIVER[0]),
                  "-o", str(tmp / "pdbfs_cvode.o")],
-                ["gcc", "-std=gnu99", "-O1", "-g", *inc, str(HARNESS), str(tmp / "pdbfs_cvode.o"),
+                [*cc, "-std=gnu99", "-O1", "-g", *inc, str(HARNESS), str(tmp / "pdbfs_cvode.o"),
                  str(tmp / "pdbfs_model_funcs.c"), "-o", str(exe), *sd.link_args(), "-lm"]):
         r = subprocess.run(cmd, capture_output=True, text=True)
         assert r.returncode == 0, r.stderr[-3000:]

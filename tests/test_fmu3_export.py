@@ -110,7 +110,7 @@ def test_build_description_lists_the_sources(path3):
     listed = [e.get("name") for e in doc.iter("SourceFile")]
     own = sorted(f.name for f in wrapper_files(3) if f.suffix == ".c") + ["pdbfs_model_funcs.c"]
     # CVODE's own C is listed too (a source FMU needs no SUNDIALS installed), so no external library
-    assert set(own) <= set(listed) and {"sundials_src/cvode.c", "sundials_src/nvector_serial.c"} <= set(listed)
+    assert set(own) <= set(listed) and {"sundials_src/cvodes.c", "sundials_src/nvector_serial.c"} <= set(listed)
     assert all(n in own or n.startswith("sundials_src/") for n in listed)
     assert {lib.get("name") for lib in doc.iter("Library")} == {"m"}   # the C math library only
     assert all(f"sources/{n}" in names for n in listed)

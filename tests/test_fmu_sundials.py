@@ -1,112 +1,88 @@
-"""pdbfs.native.sundials: search order, the CMake build (built once, cached)
-and its fallback. Offline: the build is replaced by a stub, the caches by
-fake prefixes; the last test checks the real build on this machine."""
-import os
+"""pdbfs.native.sundials: SUNDIALS' sources from the pinned PyPI sdist
+(hash checked, only what CVODE needs extracted), CVODE compiled once per
+target by zig cc into the cache under a lock; pdbfs holds no SUNDIALS code,
+no CMake, apt or Unix-only call on the build path."""
+import ast
+import hashlib
+import re
 import subprocess
-import time
-import warnings
+import threading
+from pathlib import Path
 
 import pytest
 
 from pdbfs.native import sundials as S
+from pdbfs.native import toolchain
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
-def fake_prefix(root, version="6.4.1"):
-    (root / "include" / "cvode").mkdir(parents=True)
-    (root / "include" / "sundials").mkdir()
-    (root / "include" / "cvode" / "cvode.h").write_text("")
-    (root / "include" / "sundials" / "sundials_config.h").write_text(f'#define SUNDIALS_VERSION "{version}"\n')
-    (root / "lib").mkdir()
-    (root / "lib" / "libsundials_cvode.a").write_bytes(b"!<arch>\n")
-    return root
+def test_a_sdist_with_another_hash_is_refused(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    bad = tmp_path / S.SDIST
+    bad.write_bytes(b"not amici")
+    monkeypatch.setenv("PDBFS_SUNDIALS_SDIST", str(bad))
+    with pytest.raises(S.SundialsNotFound, match="SHA-256") as err:
+        S.find_sundials_sources()
+    assert hashlib.sha256(b"not amici").hexdigest() in str(err.value)
+    assert not (S.cache_root() / f"sundials-{S.VERSION}").exists()
+    monkeypatch.setenv("PDBFS_SUNDIALS_SDIST", str(tmp_path / "missing.tar.gz"))
+    with pytest.raises(S.SundialsNotFound, match="missing.tar.gz"):
+        S.find_sundials_sources()
 
 
-@pytest.fixture
-def cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    monkeypatch.delenv("PDBFS_SUNDIALS_DIR", raising=False)
-    monkeypatch.delenv("PDBFS_SUNDIALS_BUILD", raising=False)
-    system = fake_prefix(tmp_path / "usr")   # the system's SUNDIALS
-    monkeypatch.setattr(S, "_system", lambda: S.from_prefix(system, "system"))
-    return tmp_path / "pdbfs"
+def test_only_what_cvode_needs_is_extracted_with_the_licence():
+    src = S.find_sundials_sources()
+    files = [p.relative_to(src.root).as_posix() for p in src.root.rglob("*") if p.is_file()]
+    assert all(re.fullmatch(r"(src|include)/.+\.[ch]|LICENSE|ORIGIN", f) for f in files), files
+    assert not any("idas" in f or "CMakeLists" in f for f in files)
+    for c in S.SUNDIALS_C:
+        assert (src.src / c).is_file(), c
+    assert "BSD" in src.license.read_text() or "Redistribution" in src.license.read_text()
+    config = (src.include / "sundials" / "sundials_config.h").read_text()
+    assert '#define SUNDIALS_VERSION "7.1.1"' in config and "@" not in config
+    assert S.SDIST_SHA256 in (src.root / "ORIGIN").read_text()
 
 
-def test_the_cmake_build_is_preferred_and_built_once(cache, monkeypatch):
+def test_cvode_is_compiled_once_per_target(monkeypatch):
+    sd = S.find_sundials()
+    lib = sd.libraries[0]
+    mtime = lib.stat().st_mtime_ns
     calls = []
+    monkeypatch.setattr(S, "_compile_all", lambda *a: calls.append(a))
+    again = [None, None]
 
-    def build(dest, source=None, target="native"):
-        calls.append(dest)
-        return fake_prefix(dest)
-
-    monkeypatch.setattr(S, "build", build)
-    for _ in range(2):
-        s = S.find_sundials()
-        assert s.include_dir == cache / "sundials-cmake" / "include" and "CMake" in s.origin
-    assert calls == [cache / "sundials-cmake"]
-    # without fetching, an existing build is still used
-    assert S.find_sundials(fetch=False).include_dir == cache / "sundials-cmake" / "include"
-
-
-def test_a_failed_build_falls_back_to_the_system_and_is_retried_later(cache, monkeypatch):
-    calls = []
-
-    def build(dest, source=None, target="native"):
-        calls.append(dest)
-        raise S.SundialsNotFound("no compiler today")
-
-    monkeypatch.setattr(S, "build", build)
-    with pytest.warns(RuntimeWarning, match="no compiler today"):
-        s = S.find_sundials()
-    assert s.origin == "system"
-    marker = cache / "sundials-cmake.failed"
-    assert "no compiler today" in marker.read_text()
-    assert S.find_sundials().origin == "system"
-    assert len(calls) == 1  # not retried at once
-    old = time.time() - S.RETRY_AFTER - 10
-    os.utime(marker, (old, old))
-    with pytest.warns(RuntimeWarning):
-        S.find_sundials()
-    assert len(calls) == 2
+    def get(i):
+        again[i] = S.find_sundials()
+    threads = [threading.Thread(target=get, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert again[0] == again[1] == sd and not calls and lib.stat().st_mtime_ns == mtime
+    assert sd.target == toolchain.host_target() and sd.version == "7.1.1"
+    assert "-O2" in sd.origin
 
 
-def test_no_sundials_anywhere_is_a_clear_error(cache, monkeypatch):
-    monkeypatch.setattr(S, "_system", lambda: None)
-    monkeypatch.setattr(S, "build", lambda *a, **k: (_ for _ in ()).throw(S.SundialsNotFound("offline")))
-    with pytest.warns(RuntimeWarning), pytest.raises(S.SundialsNotFound, match="offline.*setup.sh"):
-        S.find_sundials()
+def test_the_archive_holds_cvode_and_exports_nothing_of_it_from_a_binary():
+    sd = S.find_sundials()
+    r = subprocess.run([*toolchain.archiver(), "t", str(sd.libraries[0])], capture_output=True, text=True,
+                       check=True)
+    members = set(r.stdout.split())
+    assert {"cvodes.o", "nvector_serial.o", "sunlinsol_band.o", "sundials_context.o"} <= members
+    assert len(members) == len(S.SUNDIALS_C)
 
 
-def test_build_can_be_switched_off(cache, monkeypatch):
-    monkeypatch.setenv("PDBFS_SUNDIALS_BUILD", "0")
-    monkeypatch.setattr(S, "build", lambda *a, **k: pytest.fail("built"))
-    assert S.find_sundials().origin == "system"
-
-
-def test_env_overrides_everything(cache, monkeypatch, tmp_path):
-    monkeypatch.setenv("PDBFS_SUNDIALS_DIR", str(fake_prefix(tmp_path / "mine")))
-    assert S.find_sundials().include_dir == tmp_path / "mine" / "include"
-    monkeypatch.setenv("PDBFS_SUNDIALS_DIR", str(fake_prefix(tmp_path / "seven", "7.1.1")))
-    with pytest.raises(S.SundialsNotFound, match="6.x"):
-        S.find_sundials()
-
-
-def test_the_build_script_is_sundials_own_cmake():
-    text = S.BUILD_SCRIPT.read_text()
-    assert "cmake -S" in text and "cmake --build" in text and "cmake --install" in text
-    r = subprocess.run(["bash", "-n", str(S.BUILD_SCRIPT)], capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr
-
-
-def test_the_binaries_link_the_cmake_build_when_there_is_one():
-    """FMUs and the compiled backend are built with the SUNDIALS find_sundials
-    picks; on a machine where the build works that is the CMake one, -O2."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        s = S.find_sundials()  # as export_fmu does: builds it if needed
-    if S.failed_marker().exists():
-        pytest.fail(f"the SUNDIALS build failed here: {S.failed_marker().read_text().strip()}")
-    if os.environ.get("PDBFS_SUNDIALS_DIR") or os.environ.get("PDBFS_SUNDIALS_BUILD") == "0":
-        pytest.skip("SUNDIALS chosen by the environment")
-    assert s.include_dir == S.opt_cache_dir() / "include", s.origin
-    assert s.version.startswith("6.")
-    assert "CMake" in (S.opt_cache_dir() / "ORIGIN").read_text()
+def test_no_sundials_code_cmake_apt_or_unix_only_call_in_pdbfs():
+    assert not list(ROOT.glob("pdbfs/native/*.sh"))
+    for path in [*ROOT.glob("pdbfs/**/*.py"), *ROOT.glob("fmu/*.py")]:
+        tree = ast.parse(path.read_text())
+        imported = {a.name for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom))
+                    for a in n.names} | {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+        assert not imported & {"fcntl", "pwd", "grp", "termios"}, path
+        text = path.read_text()
+        assert "apt-get" not in text and "cmake -S" not in text, path
+    for path in [*ROOT.rglob("*.c"), *ROOT.rglob("*.h")]:
+        if ".venv" in path.parts:
+            continue
+        assert "Lawrence Livermore National Security" not in path.read_text(errors="replace"), path

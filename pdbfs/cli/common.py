@@ -36,7 +36,7 @@ def add_run_options(s, t_end=None, n_out=True, backend="casadi", method="auto", 
                        f"(default {method})")
     s.add_argument("--backend", default=backend, choices=["casadi", "c"],
                    help="casadi: SUNDIALS through CasADi; c: CVODE compiled with the rig's "
-                   f"generated C (ODE rigs, needs a C compiler; built once, cached) (default {backend})")
+                   f"generated C (ODE rigs; built once by zig cc, cached) (default {backend})")
 
 
 def add_output_options(s, out="out", what="results", json_help="print the result as JSON"):

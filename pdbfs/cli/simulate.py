@@ -79,6 +79,6 @@ def add_parsers(sub):
     s.add_argument("-o", "--output", default="pdbfs.fmu")
     s.add_argument("--fmi-version", default="2", metavar="{2,3}", help="FMI version (default: 2)")
     s.add_argument("--platforms", default=None, metavar="P1,P2",
-                   help="binaries to build: linux64, win64 (default: every platform this machine can "
-                   "build; win64 needs Debian's gcc-mingw-w64-x86-64)")
+                   help="binaries to build: x86_64-linux, aarch64-linux, x86_64-windows, x86_64-darwin, "
+                   "aarch64-darwin or all (linux64, win64 are aliases; default: this machine's)")
     s.set_defaults(func=cmd_export_fmu)

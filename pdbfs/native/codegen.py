@@ -11,15 +11,15 @@ Conventions (the same for every generated binary):
   export attributes; the generic C driver calls them with work arrays of
   the sizes returned by :func:`generate` (``PDBFS_SZ_ARG`` ... in the
   generated header);
-* the shared library is compiled with ``$CC -O2 -fPIC -fvisibility=hidden``
-  and linked with SUNDIALS' static CVODE (``sundials.py``), whose symbols are
-  kept private to the library (``--exclude-libs,ALL``) so that they never
-  clash with the SUNDIALS that CasADi loads into the same process.
+* the shared library is compiled with ``zig cc -O2 -fPIC -fvisibility=hidden``
+  (``toolchain.py``; ``$CC`` for the host if set) and linked with the
+  target's static CVODE (``sundials.py``), whose symbols stay private to the
+  library (hidden, ``--exclude-libs,ALL`` on ELF) so that they never clash
+  with the SUNDIALS that CasADi loads into the same process.
 """
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -29,6 +29,7 @@ from pdbfs.errors import ExportError
 
 from pdbfs.modelling.initialization import needs_solving
 
+from . import toolchain
 from .initial import solved_start_function
 from .sundials import Sundials, find_sundials
 
@@ -38,10 +39,6 @@ CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h")
 
 #: name (without extension) of the generated C file of the model functions
 FUNCS = "pdbfs_model_funcs"
-
-#: flags of every shared library built here (the FMU binary, the batch driver)
-CFLAGS = ["-std=gnu99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-fno-math-errno"]
-LDFLAGS = ["-lm", "-Wl,--exclude-libs,ALL", "-Wl,-z,defs", "-static-libgcc"]
 
 #: the model functions a driver can ask for
 FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc", "conditions")
@@ -159,22 +156,18 @@ def sizes_header_lines(work: tuple[int, int, int, int]) -> list[str]:
             f"#define PDBFS_SZ_IW {work[2]}", f"#define PDBFS_SZ_W {work[3]}"]
 
 
-def compiler() -> str:
-    cc = os.environ.get("CC", "gcc")
-    if shutil.which(cc) is None:
-        raise ExportError(f"C compiler '{cc}' not found (set CC)")
-    return cc
-
-
 def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
                     cflags: list[str] | None = None, sd: Sundials | None = None,
-                    cc: str | None = None) -> list[str]:
-    """The command line that builds a shared library of ``sources`` linked
-    with SUNDIALS' static CVODE."""
-    sd = sd or find_sundials()
-    cc = cc or compiler()
-    return [cc, *CFLAGS, *(cflags or []), *[f"-I{d}" for d in include_dirs], f"-I{sd.include_dir}",
-            *map(str, sources), "-o", str(out), *sd.link_args(), *LDFLAGS]
+                    target: str | None = None) -> list[str]:
+    """The command line that builds a shared library of ``sources`` for
+    ``target`` (default: the host's) linked with that target's static CVODE."""
+    target = target or toolchain.host_target()
+    sd = sd or find_sundials(target=target)
+    cc = toolchain.compiler(target)
+    before, after = toolchain.shared_flags(target, cc)
+    return [*cc, *toolchain.cflags(target), *before, *(cflags or []),
+            *[f"-I{d}" for d in include_dirs], f"-I{sd.include_dir}",
+            *map(str, sources), "-o", str(out), *sd.link_args(), *after]
 
 
 #: peak memory of the compiler: a base and so much per byte of generated C

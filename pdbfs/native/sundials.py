@@ -1,53 +1,72 @@
-"""Locate the static SUNDIALS/CVODE that FMU binaries and the compiled backend
-link; build it once if there is none.
+"""SUNDIALS' CVODE for every binary pdbfs builds, from a PyPI distribution.
 
-Search order of :func:`find_sundials`:
+The sources are SUNDIALS 7.1.1 as carried by the source distribution
+``amici-1.1.0.tar.gz`` on PyPI (pinned by SHA-256 below): its CVODES (a
+superset of CVODE with the same ``CVode*`` calls), the serial vector, the
+dense and band matrices and linear solvers, Newton and fixed point and the
+generic layer, with SUNDIALS' LICENSE (BSD-3-Clause). The repository holds
+no SUNDIALS code.
 
-1. ``$PDBFS_SUNDIALS_DIR``: an install prefix of SUNDIALS 6.x with
-   ``include/cvode/cvode.h`` and ``lib/libsundials_cvode.a`` (static,
-   position independent).
-2. The build in the cache, ``$XDG_CACHE_HOME/pdbfs/sundials-cmake`` (default
-   ``~/.cache/pdbfs/sundials-cmake``), made once by ``build_sundials.sh``:
-   SUNDIALS' own CMake, -O2, from Debian's source of the ``sundials``
-   package (``$PDBFS_SUNDIALS_SOURCE`` names a local source tarball instead).
-   A failed build warns, leaves its reason in ``sundials-cmake.failed`` beside
-   the cache and is retried a day later (or once that file is deleted).
-3. The system's SUNDIALS (Debian's ``libsundials-dev``). Its archives are
-   compiled without optimisation: CVODE runs about 3-4x slower with them
-   (paper rig, one fmi2DoStep over 20 ms: 3.4 ms against 1.1 ms), which is
-   why pdbfs builds its own.
-
-``PDBFS_SUNDIALS_BUILD=0`` switches the build off (an existing one is used).
-
-Other targets (``find_sundials(target=...)``), each cached beside the native
-build and built once by the same script from the same source: ``"win64"``, a
-CVODE cross-compiled for 64-bit Windows with Debian's MinGW-w64
-(``sundials-cmake-win64``; no system fallback), and ``"sources"``, no build
-but the C sources and headers that CVODE is compiled from, with SUNDIALS'
-LICENSE (``sundials-src``, for source FMUs).
+* :func:`find_sundials_sources` fetches the sdist once per machine into the
+  cache (``$XDG_CACHE_HOME/pdbfs/sundials-7.1.1``, default
+  ``~/.cache/pdbfs``), checks its hash and extracts only those files, with a
+  ``sundials_config.h`` and ``sundials_export.h`` that pdbfs writes (no
+  CMake). ``$PDBFS_SUNDIALS_SDIST`` names a local copy of the sdist instead
+  (offline machines); the download honours ``https_proxy``.
+* :func:`find_sundials` compiles :data:`SUNDIALS_C` once per target with
+  the target's compiler (``toolchain.py``: ``zig cc -O2``) into a static
+  archive in the cache, under a file lock (any OS), and returns it.
 """
 from __future__ import annotations
 
+import hashlib
+import io
 import os
-import platform
+import shutil
 import subprocess
-import time
-import warnings
+import sys
+import tarfile
+import tempfile
+import urllib.request
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 import platformdirs
+from filelock import FileLock
 
 from pdbfs.errors import ExportError
 
-BUILD_SCRIPT = Path(__file__).with_name("build_sundials.sh")
-#: link order; a CMake build puts everything CVODE needs into the first one
-_ARCHIVES = ["libsundials_cvode.a", "libsundials_nvecserial.a", "libsundials_sunmatrixdense.a",
-             "libsundials_sunmatrixband.a", "libsundials_sunlinsoldense.a",
-             "libsundials_sunlinsolband.a", "libsundials_sunnonlinsolfixedpoint.a",
-             "libsundials_sunnonlinsolnewton.a", "libsundials_generic.a"]
-#: a failed build is retried after this many seconds (or when the marker is deleted)
-RETRY_AFTER = 24 * 3600
+from . import toolchain
+from .sundials_config import CONFIG_H, EXPORT_H
+
+VERSION = "7.1.1"
+SDIST = "amici-1.1.0.tar.gz"
+SDIST_SHA256 = "63d51cbbf1f989f2f852bb98c9b5a59501f4d3697883221737ff0188eec6870f"
+SDIST_URL = ("https://files.pythonhosted.org/packages/b0/ab/"
+             "aeebac08b65fa7110934ed0938d48f1e3cdfed00361a09ca10d70e2ccf92/" + SDIST)
+#: SUNDIALS' folder inside the sdist
+SDIST_ROOT = "amici-1.1.0/amici/_installation/ThirdParty/sundials/"
+
+#: SUNDIALS' C files the CVODE loop links, relative to src/
+SUNDIALS_C = (
+    "cvodes/cvodes.c", "cvodes/cvodes_io.c", "cvodes/cvodes_ls.c", "cvodes/cvodes_nls.c",
+    "cvodes/cvodes_nls_sim.c", "cvodes/cvodes_nls_stg.c", "cvodes/cvodes_nls_stg1.c",
+    "cvodes/cvodes_proj.c", "cvodes/cvodea.c", "cvodes/cvodea_io.c",
+    "nvector/serial/nvector_serial.c",
+    "sunmatrix/dense/sunmatrix_dense.c", "sunmatrix/band/sunmatrix_band.c",
+    "sunlinsol/dense/sunlinsol_dense.c", "sunlinsol/band/sunlinsol_band.c",
+    "sunnonlinsol/newton/sunnonlinsol_newton.c", "sunnonlinsol/fixedpoint/sunnonlinsol_fixedpoint.c",
+    "sundials/sundials_band.c", "sundials/sundials_context.c", "sundials/sundials_dense.c",
+    "sundials/sundials_errors.c", "sundials/sundials_futils.c", "sundials/sundials_hashmap.c",
+    "sundials/sundials_linearsolver.c", "sundials/sundials_logger.c", "sundials/sundials_math.c",
+    "sundials/sundials_matrix.c", "sundials/sundials_nonlinearsolver.c", "sundials/sundials_nvector.c",
+    "sundials/sundials_nvector_senswrapper.c", "sundials/sundials_version.c",
+)
+#: what is extracted: the C files' folders (their internal headers), the public headers, the licence
+_EXTRACT = tuple(sorted({"src/" + c.rsplit("/", 1)[0] + "/" for c in SUNDIALS_C})) + (
+    "include/cvodes/", "include/nvector/", "include/sundials/", "include/sunmatrix/",
+    "include/sunlinsol/", "include/sunnonlinsol/", "include/sunmemory/", "LICENSE")
 
 
 class SundialsNotFound(RuntimeError):
@@ -55,155 +74,12 @@ class SundialsNotFound(RuntimeError):
 
 
 @dataclass(frozen=True)
-class Sundials:
-    include_dir: Path
-    libraries: tuple[Path, ...]   # static archives, in link order
-    version: str
-    origin: str
-
-    def link_args(self) -> list[str]:
-        return [str(p) for p in self.libraries]
-
-
-def cache_root() -> Path:
-    """pdbfs's cache folder: ``$XDG_CACHE_HOME/pdbfs`` (default ``~/.cache/pdbfs``),
-    made if need be; one that cannot be made is an ExportError naming the folder
-    and the variable it came from."""
-    root = Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
-    try:
-        root.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        origin = "$XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "$HOME/.cache"
-        raise ExportError(f"cannot make pdbfs's cache folder {root} (from {origin}): "
-                          f"{err.strerror or err}; point XDG_CACHE_HOME at a writable folder") \
-            from None
-    return root
-
-
-#: cache folder of each target's build, under cache_root()
-TARGET_DIRS = {"native": "sundials-cmake", "win64": "sundials-cmake-win64", "sources": "sundials-src"}
-
-
-def opt_cache_dir(target: str = "native") -> Path:
-    return cache_root() / TARGET_DIRS[target]
-
-
-def failed_marker(target: str = "native") -> Path:
-    return cache_root() / (TARGET_DIRS[target] + ".failed")
-
-
-def _version(include_dir: Path) -> str:
-    try:
-        for line in (include_dir / "sundials" / "sundials_config.h").read_text().splitlines():
-            if line.startswith("#define SUNDIALS_VERSION "):
-                return line.split('"')[1]
-    except OSError:
-        pass
-    return "unknown"
-
-
-def from_prefix(prefix: Path, origin: str) -> Sundials | None:
-    """The SUNDIALS installed under ``prefix``, or None if there is none."""
-    inc = prefix / "include"
-    for libdir in (prefix / "lib", prefix / "lib64", prefix / "lib" / f"{platform.machine()}-linux-gnu"):
-        if (inc / "cvode" / "cvode.h").is_file() and (libdir / "libsundials_cvode.a").is_file():
-            version = _version(inc)
-            if not version.startswith("6."):
-                raise SundialsNotFound(f"SUNDIALS in {prefix} is version {version}; pdbfs's C "
-                                       "drivers need the 6.x API")
-            return Sundials(inc, tuple(libdir / a for a in _ARCHIVES if (libdir / a).is_file()),
-                            version, origin)
-    return None
-
-
-def build(prefix: Path, source: str | None = None, target: str = "native") -> Path:
-    """Run ``build_sundials.sh`` into ``prefix`` (about 10 s on two cores)."""
-    cmd = ["bash", str(BUILD_SCRIPT), str(prefix)] + ([source] if source else [])
-    r = subprocess.run(cmd, capture_output=True, text=True,
-                       env={**os.environ, "PDBFS_SUNDIALS_TARGET": target})
-    if r.returncode != 0:
-        raise SundialsNotFound(f"building SUNDIALS failed: {(r.stderr or r.stdout).strip()[-1500:]}")
-    return prefix
-
-
-def _recent_failure(marker: Path) -> bool:
-    try:
-        return time.time() - marker.stat().st_mtime < RETRY_AFTER
-    except OSError:
-        return False
-
-
-def _cached(fetch: bool, target: str = "native") -> Sundials | None:
-    """The cached build, building it first if needed and allowed."""
-    dest = opt_cache_dir(target)
-    origin = f"{dest} (built with SUNDIALS' CMake, -O2)"
-    s = from_prefix(dest, origin)
-    if s is not None or not fetch or os.environ.get("PDBFS_SUNDIALS_BUILD", "1") in ("0", "no", "false"):
-        return s
-    marker = failed_marker(target)
-    if _recent_failure(marker):
-        return None
-    import fcntl
-    dest.parent.mkdir(parents=True, exist_ok=True)
-    with open(dest.parent / f".{dest.name}.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)   # one build at a time; the others wait and reuse it
-        try:
-            s = from_prefix(dest, origin)
-            if s is None and not _recent_failure(marker):
-                build(dest, os.environ.get("PDBFS_SUNDIALS_SOURCE"), target)
-                s = from_prefix(dest, origin)
-        except Exception as err:   # noqa: BLE001 - any failure: fall back to the system's
-            marker.write_text(f"{type(err).__name__}: {err}\n")
-            warnings.warn(f"could not build SUNDIALS ({err}); looking for the system's "
-                          f"(delete {marker} to retry)", RuntimeWarning, stacklevel=3)
-            return None
-    return s
-
-
-def _system() -> Sundials | None:
-    return from_prefix(Path("/usr"), "system (Debian libsundials-dev, unoptimised)")
-
-
-def find_sundials(fetch: bool = True, target: str = "native") -> Sundials:
-    """The SUNDIALS to link: ``$PDBFS_SUNDIALS_DIR``, else the cached build
-    (built once if ``fetch``), else the system's. ``target="win64"``: the
-    cached MinGW-w64 build only."""
-    if target != "native":
-        return _other_target(fetch, target)
-    env = os.environ.get("PDBFS_SUNDIALS_DIR")
-    if env:
-        s = from_prefix(Path(env), f"PDBFS_SUNDIALS_DIR={env}")
-        if s is None:
-            raise SundialsNotFound(f"PDBFS_SUNDIALS_DIR={env} has no include/cvode/cvode.h and "
-                                   "lib/libsundials_cvode.a")
-        return s
-    s = _cached(fetch) or _system()
-    if s is None:
-        why = failed_marker().read_text().strip() if failed_marker().exists() else \
-            "the build is switched off" if not fetch else "no build was attempted"
-        raise SundialsNotFound(
-            f"no SUNDIALS 6.x static archives: not in $PDBFS_SUNDIALS_DIR, {opt_cache_dir()} or "
-            f"the system ({why}). Run scripts/setup.sh, or install libsundials-dev")
-    return s
-
-
-def _other_target(fetch: bool, target: str) -> Sundials:
-    if target not in TARGET_DIRS or target == "sources":
-        raise SundialsNotFound(f"unknown SUNDIALS target '{target}' (known: native, win64)")
-    s = _cached(fetch, target)
-    if s is None:
-        marker = failed_marker(target)
-        why = marker.read_text().strip() if marker.exists() else "the build is switched off"
-        raise SundialsNotFound(f"no SUNDIALS for {target} in {opt_cache_dir(target)} ({why})")
-    return s
-
-
-@dataclass(frozen=True)
 class SundialsSources:
-    """SUNDIALS' C sources (``src``: cvode/, sundials/, ...), public headers
-    (``include``) and LICENSE, from the source the builds use."""
+    """SUNDIALS' C sources (``src``), public headers with pdbfs's config
+    (``include``) and LICENSE, extracted from the pinned sdist."""
     root: Path
     origin: str
+    version: str = VERSION
 
     @property
     def src(self) -> Path:
@@ -218,25 +94,135 @@ class SundialsSources:
         return self.root / "LICENSE"
 
 
+@dataclass(frozen=True)
+class Sundials:
+    """A static CVODE built for one target."""
+    include_dir: Path
+    libraries: tuple[Path, ...]
+    version: str
+    origin: str
+    target: str = ""
+
+    def link_args(self) -> list[str]:
+        return [str(p) for p in self.libraries]
+
+
+def cache_root() -> Path:
+    """pdbfs's cache folder: ``$XDG_CACHE_HOME/pdbfs`` (default ``~/.cache/pdbfs``),
+    made if need be; one that cannot be made is an ExportError naming the folder
+    and the variable it came from."""
+    root = Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        origin = "$XDG_CACHE_HOME" if os.environ.get("XDG_CACHE_HOME") else "the home folder"
+        raise ExportError(f"cannot make pdbfs's cache folder {root} (from {origin}): "
+                          f"{err.strerror or err}; point XDG_CACHE_HOME at a writable folder") \
+            from None
+    return root
+
+
+def _say(msg: str) -> None:
+    print(f"pdbfs: {msg}", file=sys.stderr, flush=True)
+
+
+def _download() -> bytes:
+    local = os.environ.get("PDBFS_SUNDIALS_SDIST")
+    if local:
+        try:
+            return Path(local).read_bytes()
+        except OSError as err:
+            raise SundialsNotFound(f"PDBFS_SUNDIALS_SDIST={local}: {err.strerror or err}") from None
+    _say(f"fetching SUNDIALS {VERSION}'s sources once: {SDIST} (1.3 MB) from PyPI")
+    try:
+        with urllib.request.urlopen(SDIST_URL, timeout=120) as r:   # honours *_proxy
+            return r.read()
+    except OSError as err:
+        raise SundialsNotFound(f"could not download {SDIST_URL} ({err}); download it by hand and "
+                               "set PDBFS_SUNDIALS_SDIST to its path") from None
+
+
+def _extract(data: bytes, dest: Path) -> None:
+    digest = hashlib.sha256(data).hexdigest()
+    if digest != SDIST_SHA256:
+        raise SundialsNotFound(f"{SDIST} has SHA-256 {digest}, not the pinned {SDIST_SHA256}")
+    part = Path(tempfile.mkdtemp(prefix=dest.name + ".", dir=dest.parent))
+    try:
+        with tarfile.open(fileobj=io.BytesIO(data), mode="r:gz") as tar:
+            for m in tar.getmembers():
+                rel = m.name[len(SDIST_ROOT):] if m.name.startswith(SDIST_ROOT) else None
+                if not m.isfile() or rel is None or not rel.startswith(_EXTRACT):
+                    continue
+                if not (rel.endswith((".c", ".h")) or rel == "LICENSE") or ".." in rel.split("/"):
+                    continue
+                out = part / rel
+                out.parent.mkdir(parents=True, exist_ok=True)
+                out.write_bytes(tar.extractfile(m).read())
+        (part / "include" / "sundials" / "sundials_config.h").write_text(CONFIG_H)
+        (part / "include" / "sundials" / "sundials_export.h").write_text(EXPORT_H)
+        (part / "ORIGIN").write_text(f"SUNDIALS {VERSION} from {SDIST} (sha256 {SDIST_SHA256})\n")
+        if dest.exists():
+            shutil.rmtree(dest)
+        os.replace(part, dest)
+    finally:
+        shutil.rmtree(part, ignore_errors=True)
+
+
+def _lock(path: Path) -> FileLock:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return FileLock(str(path.parent / f".{path.name}.lock"))
+
+
 def find_sundials_sources(fetch: bool = True) -> SundialsSources:
-    """The cached SUNDIALS sources (``sundials-src``), extracted once from the
-    source the builds use."""
-    dest = opt_cache_dir("sources")
+    """SUNDIALS' sources in the cache, fetched and extracted once."""
+    dest = cache_root() / f"sundials-{VERSION}"
 
     def ready() -> bool:
-        return (dest / "src" / "cvode" / "cvode.c").is_file() and (dest / "LICENSE").is_file()
-    if not ready() and fetch and os.environ.get("PDBFS_SUNDIALS_BUILD", "1") not in ("0", "no", "false") \
-            and not _recent_failure(failed_marker("sources")):
-        import fcntl
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        with open(dest.parent / f".{dest.name}.lock", "w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)
-            try:
-                if not ready():
-                    build(dest, os.environ.get("PDBFS_SUNDIALS_SOURCE"), "sources")
-            except SundialsNotFound as err:
-                failed_marker("sources").write_text(f"{err}\n")
+        return (dest / "ORIGIN").is_file()
     if not ready():
-        raise SundialsNotFound(f"no SUNDIALS sources in {dest}")
-    origin = (dest / "ORIGIN").read_text().strip() if (dest / "ORIGIN").is_file() else str(dest)
-    return SundialsSources(dest, origin)
+        if not fetch:
+            raise SundialsNotFound(f"no SUNDIALS sources in {dest}")
+        with _lock(dest):
+            if not ready():
+                _extract(_download(), dest)
+    return SundialsSources(dest, (dest / "ORIGIN").read_text().strip())
+
+
+def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path) -> list[Path]:
+    def one(rel: str) -> Path:
+        obj = objdir / (Path(rel).stem + ".o")
+        r = subprocess.run([*cmd, "-c", f"-I{sources.include}", f"-I{sources.src / 'sundials'}", str(sources.src / rel), "-o", str(obj)],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            raise SundialsNotFound(f"compiling SUNDIALS' {rel} failed: {r.stderr.strip()[-1500:]}")
+        return obj
+    with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
+        return list(pool.map(one, SUNDIALS_C))
+
+
+def find_sundials(fetch: bool = True, target: str | None = None) -> Sundials:
+    """The static CVODE for ``target`` (default: the host's), compiled once
+    into the cache with that target's compiler."""
+    target = target or toolchain.host_target()
+    sources = find_sundials_sources(fetch)
+    cmd = [*toolchain.compiler(target), *toolchain.cflags(target), "-DNDEBUG"]
+    key = hashlib.sha256("\0".join([VERSION, target, *(Path(c).name for c in cmd)]).encode())
+    dest = cache_root() / f"cvode-{VERSION}" / f"{target}-{key.hexdigest()[:12]}"
+    lib = dest / "libsundials_cvodes.a"
+    origin = f"SUNDIALS {VERSION} CVODES from {SDIST}, {' '.join(Path(c).name for c in cmd)}"
+    if not lib.is_file():
+        if not fetch:
+            raise SundialsNotFound(f"no CVODE built for {target} in {dest}")
+        with _lock(dest):
+            if not lib.is_file():
+                _say(f"compiling CVODE for {target} once (about a minute)")
+                dest.mkdir(parents=True, exist_ok=True)
+                with tempfile.TemporaryDirectory(dir=dest) as tmp:
+                    objs = _compile_all(cmd, sources, Path(tmp))
+                    part = Path(tmp) / lib.name
+                    r = subprocess.run([*toolchain.archiver(), "rcs", str(part), *map(str, objs)],
+                                       capture_output=True, text=True)
+                    if r.returncode != 0:
+                        raise SundialsNotFound(f"archiving CVODE failed: {r.stderr.strip()[-800:]}")
+                    os.replace(part, lib)
+    return Sundials(sources.include, (lib,), VERSION, origin, target)

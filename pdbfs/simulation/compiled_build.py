@@ -3,9 +3,11 @@ compiled.py): CasADi-generated C of the model functions, the generic drivers
 ``c/pdbfs_batch.c`` (one run over an output grid) and ``c/pdbfs_summary.c``
 (many points reduced to their summaries, with ``c/pdbfs_record.c`` and
 ``c/pdbfs_pulse.c``), the CVODE loop shared with the FMU
-(``native/c/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials.
+(``native/c/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials,
+compiled by ``zig cc`` (pdbfs.native.toolchain; ``$CC`` if set).
 
 The library is cached on disk as ``$XDG_CACHE_HOME/pdbfs/compiled/<hash>.so``
+(``.dll`` on Windows, ``.dylib`` on macOS)
 (default ``~/.cache/pdbfs/compiled``), the hash covering the generated C, the
 drivers, the compiler command and the SUNDIALS archives; it is written
 atomically, so concurrent processes may build the same library.
@@ -14,13 +16,12 @@ from __future__ import annotations
 
 import hashlib
 import os
-import platform
 import tempfile
 from pathlib import Path
 
+from pdbfs.native import toolchain
 from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
-                                  compiler, generate, model_functions, run_compiler,
-                                  sizes_header_lines)
+                                  generate, model_functions, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
 C_DIR = Path(__file__).with_name("c")
@@ -74,30 +75,31 @@ def build(dae) -> Path:
         work = generate(funcs, src)
         hdr = header(dae, work)
         (src / HEADER).write_text(hdr)
-        sd, cc = find_sundials(), compiler()
+        host = toolchain.host_target()
+        sd = find_sundials(target=host)
         files = {f.name: f.read_text() for f in (*DRIVERS, *CVODE_DRIVER)}
         c_files = [n for n in files if n.endswith(".c")] + [f"{FUNCS}.c"]
         # the command with placeholders for the temporary paths: part of the key
         cmd_key = compile_command([Path(f"@SRC@/{n}") for n in c_files], Path("@OUT@"),
-                                  [Path("@SRC@")], sd=sd, cc=cc)
+                                  [Path("@SRC@")], sd=sd, target=host)
         h = hashlib.sha256()
-        for part in (f"abi {ABI}", platform.machine(), *files.values(), hdr,
+        for part in (f"abi {ABI}", host, *files.values(), hdr,
                      (src / f"{FUNCS}.c").read_text(), (src / f"{FUNCS}.h").read_text(),
                      "\0".join(cmd_key), _archives_stamp(sd)):
             h.update(part.encode())
             h.update(b"\0")
         key = h.hexdigest()[:32]
-        target = cache_dir() / f"{key}.so"
+        target = cache_dir() / f"{key}{toolchain.library_suffix(host)}"
         if target.is_file():
             return target
         for name, text in files.items():
             (src / name).write_text(text)
         target.parent.mkdir(parents=True, exist_ok=True)
-        part = Path(tempfile.mkstemp(prefix=f".{key}-", suffix=".so", dir=target.parent)[1])
+        part = Path(tempfile.mkstemp(prefix=f".{key}-", suffix=target.suffix, dir=target.parent)[1])
         try:
             what = f"the compiled model of rig {dae.name}"
             check_compiler_memory(src / f"{FUNCS}.c", what)
-            cmd = compile_command([src / n for n in c_files], part, [src], sd=sd, cc=cc)
+            cmd = compile_command([src / n for n in c_files], part, [src], sd=sd, target=host)
             run_compiler(cmd, what)
             BUILDS += 1
             os.chmod(part, 0o755)

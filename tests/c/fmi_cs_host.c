@@ -1,6 +1,7 @@
 /*
- * A minimal FMI co-simulation host for the tests (compiled for win64 with
- * MinGW-w64 and run under Wine): loads an FMU's win64 DLL, simulates from 0 to
+ * A minimal FMI co-simulation host for the tests (compiled by zig cc for
+ * win64 and run under Wine, or for Linux on arm64 and run under qemu-aarch64):
+ * loads an FMU's DLL or shared object, simulates from 0 to
  * STOP in steps of STEP and prints the peak of one Real output and its time.
  * FMI 2.0 by default; compiled with -DFMI3 it drives an FMI 3.0 FMU.
  *
@@ -12,7 +13,16 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#ifdef _WIN32
 #include <windows.h>
+#define SYMBOL(lib, name) GetProcAddress(lib, name)
+#else
+#include <dlfcn.h>
+typedef void *HMODULE;
+#define LoadLibraryA(path) dlopen(path, RTLD_NOW | RTLD_LOCAL)
+#define GetLastError() 0UL
+#define SYMBOL(lib, name) dlsym(lib, name)
+#endif
 
 #ifdef FMI3
 #include "fmi3Functions.h"
@@ -43,7 +53,7 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
 #endif
 
 #define LOAD(f)                                                         \
-    f##TYPE *f = (f##TYPE *)(void (*)(void))GetProcAddress(dll, #f);    \
+    f##TYPE *f = (f##TYPE *)(void (*)(void))SYMBOL(dll, #f);       \
     if (!f) {                                                           \
         fprintf(stderr, "missing %s\n", #f);                            \
         return 1;                                                       \

