@@ -42,3 +42,8 @@ class PulseIncompleteWarning(PdbfsWarning):
 
 class SampleTooSmallWarning(PdbfsWarning):
     """A sample is too small for the statistics computed from it to mean anything."""
+
+
+class BackendFallbackWarning(PdbfsWarning):
+    """The compiled backend could not be built for a rig (no C compiler, no
+    SUNDIALS, ...): the run uses CasADi instead; the message says why."""

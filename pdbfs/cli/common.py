@@ -20,7 +20,7 @@ def add_rig_options(s, sets=True, set_help=None):
                        "(repeatable)")
 
 
-def add_run_options(s, t_end=None, n_out=True, backend="casadi", method="auto", rtol=True):
+def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rtol=True):
     """How a rig is simulated: horizon, output points, tolerance, method, back end."""
     default = f"default {t_end}" if t_end is not None else "default: the rig's own, 0.02 for " \
         "the paper rig, 1.5 for the drop rig"
@@ -34,9 +34,10 @@ def add_run_options(s, t_end=None, n_out=True, backend="casadi", method="auto", 
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf"],
                        help="CVODE's method; auto: Adams unless the rig is stiff "
                        f"(default {method})")
-    s.add_argument("--backend", default=backend, choices=["casadi", "c"],
-                   help="casadi: SUNDIALS through CasADi; c: CVODE compiled with the rig's "
-                   f"generated C (ODE rigs, needs a C compiler; built once, cached) (default {backend})")
+    s.add_argument("--backend", default=backend, choices=["auto", "casadi", "c"],
+                   help="casadi: SUNDIALS through CasADi; c: the rig's generated C compiled "
+                   "with pdbfs's integrators (ODE rigs, needs a C compiler; built once, cached); "
+                   f"auto: c where it can be built, else casadi (default {backend})")
 
 
 def add_output_options(s, out="out", what="results", json_help="print the result as JSON"):

@@ -28,7 +28,7 @@ from pdbfs.native.sundials import SundialsNotFound
 from . import compiled_build as build_lib
 from .compiled_build import ABI, ROLES
 
-METHOD_CODES = {"adams": 0, "bdf": 1}
+METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
 MSG_LEN = 1024
 POINT_MSG_LEN = 320
 
@@ -56,6 +56,8 @@ def solver_name(code: int) -> str:
     """The solver a driver used, from its code (method | nls << 4 | linsol << 8,
     pdbfs_cvode.h): "adams/fixed-point", "adams/newton-dense", "bdf/newton-band", ..."""
     code = int(code)
+    if code == 2:
+        return "erk/dop853"
     method = "bdf" if code & 15 == 1 else "adams"
     if (code >> 4) & 15 != 2:
         return f"{method}/fixed-point"

@@ -6,18 +6,23 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 
-METHODS = ("auto", "adams", "bdf")
-BACKENDS = ("casadi", "c")
+#: "erk": the explicit Runge-Kutta method of order 8 (compiled backend only)
+METHODS = ("auto", "adams", "bdf", "erk")
+#: "auto" (the default): "c" where the compiled backend can be built, else "casadi"
+BACKENDS = ("auto", "casadi", "c")
 MAX_NUM_STEPS = 500000
 
 
 def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
-                   backend="casadi"):
+                   backend="auto"):
     if backend not in BACKENDS:
         raise ParameterError(f"unknown backend {backend!r}; choose one of "
                              f"{', '.join(BACKENDS)}")
     if method not in METHODS:
         raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+    if method == "erk" and backend == "casadi":
+        raise ParameterError("method='erk' (explicit Runge-Kutta) runs in the compiled backend "
+                             "only: use backend='c' or 'auto', or method 'adams'/'bdf'")
     for name, v in (("rtol", rtol), ("atol", atol)):
         if not (np.isfinite(v) and v > 0):
             raise ParameterError(f"{name} = {v}: must be a positive number")

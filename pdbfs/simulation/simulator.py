@@ -14,11 +14,12 @@ from __future__ import annotations
 
 import difflib
 import time
+import warnings
 
 import casadi as ca
 import numpy as np
 
-from pdbfs.errors import ParameterError, SolverError
+from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE, check_value
 
 from . import compiled as C
@@ -33,7 +34,7 @@ from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, output_g
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
              start=None, rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
              max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
-             backend: str = "casadi"):
+             backend: str = "auto"):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
 
     t_out     output times (overrides t_end and n_out); must start at 0
@@ -46,7 +47,11 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     max_step  largest internal step, s (None: no limit)
     max_num_steps  most internal steps between two output points (more is a
               SolverError)
-    backend   'casadi' (default): SUNDIALS through casadi.integrator;
+    backend   'auto' (default): 'c' where the compiled backend can be built
+              (an ODE rig and a C compiler), else 'casadi' (a rig with
+              algebraic variables quietly; a failed build with one
+              BackendFallbackWarning naming why);
+              'casadi': SUNDIALS through casadi.integrator;
               'c': CVODE in a shared library compiled from the DAE (ODE rigs
               only; built once per rig, cached in ~/.cache/pdbfs/compiled;
               needs a C compiler). Newton there uses the exact sparse
@@ -130,6 +135,29 @@ class Simulator:
 
     check_settings = staticmethod(check_settings)
 
+    def resolve_backend(self, backend: str) -> str:
+        """``backend``, or for "auto" the compiled backend where it can be
+        built, else "casadi" (decided once per DAE)."""
+        if backend != "auto":
+            return backend
+        chosen = self._cache.get("backend")
+        if chosen is None:
+            dae = self.dae
+            chosen = "casadi"
+            if dae.is_ode and dae.x.numel():
+                try:
+                    self.compiled()
+                    chosen = "c"
+                except ParameterError:
+                    raise
+                except PdbfsError as err:
+                    first = str(err).splitlines()[0] if str(err) else type(err).__name__
+                    warnings.warn(f"rig {dae.name}: the compiled backend is not available "
+                                  f"({first}); simulating with CasADi", BackendFallbackWarning,
+                                  stacklevel=4)
+            self._cache["backend"] = chosen
+        return chosen
+
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
                    max_num_steps=MAX_NUM_STEPS, xdot0=None):
         """A casadi integrator for these settings (cached). ``xdot0`` (DAE
@@ -191,6 +219,7 @@ class Simulator:
         the rig's start, not at x: one choice for every step of a run."""
         if self.dae.x.numel() == 0:
             return np.zeros(0), self.prescribed(np.array([t0 + h]), p)[1][:, -1]
+        backend = self.resolve_backend(backend)
         method = self.resolve_method(method, p, self.start_vector(p), h) \
             if method == "auto" else method
         if backend == "c":
@@ -211,9 +240,10 @@ class Simulator:
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=1e-8, atol=1e-10, method="auto", max_step=None,
-            max_num_steps=MAX_NUM_STEPS, backend="casadi"):
+            max_num_steps=MAX_NUM_STEPS, backend="auto"):
         from .result import Result
         self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
+        backend = self.resolve_backend(backend)
         if backend == "c" and self.dae.x.numel():
             self.compiled()          # a DAE rig is refused before anything else
         grid = self.grid(t_end, n_out, t_out)

@@ -50,7 +50,7 @@ def points_of(values: dict, grid: bool = True) -> list[dict]:
 def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
           rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
-          max_step: float | None = None, backend: str = "casadi", workers: int | None = None,
+          max_step: float | None = None, backend: str = "auto", workers: int | None = None,
           progress=None, client=None, out=None, format: str = "parquet",
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
@@ -91,6 +91,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     p_fixed = sim.param_vector(fixed)
     sim.grid(t_end, n_out)
     sim.check_settings(rtol, atol, method, max_step, backend=backend)
+    backend = sim.resolve_backend(backend)
     x_fixed = sim.start_vector(p_fixed, start)
     # "auto": one method for the whole sweep, judged at the fixed point
     method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end))
