@@ -105,7 +105,7 @@ def test_sweep_rejects_bad_input_up_front(rig):
 
 def test_trajectories_are_full_results(rig):
     res = pdbfs.sweep(rig, {"seal.c": [2.556e4, 2.556e6]}, t_end=0.03, n_out=3001,
-                      trajectories=True, workers=2)
+                      trajectories=True, workers=2, backend="casadi")
     r0, r1 = res[0].result, res[1].result
     assert r0["oil.pressure"].shape == (3001,)
     t_pk, p_pk = r0.peak("oil.pressure")

@@ -122,16 +122,19 @@ class Simulator:
         return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
 
     # -- integrators -------------------------------------------------------------
-    def resolve_method(self, method, p, x0, span) -> str:
+    def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
         """``method``, or for "auto" the one stiffness.choose_method picks
-        for this start and time span (cached: repeated runs pay nothing)."""
+        for this start and time span (cached: repeated runs pay nothing); in
+        the compiled backend a rig that is not stiff gets the explicit
+        Runge-Kutta method ("erk") instead of Adams."""
         if method != "auto":
             return method
         key = ("auto", np.asarray(p, float).tobytes(), np.asarray(x0, float).tobytes(),
                float(span))
         if key not in self._cache:
             self._cache[key] = choose_method(self.dae, p, x0, span)
-        return self._cache[key][0]
+        chosen = self._cache[key][0]
+        return "erk" if chosen == "adams" and backend == "c" else chosen
 
     check_settings = staticmethod(check_settings)
 
@@ -220,7 +223,7 @@ class Simulator:
         if self.dae.x.numel() == 0:
             return np.zeros(0), self.prescribed(np.array([t0 + h]), p)[1][:, -1]
         backend = self.resolve_backend(backend)
-        method = self.resolve_method(method, p, self.start_vector(p), h) \
+        method = self.resolve_method(method, p, self.start_vector(p), h, backend) \
             if method == "auto" else method
         if backend == "c":
             grid = np.array([t0, t0 + h], dtype=float)
@@ -249,7 +252,7 @@ class Simulator:
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
-        method = self.resolve_method(method, p, x0, grid[-1] - grid[0])
+        method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         wall = time.perf_counter()
         if backend == "c":
             X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)

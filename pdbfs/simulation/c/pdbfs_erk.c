@@ -307,6 +307,19 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
         }
         flag = step(s, t_out);
         if (flag) return flag;
+        if (s->on_step && s->substeps > 1) {
+            int j;
+            double *xi = s->k + 13 * s->nx;    /* free once the dense output is made */
+            if (!s->dense_ready && make_dense(s)) return -3;
+            for (j = 1; j < s->substeps; j++) {
+                double ti = s->t_old + (s->t - s->t_old) * j / s->substeps;
+                dense_at(s, (ti - s->t_old) / s->h_old, xi);
+                if (s->on_step(s->step_env, ti, xi)) {
+                    snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", ti);
+                    return PDBFS_CV_STOPPED;
+                }
+            }
+        }
         if (s->on_step && s->on_step(s->step_env, s->t, s->y)) {
             snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", s->t);
             return PDBFS_CV_STOPPED;

@@ -35,6 +35,8 @@ typedef struct {
     double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp;
     pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
     void *step_env;
+    int substeps;             /* > 1: on_step also sees substeps - 1 points inside each
+                               * step, from the dense output (records as fine as CVODE's) */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
 } PdbfsErk;
