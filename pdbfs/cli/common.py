@@ -29,7 +29,8 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
         s.add_argument("--n-out", type=int, default=None,
                        help="output points (default: the rig's own, 2001; the drop rig: 30001)")
     if rtol:
-        s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
+        s.add_argument("--rtol", type=float, default=None,
+                       help="relative tolerance (default 1e-8; 1e-9 for the explicit method)")
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf"],
                        help="CVODE's method; auto: Adams unless the rig is stiff "

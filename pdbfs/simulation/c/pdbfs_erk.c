@@ -14,6 +14,11 @@
 #define GROW_MAX 10.0
 #define SHRINK_MIN 0.2
 #define ROOT_ITER 100
+#define RESTART_STEP 0.01          /* first step after a root, of the step before */
+/* the indicators are also looked at inside each step, at these many equal
+ * parts of it: a contact that opens and closes within one long step, which
+ * the step's ends alone would not show, is found */
+#define EVENT_PARTS 4
 
 int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     size_t n = (size_t)nx, m = (size_t)(ne > 0 ? ne : 1);
@@ -23,7 +28,7 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->ev = ev;
     s->ode = pdbfs_ode;
     /* y, f, y_old, ynew, tmp, dense (7), k (16) */
-    s->y = malloc(sizeof(double) * (n * (5 + 7 + NK) + 3 * m));
+    s->y = malloc(sizeof(double) * (n * (5 + 7 + NK) + 5 * m));
     if (!s->y) return -100;
     s->f = s->y + n;
     s->y_old = s->f + n;
@@ -34,6 +39,8 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->g_old = s->k + NK * n;
     s->g_new = s->g_old + m;
     s->g_tmp = s->g_new + m;
+    s->g_a = s->g_tmp + m;
+    s->g_b = s->g_a + m;
     return 0;
 }
 
@@ -201,10 +208,10 @@ static double g_at(PdbfsErk *s, int i, double th) {
     return s->g_tmp[i];
 }
 
-/* the smallest theta past the root of indicator i in (0, 1] (Illinois): the
- * right end of a bracket a few roundoffs wide */
-static double root_of(PdbfsErk *s, int i, double g0, double g1) {
-    double a = 0.0, b = 1.0, fa = g0, fb = g1;
+/* the smallest theta past the root of indicator i in (a, b] (Illinois), g0
+ * and g1 its values at a and b: the right end of a bracket a few roundoffs wide */
+static double root_of(PdbfsErk *s, int i, double a, double b, double g0, double g1) {
+    double fa = g0, fb = g1;
     double tol = (4.0 * DBL_EPSILON * fabs(s->t_old + s->h_old) + 1e-300) / s->h_old;
     int side = 0, it;
     if (tol < 1e-15) tol = 1e-15;
@@ -259,18 +266,32 @@ static int step(PdbfsErk *s, double t_out) {
     s->steps++;
     s->h = h * fac;
     if (s->ne > 0) {
+        int part;
+        double *ga = s->g_a, *gb = s->g_b;
         events(s, s->t_old + h, s->ynew, s->g_new);
-        for (i = 0; i < s->ne; i++) {
-            double g0 = s->g_old[i], g1 = s->g_new[i];
-            if ((g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0)) {
-                double th;
-                if (!s->dense_ready && make_dense(s)) return -3;
-                th = root_of(s, i, g0, g1);
-                if (th < th_root) {
-                    th_root = th;
-                    first = i;
+        if (make_dense(s)) return -3;
+        memcpy(ga, s->g_old, sizeof(double) * (size_t)s->ne);
+        for (part = 1; part <= EVENT_PARTS && first < 0; part++) {
+            double a = (double)(part - 1) / EVENT_PARTS, b = (double)part / EVENT_PARTS, *sw;
+            if (part == EVENT_PARTS) {
+                memcpy(gb, s->g_new, sizeof(double) * (size_t)s->ne);
+            } else {
+                dense_at(s, b, s->tmp);
+                events(s, s->t_old + b * h, s->tmp, gb);
+            }
+            for (i = 0; i < s->ne; i++) {
+                double g0 = ga[i], g1 = gb[i];
+                if ((g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0)) {
+                    double th = root_of(s, i, a, b, g0, g1);
+                    if (th < th_root) {
+                        th_root = th;
+                        first = i;
+                    }
                 }
             }
+            sw = ga;
+            ga = gb;
+            gb = sw;
         }
     }
     if (first >= 0 && th_root < 1.0) {
@@ -280,7 +301,10 @@ static int step(PdbfsErk *s, double t_out) {
         if (rhs(s, s->t, s->y, s->f)) return -3;
         events(s, s->t, s->y, s->g_old);
         s->roots++;
-        if (s->h > h) s->h = h;
+        /* past a kink the solution is smooth again only to a low order (the
+         * contact force grows as d^1.5): begin with a short step, grown back
+         * by the step control (at most 10x per step) */
+        if (s->h > RESTART_STEP * h) s->h = RESTART_STEP * h;
     } else {
         s->t = s->t_old + h;
         memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);

@@ -32,7 +32,7 @@ typedef struct {
      * at t): its dense output */
     double t_old, h_old, *y_old, *dense;
     int dense_ready, fresh;   /* fresh: nothing integrated since the (re)start */
-    double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp;
+    double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp, *g_a, *g_b;
     pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
     void *step_env;
     int substeps;             /* > 1: on_step also sees substeps - 1 points inside each
