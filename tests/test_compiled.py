@@ -59,7 +59,7 @@ def test_bdf_and_split_piston_agree(rig, split3):
 
 def test_result_methods_and_summary_agree(rig):
     a = rig.simulate(n_out=201, backend="casadi")
-    b = rig.simulate(n_out=201, backend="c")
+    b = rig.simulate(n_out=201, backend="c", method="adams")    # the same method on both
     sa, sb = a.summary(), b.summary()
     for key in ("peak_pressure", "peak_contact_force", "max_piston_displacement",
                 "restitution_coefficient"):
@@ -162,7 +162,10 @@ def test_solver_failure_reports_time_and_cause(rig):
         _Blowup().simulate(0.002, n_out=2001, backend="c", max_num_steps=20000)
     with pytest.raises(SolverError, match=r"failed after t = [0-9.e-]+ s \(of 0\.02 s\): too many "
                                           r"steps.*CVODE: 5 internal steps"):
-        rig.simulate(backend="c", max_num_steps=5)
+        rig.simulate(backend="c", method="adams", max_num_steps=5)
+    with pytest.raises(SolverError, match=r"failed after t = [0-9.e-]+ s \(of 0\.02 s\): too many "
+                                          r"steps.*explicit Runge-Kutta: 5 steps without"):
+        rig.simulate(backend="c", method="erk", max_num_steps=5)
 
 
 def test_nan_in_the_solution_is_a_solver_error(rig, monkeypatch):
@@ -173,7 +176,14 @@ def test_nan_in_the_solution_is_a_solver_error(rig, monkeypatch):
         X, st = real(self, *a, **k)
         X[1, -3:] = np.nan
         return X, st
+    real_with_summary = type(c).run_summary
+
+    def poisoned_with_summary(self, *a, **k):   # the default path: the run and its summary
+        X, st, *rest = real_with_summary(self, *a, **k)
+        X[1, -3:] = np.nan
+        return (X, st, *rest)
     monkeypatch.setattr(type(c), "run", poisoned)
+    monkeypatch.setattr(type(c), "run_summary", poisoned_with_summary)
     with pytest.raises(SolverError, match=r"NaN or infinite at t = 0\.0199"):
         rig.simulate(backend="c")
 

@@ -14,10 +14,14 @@ from scipy.optimize import brentq, minimize_scalar
 
 from pdbfs.errors import PdbfsError
 
+from .c_summary import summary_of
+from .summary import summarize
+
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings, stats=None):
+    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None):
         self._sim = sim
+        self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
         #: method, wall_time (s), backend
         self.stats = dict(stats or {})
@@ -170,8 +174,11 @@ class Result:
         own solution, the same whatever the output grid (see summary.py).
         Warns (PulseIncompleteWarning) when the pulse outlasts the run.
         Computed once per Result."""
+        if "_summary" not in self.__dict__ and self._fast is not None:
+            d = summary_of(self._sim.dae, self._fast)
+            if d is not None:                  # the run's own: nothing integrated again
+                self._summary, self._summary_warnings = d, []
         if "_summary" not in self.__dict__:    # its warnings are kept and given again each call
-            from .summary import summarize
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 self._summary = summarize(self)

@@ -22,11 +22,12 @@ import numpy as np
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE, check_value
 
+from . import c_summary
 from . import compiled as C
 from .failures import compiled_failure, walk_failure
+from .on_grid import OnGrid
 from .stats import casadi_stats
 from .stiffness import choose_method
-from .vectorize import vectorize
 
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
                        output_grid)
@@ -73,7 +74,7 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
                    backend=backend)
 
 
-class Simulator:
+class Simulator(OnGrid):
     """Integrators of one DAE, cached by their settings."""
 
     def __init__(self, dae: DAE):
@@ -262,15 +263,17 @@ class Simulator:
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
         wall = time.perf_counter()
+        fast = None
         if backend == "c":
-            X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            X, fast = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps,
+                                       summary=True)
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
                         max_num_steps=max_num_steps, backend=backend)
-        return Result(self, grid, p, X, Z, settings, stats)
+        return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast)
 
     grid = staticmethod(output_grid)
 
@@ -337,68 +340,26 @@ class Simulator:
         """The DAE compiled to a shared library (compiled.py), built once."""
         return C.compiled(self.dae)
 
-    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
-        """States on ``grid`` (nx x len(grid)) from the compiled driver."""
+    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
+                    summary=False):
+        """States on ``grid`` (nx x len(grid)) from the compiled driver; with
+        ``summary``, (states, the run's own summary (c_summary.py) or None)."""
         if self.dae.x.numel() == 0:
-            return self.prescribed(grid, p)[0]
-        X, st = self.compiled().run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            X = self.prescribed(grid, p)[0]
+            return (X, None) if summary else X
+        lib, fast = self.compiled(), None
+        if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
+            X, st, values, code, note = lib.run_summary(grid, x0, p, rtol, atol, method, max_step,
+                                                        max_num_steps)
+            fast = (values, code, note)
+        else:
+            X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
             raise compiled_failure(self.dae.name, grid, st)
         self._last_stats = {k: v for k, v in (getattr(st, "stats", None) or {}).items()
                             if k != "wall_time"} or {"method": method}
         self._check_finite(grid, X)
-        return X
-
-    def outputs(self, grid, X, Z, p, rows=None) -> np.ndarray:
-        """Outputs ``rows`` (indices into dae.y; all if None) on the grid."""
-        key = ("out", None if rows is None else tuple(rows))
-        f = self._cache.get(key)
-        if f is None:
-            dae = self.dae
-            y = dae.y if rows is None else ca.vertcat(*[dae.y[i] for i in rows])
-            fun = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [y])
-            fast = vectorize(fun)
-            if fast is not None:
-                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]
-            else:
-                f = lambda t, X, Z, p: fun.map(len(t))(t.reshape(1, -1), X, Z, p).full()
-            self._cache[key] = f
-        return f(np.asarray(grid, float).reshape(1, -1), X, Z, p)
-
-    def _vectorised(self, key, build):
-        """A function of (t, X, Z, p) on whole grids (numpy replay, else map), cached."""
-        f = self._cache.get(key)
-        if f is None:
-            fun = build()
-            fast = vectorize(fun)
-            if fast is not None:
-                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]   # noqa: E731
-            else:
-                f = lambda t, X, Z, p: fun.map(t.shape[1])(t, X, Z, p).full()   # noqa: E731
-            self._cache[key] = f
-        return f
-
-    def rates_on(self, grid, X, Z, p, name):
-        """d(name)/dt on the grid, from the DAE: (d y/dx) der(x) + d y/dt; None
-        for rigs with algebraic variables (their derivatives are not at hand)."""
-        dae = self.dae
-        if not dae.is_ode:
-            return None
-        y = dae.y[dae.y_names.index(name)]
-
-        def build():
-            rate = ca.jtimes(y, dae.x, dae.ode) + ca.jacobian(y, dae.t)
-            return ca.Function("rate", [dae.t, dae.x, dae.z, dae.p], [rate])
-        f = self._vectorised(("rate", name), build)
-        return f(np.asarray(grid, float).reshape(1, -1), X, Z, p).ravel()
-
-    def events_on(self, grid, X, Z, p):
-        """The event indicators on the grid (one row each)."""
-        dae = self.dae
-        f = self._vectorised(("events",), lambda: ca.Function(
-            "ev", [dae.t, dae.x, dae.z, dae.p], [dae.events]))
-        return np.atleast_2d(f(np.asarray(grid, float).reshape(1, -1), X, Z, p)) \
-            if dae.events.numel() else np.zeros((0, len(grid)))
+        return (X, fast) if summary else X
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
                  max_num_steps=MAX_NUM_STEPS):

@@ -97,6 +97,7 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     s->h_old = 0.0;
     s->dense_ready = 0;
     s->fresh = 1;
+    s->quiet = -1;
     s->msg[0] = 0;
     memcpy(s->y, x0, sizeof(double) * (size_t)s->nx);
     if (rhs(s, t0, s->y, s->f)) {
@@ -281,6 +282,7 @@ static int step(PdbfsErk *s, double t_out) {
             }
             for (i = 0; i < s->ne; i++) {
                 double g0 = ga[i], g1 = gb[i];
+                if (i == s->quiet) continue;
                 if ((g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0)) {
                     double th = root_of(s, i, a, b, g0, g1);
                     if (th < th_root) {
@@ -305,7 +307,9 @@ static int step(PdbfsErk *s, double t_out) {
          * contact force grows as d^1.5): begin with a short step, grown back
          * by the step control (at most 10x per step) */
         if (s->h > RESTART_STEP * h) s->h = RESTART_STEP * h;
+        s->quiet = first;
     } else {
+        s->quiet = -1;
         s->t = s->t_old + h;
         memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
         memcpy(s->f, s->k + NSTAGE * n, sizeof(double) * (size_t)n);   /* f at the end: FSAL */
@@ -325,6 +329,12 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
     long n = 0;
     int flag;
     while (s->t < t_out) {
+        /* restarted at a root within roundoff of t_out: the step before reaches it */
+        if (t_out - s->t <= 16.0 * DBL_EPSILON * fabs(t_out) && s->dense_ready && !s->fresh
+            && t_out <= s->t_old + s->h_old) {
+            pdbfs_erk_dense(s, t_out, x_out);
+            return 0;
+        }
         if (++n > max_steps) {
             snprintf(s->msg, sizeof s->msg, "%ld steps without reaching t = %.10g", max_steps, t_out);
             return PDBFS_CV_TOO_MUCH_WORK;

@@ -32,6 +32,8 @@ typedef struct {
      * at t): its dense output */
     double t_old, h_old, *y_old, *dense;
     int dense_ready, fresh;   /* fresh: nothing integrated since the (re)start */
+    int quiet;                /* the indicator restarted at (its sign is not looked at in the
+                               * first step after: it is at its root, roundoff either side) */
     double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp, *g_a, *g_b;
     pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
     void *step_env;

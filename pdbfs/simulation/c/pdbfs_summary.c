@@ -94,8 +94,9 @@ static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m
 }
 #endif
 
-/* the summary of one point into out; 0, or a failure code with its reason in m */
-static int summarise(History *H, double *out, double *x_pk, Note *m) {
+/* the summary of one point into out; 0, or a failure code with its reason in m
+ * (also pdbfs_run_summary.c's, on the record of a run over an output grid) */
+int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
     int i, ended = 1, oom = 0;
     long last = H->n - 1;
     double t_end = H->t[last];
@@ -270,7 +271,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
                      : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps"
                      : erk ? "the explicit Runge-Kutta step failed" : "CVODE failed", s.tn);
             if (code && H.bad) code = RC_NOT_FINITE;
-            if (!code) code = summarise(&H, out + i * NSUM, x_pk, &m);
+            if (!code) code = pdbfs_summarise(&H, out + i * NSUM, x_pk, &m);
         }
         if (code)   /* a failed point has no values */
             for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
