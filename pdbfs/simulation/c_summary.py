@@ -20,9 +20,12 @@ from .compiled import SUMMARY_KEYS
 
 def usable(dae, lib) -> bool:
     """Whether the driver's summary of this rig has every key summary.py gives."""
-    from .summary import keys_for
-    keys = keys_for(dae)
-    return bool(keys) and set(keys) <= set(lib.summary_keys)
+    ok = getattr(lib, "_summary_usable", None)
+    if ok is None:
+        from .summary import keys_for
+        keys = keys_for(dae)
+        ok = lib._summary_usable = bool(keys) and set(keys) <= set(lib.summary_keys)
+    return ok
 
 
 def summary_of(dae, fast) -> dict | None:

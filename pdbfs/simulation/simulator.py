@@ -109,7 +109,12 @@ class Simulator(OnGrid):
         return p
 
     def start_vector(self, p, start=None) -> np.ndarray:
-        x0 = np.array(self.dae.function("start")(p), dtype=float).ravel()
+        key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
+        if key not in self._cache:
+            if len(self._cache) > 10_000:                # sweeps: do not grow without bound
+                self._cache = {k: v for k, v in self._cache.items() if k[0] != "x0"}
+            self._cache[key] = np.array(self.dae.function("start")(p), dtype=float).ravel()
+        x0 = self._cache[key].copy()
         index = {n: i for i, n in enumerate(self.dae.x_names)}
         for name, value in (start or {}).items():
             if name not in index:

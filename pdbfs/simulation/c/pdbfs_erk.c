@@ -11,8 +11,8 @@
 #define NSTAGE 12                  /* stages of a step; the 13th is f at its end */
 #define NK 16                      /* with the dense output's three */
 #define SAFETY 0.9
-#define GROW_MAX 10.0
-#define SHRINK_MIN 0.2
+#define GROW_MAX 6.0
+#define SHRINK_MIN 0.333
 #define ROOT_ITER 100
 #define RESTART_STEP 0.01          /* first step after a root, of the step before */
 /* the indicators are also looked at inside each step, at these many equal
@@ -179,9 +179,7 @@ static int make_dense(PdbfsErk *s) {
     return 0;
 }
 
-static void dense_at(const PdbfsErk *s, double th, double *out) {
-    const int n = s->nx;
-    const double *r = s->dense;
+void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
     int i, m;
     for (i = 0; i < n; i++) {
         double acc = 0.0;
@@ -189,8 +187,12 @@ static void dense_at(const PdbfsErk *s, double th, double *out) {
             acc += r[m * n + i];
             acc *= (m % 2 == 0) ? th : 1.0 - th;
         }
-        out[i] = s->y_old[i] + acc;
+        out[i] = y_old[i] + acc;
     }
+}
+
+static void dense_at(const PdbfsErk *s, double th, double *out) {
+    pdbfs_erk_poly(s->y_old, s->dense, s->nx, th, out);
 }
 
 void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out) {

@@ -58,6 +58,10 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
  * says why. */
 int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out);
 
+/* A step's dense output at theta in [0, 1]: y_old and the 7 x n polynomial
+ * rows of the step (PdbfsErk.dense), n states, into out. */
+void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out);
+
 /* The state at time t in the last step (t_old <= t <= t), into out. */
 void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out);
 

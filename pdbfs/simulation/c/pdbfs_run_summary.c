@@ -5,9 +5,9 @@
  * the contact force's impulse as an extra state) that pdbfs_summary.c
  * reduces to the summary, so that Result.summary() costs no second run.
  *
- * Explicit Runge-Kutta (pdbfs_erk.c, records also inside its long steps) or
- * CVODE (pdbfs_cvode.c); the refinements of peaks and crossings are CVODE's
- * root finding on a recorded step, as in the summary driver.
+ * Explicit Runge-Kutta (pdbfs_erk.c, records also inside its long steps;
+ * peaks and crossings located on its dense output) or CVODE (pdbfs_cvode.c;
+ * CVODE's root finding on a recorded step, as in the summary driver).
  */
 #include <math.h>
 #include <stdio.h>
@@ -100,10 +100,11 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     s.jac = pdbfs_jac_q;
     s.jac_sp = pdbfs_jac_q_sparsity_out(0);
     rk.ode = pdbfs_ode_q;
-    rk.substeps = 4;
+    rk.substeps = 2;
     H.ev = &ev;
     H.cv = &s;
     H.set = &refine;
+    H.rk = erk ? &rk : NULL;    /* refinements on its dense output */
 
     for (i = 0; i < PDBFS_NX; i++) x[i] = x0[i];
     for (i = PDBFS_NX; i < NXQ; i++) x[i] = 0.0;
@@ -148,6 +149,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     free(H.rt);
     free(H.rx);
     free(H.rd);
+    free(H.dn);
     free(atolv);
     free(work);
     return rc;

@@ -207,6 +207,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     H.ev = &ev;
     H.cv = &s;
     H.set = erk ? &refine : &set;
+    H.rk = erk ? &rk : NULL;    /* refinements on its dense output */
     for (i = 0; i < NXQ; i++) atolv[i] = i < PDBFS_NX ? atol : 1e300;   /* impulses: no error test */
     memset(&set, 0, sizeof set);
     set.method = erk ? PDBFS_ADAMS : PDBFS_CODE_METHOD(method);
@@ -295,6 +296,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     free(H.rt);
     free(H.rx);
     free(H.rd);
+    free(H.dn);
     free(atolv);
     free(work);
     return failed;
