@@ -17,8 +17,10 @@ int pdbfs_record_step(void *env, double t, const double *x) {
         if (nx) nr = realloc(h->r, sizeof(double) * cap * NRX);
         if (nr) h->r = nr;
         if (nr && h->rk) {
-            double *nd = realloc(h->dn, sizeof(double) * cap * DNREC);
+            double *nd = realloc(h->dn, sizeof(double) * cap * DNREC), *ns = NULL;
             if (nd) h->dn = nd;
+            if (nd) ns = realloc(h->rdot, sizeof(double) * cap * NRX);
+            if (ns) h->rdot = ns;
             else nr = NULL;
         }
         if (!nr) {
@@ -31,6 +33,7 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     memcpy(h->x + h->n * NXQ, x, sizeof(double) * NXQ);
     if (h->rk) {               /* the step this record lies in (none for the first) */
         double *d = h->dn + h->n * DNREC;
+        if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, h->rdot + h->n * NRX);
         int fresh = h->n == 0 || h->rk->fresh || !h->rk->dense_ready;
         d[0] = fresh ? t : h->rk->t_old;
         d[1] = fresh ? 0.0 : h->rk->h_old;
@@ -185,6 +188,24 @@ int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, 
     q.role = j;
     q.slope = 1;
     q.level = 0.0;
+    if (H->rk) {
+        /* long steps: a narrow spike may hold no record near it, so every turn
+         * of the role (rate from + to -) is located on the dense output */
+        for (k = k0; k + 1 < k1; k++) {
+            if (!(H->rdot[k * NRX + j] > 0 && H->rdot[(k + 1) * NRX + j] <= 0)) continue;
+            n = refine(H, k, k + 1, &q, -1);
+            if (n < 0) return -1;
+            for (i = 0; i < n; i++) {
+                double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);
+                if (v > *v_pk) {
+                    *v_pk = v;
+                    *t_pk = H->rt[i];
+                    if (x_pk) memcpy(x_pk, H->rx + i * NXQ, sizeof(double) * NXQ);
+                }
+            }
+        }
+        return 0;
+    }
     n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1);
     for (i = 0; i < n; i++) {
         double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);

@@ -35,6 +35,7 @@ typedef struct {
      * integrations again */
     const PdbfsErk *rk;
     double *dn;
+    double *rdot;             /* with rk: the roles' rates per record (NR each) */
 } History;
 
 /* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */

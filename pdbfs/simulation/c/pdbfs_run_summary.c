@@ -100,7 +100,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     s.jac = pdbfs_jac_q;
     s.jac_sp = pdbfs_jac_q_sparsity_out(0);
     rk.ode = pdbfs_ode_q;
-    rk.substeps = 2;
+    rk.substeps = 1;
     H.ev = &ev;
     H.cv = &s;
     H.set = &refine;
@@ -150,6 +150,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     free(H.rx);
     free(H.rd);
     free(H.dn);
+    free(H.rdot);
     free(atolv);
     free(work);
     return rc;

@@ -297,6 +297,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     free(H.rx);
     free(H.rd);
     free(H.dn);
+    free(H.rdot);
     free(atolv);
     free(work);
     return failed;
