@@ -160,3 +160,41 @@ def diffrax_single(t, p, rtol=1e-8, atol=1e-10):
         Y = np.asarray(solve(float(p["v0"]))).T
         return hermite_peak(t, Y, p["k2"], p["A"])
     return run
+
+
+def diffrax_sweep(t, p, V, K, rtol=1e-8, atol=1e-10):
+    """diffrax Dopri8 under jax.jit(jax.vmap) over (V[i], K[i]): the peaks."""
+    try:
+        import jax
+        jax.config.update("jax_enable_x64", True)
+        import diffrax
+        import jax.numpy as jnp
+    except ImportError:
+        return None
+    q = {k: float(p[k]) for k in P_NAMES}
+
+    def f(tt, u, k2):
+        d = u[0] - u[2]
+        dn = jnp.where(d > 0, jnp.abs(d) ** q["n"], 0.0)
+        fc = jnp.maximum(q["k1"] * dn + q["D"] * dn * (u[1] - u[3]), 0.0)
+        fo = k2 * jnp.maximum(u[2] - u[4], 0.0)
+        return jnp.array([u[1], -fc / q["m1"], u[3], (fc - fo - q["c2"] * u[3]) / q["m2"], u[5],
+                          (fo - q["k3"] * u[4]) / q["m3"]])
+
+    ts = jnp.asarray(t)
+
+    def solve(v0, k2):
+        sol = diffrax.diffeqsolve(diffrax.ODETerm(f), diffrax.Dopri8(), 0.0, float(t[-1]), None,
+                                  jnp.array([0.0, v0, 0.0, 0.0, 0.0, 0.0]), args=k2,
+                                  saveat=diffrax.SaveAt(ts=ts),
+                                  stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+                                  max_steps=200000)
+        return sol.ys
+
+    many = jax.jit(jax.vmap(solve))
+
+    def run():
+        Y = np.asarray(many(jnp.asarray(V), jnp.asarray(K)))
+        return np.array([_hermite_peak(t, Y[i, :, 2] - Y[i, :, 4], Y[i, :, 3] - Y[i, :, 5],
+                                       K[i] / p["A"]) for i in range(V.size)])
+    return run

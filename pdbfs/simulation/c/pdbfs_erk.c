@@ -343,10 +343,11 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
         }
         flag = step(s, t_out);
         if (flag) return flag;
+        /* whoever watches the steps may read their dense output (pdbfs_record.c) */
+        if (s->on_step && !s->dense_ready && s->t > s->t_old && make_dense(s)) return -3;
         if (s->on_step && s->substeps > 1) {
             int j;
             double *xi = s->k + 13 * s->nx;    /* free once the dense output is made */
-            if (!s->dense_ready && make_dense(s)) return -3;
             for (j = 1; j < s->substeps; j++) {
                 double ti = s->t_old + (s->t - s->t_old) * j / s->substeps;
                 dense_at(s, (ti - s->t_old) / s->h_old, xi);

@@ -200,7 +200,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
         return -1;
     }
     rk.ode = pdbfs_ode_q;
-    rk.substeps = 4;     /* records between the long steps: a hump between two is not missed */
+    rk.substeps = 1;     /* peaks and crossings on the dense output of each step (record.c) */
     x0 = atolv + NXQ;
     xe = x0 + NXQ;
     x_pk = xe + NXQ;

@@ -95,8 +95,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     backend = sim.resolve_backend(backend)
     x_fixed = sim.start_vector(p_fixed, start)
     # "auto": one method for the whole sweep, judged at the fixed point
-    # sweeps keep CVODE's methods for "auto" (their summaries refine on CVODE)
-    method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end))
+    method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end), backend)
     rtol = default_rtol(method, rtol)
     if trajectories and (client is not None or out is not None):
         raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
