@@ -10,7 +10,6 @@ import csv
 import warnings
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from pdbfs.errors import PdbfsError
 
@@ -108,6 +107,7 @@ class Result:
         fast = self.curves.peak(name, k, sign) if k0 < k < k1 else None
         if fast is not None:
             return fast
+        from scipy.optimize import minimize_scalar   # the rare case off the interpolant
         a, b = self.t[max(k - 1, 0)], self.t[min(k + 1, len(self.t) - 1)]
         if b <= a:
             return float(self.t[k]), float(self[name][k])
@@ -126,6 +126,8 @@ class Result:
         idx = np.flatnonzero(s[:-1] * s[1:] < 0)
         g = lambda tt: self.value_at(name, tt) - level   # noqa: E731
         out = []
+        if idx.size:
+            from scipy.optimize import brentq
         for k in idx:
             tc = self.curves.crossing(name, level, k)
             out.append(tc if tc is not None else
