@@ -33,9 +33,14 @@ class Result:
         self.settings = settings
         dae = sim.dae
         self.names = dae.y_names
-        self._index = {n: i for i, n in enumerate(self.names)}
-        self.units = {v.name: v.unit for v in dae.y_info}
-        self.descriptions = {v.name: v.description for v in dae.y_info}
+        names = dae.__dict__.get("_result_names")     # the same for every Result of the rig
+        if names is None:
+            names = dae.__dict__["_result_names"] = (
+                {n: i for i, n in enumerate(self.names)}, {v.name: v.unit for v in dae.y_info},
+                {v.name: v.description for v in dae.y_info})
+        self._index = names[0]
+        self.units = dict(names[1])
+        self.descriptions = dict(names[2])
         self.params = dict(zip(dae.p_names, p.tolist()))
 
     @property
