@@ -96,3 +96,18 @@ def test_the_summary_driver_with_erk_agrees_with_the_reference(rig, tight):
     # the default sweep is this method
     assert pdbfs.sweep(rig, {"hammer.v0": [2.73]})[0]["peak_pressure"] == pytest.approx(
         p_pk, rel=1e-7)
+
+
+def test_auto_keeps_adams_for_runs_long_against_the_fastest_mode():
+    """the drop rig's 1.5 s are 10,000 rad of its breech mode: the explicit
+    method's steps would be limited by stability there, so "auto" takes Adams"""
+    from pdbfs.models import drop_rig
+    from pdbfs.simulation.stiffness import ERK_RADIANS, fast_modes
+    rig = drop_rig()
+    sim = Simulator.of(rig)
+    p = sim.param_vector()
+    x0 = sim.start_vector(p)
+    fastest = float(np.max(np.abs(fast_modes(sim.dae, p, x0))))
+    assert fastest * 1.5 > ERK_RADIANS > fastest * 0.02
+    assert sim.resolve_method("auto", p, x0, 1.5, "c") == "adams"
+    assert sim.resolve_method("auto", p, x0, 0.02, "c") == "erk"

@@ -27,7 +27,7 @@ from . import compiled as C
 from .failures import compiled_failure, walk_failure
 from .on_grid import OnGrid
 from .stats import casadi_stats
-from .stiffness import choose_method
+from .stiffness import choose_method, explicit_suits
 
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
                        output_grid)
@@ -144,9 +144,11 @@ class Simulator(OnGrid):
         key = ("auto", np.asarray(p, float).tobytes(), np.asarray(x0, float).tobytes(),
                float(span))
         if key not in self._cache:
-            self._cache[key] = choose_method(self.dae, p, x0, span)
-        chosen = self._cache[key][0]
-        return "erk" if chosen == "adams" and backend == "c" else chosen
+            method, why = choose_method(self.dae, p, x0, span)
+            erk = method == "adams" and explicit_suits(self.dae, p, x0, span)
+            self._cache[key] = (method, why, erk)
+        chosen, _, erk = self._cache[key]
+        return "erk" if erk and backend == "c" else chosen
 
     check_settings = staticmethod(check_settings)
 
