@@ -299,9 +299,19 @@ static int step(PdbfsErk *s, double t_out) {
         }
     }
     if (first >= 0 && th_root < 1.0) {
-        /* restart just past the root: the kink is not stepped over */
-        s->t = s->t_old + th_root * h;
-        dense_at(s, th_root, s->y);
+        /* restart just past the root: the kink is not stepped over.  The step
+         * that found it has stages beyond the kink; the step is taken again up
+         * to the root (its stages all before it), with its own dense output */
+        double h2 = th_root * h;
+        if (h2 > 8.0 * DBL_EPSILON * fabs(s->t_old) && attempt(s, h2) <= 1.0) {
+            s->h_old = h2;
+            if (make_dense(s)) return -3;
+            memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
+            s->t = s->t_old + h2;
+        } else {                  /* (attempt leaves the first step's dense output alone) */
+            s->t = s->t_old + th_root * h;
+            dense_at(s, th_root, s->y);
+        }
         if (rhs(s, s->t, s->y, s->f)) return -3;
         events(s, s->t, s->y, s->g_old);
         s->roots++;
