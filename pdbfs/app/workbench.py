@@ -151,7 +151,7 @@ class Workbench:
             self.run({}, backend="c")
         except PdbfsError as err:
             return "casadi", f"CasADi (no compiled backend: {err})"
-        return "c", "compiled C + CVODE"
+        return "c", "compiled C (explicit Runge-Kutta or CVODE, as method auto picks)"
 
     def index(self, name: str) -> int:
         return [c.name for c in self.controls].index(name)
