@@ -27,7 +27,7 @@ from . import compiled as C
 from .failures import compiled_failure, walk_failure
 from .on_grid import OnGrid
 from .stats import casadi_stats
-from .stiffness import choose_method, explicit_suits
+from .stiffness import choose_method, explicit_suits, fast_modes
 
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
                        output_grid)
@@ -144,8 +144,10 @@ class Simulator(OnGrid):
         key = ("auto", np.asarray(p, float).tobytes(), np.asarray(x0, float).tobytes(),
                float(span))
         if key not in self._cache:
-            method, why = choose_method(self.dae, p, x0, span)
-            erk = method == "adams" and explicit_suits(self.dae, p, x0, span)
+            dae = self.dae
+            lam = fast_modes(dae, p, x0) if dae.is_ode and dae.x.numel() else None
+            method, why = choose_method(dae, p, x0, span, lam)
+            erk = method == "adams" and explicit_suits(dae, p, x0, span, lam)
             self._cache[key] = (method, why, erk)
         chosen, _, erk = self._cache[key]
         return "erk" if erk and backend == "c" else chosen
