@@ -47,7 +47,7 @@ int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const d
     for (k = 1; k < nt && !rc; k++) {
         int flag = pdbfs_erk_advance(&s, t[k], (long)max_num_steps, x);
         if (flag) {
-            rc = flag == -3 ? RC_NOT_FINITE : flag;
+            rc = flag == -3 ? RC_NOT_FINITE : flag == PDBFS_ERK_STEP_UNDERFLOW ? -3 : flag;
             if (s.t > info[INFO_T]) info[INFO_T] = s.t < t[k] ? s.t : t[k - 1];
             break;
         }

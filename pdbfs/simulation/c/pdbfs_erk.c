@@ -251,7 +251,7 @@ static int step(PdbfsErk *s, double t_out) {
         if (isfinite(s->t_stop) && s->t + h * (1.0 + 1e-6) >= s->t_stop) h = s->t_stop - s->t;
         if (!(h > 8.0 * DBL_EPSILON * fabs(s->t))) {
             snprintf(s->msg, sizeof s->msg, "the step size fell below roundoff at t = %.10g", s->t);
-            return -3;
+            return PDBFS_ERK_STEP_UNDERFLOW;
         }
         err = attempt(s, h);
         if (err <= 1.0) break;
@@ -341,10 +341,12 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
     long n = 0;
     int flag;
     while (s->t < t_out) {
-        /* restarted at a root within roundoff of t_out: the step before reaches it */
-        if (t_out - s->t <= 16.0 * DBL_EPSILON * fabs(t_out) && s->dense_ready && !s->fresh
-            && t_out <= s->t_old + s->h_old) {
-            pdbfs_erk_dense(s, t_out, x_out);
+        /* restarted at a root within roundoff of t_out: no step is that short */
+        if (t_out - s->t <= 16.0 * DBL_EPSILON * fabs(t_out)) {
+            if (s->dense_ready && !s->fresh && t_out <= s->t_old + s->h_old)
+                pdbfs_erk_dense(s, t_out, x_out);
+            else
+                memcpy(x_out, s->y, sizeof(double) * (size_t)s->nx);
             return 0;
         }
         if (++n > max_steps) {

@@ -19,6 +19,11 @@
 /* the method code of the drivers (pdbfs_cvode.h has 0 Adams, 1 BDF) */
 #define PDBFS_ERK 2
 
+/* pdbfs_erk_advance's failure when the step size falls below roundoff (a
+ * force blowing up, a rig too stiff for an explicit method); the drivers
+ * report it as CVODE's CV_ERR_FAILURE (-3), its nearest cause */
+#define PDBFS_ERK_STEP_UNDERFLOW (-30)
+
 typedef struct {
     int nx, ne;
     PdbfsEval *ev;
@@ -53,9 +58,8 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
 
 /* Integrate to t_out (at most max_steps steps) and write the state at t_out
  * into x_out (from the dense output).  0, PDBFS_CV_TOO_MUCH_WORK,
- * PDBFS_CV_STOPPED, or -3 (the step size fell below roundoff, or the
- * solution stopped being finite); s->t is then the time reached and s->msg
- * says why. */
+ * PDBFS_CV_STOPPED, PDBFS_ERK_STEP_UNDERFLOW, or -3 (the solution stopped
+ * being finite); s->t is then the time reached and s->msg says why. */
 int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out);
 
 /* A step's dense output at theta in [0, 1]: y_old and the 7 x n polynomial

@@ -119,7 +119,8 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
         int flag = erk ? pdbfs_erk_advance(&rk, t[k], (long)max_num_steps, x)
                        : pdbfs_cvode_advance(&s, t[k], t[nt - 1], (long)max_num_steps, x);
         if (flag) {
-            rc = (flag == -3 && erk) || H.bad ? RC_NOT_FINITE : flag;
+            rc = (flag == -3 && erk) || H.bad ? RC_NOT_FINITE
+                 : flag == PDBFS_ERK_STEP_UNDERFLOW ? -3 : flag;
             if (erk && err.len && !msg[0]) snprintf(msg, err.len, "%s", rk.msg);
             if (H.oom && err.len) snprintf(msg, err.len, "out of memory");
             if (flag < 0 && !erk) info[INFO_FLAG] = flag;

@@ -261,6 +261,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
             if (!code && erk) {
                 code = pdbfs_erk_advance(&rk, t_end, (long)max_num_steps, xe);
                 if (code == -3) code = RC_NOT_FINITE;
+                if (code == PDBFS_ERK_STEP_UNDERFLOW) code = -3;   /* as CVODE's error failure */
                 s.tn = rk.t;
             } else if (!code) {
                 code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
