@@ -25,7 +25,17 @@ from .modelling import (DAE, Component, Flange, HydraulicPort, Parameter, ParamI
                         SignalOutput, State, Variable, VarInfo, der, eq, time)
 from .rig import Rig
 from .simulation import Result, simulate, trajectory_function
-from .studies import calibrate, design, design_map, sensitivity, sweep
+
+#: imported on first use: the studies pull in scipy.stats, SALib, dask (a one-shot
+#: ``pdbfs simulate`` starts without them)
+_STUDIES = ("calibrate", "design", "design_map", "sensitivity", "sweep")
+
+
+def __getattr__(name):
+    if name in _STUDIES:
+        from . import studies
+        return getattr(studies, name)
+    raise AttributeError(f"module 'pdbfs' has no attribute {name!r}")
 
 __all__ = ["Component", "Rig", "Flange", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",
            "SampleTooSmallWarning", "SignalInput", "SignalOutput", "DAE", "ParamInfo",

@@ -58,3 +58,8 @@ def plain(value) -> str:
     if isinstance(value, float):
         return f"{value:.6g}"
     return repr(value)
+
+
+class BackendFallbackWarning(PdbfsWarning):
+    """The compiled backend could not be built for a rig (no C compiler, no
+    SUNDIALS, ...): the run uses CasADi instead; the message says why."""

@@ -1,102 +1,112 @@
-"""Benchmark: the paper rig through pdbfs (CasADi + CVODES, and the compiled
-CVODE backend) against the same equations written by hand with numpy for
-scipy's solve_ivp (RK45, DOP853), in one process, same tolerances, 2001
-output points.
+"""Benchmark: one simulation of the paper rig (0-20 ms, 2001 output points)
+ending with its peak oil pressure, pdbfs against what a user would write
+instead, in one process, interleaved (each round times every contender once,
+in turn), median per contender:
 
-    python scripts/bench_simulate.py [--repeat N]
+* pdbfs default path: ``rig.simulate().summary()`` with no options;
+* pdbfs ``backend="c", method="adams"`` (compiled CVODE, rtol 1e-8) + summary;
+* pdbfs ``backend="casadi"`` (CVODES through CasADi) + summary;
+* numbalsoda DOP853 at rtol 1e-8 (the paper's equations in numba, needs
+  gfortran to install), the peak refined on the cubic Hermite interpolant;
+* diffrax Dopri8 (JAX, CPU), if installed; else skipped with a note;
+* scipy solve_ivp DOP853 on the numpy right-hand side (tests/paper_equations.py).
 
-Prints seconds per simulation (median) and ratios against the RK45 baseline.
+Every peak is compared with a tight event-located reference
+(paper_equations.reference, rtol 1e-12). A missing peer is skipped with a note.
+
+    python scripts/bench_simulate.py [--rounds 30]
 """
 import argparse
 import sys
 import time
-import timeit
 from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from paper_equations import TABLE1, make_rhs, pressure  # noqa: E402
+from paper_equations import TABLE1, make_rhs, pressure, reference  # noqa: E402
 
-RTOL, ATOL = 1e-8, 1e-10
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bench_peers as peers  # noqa: E402
+
 T = np.linspace(0.0, 0.02, 2001)
 
 
-def median_time(fn, repeat):
-    fn()                                   # warm up, untimed
-    return float(np.median(timeit.repeat(fn, number=1, repeat=repeat)))
+def tight_peak(v0=TABLE1["v0"], k2=TABLE1["k2"]):
+    X = reference(T, v0=v0, k2=k2)[0]
+    p = dict(TABLE1, k2=k2)
+    k = int(np.argmax(pressure(X, p)))
+    fine = np.linspace(T[k - 1], T[k + 1], 4001)
+    Xf = reference(np.r_[np.linspace(0.0, T[k - 1], 20, endpoint=False), fine], v0=v0, k2=k2)[0]
+    return float(pressure(Xf[:, 20:], p).max())
+
+
+def contenders(rig):
+    import warnings
+    rhs, _, _ = make_rhs(**TABLE1)
+    y0 = [0, TABLE1["v0"], 0, 0, 0, 0]
+
+    def scipy_dop853():
+        s = solve_ivp(rhs, (0, T[-1]), y0, method="DOP853", t_eval=T, rtol=1e-8, atol=1e-10)
+        return peaks_hermite(s.y)
+
+    def peaks_hermite(Y):
+        return peers.hermite_peak(T, Y, TABLE1["k2"], TABLE1["A"])
+
+    def casadi():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return rig.simulate(backend="casadi").summary()["peak_pressure"]
+
+    runs = {
+        "pdbfs default (simulate + summary)": lambda: rig.simulate().summary()["peak_pressure"],
+        "pdbfs backend='c', method='adams'": lambda: rig.simulate(
+            backend="c", method="adams").summary()["peak_pressure"],
+        "pdbfs backend='casadi'": casadi,
+    }
+    nb = peers.numbalsoda_single(T, TABLE1)
+    if nb is None:
+        print("note: numbalsoda not installed (pip install numbalsoda; needs gfortran): skipped")
+    else:
+        runs["numbalsoda DOP853 rtol 1e-8 + Hermite peak"] = nb
+    dx = peers.diffrax_single(T, TABLE1)
+    if dx is None:
+        print("note: diffrax/jax not installed: skipped")
+    else:
+        runs["diffrax Dopri8 (jit, CPU) + Hermite peak"] = dx
+    runs["scipy solve_ivp DOP853 + Hermite peak"] = scipy_dop853
+    return runs
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeat", type=int, default=20)
+    ap.add_argument("--rounds", type=int, default=30)
     args = ap.parse_args()
-
     t0 = time.perf_counter()
     from pdbfs.models import paper_rig
     rig = paper_rig()
-    dae = rig.compile()
-    build = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)   # first call builds the integrator
-    first = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    rig.simulate(t_out=T, rtol=RTOL, atol=ATOL, backend="c")   # builds or loads the library
-    first_c = time.perf_counter() - t0
-
-    rhs, _, _ = make_rhs(**TABLE1)
-    y0 = [0, TABLE1["v0"], 0, 0, 0, 0]
-
-    def baseline(method):
-        return solve_ivp(rhs, (0, T[-1]), y0, method=method, t_eval=T, rtol=RTOL, atol=ATOL)
-
-    peaks = {"pdbfs": rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)["oil.pressure"].max(),
-             "pdbfs-c": rig.simulate(t_out=T, rtol=RTOL, atol=ATOL,
-                                     backend="c")["oil.pressure"].max()}
-    for m in ("RK45", "DOP853"):
-        peaks[m] = pressure(baseline(m).y, TABLE1).max()
-    ref = peaks["DOP853"]
-    for k, v in peaks.items():
-        rel = abs(v - ref) / ref
-        print(f"peak pressure {k:<8} {v / 1e6:.6f} MPa (rel. to DOP853: {rel:.1e})")
-        assert rel < 1e-6, f"{k} disagrees with the baseline on the peak"
-
-    def scalar_rhs(t, y):   # the same equations with Python floats, no numpy arrays
-        x1, v1, x2, v2, x3, v3 = y
-        p = TABLE1
-        d = x1 - x2
-        dn = d ** p["n"] if d > 0 else 0.0
-        fc = max(p["k1"] * dn + p["D"] * dn * (v1 - v2), 0.0)
-        fo = p["k2"] * (x2 - x3) if x2 > x3 else 0.0
-        return [v1, -fc / p["m1"], v2, (fc - fo - p["c2"] * v2) / p["m2"], v3,
-                (fo - p["k3"] * x3) / p["m3"]]
-
-    # every run ends with the pressure history in hand
-    runs = {
-        "pdbfs (CVODES Adams)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL)["oil.pressure"],
-        "pdbfs states only": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL),
-        "pdbfs (CVODES BDF)": lambda: rig.simulate(t_out=T, rtol=RTOL, atol=ATOL,
-                                                   method="bdf")["oil.pressure"],
-        "pdbfs (compiled CVODE, backend='c')": lambda: rig.simulate(
-            t_out=T, rtol=RTOL, atol=ATOL, backend="c")["oil.pressure"],
-        "pdbfs (compiled CVODE BDF, backend='c')": lambda: rig.simulate(
-            t_out=T, rtol=RTOL, atol=ATOL, backend="c", method="bdf")["oil.pressure"],
-        "solve_ivp RK45": lambda: pressure(baseline("RK45").y, TABLE1),
-        "solve_ivp DOP853": lambda: pressure(baseline("DOP853").y, TABLE1),
-        "RK45, scalar-float RHS": lambda: pressure(solve_ivp(
-            scalar_rhs, (0, T[-1]), y0, t_eval=T, rtol=RTOL, atol=ATOL).y, TABLE1),
-    }
-    secs = {k: median_time(f, args.repeat) for k, f in runs.items()}
-    base = secs["solve_ivp RK45"]
-    print(f"\none-off: compile {build * 1e3:.0f} ms, first simulate (integrator build) "
-          f"{first * 1e3:.1f} ms, first simulate with backend='c' (library build or load) "
-          f"{first_c * 1e3:.0f} ms; {len(dae.x_names)} states")
-    print("baseline: RK45 on the numpy right-hand side (tests/paper_equations.py)")
-    w = max(map(len, secs))
-    print(f"{'run':<{w}} {'s/sim':>10} {'RK45 / this':>12}")
-    for k, s in secs.items():
-        print(f"{k:<{w}} {s:>10.5f} {base / s:>11.1f}x")
+    rig.simulate().summary()
+    print(f"first pdbfs simulate + summary (compile, library from cache or built): "
+          f"{time.perf_counter() - t0:.2f} s")
+    ref = tight_peak()
+    runs = contenders(rig)
+    peaks = {k: f() for k, f in runs.items()}          # warm up (JIT), and the answers
+    times = {k: [] for k in runs}
+    names = list(runs)
+    for r in range(args.rounds):
+        for k in names[r % len(names):] + names[:r % len(names)]:
+            t = time.perf_counter()
+            runs[k]()
+            times[k].append(time.perf_counter() - t)
+    med = {k: float(np.median(v)) for k, v in times.items()}
+    base = med["pdbfs default (simulate + summary)"]
+    w = max(map(len, runs))
+    print(f"paper rig, 0-20 ms, 2001 points; tight reference peak {ref / 1e6:.6f} MPa; "
+          f"{args.rounds} interleaved rounds")
+    print(f"{'contender':<{w}} {'ms/sim':>8} {'vs default':>11} {'peak error':>11}")
+    for k in names:
+        print(f"{k:<{w}} {med[k] * 1e3:8.3f} {med[k] / base:10.2f}x {abs(peaks[k] - ref) / ref:11.1e}")
 
 
 if __name__ == "__main__":

@@ -10,6 +10,15 @@ second on this machine, in one run:
   minimize_scalar and brentq on it), one process per core - the baseline.
 
     python scripts/bench_sweep.py [--points 4000] [--memory 200000]
+    python scripts/bench_sweep.py --peers [--points 1000] [--rounds 3]
+
+``--peers``: the sweep of issue 23 (hammer.v0 in [1.5, 5.5] x oil.k in
+[1e8, 5e8], peak pressure only), in one process, interleaved rounds, every
+peak against a tight reference (numbalsoda DOP853 at rtol 1e-13 on a 1 us
+grid, Hermite-refined): pdbfs.sweep with default settings, pdbfs.sweep with
+backend "c", method "adams" (compiled CVODE), numbalsoda DOP853 at rtol
+1e-8 in a numba ``prange`` loop (same cores), diffrax Dopri8 ``jit(vmap)``
+if installed, scipy solve_ivp DOP853 point by point (on a tenth of the points).
 
 ``--memory N`` also runs N points (and N/10) to disk and prints the peak
 resident memory of both: a sweep streams its chunks, so it does not grow.
@@ -70,11 +79,82 @@ def rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
+def peers(n, rounds):
+    """The sweep of issue 23 against numbalsoda, diffrax and scipy (see the module doc)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import bench_peers as bp
+    rng = np.random.default_rng(1)
+    V, K = rng.uniform(1.5, 5.5, n), rng.uniform(1e8, 5e8, n)
+    T = np.linspace(0.0, 0.02, 2001)
+    rig = paper_rig()
+    values = {"hammer.v0": V.tolist(), "oil.k": K.tolist()}
+
+    def pdbfs_sweep(**kw):
+        res = pdbfs.sweep(rig, values, grid=False, progress=False, **kw)
+        return np.array([pt.summary["peak_pressure"] for pt in res])
+    runs = {"pdbfs.sweep, default settings": lambda: pdbfs_sweep(),
+            "pdbfs.sweep, backend c, method adams": lambda: pdbfs_sweep(backend="c",
+                                                                       method="adams")}
+    nb = bp.numbalsoda_sweep(T, TABLE1, V, K)
+    if nb is None:
+        print("note: numbalsoda not installed (pip install numbalsoda; needs gfortran): skipped")
+    else:
+        runs[f"numbalsoda DOP853 rtol 1e-8, numba prange ({CORES} cores)"] = nb
+    dx = bp.diffrax_sweep(T, TABLE1, V, K)
+    if dx is None:
+        print("note: diffrax/jax not installed: skipped")
+    else:
+        runs["diffrax Dopri8 jit(vmap), CPU"] = dx
+    m = max(n // 10, 1)
+    rhs_pts = list(zip(V[:m], K[:m]))
+
+    def scipy_points():
+        out = []
+        for v0, k2 in rhs_pts:
+            p = dict(TABLE1, v0=v0, k2=k2)
+            rhs, _, _ = make_rhs(**p)
+            sol = solve_ivp(rhs, (0.0, 0.02), [0, v0, 0, 0, 0, 0], method="DOP853", t_eval=T,
+                            rtol=1e-8, atol=1e-10)
+            out.append(bp.hermite_peak(T, sol.y, k2, p["A"]))
+        return np.array(out)
+    runs["scipy solve_ivp DOP853, point by point"] = scipy_points
+    points = {k: (m if k.startswith("scipy") else n) for k in runs}
+    fine = np.linspace(0.0, 0.02, 20001)
+    tight = bp.numbalsoda_sweep(fine, TABLE1, V, K, rtol=1e-13, atol=1e-16)
+    if tight is None:
+        raise SystemExit("the tight reference needs numbalsoda")
+    ref = tight()
+    peaks = {k: f() for k, f in runs.items()}        # warm up (JIT, library), and the answers
+    times = {k: [] for k in runs}
+    names = list(runs)
+    for r in range(rounds):
+        for k in names[r % len(names):] + names[:r % len(names)]:
+            t0 = time.perf_counter()
+            runs[k]()
+            times[k].append((time.perf_counter() - t0) / points[k])
+    base = float(np.median(times[names[0]]))
+    w = max(map(len, names))
+    print(f"sweep of {n} points, hammer.v0 in [1.5, 5.5] x oil.k in [1e8, 5e8], peak pressure; "
+          f"{CORES} cores, {rounds} interleaved rounds")
+    print(f"{'contender':<{w}} {'us/point':>9} {'vs default':>11} {'worst peak error':>17}")
+    for k in names:
+        t = float(np.median(times[k]))
+        err = np.max(np.abs(peaks[k] - ref[:points[k]]) / ref[:points[k]])
+        print(f"{k:<{w}} {t * 1e6:9.1f} {t / base:10.2f}x {err:17.1e}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--points", type=int, default=4000, help="points of the compiled sweep")
+    ap.add_argument("--points", type=int, default=None, help="points of the compiled sweep "
+                    "(default 4000; with --peers 1000)")
     ap.add_argument("--memory", type=int, default=0, help="also run this many points to disk")
+    ap.add_argument("--peers", action="store_true", help="the comparison with numbalsoda, "
+                    "diffrax and scipy of issue 23")
+    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (--peers)")
     args = ap.parse_args(argv)
+    if args.peers:
+        return peers(args.points or 1000, args.rounds)
+    args.points = args.points or 4000
     rig = paper_rig()
     n_c, n_ca, n_sp = args.points, max(args.points // 10, 2 * CORES), max(args.points // 40, 2 * CORES)
     pdbfs.sweep(rig, Sample("lhs", 8, RANGES), backend="c")            # build the library once

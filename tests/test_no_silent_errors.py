@@ -272,10 +272,11 @@ def test_sweep_like_simulate_long_horizon_compiled_and_auto_method(tmp_path):
 
 
 def test_solver_statistics_for_both_back_ends(rig):
-    for backend in ("casadi", "c"):
+    # "auto": Adams through CasADi, the explicit Runge-Kutta method compiled (fewer, longer steps)
+    for backend, method, steps in (("casadi", "adams", 100), ("c", "erk/dop853", 50)):
         st = rig.simulate(backend=backend).stats
-        assert st["backend"] == backend and st["method"].startswith("adams")
-        assert st["steps"] > 100 and st["rhs_evals"] >= st["steps"] and st["wall_time"] > 0
+        assert st["backend"] == backend and st["method"].startswith(method)
+        assert st["steps"] > steps and st["rhs_evals"] >= st["steps"] and st["wall_time"] > 0
     assert rig.simulate(backend="c").stats["root_events"] >= 2      # contact onset, separation
 
 

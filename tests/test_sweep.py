@@ -36,11 +36,11 @@ def test_grid_and_zip_points():
 def test_sweep_matches_single_runs_and_reuses_the_compiled_rig(rig):
     dae = rig.compile()
     sim = Simulator.of(rig)
-    res = pdbfs.sweep(rig, {"hammer.v0": V})
+    res = pdbfs.sweep(rig, {"hammer.v0": V}, backend="casadi")
     assert isinstance(res, SweepResult) and len(res) == 4 and not res.failed
     assert rig.compile() is dae and Simulator.of(rig) is sim   # nothing rebuilt
     for pt, v in zip(res, V):
-        single = rig.simulate(0.02, params={"hammer.v0": v}).summary()
+        single = rig.simulate(0.02, params={"hammer.v0": v}, backend="casadi").summary()
         assert pt.params == {"hammer.v0": v}
         for k, val in single.items():
             assert pt.summary[k] == pytest.approx(val, rel=1e-12, nan_ok=True)
@@ -69,7 +69,7 @@ def test_parallel_sweep_gives_the_serial_answer(rig):
 
 def test_failed_points_are_reported_and_the_others_come_back(rig, tmp_path):
     res = pdbfs.sweep(rig, {"hammer.v0": [2.73, 1e150, 4.23], "seal.c": [2.556e4, -1.0]},
-                      workers=2)
+                      workers=2, backend="casadi")
     assert len(res) == 6
     bad_c = [p for p in res if p.params["seal.c"] < 0]
     assert all(p.error_type == "ParameterError" and "seal.c" in p.error for p in bad_c)
@@ -78,7 +78,7 @@ def test_failed_points_are_reported_and_the_others_come_back(rig, tmp_path):
     good = res.ok
     assert [p.params["hammer.v0"] for p in good] == [2.73, 4.23]
     assert good[0]["peak_pressure"] == pytest.approx(
-        rig.simulate(0.02).summary()["peak_pressure"], rel=1e-12)
+        rig.simulate(0.02, backend="casadi").summary()["peak_pressure"], rel=1e-12)
     with pytest.raises(KeyError, match="failed"):
         bad_c[0]["peak_pressure"]
     assert math.isnan(res.values("peak_pressure")[1])
@@ -105,7 +105,7 @@ def test_sweep_rejects_bad_input_up_front(rig):
 
 def test_trajectories_are_full_results(rig):
     res = pdbfs.sweep(rig, {"seal.c": [2.556e4, 2.556e6]}, t_end=0.03, n_out=3001,
-                      trajectories=True, workers=2)
+                      trajectories=True, workers=2, backend="casadi")
     r0, r1 = res[0].result, res[1].result
     assert r0["oil.pressure"].shape == (3001,)
     t_pk, p_pk = r0.peak("oil.pressure")

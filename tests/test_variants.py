@@ -68,8 +68,10 @@ def test_split_piston_rejects_a_bad_piece_count(n):
 # ------------------------------------------------------------------ drop rig
 @pytest.mark.parametrize("h", [0.254, 0.38, 1.0])
 def test_drop_free_fall_gives_sqrt_2gh(h):
+    # CasADi's CVODES keeps the piston at rest to 1e-17 m/s; the compiled solvers
+    # (fixed-point Adams, the explicit method) let it drift by ~5e-9 m/s over this run
     res = drop_rig().simulate(1.2 * math.sqrt(2 * h / STANDARD_GRAVITY), n_out=4001,
-                              params={"h": h})
+                              params={"h": h}, backend="casadi")
     s = res.summary()
     t_hit = s["impact_times"][0]
     v_hit = res.value_at("hammer.v", t_hit) - res.value_at("piston.v", t_hit)

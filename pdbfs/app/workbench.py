@@ -82,7 +82,7 @@ class Workbench:
             self.run({}, backend="c")
         except PdbfsError as err:
             return "casadi", f"CasADi (no compiled backend: {err})"
-        return "c", "compiled C + CVODE"
+        return "c", "compiled C (explicit Runge-Kutta or CVODE, as method auto picks)"
 
     def shown(self, parts: bool = False) -> list:
         """The controls the page draws: without the parameters of repeated

@@ -20,7 +20,7 @@ def add_rig_options(s, sets=True, set_help=None):
                        "(repeatable)")
 
 
-def add_run_options(s, t_end=None, n_out=True, backend="casadi", method="auto", rtol=True):
+def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rtol=True):
     """How a rig is simulated: horizon, output points, tolerance, method, back end."""
     default = f"default {t_end}" if t_end is not None else "default: the rig's own, 0.02 for " \
         "the paper rig, 1.5 for the drop rig"
@@ -29,14 +29,17 @@ def add_run_options(s, t_end=None, n_out=True, backend="casadi", method="auto", 
         s.add_argument("--n-out", type=int, default=None,
                        help="output points (default: the rig's own, 2001; the drop rig: 30001)")
     if rtol:
-        s.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
+        s.add_argument("--rtol", type=float, default=None,
+                       help="relative tolerance (default 1e-8; 1e-9 for the explicit method)")
     if method:
-        s.add_argument("--method", default=method, choices=["auto", "adams", "bdf"],
-                       help="CVODE's method; auto: Adams unless the rig is stiff "
-                       f"(default {method})")
-    s.add_argument("--backend", default=backend, choices=["casadi", "c"],
-                   help="casadi: SUNDIALS through CasADi; c: CVODE compiled with the rig's "
-                   f"generated C (ODE rigs; built once by zig cc, cached) (default {backend})")
+        s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
+                       help="integration method: CVODE's adams or bdf, or erk (explicit "
+                       "Runge-Kutta of order 8, compiled backend); auto: erk (compiled) or "
+                       f"Adams unless the rig is stiff, then bdf (default {method})")
+    s.add_argument("--backend", default=backend, choices=["auto", "casadi", "c"],
+                   help="casadi: SUNDIALS through CasADi; c: the rig's generated C compiled "
+                   "with pdbfs's integrators (ODE rigs, built once by zig cc, cached); "
+                   f"auto: c where it can be built, else casadi (default {backend})")
 
 
 def add_output_options(s, out="out", what="results", json_help="print the result as JSON"):

@@ -89,8 +89,8 @@ def add_parsers(sub):
     s.add_argument("--set", action="append", metavar="NAME=VALUE",
                    help="hold a parameter at VALUE (repeatable)")
     s.add_argument("--t-end", type=float, default=0.03, help="simulated horizon, s (default 0.03)")
-    s.add_argument("--backend", default="casadi", choices=["casadi", "c"],
-                   help="as for simulate (default: casadi)")
+    s.add_argument("--backend", default="auto", choices=["auto", "casadi", "c"],
+                   help="as for simulate (default: auto)")
     s.add_argument("--out", default="out", help="output folder (default: out)")
     s.add_argument("--json", action="store_true", help="print the map as JSON")
     s.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -44,7 +44,7 @@ def add_parsers(sub):
                    help="base sample size N, a power of 2: N (D + 2) simulations (default 4096)")
     s.add_argument("--outputs", default="peak_pressure,time_of_peak,pulse_duration",
                    help="summary values to analyse (comma separated)")
-    add_run_options(s, t_end=0.03, n_out=False, backend="c", method=False, rtol=False)
+    add_run_options(s, t_end=0.03, n_out=False, backend="auto", method=False, rtol=False)
     s.add_argument("--dask", metavar="ADDRESS", help="a Dask scheduler, or 'local'")
     s.add_argument("--seed", type=int, default=0, help="seed of the sample")
     add_output_options(s, what="sensitivity.png, .json and .txt",

@@ -28,7 +28,7 @@ from pdbfs.native.sundials import SundialsNotFound
 from . import compiled_build as build_lib
 from .compiled_build import ABI, ROLES
 
-METHOD_CODES = {"adams": 0, "bdf": 1}
+METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
 MSG_LEN = 1024
 POINT_MSG_LEN = 320
 
@@ -56,6 +56,8 @@ def solver_name(code: int) -> str:
     """The solver a driver used, from its code (method | nls << 4 | linsol << 8,
     pdbfs_cvode.h): "adams/fixed-point", "adams/newton-dense", "bdf/newton-band", ..."""
     code = int(code)
+    if code == 2:
+        return "erk/dop853"
     method = "bdf" if code & 15 == 1 else "adams"
     if (code >> 4) & 15 != 2:
         return f"{method}/fixed-point"
@@ -155,6 +157,11 @@ class CompiledODE:
         h.argtypes = [ctypes.c_long, vp, vp, ctypes.c_int, ctypes.c_int, d, d, vp, ctypes.c_char_p,
                       ctypes.c_long]
         self._pulse_pairs = h
+        r = lib.pdbfs_run_summary
+        r.restype = ctypes.c_int
+        r.argtypes = [vp, vp, ll, vp, vp, d, d, ctypes.c_int, d, ll, vp, ctypes.c_char_p, ll, vp,
+                      vp, ctypes.c_char_p, ll]
+        self._run_summary = r
         return lib
 
     # -- run ------------------------------------------------------------------------
@@ -183,6 +190,41 @@ class CompiledODE:
                            _stats(info[1], info[3], info[5], info[2], info[6], wall))
         return X, status
 
+
+    def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
+                    max_num_steps=500000):
+        """As ``run`` (``t`` from 0), and the summary of the same integration
+        (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values
+        (len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
+        the run failed), note (its warnings or failure))."""
+        t = np.ascontiguousarray(t, dtype=float).ravel()
+        x0 = np.ascontiguousarray(x0, dtype=float).ravel()
+        p = np.ascontiguousarray(p, dtype=float).ravel()
+        if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 \
+                or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+            raise ParameterError(f"rig {self.name}: run_summary needs {self.nx} start values, "
+                                 f"{self.np} parameters and a strictly increasing grid from 0")
+        if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)) \
+                or method not in METHOD_CODES or not (max_step or 0.0) >= 0:
+            raise ParameterError(f"rig {self.name}: rtol = {rtol}, atol = {atol}, "
+                                 f"method = {method!r}, max_step = {max_step}: not valid")
+        X = np.empty((self.nx, t.size))
+        info = np.zeros(INFO_N)
+        msg = ctypes.create_string_buffer(MSG_LEN)
+        out = np.empty(len(SUMMARY_KEYS))
+        scode = ctypes.c_int(0)
+        note = ctypes.create_string_buffer(POINT_MSG_LEN * 2)
+        wall = time.perf_counter()
+        code = self._run_summary(p.ctypes.data, x0.ctypes.data, t.size, t.ctypes.data,
+                                 X.ctypes.data, float(rtol), float(atol), METHOD_CODES[method],
+                                 float(max_step or 0.0), int(max_num_steps), info.ctypes.data, msg,
+                                 MSG_LEN, out.ctypes.data, ctypes.byref(scode), note,
+                                 POINT_MSG_LEN * 2)
+        wall = time.perf_counter() - wall
+        status = RunStatus(int(code), float(info[0]), int(info[1]), int(info[2]), int(info[3]),
+                           int(info[4]), msg.value.decode(errors="replace").strip(),
+                           _stats(info[1], info[3], info[5], info[2], info[6], wall))
+        return X, status, out, int(scode.value), note.value.decode(errors="replace")
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):

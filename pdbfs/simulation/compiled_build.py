@@ -16,8 +16,12 @@ from __future__ import annotations
 
 import hashlib
 import os
+import platform
+import shutil
 import tempfile
 from pathlib import Path
+
+import casadi as ca
 
 from pdbfs.native import toolchain
 from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
@@ -26,9 +30,11 @@ from pdbfs.native.sundials import cache_root, find_sundials
 
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
-                                     "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h"))
+                                     "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
+                                     "pdbfs_erk.c", "pdbfs_erk.h", "pdbfs_erk_table.h",
+                                     "pdbfs_batch_erk.c", "pdbfs_run_summary.c"))
 HEADER = "pdbfs_batch_model.h"
-ABI = 4
+ABI = 5
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
@@ -62,8 +68,52 @@ def header(dae, work) -> str:
         *sizes_header_lines(work), "#endif", ""])
 
 
+def fingerprint(dae) -> str:
+    """A cheap key of the library of ``dae``, known before any code generation:
+    the DAE's expressions (serialised), the drivers' text, the compiler
+    command and the SUNDIALS archives. Equal fingerprints give the same
+    library; a change anywhere gives another (at worst a rebuild)."""
+    signals = getattr(dae, "signals", {}) or {}
+    force = signals.get("contact_force")
+    roles = roles_of(dae)
+    pick = lambda names: [dae.y[dae.y_names.index(n)] for n in names]   # noqa: E731
+    outs = [ca.densify(e) for e in (dae.ode, dae.events, dae.x0, ca.vertcat(*pick(roles)),
+                                    ca.vertcat(*pick([force] if force in dae.y_names else [])))]
+    f = ca.Function("fingerprint", [dae.t, dae.x, dae.z, dae.p], outs)
+    sd = find_sundials()
+    cc = os.environ.get("CC", "gcc")
+    h = hashlib.sha256()
+    for part in (f"abi {ABI}", platform.machine(), ca.__version__, dae.name, f.serialize(),
+                 "\0".join(roles), *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
+                 "\0".join(compile_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")],
+                                           sd=sd, cc=cc)), _archives_stamp(sd)):
+        h.update(part.encode())
+        h.update(b"\0")
+    return h.hexdigest()[:32]
+
+
 def build(dae) -> Path:
-    """The library of ``dae``: from the disk cache, or compiled into it."""
+    """The library of ``dae``: from the disk cache (found by its fingerprint
+    without code generation, else by the hash of the generated C), or
+    compiled into it."""
+    fast = cache_dir() / f"fp-{fingerprint(dae)}.so"
+    if fast.is_file():
+        return fast
+    target = _build(dae)
+    try:     # the fingerprint's name for the next process: a hard link (else a copy)
+        tmp = fast.with_name(f".{fast.name}.{os.getpid()}")
+        tmp.unlink(missing_ok=True)
+        try:
+            os.link(target, tmp)
+        except OSError:
+            shutil.copyfile(target, tmp)
+        os.replace(tmp, fast)
+    except OSError:
+        pass     # no second name: the next process generates the C again, nothing worse
+    return target
+
+
+def _build(dae) -> Path:
     global BUILDS
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")

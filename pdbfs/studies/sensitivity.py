@@ -130,7 +130,7 @@ class Sensitivity:
 
 
 def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=None,
-                backend: str = "c", client=None, seed: int = 0, t_end: float = 0.02,
+                backend: str = "auto", client=None, seed: int = 0, t_end: float = 0.02,
                 workers=None, progress=None, out=None, overwrite: bool = False) -> Sensitivity:
     """Sobol' indices of ``outputs`` (summary keys) with respect to the
     parameters in ``ranges`` {name: (lo, hi) or (lo, hi, "log")}: N (D + 2)

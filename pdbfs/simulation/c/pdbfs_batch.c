@@ -24,6 +24,7 @@
 
 #include "pdbfs_batch_model.h"
 #include "pdbfs_cvode.h"
+#include "pdbfs_erk.h"
 
 #define NX PDBFS_NX
 #define NP PDBFS_NP
@@ -32,7 +33,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 4
+#define PDBFS_BATCH_ABI 5
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0
@@ -154,8 +155,9 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         setmsg(&c, "max_num_steps = %lld: must be >= 1", max_num_steps);
         return RC_BAD_INPUT;
     }
-    if (!PDBFS_CODE_VALID(method)) {
-        setmsg(&c, "solver code %d: method 0 (Adams) or 1 (BDF) | nls << 4 | linsol << 8", method);
+    if (!PDBFS_CODE_VALID(method) && method != PDBFS_ERK) {
+        setmsg(&c, "solver code %d: method 0 (Adams) or 1 (BDF) | nls << 4 | linsol << 8, "
+               "or 2 (explicit Runge-Kutta)", method);
         return RC_BAD_INPUT;
     }
     if (!all_finite(x0, NX) || !all_finite(p, NP)) {
@@ -163,6 +165,9 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         return RC_BAD_INPUT;
     }
 
+    if (method == PDBFS_ERK)
+        return pdbfs_batch_run_erk(p, x0, nt, t, X, rtol, atol, max_step, max_num_steps, info,
+                                   msg, msglen);
     work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
     atolv = malloc(sizeof(double) * 2 * (NX + 1));
     if (!work || !atolv) {

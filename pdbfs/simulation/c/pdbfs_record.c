@@ -16,6 +16,13 @@ int pdbfs_record_step(void *env, double t, const double *x) {
         if (nx) h->x = nx;
         if (nx) nr = realloc(h->r, sizeof(double) * cap * NRX);
         if (nr) h->r = nr;
+        if (nr && h->rk) {
+            double *nd = realloc(h->dn, sizeof(double) * cap * DNREC), *ns = NULL;
+            if (nd) h->dn = nd;
+            if (nd) ns = realloc(h->rdot, sizeof(double) * cap * NRX);
+            if (ns) h->rdot = ns;
+            else nr = NULL;
+        }
         if (!nr) {
             h->oom = 1;
             return 1;
@@ -24,6 +31,17 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     }
     h->t[h->n] = t;
     memcpy(h->x + h->n * NXQ, x, sizeof(double) * NXQ);
+    if (h->rk) {               /* the step this record lies in (none for the first) */
+        double *d = h->dn + h->n * DNREC;
+        if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, h->rdot + h->n * NRX);
+        int fresh = h->n == 0 || h->rk->fresh || !h->rk->dense_ready;
+        d[0] = fresh ? t : h->rk->t_old;
+        d[1] = fresh ? 0.0 : h->rk->h_old;
+        if (!fresh) {
+            memcpy(d + 2, h->rk->y_old, sizeof(double) * NXQ);
+            memcpy(d + 2 + NXQ, h->rk->dense, sizeof(double) * 7 * NXQ);
+        }
+    }
     if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
     for (j = 0; j < NR; j++)
         if (!isfinite(R(h, h->n, j))) h->bad = 1;
@@ -87,6 +105,50 @@ static int grow_roots(History *H, int cap) {
     return 0;
 }
 
+/* refine() on an explicit Runge-Kutta run's record: a sign change of the
+ * target between two records is located on the dense output of the step
+ * that holds them (Illinois, to a few roundoffs); nothing is integrated */
+static int refine_dense(History *H, long k0, long k1, Target *q, int dir) {
+    int n = 0, it;
+    long k;
+    double *xs = H->rx;        /* scratch: a root's state is written there anyway */
+    for (k = k0; k < k1; k++) {
+        const double *d = H->dn + (k + 1) * DNREC;
+        double ta = H->t[k], tb = H->t[k + 1], fa, fb, g;
+        int up, side = 0;
+        target_fn(q, ta, H->x + k * NXQ, &fa);
+        target_fn(q, tb, H->x + (k + 1) * NXQ, &fb);
+        up = fa < 0 && fb >= 0;
+        if (!up && !(fa > 0 && fb <= 0)) continue;
+        if ((dir > 0 && !up) || (dir < 0 && up)) continue;
+        if (!(d[1] > 0)) continue;                         /* no step: cannot happen */
+        if (n == H->rcap && grow_roots(H, H->rcap ? 2 * H->rcap : MAXR)) return -1;
+        xs = H->rx + n * NXQ;
+        for (it = 0; it < 100 && tb - ta > 4e-16 * fabs(tb) + 1e-300; it++) {
+            double tc = fa != fb ? tb - fb * (tb - ta) / (fb - fa) : 0.5 * (ta + tb);
+            if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
+            pdbfs_erk_poly(d + 2, d + 2 + NXQ, NXQ, (tc - d[0]) / d[1], xs);
+            target_fn(q, tc, xs, &g);
+            if (up ? g >= 0 : g <= 0) {
+                tb = tc;
+                fb = g;
+                if (side == 1) fa *= 0.5;
+                side = 1;
+            } else {
+                ta = tc;
+                fa = g;
+                if (side == -1) fb *= 0.5;
+                side = -1;
+            }
+        }
+        H->rt[n] = tb;
+        pdbfs_erk_poly(d + 2, d + 2 + NXQ, NXQ, (tb - d[0]) / d[1], H->rx + n * NXQ);
+        H->rd[n] = up ? 1 : -1;
+        n++;
+    }
+    return n;
+}
+
 /* every root of the target on record steps k0 .. k1-1, integrated again from
  * record k0 (again with more room while the room fills): times, states and
  * directions in H->rt, rx, rd; their number, or -1 when out of memory */
@@ -95,6 +157,7 @@ static int refine(History *H, long k0, long k1, Target *q, int dir) {
     if (k0 < 0) k0 = 0;
     if (k1 > H->n - 1) k1 = H->n - 1;
     if (k1 <= k0 || !(H->t[k1] > H->t[k0])) return 0;
+    if (H->rk) return refine_dense(H, k0, k1, q, dir);
     for (;;) {
         if (H->rcap == 0 && grow_roots(H, MAXR)) return -1;
         n = pdbfs_cvode_roots(H->cv, H->set, H->t[k0], H->x + k0 * NXQ, H->t[k1], target_fn, q,
@@ -125,6 +188,24 @@ int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, 
     q.role = j;
     q.slope = 1;
     q.level = 0.0;
+    if (H->rk) {
+        /* long steps: a narrow spike may hold no record near it, so every turn
+         * of the role (rate from + to -) is located on the dense output */
+        for (k = k0; k + 1 < k1; k++) {
+            if (!(H->rdot[k * NRX + j] > 0 && H->rdot[(k + 1) * NRX + j] <= 0)) continue;
+            n = refine(H, k, k + 1, &q, -1);
+            if (n < 0) return -1;
+            for (i = 0; i < n; i++) {
+                double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);
+                if (v > *v_pk) {
+                    *v_pk = v;
+                    *t_pk = H->rt[i];
+                    if (x_pk) memcpy(x_pk, H->rx + i * NXQ, sizeof(double) * NXQ);
+                }
+            }
+        }
+        return 0;
+    }
     n = refine(H, best > k0 ? best - 1 : k0, best + 1 < k1 ? best + 1 : k1 - 1, &q, -1);
     for (i = 0; i < n; i++) {
         double v = role_at(H, j, H->rt[i], H->rx + i * NXQ);

@@ -9,12 +9,16 @@
 
 #include "pdbfs_batch_model.h"
 #include "pdbfs_cvode.h"
+#include "pdbfs_erk.h"
 
 #define NR PDBFS_NR
 #define NRX (NR > 0 ? NR : 1)
 #define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
 #define NXQ (PDBFS_NX + NQ)
 #define MAXR 8                                /* roots of one refined step, to start with */
+/* per record of an explicit Runge-Kutta run: its step's t_old, h_old, y_old (NXQ)
+ * and dense output (7 NXQ) */
+#define DNREC (2 + 8 * NXQ)
 
 typedef struct {
     double *t, *x, *r;        /* per record: time, state (NXQ), roles (NR) */
@@ -26,6 +30,12 @@ typedef struct {
     /* the roots of the last refinement: times, states (NXQ each), directions; room for rcap */
     double *rt, *rx;
     int *rd, rcap;
+    /* an explicit Runge-Kutta run (else NULL): each record keeps its step's dense
+     * output (dn, DNREC per record), and refinements are root finding on it, not
+     * integrations again */
+    const PdbfsErk *rk;
+    double *dn;
+    double *rdot;             /* with rk: the roles' rates per record (NR each) */
 } History;
 
 /* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */

@@ -38,6 +38,7 @@
 
 #include "pdbfs_batch_model.h"
 #include "pdbfs_cvode.h"
+#include "pdbfs_erk.h"
 #include "pdbfs_pulse.h"
 #include "pdbfs_record.h"
 
@@ -93,8 +94,9 @@ static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m
 }
 #endif
 
-/* the summary of one point into out; 0, or a failure code with its reason in m */
-static int summarise(History *H, double *out, double *x_pk, Note *m) {
+/* the summary of one point into out; 0, or a failure code with its reason in m
+ * (also pdbfs_run_summary.c's, on the record of a run over an output grid) */
+int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
     int i, ended = 1, oom = 0;
     long last = H->n - 1;
     double t_end = H->t[last];
@@ -186,33 +188,46 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     PdbfsEval ev;
     History H;
     PdbfsCvode s;
-    PdbfsCvodeSettings set;
+    PdbfsErk rk;
+    PdbfsCvodeSettings set, refine;
     void *work;
+    const int erk = method == PDBFS_ERK;   /* explicit RK; the refinements stay CVODE's (Adams) */
     double *atolv, *x0, *xe, *x_pk;
-    if (np != PDBFS_NP || n < 0 || !(t_end > 0) || !PDBFS_CODE_VALID(method)) return -1;
+    if (np != PDBFS_NP || n < 0 || !(t_end > 0) || !(PDBFS_CODE_VALID(method) || erk)) return -1;
     work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
-    atolv = malloc(sizeof(double) * NXQ * 4);
+    atolv = malloc(sizeof(double) * NXQ * 5);
     memset(&H, 0, sizeof H);
-    if (!work || !atolv) {
+    memset(&rk, 0, sizeof rk);
+    if (!work || !atolv || (erk && pdbfs_erk_init(&rk, NXQ, PDBFS_NE, &ev))) {
         free(work);
         free(atolv);
+        pdbfs_erk_free(&rk);
         return -1;
     }
+    rk.ode = pdbfs_ode_q;
+    rk.substeps = 1;     /* peaks and crossings on the dense output of each step (record.c) */
     x0 = atolv + NXQ;
     xe = x0 + NXQ;
     x_pk = xe + NXQ;
     H.ev = &ev;
     H.cv = &s;
-    H.set = &set;
+    H.set = erk ? &refine : &set;
+    H.rk = erk ? &rk : NULL;    /* refinements on its dense output */
     for (i = 0; i < NXQ; i++) atolv[i] = i < PDBFS_NX ? atol : 1e300;   /* impulses: no error test */
     memset(&set, 0, sizeof set);
-    set.method = PDBFS_CODE_METHOD(method);
-    set.nls = PDBFS_CODE_NLS(method);
-    set.linsol = PDBFS_CODE_LINSOL(method);
+    set.method = erk ? PDBFS_ADAMS : PDBFS_CODE_METHOD(method);
+    set.nls = erk ? 0 : PDBFS_CODE_NLS(method);
+    set.linsol = erk ? 0 : PDBFS_CODE_LINSOL(method);
     set.rtol = rtol;
     set.atol = atolv;
     set.max_step = max_step;
     set.t_stop = t_end;
+    /* after an 8th-order pass, the refinements' CVODE (Adams, a cold start
+     * inside a long step) would be the larger error: tighter by 100 */
+    refine = set;
+    refine.rtol = 0.01 * rtol;
+    refine.atol = x_pk + NXQ;
+    for (i = 0; i < NXQ; i++) x_pk[NXQ + i] = 0.01 * atolv[i];
     pdbfs_cvode_init(&s, NXQ, PDBFS_NE, &ev, NULL, NULL);
     s.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
     s.ode = pdbfs_ode_q;
@@ -226,6 +241,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
         m.len = m.text ? (size_t)msglen : 0;
         if (m.text) m.text[0] = 0;
         s.steps = s.roots = s.rhs_evals = s.jac_evals = 0;
+        rk.steps = rk.roots = rk.rhs_evals = 0;
         ev.p = P + i * np;
         for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
         ev.arg[0] = ev.p;
@@ -242,18 +258,28 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
             H.n = 0;
             H.oom = H.bad = 0;
             s.on_step = NULL;
-            code = pdbfs_cvode_start(&s, &set, 0.0, x0);
+            rk.on_step = NULL;
+            code = erk ? (pdbfs_erk_start(&rk, &set, 0.0, x0) ? RC_NOT_FINITE : 0)
+                       : pdbfs_cvode_start(&s, &set, 0.0, x0);
             if (!code) pdbfs_record_step(&H, 0.0, x0);
-            s.on_step = pdbfs_record_step;
-            s.step_env = &H;
-            if (!code) code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
-            s.on_step = NULL;
+            s.on_step = rk.on_step = pdbfs_record_step;
+            s.step_env = rk.step_env = &H;
+            if (!code && erk) {
+                code = pdbfs_erk_advance(&rk, t_end, (long)max_num_steps, xe);
+                if (code == -3) code = RC_NOT_FINITE;
+                if (code == PDBFS_ERK_STEP_UNDERFLOW) code = -3;   /* as CVODE's error failure */
+                s.tn = rk.t;
+            } else if (!code) {
+                code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
+            }
+            s.on_step = rk.on_step = NULL;
             if (code)
                 pdbfs_note(&m, "%s at t = %.6g s", H.oom ? "out of memory"
                      : H.bad ? "the solution became NaN or infinite"
-                     : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps" : "CVODE failed", s.tn);
+                     : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps"
+                     : erk ? "the explicit Runge-Kutta step failed" : "CVODE failed", s.tn);
             if (code && H.bad) code = RC_NOT_FINITE;
-            if (!code) code = summarise(&H, out + i * NSUM, x_pk, &m);
+            if (!code) code = pdbfs_summarise(&H, out + i * NSUM, x_pk, &m);
         }
         if (code)   /* a failed point has no values */
             for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
@@ -261,21 +287,24 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
         if (code) failed++;
         if (stats) {
             double *st = stats + i * NSTAT;
-            st[ST_STEPS] = (double)s.steps;
-            st[ST_RHS] = (double)s.rhs_evals;
+            st[ST_STEPS] = (double)(s.steps + rk.steps);
+            st[ST_RHS] = (double)(s.rhs_evals + rk.rhs_evals);
             st[ST_JAC] = (double)s.jac_evals;
-            st[ST_ROOTS] = (double)s.roots;
-            st[ST_METHOD] = (double)(s.method | s.nls << 4 | s.linsol << 8);
+            st[ST_ROOTS] = (double)(s.roots + rk.roots);
+            st[ST_METHOD] = erk ? (double)PDBFS_ERK : (double)(s.method | s.nls << 4 | s.linsol << 8);
             st[ST_WALL] = seconds() - t0;
         }
     }
     pdbfs_cvode_free(&s);
+    pdbfs_erk_free(&rk);
     free(H.t);
     free(H.x);
     free(H.r);
     free(H.rt);
     free(H.rx);
     free(H.rd);
+    free(H.dn);
+    free(H.rdot);
     free(atolv);
     free(work);
     return failed;

@@ -103,7 +103,7 @@ def axis(spec, n: int, log=None):
 
 
 def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=None,
-               backend: str = "casadi", progress=None) -> DesignMap:
+               backend: str = "auto", progress=None) -> DesignMap:
     """Peak pressure, pulse duration and time of peak over the grid of
     ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
     for the impact speed X.v0), ``n`` points per axis, all in one sweep."""

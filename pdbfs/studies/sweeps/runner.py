@@ -37,7 +37,7 @@ class Settings:
     atol: float = 1e-10
     method: str = "adams"
     max_step: float | None = None
-    backend: str = "casadi"
+    backend: str = "auto"
     start: tuple = ()                 # (name, value) pairs overriding start values
     trajectories: bool = False
 

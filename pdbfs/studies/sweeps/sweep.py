@@ -30,6 +30,7 @@ from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Result, Simulator
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.settings import mapping
+from pdbfs.simulation.settings import default_rtol
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
@@ -51,8 +52,8 @@ def points_of(values: dict, grid: bool = True) -> list[dict]:
 
 def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
-          rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto",
-          max_step: float | None = None, backend: str = "casadi", workers: int | None = None,
+          rtol: float | None = None, atol: float = 1e-10, method: str = "auto",
+          max_step: float | None = None, backend: str = "auto", workers: int | None = None,
           progress=None, client=None, out=None, format: str = "parquet",
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
@@ -92,10 +93,12 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     sim.param_vector({n: info[n].value if n in info else 0.0 for n in points.names + list(fixed)})
     p_fixed = sim.param_vector(fixed)
     sim.grid(t_end, n_out)
-    sim.check_settings(rtol, atol, method, max_step, backend=backend)
+    sim.check_settings(default_rtol(method, rtol), atol, method, max_step, backend=backend)
+    backend = sim.resolve_backend(backend)
     x_fixed = sim.start_vector(p_fixed, start)
     # "auto": one method for the whole sweep, judged at the fixed point
-    method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end))
+    method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end), backend)
+    rtol = default_rtol(method, rtol)
     if trajectories and (client is not None or out is not None):
         raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
     settings = Settings(float(t_end), int(n_out), float(rtol), float(atol), method, max_step,

@@ -1,0 +1,72 @@
+/*
+ * pdbfs_batch_run with the explicit Runge-Kutta method (pdbfs_erk.c): one
+ * whole simulation over an output grid, the states at the output times from
+ * the dense output.  The arguments were checked by pdbfs_batch_run; codes
+ * and info[] as there (no CVODE flag, no Jacobian).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pdbfs_batch_model.h"
+#include "pdbfs_erk.h"
+
+#define RC_SETUP 2
+#define RC_NOT_FINITE 4
+enum { INFO_T, INFO_STEPS, INFO_ROOTS, INFO_RHS, INFO_FLAG, INFO_JAC, INFO_METHOD };
+
+int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const double *t,
+                        double *X, double rtol, double atol, double max_step,
+                        long long max_num_steps, double *info, char *msg, long long msglen) {
+    PdbfsEval ev;
+    PdbfsErk s;
+    PdbfsCvodeSettings set;
+    double *atolv, *x;
+    void *work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
+    long long k, i;
+    int rc = 0;
+    atolv = malloc(sizeof(double) * 2 * (PDBFS_NX + 1));
+    if (!work || !atolv || pdbfs_erk_init(&s, PDBFS_NX, PDBFS_NE, &ev)) {
+        free(work);
+        free(atolv);
+        if (msg && msglen > 0) snprintf(msg, (size_t)msglen, "out of memory");
+        return RC_SETUP;
+    }
+    x = atolv + PDBFS_NX + 1;
+    ev.p = p;
+    for (i = 0; i < PDBFS_NX; i++) atolv[i] = atol;
+    memset(&set, 0, sizeof set);
+    set.rtol = rtol;
+    set.atol = atolv;
+    set.max_step = max_step;
+    set.t_stop = t[nt - 1];
+    for (i = 0; i < PDBFS_NX; i++) X[i * nt] = x0[i];
+    info[INFO_T] = t[0];
+    rc = pdbfs_erk_start(&s, &set, t[0], x0) ? RC_NOT_FINITE : 0;
+    for (k = 1; k < nt && !rc; k++) {
+        int flag = pdbfs_erk_advance(&s, t[k], (long)max_num_steps, x);
+        if (flag) {
+            rc = flag == -3 ? RC_NOT_FINITE : flag == PDBFS_ERK_STEP_UNDERFLOW ? -3 : flag;
+            if (s.t > info[INFO_T]) info[INFO_T] = s.t < t[k] ? s.t : t[k - 1];
+            break;
+        }
+        for (i = 0; i < PDBFS_NX; i++) {
+            if (!isfinite(x[i])) {
+                snprintf(s.msg, sizeof s.msg, "the solution is NaN or infinite at t = %.17g", t[k]);
+                rc = RC_NOT_FINITE;
+            }
+            X[i * nt + k] = x[i];
+        }
+        if (!rc) info[INFO_T] = t[k];
+    }
+    if (rc && msg && msglen > 0) snprintf(msg, (size_t)msglen, "%s", s.msg);
+    info[INFO_STEPS] = (double)s.steps;
+    info[INFO_ROOTS] = (double)s.roots;
+    info[INFO_RHS] = (double)s.rhs_evals;
+    info[INFO_METHOD] = PDBFS_ERK;
+    pdbfs_erk_free(&s);
+    free(work);
+    free(atolv);
+    return rc;
+}

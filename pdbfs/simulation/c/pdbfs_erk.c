@@ -1,0 +1,380 @@
+/* pdbfs_erk: see pdbfs_erk.h.  Never aborts, never prints. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pdbfs_erk.h"
+#include "pdbfs_erk_table.h"
+
+#define NSTAGE 12                  /* stages of a step; the 13th is f at its end */
+#define NK 16                      /* with the dense output's three */
+#define SAFETY 0.9
+#define GROW_MAX 6.0
+#define SHRINK_MIN 0.333
+#define ROOT_ITER 100
+#define RESTART_STEP 0.01          /* first step after a root, of the step before */
+/* the indicators are also looked at inside each step, at these many equal
+ * parts of it: a contact that opens and closes within one long step, which
+ * the step's ends alone would not show, is found */
+#define EVENT_PARTS 4
+
+int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
+    size_t n = (size_t)nx, m = (size_t)(ne > 0 ? ne : 1);
+    memset(s, 0, sizeof *s);
+    s->nx = nx;
+    s->ne = ne;
+    s->ev = ev;
+    s->ode = pdbfs_ode;
+    /* y, f, y_old, ynew, tmp, dense (7), k (16) */
+    s->y = malloc(sizeof(double) * (n * (5 + 7 + NK) + 5 * m));
+    if (!s->y) return -100;
+    s->f = s->y + n;
+    s->y_old = s->f + n;
+    s->ynew = s->y_old + n;
+    s->tmp = s->ynew + n;
+    s->dense = s->tmp + n;
+    s->k = s->dense + 7 * n;
+    s->g_old = s->k + NK * n;
+    s->g_new = s->g_old + m;
+    s->g_tmp = s->g_new + m;
+    s->g_a = s->g_tmp + m;
+    s->g_b = s->g_a + m;
+    return 0;
+}
+
+void pdbfs_erk_free(PdbfsErk *s) {
+    free(s->y);
+    s->y = NULL;
+}
+
+static int rhs(PdbfsErk *s, double t, const double *x, double *out) {
+    int i;
+    s->rhs_evals++;
+    if (pdbfs_eval_txp(s->ev, s->ode, t, x, out)) return 1;
+    for (i = 0; i < s->nx; i++)
+        if (!isfinite(out[i])) return 1;
+    return 0;
+}
+
+static void events(PdbfsErk *s, double t, const double *x, double *g) {
+    if (s->ne > 0) pdbfs_eval_txp(s->ev, pdbfs_events, t, x, g);
+}
+
+/* RMS of v / (atol + rtol |y|) */
+static double wnorm(const PdbfsErk *s, const double *v, const double *y) {
+    double sum = 0.0;
+    int i;
+    for (i = 0; i < s->nx; i++) {
+        double w = v[i] / (s->atol[i] + s->rtol * fabs(y[i]));
+        sum += w * w;
+    }
+    return sqrt(sum / s->nx);
+}
+
+/* Hairer's first step: an Euler step's change of f predicts the scale */
+static double first_step(PdbfsErk *s) {
+    double d0 = wnorm(s, s->y, s->y), d1 = wnorm(s, s->f, s->y), d2, h0, h1;
+    double *f1 = s->k + s->nx;
+    int i;
+    h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    if (isfinite(s->t_stop) && s->t_stop > s->t && h0 > s->t_stop - s->t) h0 = s->t_stop - s->t;
+    for (i = 0; i < s->nx; i++) s->tmp[i] = s->y[i] + h0 * s->f[i];
+    if (rhs(s, s->t + h0, s->tmp, f1)) return 1e-3 * h0;
+    for (i = 0; i < s->nx; i++) f1[i] -= s->f[i];
+    d2 = wnorm(s, f1, s->y) / h0;
+    h1 = fmax(d1, d2) <= 1e-15 ? fmax(1e-6, 1e-3 * h0) : pow(0.01 / fmax(d1, d2), 1.0 / 8.0);
+    return fmin(100.0 * h0, h1);
+}
+
+int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const double *x0) {
+    s->rtol = set->rtol;
+    s->atol = set->atol;
+    s->max_step = set->max_step;
+    s->t_stop = set->t_stop;
+    s->t = s->t_old = t0;
+    s->h_old = 0.0;
+    s->dense_ready = 0;
+    s->fresh = 1;
+    s->quiet = -1;
+    s->msg[0] = 0;
+    memcpy(s->y, x0, sizeof(double) * (size_t)s->nx);
+    if (rhs(s, t0, s->y, s->f)) {
+        snprintf(s->msg, sizeof s->msg, "the right-hand side is not finite at t = %.10g", t0);
+        return 1;
+    }
+    events(s, t0, s->y, s->g_old);
+    s->h = first_step(s);
+    if (s->max_step > 0 && s->h > s->max_step) s->h = s->max_step;
+    return 0;
+}
+
+/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
+ * INFINITY when a stage is not finite */
+static double attempt(PdbfsErk *s, double h) {
+    const int n = s->nx;
+    double *k = s->k, e3 = 0.0, e5 = 0.0;
+    int st, j, i;
+    memcpy(k, s->f, sizeof(double) * (size_t)n);
+    for (st = 1; st < NSTAGE; st++) {
+        const double *a = RK_A + st * NK;
+        for (i = 0; i < n; i++) {
+            double acc = 0.0;
+            for (j = 0; j < st; j++) acc += a[j] * k[j * n + i];
+            s->tmp[i] = s->y[i] + h * acc;
+        }
+        if (rhs(s, s->t + RK_C[st] * h, s->tmp, k + st * n)) return INFINITY;
+    }
+    for (i = 0; i < n; i++) {
+        double acc = 0.0;
+        for (j = 0; j < NSTAGE; j++) acc += RK_B[j] * k[j * n + i];
+        s->ynew[i] = s->y[i] + h * acc;
+    }
+    if (rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
+    /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 */
+    for (i = 0; i < n; i++) {
+        double a5 = 0.0, a3 = 0.0, sc = s->atol[i] + s->rtol * fmax(fabs(s->y[i]), fabs(s->ynew[i]));
+        for (j = 0; j <= NSTAGE; j++) {
+            a5 += RK_E5[j] * k[j * n + i];
+            a3 += RK_E3[j] * k[j * n + i];
+        }
+        a5 /= sc;
+        a3 /= sc;
+        e5 += a5 * a5;
+        e3 += a3 * a3;
+    }
+    if (e5 == 0.0 && e3 == 0.0) return 0.0;
+    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * n);
+}
+
+/* the dense output of the step just accepted (y_old, k of the step, h_old):
+ * three more stages */
+static int make_dense(PdbfsErk *s) {
+    const int n = s->nx;
+    const double h = s->h_old, *k = s->k;
+    double *r = s->dense;
+    int st, j, i;
+    for (st = NSTAGE + 1; st < NK; st++) {
+        const double *a = RK_A + st * NK;
+        for (i = 0; i < n; i++) {
+            double acc = 0.0;
+            for (j = 0; j < st; j++) acc += a[j] * k[j * n + i];
+            s->tmp[i] = s->y_old[i] + h * acc;
+        }
+        if (rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + st * n)) return 1;
+    }
+    for (i = 0; i < n; i++) {
+        double dy = s->ynew[i] - s->y_old[i];
+        r[i] = dy;
+        r[n + i] = h * k[i] - dy;
+        r[2 * n + i] = 2.0 * dy - h * (k[i] + k[NSTAGE * n + i]);
+        for (st = 0; st < 4; st++) {
+            double acc = 0.0;
+            for (j = 0; j < NK; j++) acc += RK_D[st * NK + j] * k[j * n + i];
+            r[(3 + st) * n + i] = h * acc;
+        }
+    }
+    s->dense_ready = 1;
+    return 0;
+}
+
+void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
+    int i, m;
+    for (i = 0; i < n; i++) {
+        double acc = 0.0;
+        for (m = 6; m >= 0; m--) {     /* alternately times theta and 1 - theta */
+            acc += r[m * n + i];
+            acc *= (m % 2 == 0) ? th : 1.0 - th;
+        }
+        out[i] = y_old[i] + acc;
+    }
+}
+
+static void dense_at(const PdbfsErk *s, double th, double *out) {
+    pdbfs_erk_poly(s->y_old, s->dense, s->nx, th, out);
+}
+
+void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out) {
+    double th = s->h_old > 0 ? (t - s->t_old) / s->h_old : 0.0;
+    if (!s->dense_ready || s->fresh) {
+        memcpy(out, s->y, sizeof(double) * (size_t)s->nx);
+        return;
+    }
+    dense_at(s, th < 0 ? 0.0 : th > 1 ? 1.0 : th, out);
+}
+
+/* indicator i on the dense output at theta */
+static double g_at(PdbfsErk *s, int i, double th) {
+    dense_at(s, th, s->tmp);
+    events(s, s->t_old + th * s->h_old, s->tmp, s->g_tmp);
+    return s->g_tmp[i];
+}
+
+/* the smallest theta past the root of indicator i in (a, b] (Illinois), g0
+ * and g1 its values at a and b: the right end of a bracket a few roundoffs wide */
+static double root_of(PdbfsErk *s, int i, double a, double b, double g0, double g1) {
+    double fa = g0, fb = g1;
+    double tol = (4.0 * DBL_EPSILON * fabs(s->t_old + s->h_old) + 1e-300) / s->h_old;
+    int side = 0, it;
+    if (tol < 1e-15) tol = 1e-15;
+    for (it = 0; it < ROOT_ITER && b - a > tol; it++) {
+        double c = (fa != fb) ? b - fb * (b - a) / (fb - fa) : 0.5 * (a + b), fc;
+        if (!(c > a && c < b)) c = 0.5 * (a + b);
+        if (c - a < 0.25 * tol) c = a + 0.5 * tol;           /* keep both ends moving */
+        if (b - c < 0.25 * tol) c = b - 0.5 * tol;
+        fc = g_at(s, i, c);
+        if ((g0 < 0) ? fc >= 0 : fc <= 0) {                  /* past the root */
+            b = c;
+            fb = fc;
+            if (side == 1) fa *= 0.5;
+            side = 1;
+        } else {
+            a = c;
+            fa = fc;
+            if (side == -1) fb *= 0.5;
+            side = -1;
+        }
+    }
+    return b;
+}
+
+/* one accepted step (rejections inside); dense output made when the step
+ * reaches t_out or holds a root, where the step is cut and restarted */
+static int step(PdbfsErk *s, double t_out) {
+    const int n = s->nx;
+    double h = s->h, err, fac;
+    int rejected = 0, i, first = -1;
+    double th_root = 2.0;
+    for (;;) {
+        if (s->max_step > 0 && h > s->max_step) h = s->max_step;
+        if (isfinite(s->t_stop) && s->t + h * (1.0 + 1e-6) >= s->t_stop) h = s->t_stop - s->t;
+        if (!(h > 8.0 * DBL_EPSILON * fabs(s->t))) {
+            snprintf(s->msg, sizeof s->msg, "the step size fell below roundoff at t = %.10g", s->t);
+            return PDBFS_ERK_STEP_UNDERFLOW;
+        }
+        err = attempt(s, h);
+        if (err <= 1.0) break;
+        s->rejected++;
+        rejected = 1;
+        h *= isfinite(err) ? fmax(SHRINK_MIN, SAFETY * pow(err, -1.0 / 8.0)) : 0.25;
+    }
+    fac = err == 0.0 ? GROW_MAX : fmin(GROW_MAX, SAFETY * pow(err, -1.0 / 8.0));
+    if (rejected && fac > 1.0) fac = 1.0;
+    s->t_old = s->t;
+    s->h_old = h;
+    memcpy(s->y_old, s->y, sizeof(double) * (size_t)n);
+    s->dense_ready = 0;
+    s->fresh = 0;
+    s->steps++;
+    s->h = h * fac;
+    if (s->ne > 0) {
+        int part;
+        double *ga = s->g_a, *gb = s->g_b;
+        events(s, s->t_old + h, s->ynew, s->g_new);
+        if (make_dense(s)) return -3;
+        memcpy(ga, s->g_old, sizeof(double) * (size_t)s->ne);
+        for (part = 1; part <= EVENT_PARTS && first < 0; part++) {
+            double a = (double)(part - 1) / EVENT_PARTS, b = (double)part / EVENT_PARTS, *sw;
+            if (part == EVENT_PARTS) {
+                memcpy(gb, s->g_new, sizeof(double) * (size_t)s->ne);
+            } else {
+                dense_at(s, b, s->tmp);
+                events(s, s->t_old + b * h, s->tmp, gb);
+            }
+            for (i = 0; i < s->ne; i++) {
+                double g0 = ga[i], g1 = gb[i];
+                if (i == s->quiet) continue;
+                if ((g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0)) {
+                    double th = root_of(s, i, a, b, g0, g1);
+                    if (th < th_root) {
+                        th_root = th;
+                        first = i;
+                    }
+                }
+            }
+            sw = ga;
+            ga = gb;
+            gb = sw;
+        }
+    }
+    if (first >= 0 && th_root < 1.0) {
+        /* restart just past the root: the kink is not stepped over.  The step
+         * that found it has stages beyond the kink; the step is taken again up
+         * to the root (its stages all before it), with its own dense output */
+        double h2 = th_root * h;
+        if (h2 > 8.0 * DBL_EPSILON * fabs(s->t_old) && attempt(s, h2) <= 1.0) {
+            s->h_old = h2;
+            if (make_dense(s)) return -3;
+            memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
+            s->t = s->t_old + h2;
+        } else {                  /* (attempt leaves the first step's dense output alone) */
+            s->t = s->t_old + th_root * h;
+            dense_at(s, th_root, s->y);
+        }
+        if (rhs(s, s->t, s->y, s->f)) return -3;
+        events(s, s->t, s->y, s->g_old);
+        s->roots++;
+        /* past a kink the solution is smooth again only to a low order (the
+         * contact force grows as d^1.5): begin with a short step, grown back
+         * by the step control (at most 10x per step) */
+        if (s->h > RESTART_STEP * h) s->h = RESTART_STEP * h;
+        s->quiet = first;
+    } else {
+        s->quiet = -1;
+        s->t = s->t_old + h;
+        memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
+        memcpy(s->f, s->k + NSTAGE * n, sizeof(double) * (size_t)n);   /* f at the end: FSAL */
+        if (first >= 0) s->roots++;                                      /* the root is the end */
+        if (s->ne > 0) memcpy(s->g_old, s->g_new, sizeof(double) * (size_t)s->ne);
+        if (s->t >= t_out && !s->dense_ready && make_dense(s)) return -3;
+    }
+    for (i = 0; i < n; i++)
+        if (!isfinite(s->y[i])) {
+            snprintf(s->msg, sizeof s->msg, "the solution is NaN or infinite at t = %.10g", s->t);
+            return -3;
+        }
+    return 0;
+}
+
+int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) {
+    long n = 0;
+    int flag;
+    while (s->t < t_out) {
+        /* restarted at a root within roundoff of t_out: no step is that short */
+        if (t_out - s->t <= 16.0 * DBL_EPSILON * fabs(t_out)) {
+            if (s->dense_ready && !s->fresh && t_out <= s->t_old + s->h_old)
+                pdbfs_erk_dense(s, t_out, x_out);
+            else
+                memcpy(x_out, s->y, sizeof(double) * (size_t)s->nx);
+            return 0;
+        }
+        if (++n > max_steps) {
+            snprintf(s->msg, sizeof s->msg, "%ld steps without reaching t = %.10g", max_steps, t_out);
+            return PDBFS_CV_TOO_MUCH_WORK;
+        }
+        flag = step(s, t_out);
+        if (flag) return flag;
+        /* whoever watches the steps may read their dense output (pdbfs_record.c) */
+        if (s->on_step && !s->dense_ready && s->t > s->t_old && make_dense(s)) return -3;
+        if (s->on_step && s->substeps > 1) {
+            int j;
+            double *xi = s->k + 13 * s->nx;    /* free once the dense output is made */
+            for (j = 1; j < s->substeps; j++) {
+                double ti = s->t_old + (s->t - s->t_old) * j / s->substeps;
+                dense_at(s, (ti - s->t_old) / s->h_old, xi);
+                if (s->on_step(s->step_env, ti, xi)) {
+                    snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", ti);
+                    return PDBFS_CV_STOPPED;
+                }
+            }
+        }
+        if (s->on_step && s->on_step(s->step_env, s->t, s->y)) {
+            snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", s->t);
+            return PDBFS_CV_STOPPED;
+        }
+    }
+    if (s->fresh || t_out == s->t) memcpy(x_out, s->y, sizeof(double) * (size_t)s->nx);
+    else pdbfs_erk_dense(s, t_out, x_out);
+    return 0;
+}

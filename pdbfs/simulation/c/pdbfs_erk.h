@@ -1,0 +1,80 @@
+/*
+ * pdbfs_erk: an explicit Runge-Kutta integrator of order 8 (Dormand &
+ * Prince's 8(5,3) pair, pdbfs_erk_table.h) with 7th-order dense output,
+ * for rigs that are not stiff at the tolerances asked (method "erk").
+ *
+ * The rig's event indicators (contact onset and separation, a slack oil
+ * column, a valve switching) are watched after every step; where one
+ * changes sign its root is located on the step's dense output and the
+ * integration restarts just past it (the right-hand side is not smooth
+ * there), so no step straddles a kink.  The interface follows pdbfs_cvode.h
+ * (start, advance to an output time, a callback after every step, the
+ * same statistics), so the drivers use either.
+ */
+#ifndef PDBFS_ERK_H
+#define PDBFS_ERK_H
+
+#include "pdbfs_cvode.h"
+
+/* the method code of the drivers (pdbfs_cvode.h has 0 Adams, 1 BDF) */
+#define PDBFS_ERK 2
+
+/* pdbfs_erk_advance's failure when the step size falls below roundoff (a
+ * force blowing up, a rig too stiff for an explicit method); the drivers
+ * report it as CVODE's CV_ERR_FAILURE (-3), its nearest cause */
+#define PDBFS_ERK_STEP_UNDERFLOW (-30)
+
+typedef struct {
+    int nx, ne;
+    PdbfsEval *ev;
+    pdbfs_casadi_fn ode;      /* default pdbfs_ode */
+    double rtol;
+    const double *atol;       /* nx absolute tolerances */
+    double max_step, t_stop;  /* 0: no limit; never steps past t_stop if finite */
+    /* where the integration is: t, y, f(t, y); h the next step to try */
+    double t, h, *y, *f;
+    /* the last accepted step [t_old, t_old + h_old] (cut at a root: it ends
+     * at t): its dense output */
+    double t_old, h_old, *y_old, *dense;
+    int dense_ready, fresh;   /* fresh: nothing integrated since the (re)start */
+    int quiet;                /* the indicator restarted at (its sign is not looked at in the
+                               * first step after: it is at its root, roundoff either side) */
+    double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp, *g_a, *g_b;
+    pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
+    void *step_env;
+    int substeps;             /* > 1: on_step also sees substeps - 1 points inside each
+                               * step, from the dense output (records as fine as CVODE's) */
+    long steps, roots, rhs_evals, rejected;
+    char msg[256];            /* the reason of the last failure */
+} PdbfsErk;
+
+/* Prepare ``s`` and allocate its memory; 0, or -100 when out of memory. */
+int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev);
+
+/* (Re)start at (t0, x0) with these tolerances (set->rtol, set->atol,
+ * set->max_step, set->t_stop; method and solvers are not used).  0, or
+ * RC 1 when f(t0, x0) is not finite. */
+int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const double *x0);
+
+/* Integrate to t_out (at most max_steps steps) and write the state at t_out
+ * into x_out (from the dense output).  0, PDBFS_CV_TOO_MUCH_WORK,
+ * PDBFS_CV_STOPPED, PDBFS_ERK_STEP_UNDERFLOW, or -3 (the solution stopped
+ * being finite); s->t is then the time reached and s->msg says why. */
+int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out);
+
+/* A step's dense output at theta in [0, 1]: y_old and the 7 x n polynomial
+ * rows of the step (PdbfsErk.dense), n states, into out. */
+void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out);
+
+/* The state at time t in the last step (t_old <= t <= t), into out. */
+void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out);
+
+void pdbfs_erk_free(PdbfsErk *s);
+
+/* pdbfs_batch_run (pdbfs_batch.c) with the explicit Runge-Kutta method, its
+ * arguments checked there (pdbfs_batch_erk.c) */
+int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const double *t,
+                        double *X, double rtol, double atol, double max_step,
+                        long long max_num_steps, double *info, char *msg, long long msglen);
+
+#endif

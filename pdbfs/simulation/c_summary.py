@@ -1,0 +1,49 @@
+"""The summary of a compiled run from the run itself: the compiled backend
+integrates the output grid and records every step in one call
+(c/pdbfs_run_summary.c), and the summary driver's reduction of that record
+(c/pdbfs_summary.c: peaks where the slope turns, crossings of the pulse
+level, CVODE's root finding on the recorded steps) gives Result.summary()
+without integrating again.
+
+It is used where it gives what summary.py would: a rig whose summary roles
+the driver has (no repeated blows), a pulse that ended inside the run, and
+no note from the driver. Anything else (a pulse cut off at the horizon, no
+pulse, a rig that strikes repeatedly) goes to summary.py, which follows the
+run further and explains.
+"""
+from __future__ import annotations
+
+import math
+
+from .compiled import SUMMARY_KEYS
+
+
+def usable(dae, lib) -> bool:
+    """Whether the driver's summary of this rig has every key summary.py gives."""
+    ok = getattr(lib, "_summary_usable", None)
+    if ok is None:
+        from .summary import keys_for
+        keys = keys_for(dae)
+        ok = lib._summary_usable = bool(keys) and set(keys) <= set(lib.summary_keys)
+    return ok
+
+
+def summary_of(dae, fast) -> dict | None:
+    """Result.summary()'s dict from the run's own summary (values, code,
+    note), or None where summary.py must be asked."""
+    from .summary import keys_for
+    values, code, note = fast
+    if code != 0 or note or values[SUMMARY_KEYS.index("complete")] != 1.0:
+        return None
+    out = {}
+    for k in keys_for(dae):
+        v = float(values[SUMMARY_KEYS.index(k)])
+        if k == "complete":
+            out[k] = True
+        elif math.isnan(v):
+            if k != "restitution_coefficient":
+                return None        # a figure summary.py would give: ask it
+            out[k] = None
+        else:
+            out[k] = v
+    return out

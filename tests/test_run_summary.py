@@ -1,0 +1,58 @@
+"""The summary of a compiled run from the run itself (c/pdbfs_run_summary.c,
+pdbfs/simulation/c_summary.py): the same figures as summary.py on the same
+solution, nothing integrated again, summary.py asked where the run cannot
+say (a pulse cut off at the horizon)."""
+import warnings
+
+import pytest
+
+from pdbfs.errors import PulseIncompleteWarning
+from pdbfs.models import paper_rig
+from pdbfs.simulation import result as result_module
+from pdbfs.simulation import summarize
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return paper_rig()
+
+
+@pytest.mark.parametrize("method", ["erk", "adams"])
+@pytest.mark.parametrize("params", [{}, {"hammer.v0": 5.5, "oil.k": 5e8}, {"hammer.v0": 1.5}])
+def test_the_runs_summary_is_summary_py_on_the_same_run(rig, method, params, monkeypatch):
+    res = rig.simulate(backend="c", method=method, params=params)
+    assert res._fast is not None
+    slow = summarize(res)                     # summary.py on this Result's own solution
+    monkeypatch.setattr(result_module, "summarize", lambda r: pytest.fail("integrated again"))
+    fast = res.summary()
+    assert list(fast) == list(slow)
+    for k, v in slow.items():
+        if k in ("time_of_peak", "pulse_duration"):
+            assert fast[k] == pytest.approx(v, abs=2e-9), k
+        elif k == "restitution_coefficient":   # impulses integrated exactly here, on the grid there
+            assert fast[k] == pytest.approx(v, rel=1e-6), k
+        elif isinstance(v, float):
+            assert fast[k] == pytest.approx(v, rel=3e-7), k
+        else:
+            assert fast[k] == v, k
+
+
+def test_a_pulse_cut_off_goes_to_summary_py_with_its_warning(rig):
+    res = rig.simulate(0.005, n_out=501)
+    with pytest.warns(PulseIncompleteWarning, match="still running"):
+        s = res.summary()
+    assert s["complete"] is False and s["pulse_duration"] is None
+
+
+def test_the_casadi_backend_keeps_summary_py(rig):
+    res = rig.simulate(backend="casadi")
+    assert res._fast is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert res.summary()["complete"] is True
+
+
+def test_summary_run_does_not_import_result():
+    import inspect
+    from pdbfs.simulation import summary_run
+    assert "from .result" not in inspect.getsource(summary_run)
