@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import hashlib
 import os
-import platform
 import shutil
 import tempfile
 from pathlib import Path
@@ -80,13 +79,14 @@ def fingerprint(dae) -> str:
     outs = [ca.densify(e) for e in (dae.ode, dae.events, dae.x0, ca.vertcat(*pick(roles)),
                                     ca.vertcat(*pick([force] if force in dae.y_names else [])))]
     f = ca.Function("fingerprint", [dae.t, dae.x, dae.z, dae.p], outs)
-    sd = find_sundials()
-    cc = os.environ.get("CC", "gcc")
+    host = toolchain.host_target()
+    sd = find_sundials(target=host)
     h = hashlib.sha256()
-    for part in (f"abi {ABI}", platform.machine(), ca.__version__, dae.name, f.serialize(),
-                 "\0".join(roles), *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
+    for part in (f"abi {ABI}", host, ca.__version__, dae.name, f.serialize(),
+                 f"nte {dae.time_events.numel()}", "\0".join(roles),
+                 *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
                  "\0".join(compile_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")],
-                                           sd=sd, cc=cc)), _archives_stamp(sd)):
+                                           sd=sd, target=host)), _archives_stamp(sd)):
         h.update(part.encode())
         h.update(b"\0")
     return h.hexdigest()[:32]

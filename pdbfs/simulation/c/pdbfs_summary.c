@@ -112,7 +112,7 @@ int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
         double base = R(H, 0, j);
         oom |= pdbfs_peak(H, j, 0, H->n, &out[S_TPEAK], &out[S_PEAK], NULL);
         level = base + PULSE_LEVEL * (out[S_PEAK] - base);
-        if (!(out[S_PEAK] - base > 1e-6 * fabs(base) + 1e-3)) {
+        if (!(out[S_PEAK] - base > 1e-5 * fabs(base) + 1e-3)) {   /* as summary_run.has_pulse */
             out[S_PEAK] = out[S_TPEAK] = out[S_DURATION] = NAN;
             out[S_COMPLETE] = 0.0;
             pdbfs_note(m, "no pressure pulse in [0, %.6g] s (the pressure does not rise above its "
