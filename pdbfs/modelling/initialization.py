@@ -81,6 +81,20 @@ def start_system(dae, initial=None):
     return free, eqs, names
 
 
+def square_start(dae, free, eqs, eq_names):
+    """(unknowns, equation names) of the start system, or a ModelError naming
+    both when there are not as many equations as unknowns."""
+    nz = dae.z.numel()
+    unknowns = [dae.x_names[i] for i in free] + dae.z_names
+    eq_names = eq_names + [f"algebraic equation {k + 1}" for k in range(nz)]
+    if len(eqs) + nz != len(unknowns):
+        raise ModelError(
+            f"the start of rig {dae.name} has {len(eqs) + nz} equations "
+            f"({', '.join(eq_names) or 'none'}) for {len(unknowns)} unknowns "
+            f"({', '.join(unknowns) or 'none'}): give as many initial equations as free states")
+    return unknowns, eq_names
+
+
 def start_residual(dae, free, eqs):
     """(w, xg, G): the unknowns w = [free states; z], a symbol xg for the
     values of every state (the fixed ones are taken from it) and the

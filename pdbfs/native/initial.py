@@ -20,14 +20,15 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from pdbfs.modelling.initialization import start_residual, start_system
+from pdbfs.modelling.initialization import square_start, start_residual, start_system
 
 MAX_ITER = 50
 RESIDUAL_TOL = 1e-8
 
 
 def solved_start_function(dae, name: str = "pdbfs_start") -> ca.Function:
-    free, eqs, _ = start_system(dae)
+    free, eqs, names = start_system(dae)
+    square_start(dae, free, eqs, names)       # as many equations as unknowns, or a ModelError
     w, xg, G = start_residual(dae, free, eqs)
     nw = w.numel()
     p = dae.p

@@ -1,6 +1,7 @@
 """Simulation and results: a rig's DAE -> SUNDIALS -> a Result.
 
-    simulator.py   simulate(), Simulator: CVODES/IDAS through casadi.integrator,
+    one_run.py     simulate(): one run of a rig, the function users call
+    simulator.py   Simulator: CVODES/IDAS through casadi.integrator,
                    integrators cached per setting, clear SolverErrors
     compiled.py    backend="c" (the default where it builds): the DAE's
                    generated C + c/pdbfs_batch.c + CVODE or c/pdbfs_erk.c
@@ -31,7 +32,8 @@ generation, SUNDIALS). Never the component library, the studies, the FMU
 exporter or the rigs in pdbfs.models.
 """
 from .result import Result
-from .simulator import MAX_NUM_STEPS, Simulator, simulate
+from .one_run import simulate
+from .simulator import MAX_NUM_STEPS, Simulator
 from .summary import KEYS as SUMMARY_KEYS
 from .summary import UNITS as SUMMARY_UNITS
 from .summary import summarize

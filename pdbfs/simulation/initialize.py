@@ -21,7 +21,8 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ModelError, ParameterError
-from pdbfs.modelling.initialization import (check_initial, needs_solving, start_residual,  # noqa: F401
+from pdbfs.modelling.initialization import (check_initial, needs_solving, square_start,  # noqa: F401
+                                            start_residual,
                                             start_system)
 
 MAX_ITER = 100
@@ -69,14 +70,7 @@ def solve_start(sim, p, x_guess, initial=None, t0=0.0):
     if not needs_solving(dae, initial):
         return x_guess, InitialState(dict(zip(dae.x_names, x_guess.tolist())))
     free, eqs, eq_names = start_system(dae, initial)
-    nz = dae.z.numel()
-    unknowns = [dae.x_names[i] for i in free] + dae.z_names
-    eq_names = eq_names + [f"algebraic equation {k + 1}" for k in range(nz)]
-    if len(eqs) + nz != len(unknowns):
-        raise ModelError(
-            f"the start of rig {dae.name} has {len(eqs) + nz} equations "
-            f"({', '.join(eq_names) or 'none'}) for {len(unknowns)} unknowns "
-            f"({', '.join(unknowns) or 'none'}): give as many initial equations as free states")
+    unknowns, eq_names = square_start(dae, free, eqs, eq_names)
     F = _functions(sim, tuple(free), initial)
     w = np.concatenate([x_guess[free], sim.z_guess(p)])
     args = (t0, x_guess, p)

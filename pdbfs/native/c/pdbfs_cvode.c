@@ -61,7 +61,6 @@ static int all_finite(const double *v, long n) {
 }
 
 /* ------------------------------------------------------- CVODE callbacks */
-
 static int cv_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     double *yd = N_VGetArrayPointer(ydot);
@@ -128,7 +127,6 @@ static void cv_err(int line, const char *func, const char *file, const char *msg
 }
 
 /* ------------------------------------------------------------- life cycle */
-
 void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env) {
     memset(s, 0, sizeof *s);
     s->nx = nx;
@@ -268,7 +266,6 @@ int pdbfs_cvode_start(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
 }
 
 /* --------------------------------------------------------------- stepping */
-
 double pdbfs_next_time_event(PdbfsCvode *s, double t, const double *x) {
     double next = INFINITY, ti, tol;
     int i;
