@@ -76,6 +76,19 @@ void pdbfs_free_crossings(Crossings *c) {
     memset(c, 0, sizeof *c);
 }
 
+void pdbfs_free_history(History *H) {
+    free(H->t);
+    free(H->x);
+    free(H->r);
+    free(H->rt);
+    free(H->rx);
+    free(H->rd);
+    free(H->dn);
+    free(H->rdot);
+    H->t = H->x = H->r = H->rt = H->rx = H->dn = H->rdot = NULL;
+    H->rd = NULL;
+}
+
 /* ------------------------------------------------------------ refinement */
 
 typedef struct {

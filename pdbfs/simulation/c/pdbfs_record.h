@@ -61,4 +61,7 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c);
 
 void pdbfs_free_crossings(Crossings *c);
 
+/* the history's arrays, freed (the History itself is the caller's) */
+void pdbfs_free_history(History *H);
+
 #endif

@@ -144,14 +144,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     if (!rc && t[0] == 0.0) *scode = pdbfs_summarise(&H, out, x_pk, &m);
     pdbfs_cvode_free(&s);
     pdbfs_erk_free(&rk);
-    free(H.t);
-    free(H.x);
-    free(H.r);
-    free(H.rt);
-    free(H.rx);
-    free(H.rd);
-    free(H.dn);
-    free(H.rdot);
+    pdbfs_free_history(&H);
     free(atolv);
     free(work);
     return rc;

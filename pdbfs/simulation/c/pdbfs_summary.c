@@ -297,14 +297,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     }
     pdbfs_cvode_free(&s);
     pdbfs_erk_free(&rk);
-    free(H.t);
-    free(H.x);
-    free(H.r);
-    free(H.rt);
-    free(H.rx);
-    free(H.rd);
-    free(H.dn);
-    free(H.rdot);
+    pdbfs_free_history(&H);
     free(atolv);
     free(work);
     return failed;
