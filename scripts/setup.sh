@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS=0
-say() { echo "setup [${SECONDS} s]: $*" >&2; }
+step() { echo "setup [${SECONDS} s]: $*" >&2; }   # each step said, with the time so far
 
 as_root_apt() {   # apt-get needs root; CI runs as root
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then "$@"; else return 1; fi
@@ -25,11 +25,11 @@ apt_install() {
 }
 
 if [ -z "${VIRTUAL_ENV:-}" ] && [ ! -x .venv/bin/python ]; then
-    say "making the virtual environment .venv"
+    step "making the virtual environment .venv"
     python3 -m venv .venv 2>/dev/null || { rm -rf .venv; apt_install python3-venv && python3 -m venv .venv; }
 fi
 source scripts/env.sh
-say "installing pdbfs and its Python packages with pip (a few minutes on a fresh machine)"
+step "installing pdbfs and its Python packages with pip (a few minutes on a fresh machine)"
 python -m pip install --quiet --disable-pip-version-check -e ".[test]"
 
 # optional test tools: the browser tests of `pdbfs app` (Debian's Chromium and its
@@ -42,10 +42,11 @@ missing=()
 { command -v qemu-aarch64 >/dev/null && [ -d /usr/aarch64-linux-gnu ]; } || missing+=(qemu-user libc6-arm64-cross)
 ldconfig -p 2>/dev/null | grep -q libtbb.so.12 || missing+=(libtbb12)
 if [ ${#missing[@]} -gt 0 ]; then
-    say "optional test tools: ${missing[*]} (apt-get)"
-    apt_install "${missing[@]}" || say "could not install ${missing[*]} (needs root and apt-get): their tests are skipped"
+    step "optional test tools: ${missing[*]} (apt-get)"
+    apt_install "${missing[@]}" || step "could not install ${missing[*]} (needs root and apt-get): their tests are skipped"
 fi
 
 # CVODE for this machine, fetched and compiled once (about a minute the first time)
-say "SUNDIALS' CVODE for this machine (zig cc)"
+step "SUNDIALS' CVODE for this machine (zig cc)"
 python -c "from pdbfs.native.sundials import find_sundials; print('setup: CVODE:', find_sundials().origin)"
+step "done"

@@ -18,7 +18,7 @@ SIMULATE = {
     "t_out": ["abc", 5, [[0.0, 0.001]], {"a": 1}],
     "params": [[("hammer.v0", 3.0)], "hammer.v0", 3, {3: 1.0}],
     "start": [[("hammer.s", 0.0)], "x", 3],
-    "rtol": ["1e-6", None, [1e-6], True],
+    "rtol": ["1e-6", [1e-6], True],          # None: the method's default (1e-8; erk 1e-9)
     "atol": ["1e-8", None, False],
     "method": [3, None, ["bdf"]],
     "max_step": ["1e-4", [1e-4], True],

@@ -61,9 +61,15 @@ def shell_lines():
                 out.append(line)
             elif out and raw[:1].isspace() and line.startswith(("[", "--")):
                 out[-1] += " " + line
+            elif line.startswith("pdbfs: error:") and out:
+                REFUSED[re.sub(r"\s+", " ", out[-1])] = line[len("pdbfs: error:"):].strip()
             elif line.startswith("pdbfs:") or line.startswith(NOT_RUN) or not line:
                 continue            # printed output, or set-up scripts (see NOT_RUN)
     return [re.sub(r"\s+", " ", ln) for ln in out]
+
+
+#: examples README shows refused (a "pdbfs: error:" line after them): the error they print
+REFUSED: dict = {}
 
 
 def is_synopsis(line):
@@ -118,6 +124,10 @@ def test_every_example_runs(line, tmp_path):
         assert pdbfs([args[0], "--help"], tmp_path).returncode == 0
         return
     r = pdbfs(args, tmp_path)
+    if line in REFUSED:               # shown refused: one line, exit 2, as README prints it
+        assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+        assert re.sub(r"\s+", " ", r.stderr).startswith("pdbfs: error: " + REFUSED[line])
+        return
     assert r.returncode == 0, f"{line}\n{r.stderr}"
     assert "Traceback" not in r.stderr
     if "--json" in args:

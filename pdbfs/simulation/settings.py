@@ -23,8 +23,11 @@ RTOL = 1e-8
 
 
 def default_rtol(method: str, rtol=None) -> float:
-    """``rtol``, or the default of ``method`` when it is None."""
-    return float(rtol) if rtol is not None else DEFAULT_RTOL.get(method, RTOL)
+    """``rtol`` as given (check_settings refuses what is not a number), or the
+    default of ``method`` when it is None."""
+    if rtol is not None:
+        return rtol
+    return DEFAULT_RTOL.get(method, RTOL) if isinstance(method, str) else RTOL
 
 
 def real(value, name: str) -> float:
