@@ -45,7 +45,9 @@ def test_every_rig_sweeps_and_every_list_has_a_column_form(name):
             assert [v for v in stored if v is not None] == pytest.approx(
                 [v for v in value if v is not None], rel=1e-9)
         elif key != "complete" and value is not None:
-            assert res.values(key)[0] == pytest.approx(value, rel=1e-9), key
+            # a sweep point and a run may take different integrators (a solved start
+            # is swept point by point): they agree to the default path's 1e-7
+            assert res.values(key)[0] == pytest.approx(value, rel=1e-7), key
 
 
 @pytest.mark.parametrize("name", list(RIGS))
