@@ -264,9 +264,9 @@ def test_repeated_parts_are_drawn_only_when_asked():
 def test_the_page_s_summary_is_its_backend_s_and_near_a_converged_run(wb):
     """What README states: the page's numbers are rig.simulate's with the
     page's backend, exactly; at the default tolerance they are within 2e-6
-    of a run converged at rtol = 1e-12, and the two backends agree to 1e-7
-    once both are run at rtol = 1e-10 (their 1e-5 apart at rtol = 1e-8 is
-    integration error, not two models)."""
+    of a run converged at rtol = 1e-12, and the two backends agree to 1e-8
+    once both are run at rtol = 1e-10 (restitution 1e-6; their 1e-5 apart at
+    the defaults is integration error, not two models)."""
     params = {"oil.k": 1e8}
     rows = dict((k, v) for k, v, _ in wb.outcome({**wb.defaults(), **params})["rows"])
     same = paper_rig().simulate(0.02, params=params, backend=wb.backend).summary()
@@ -277,5 +277,8 @@ def test_the_page_s_summary_is_its_backend_s_and_near_a_converged_run(wb):
         assert rows[key] == pytest.approx(ref[key], rel=2e-6), key
     tight = {b: paper_rig().simulate(0.02, params=params, backend=b, rtol=1e-10,
                                      atol=1e-12).summary() for b in ("casadi", "c")}
-    for key in ("peak_contact_force", "time_of_peak", "restitution_coefficient"):
-        assert tight["casadi"][key] == pytest.approx(tight["c"][key], rel=1e-7), key
+    for key in ("peak_pressure", "peak_contact_force", "time_of_peak", "pulse_duration"):
+        assert tight["casadi"][key] == pytest.approx(tight["c"][key], rel=1e-8), key
+    # the compiled summary's impulses by its own quadrature: 4e-7 (README)
+    assert tight["casadi"]["restitution_coefficient"] == pytest.approx(
+        tight["c"]["restitution_coefficient"], rel=1e-6)
