@@ -45,7 +45,12 @@ def test_a_huge_value_is_refused_beside_its_field_or_simulated(server, browser):
 
 def test_a_failed_run_leaves_no_old_result_and_the_method_can_be_chosen(server, browser):
     load(browser, server)
-    type_into(browser, "oil.k", "1e30")                 # about 2 s of CVODE steps, then failure
+    # CVODE's Adams takes about 2 s of steps before it fails (the default explicit
+    # method fails within 0.3 s, before the busy note is due)
+    browser.find_element(By.ID, "method").click()
+    wait(browser, "[role=option]", lambda e: e.text == "adams").click()
+    wait(browser, "#status", lambda e: "method adams" in e.text)
+    type_into(browser, "oil.k", "1e30")
     assert wait(browser, "#busy", lambda e: e.is_displayed(), timeout=10)   # said while it runs
     wait(browser, "#run-failed")
     assert not browser.find_elements(By.ID, "sum-peak_pressure")

@@ -43,6 +43,8 @@ def compiled_failure(name, grid, st) -> Exception:
     who = "explicit Runge-Kutta" if str((getattr(st, "stats", None) or {}).get("method", "")) \
         .startswith("erk") else "CVODE"
     detail = f" ({who}: {st.message})" if st.message else ""
+    if who != "CVODE":       # the explicit method cannot follow a stiff rig
+        detail += "; if the rig is stiff there, try method='bdf'"
     return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
                        f"(of {grid[-1]:.6g} s): {cause}{detail}")
 
