@@ -237,7 +237,7 @@ def blows(R, indentation, pressure=None, base=0.0, peak_after=-np.inf) -> dict:
         rose = has_pulse(base, p_pk)
         higher = last and peak_after > p_pk       # its peak lies past the horizon
         cut = last and (not rose or higher or y[-1] >= pulse_level(base, p_pk))
-        peaks.append(None if higher else p_pk)
+        peaks.append(None if higher or not rose else p_pk)     # no rise: no peak (at rest)
         durations.append(None if cut or not rose else
                          time_above(R, pressure, pulse_level(base, p_pk), (a, b)))
     return {"impact_count": len(starts), "impact_times": [float(s) for s in starts],
