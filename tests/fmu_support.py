@@ -6,6 +6,7 @@ from __future__ import annotations
 import atexit
 import shutil
 import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -51,7 +52,7 @@ def built_fmu3(kind: str = "paper") -> str:
     return built_fmu(kind, fmi_version=3)
 
 
-def source_build(fmu: str, dest, cflags=(), libraries: str = "") -> "Path":
+def source_build(fmu: str, dest, cflags=(), libraries: str = "") -> Path:
     """Unzip ``fmu`` into ``dest`` without its binaries and build the binary
     from sources/ as `fmpy compile` does (FMPy's CMake project, the source
     files the FMU declares; ``libraries`` at the end of the link line);
