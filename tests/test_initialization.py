@@ -12,8 +12,9 @@ import pytest
 from pdbfs.components import Fixed, Force, Mass, Spring
 from pdbfs.errors import ModelError, ParameterError
 from pdbfs.models import drop_rig, hydraulic_pulse_rig, paper_rig
-from pdbfs.modelling import Component, Flange, Parameter, Variable, eq
+from pdbfs.modelling import eq
 from pdbfs.rig import Rig
+from hardening import Hardening
 
 TIGHT = dict(rtol=1e-10, atol=1e-12)
 
@@ -189,22 +190,6 @@ def test_paths_that_cannot_solve_the_start_refuse_it():
     from pdbfs.simulation import trajectory_function
     with pytest.raises(ParameterError, match="solved at initialization"):
         trajectory_function(drop_rig(rest=True), ["contact.fc"], 0.001, 11, inputs=["g"])
-
-
-class Hardening(Component):
-    """A spring f = k (s + b s^3) on its stretch s."""
-    k = Parameter(1.0, "N/m", "Stiffness", positive=True)
-    b = Parameter(0.0, "1/m2", "Cubic hardening")
-
-    def declare(self):
-        self.flange_a, self.flange_b = Flange(), Flange()
-        self.s = Variable("m", "Stretch")
-        self.f = Variable("N", "Force")
-
-    def equations(self):
-        return [eq(self.s, self.flange_b.s - self.flange_a.s),
-                eq(self.flange_b.f, self.f), eq(self.flange_a.f, -self.f),
-                eq(self.f, self.k * (self.s + self.b * self.s ** 3))]
 
 
 class Hanging(Rig):

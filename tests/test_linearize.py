@@ -13,8 +13,8 @@ from pdbfs.components import Damper, Fixed, Force, Mass, Spring
 from pdbfs.components.hydraulic import LaminarLeak, Piston, Tank, Volume
 from pdbfs.errors import ParameterError
 from pdbfs.models import drop_rig, paper_rig
-from pdbfs.modelling import Component, Flange, Parameter, eq
 from pdbfs.rig import Rig
+from hardening import Hardening
 
 
 def close(a, b, rel=1e-8):
@@ -105,24 +105,6 @@ def test_damped_oscillator_damping_ratio():
     assert close(m.omega, np.sqrt(1e4 / 2.0))
     assert close(m.damping, 30.0 / (2 * np.sqrt(1e4 * 2.0)))
     assert close(m.eigenvalue.imag, np.sqrt(1e4 / 2.0) * np.sqrt(1 - m.damping ** 2))
-
-
-class Hardening(Component):
-    """A spring f = k (s + b s^3) on its stretch: two in series make the node
-    between them an algebraic variable (IDAS)."""
-    k = Parameter(1.0, "N/m", "Stiffness", positive=True)
-    b = Parameter(0.0, "1/m2", "Cubic hardening")
-
-    def declare(self):
-        self.flange_a, self.flange_b = Flange(), Flange()
-        from pdbfs.modelling import Variable
-        self.s = Variable("m", "Stretch")
-        self.f = Variable("N", "Force")
-
-    def equations(self):
-        return [eq(self.s, self.flange_b.s - self.flange_a.s),
-                eq(self.flange_b.f, self.f), eq(self.flange_a.f, -self.f),
-                eq(self.f, self.k * (self.s + self.b * self.s ** 3))]
 
 
 class Series(Rig):
