@@ -9,14 +9,16 @@ validated by fmpy, simulated by any importer.
     description.py  modelDescription.xml (FMI 2.0, with <SourceFiles>)
     description3.py modelDescription.xml and buildDescription.xml (FMI 3.0)
     units.py        unit strings -> FMI base units
-    platforms.py    linux64, win64 (MinGW-w64): which can be built, and the build
+    platforms.py    the five platform tuples (x86_64/aarch64 Linux, x86_64 Windows,
+                    x86_64/aarch64 macOS) and their aliases; each built by zig cc
     sources.py      SUNDIALS' CVODE sources for a source FMU
     derivatives.py  CasADi's forward and reverse AD for the directional and adjoint derivatives
     symbols.py      private names for everything but the FMI functions (pdbfs_names.h)
     documentation.py documentation/index.html
     export.py       pdbfs_model.h, compile, zip
-    c/              the generic C: one wrapper per FMI version (fmi2_*, fmi3_*)
-                    over the same model code and co-simulation loop
+    c/              the generic C: the life cycle (lifecycle.c) calling down into one
+                    wrapper per FMI version (fmi2_*, fmi3_*) over the same model
+                    code, co-simulation loop and derivatives (derivatives.c)
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.

@@ -123,9 +123,10 @@ with this folder as the only include directory:
   macOS:    clang -O2 -shared -fvisibility=hidden -I. *.c {SRC_DIR}/*.c -o {ident}.dylib
 
 and put the library in binaries/<platform>/ of the FMU. (pdbfs's tests build
-these sources with `fmpy compile` on Linux (GCC) and with the MinGW line
-above; GCC attributes are used only under __GNUC__, so MSVC may take them
-too, untested.)
+these sources with `fmpy compile` on Linux (GCC); pdbfs's own binaries come
+from the same files by zig cc, CVODE compiled ahead; the MinGW and clang
+lines are untested. GCC attributes are used only under __GNUC__, so MSVC
+may take them too, untested.)
 
 The C math library: on Linux the binary must be linked with -lm
 ({libm}). `fmpy compile` links none: its binary loads only into a
