@@ -66,7 +66,6 @@ def wrapper_files(fmi_version: int = 2) -> list[Path]:
 
 #: the generic C of an FMI 2.0 FMU
 WRAPPER_FILES = wrapper_files(2)
-FMI_HEADERS = VERSION_HEADERS[2]
 
 DEFAULT_RTOL = 1e-8
 
