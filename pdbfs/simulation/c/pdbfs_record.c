@@ -76,6 +76,18 @@ void pdbfs_free_crossings(Crossings *c) {
     memset(c, 0, sizeof *c);
 }
 
+void pdbfs_summary_settings(PdbfsCvodeSettings *set, int method, int erk, double rtol,
+                            double *atolv, double max_step, double t_stop) {
+    memset(set, 0, sizeof *set);
+    set->method = erk ? PDBFS_ADAMS : PDBFS_CODE_METHOD(method);
+    set->nls = erk ? 0 : PDBFS_CODE_NLS(method);
+    set->linsol = erk ? 0 : PDBFS_CODE_LINSOL(method);
+    set->rtol = rtol;
+    set->atol = atolv;
+    set->max_step = max_step;
+    set->t_stop = t_stop;
+}
+
 void pdbfs_free_history(History *H) {
     free(H->t);
     free(H->x);

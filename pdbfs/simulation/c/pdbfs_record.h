@@ -61,6 +61,11 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c);
 
 void pdbfs_free_crossings(Crossings *c);
 
+/* CVODE's settings for a summary run of ``method`` (a pdbfs method code); with
+ * the explicit method (erk) those of the refinements' Adams */
+void pdbfs_summary_settings(PdbfsCvodeSettings *set, int method, int erk, double rtol,
+                            double *atolv, double max_step, double t_stop);
+
 /* the history's arrays, freed (the History itself is the caller's) */
 void pdbfs_free_history(History *H);
 

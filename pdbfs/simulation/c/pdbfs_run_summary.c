@@ -82,14 +82,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
         atolv[i] = i < PDBFS_NX ? atol : 1e300;     /* the impulse: no error test */
         x_pk[NXQ + i] = 0.01 * atolv[i];
     }
-    memset(&set, 0, sizeof set);
-    set.method = erk ? PDBFS_ADAMS : PDBFS_CODE_METHOD(method);
-    set.nls = erk ? 0 : PDBFS_CODE_NLS(method);
-    set.linsol = erk ? 0 : PDBFS_CODE_LINSOL(method);
-    set.rtol = rtol;
-    set.atol = atolv;
-    set.max_step = max_step;
-    set.t_stop = t[nt - 1];
+    pdbfs_summary_settings(&set, method, erk, rtol, atolv, max_step, t[nt - 1]);
     refine = set;               /* as the summary driver: tighter after the 8th-order pass */
     if (erk) {
         refine.rtol = 0.01 * rtol;

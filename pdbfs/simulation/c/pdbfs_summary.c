@@ -214,14 +214,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     H.set = erk ? &refine : &set;
     H.rk = erk ? &rk : NULL;    /* refinements on its dense output */
     for (i = 0; i < NXQ; i++) atolv[i] = i < PDBFS_NX ? atol : 1e300;   /* impulses: no error test */
-    memset(&set, 0, sizeof set);
-    set.method = erk ? PDBFS_ADAMS : PDBFS_CODE_METHOD(method);
-    set.nls = erk ? 0 : PDBFS_CODE_NLS(method);
-    set.linsol = erk ? 0 : PDBFS_CODE_LINSOL(method);
-    set.rtol = rtol;
-    set.atol = atolv;
-    set.max_step = max_step;
-    set.t_stop = t_end;
+    pdbfs_summary_settings(&set, method, erk, rtol, atolv, max_step, t_end);
     /* after an 8th-order pass, the refinements' CVODE (Adams, a cold start
      * inside a long step) would be the larger error: tighter by 100 */
     refine = set;
