@@ -27,6 +27,7 @@ from pathlib import Path
 import casadi as ca
 
 from pdbfs.errors import ExportError
+from pdbfs.files import whole
 from pdbfs.modelling import DAE
 from pdbfs.native.codegen import CVODE_DRIVER, FUNCS, check_compiler_memory, generate, sizes_header_lines
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
@@ -291,18 +292,12 @@ def _add_sundials_sources(src: Path, own_c: list[str]) -> list[str]:
 def _write_zip(path: Path, xml: str, binaries: dict[str, Path], src: Path, docs: dict[str, str]) -> None:
     """The FMU at ``path``, written whole or not at all."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmpzip = path.with_name(path.name + ".part")
-    try:
-        with zipfile.ZipFile(tmpzip, "w", zipfile.ZIP_DEFLATED) as z:
-            z.writestr("modelDescription.xml", xml)
-            for arc, f in binaries.items():
-                z.write(f, arc)
-            for f in sorted(src.rglob("*")):
-                if f.is_file():
-                    z.write(f, f"sources/{f.relative_to(src).as_posix()}")
-            for arc, text in docs.items():
-                z.writestr(arc, text)
-        os.replace(tmpzip, path)
-    except BaseException:
-        tmpzip.unlink(missing_ok=True)
-        raise
+    with whole(path) as part, zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("modelDescription.xml", xml)
+        for arc, f in binaries.items():
+            z.write(f, arc)
+        for f in sorted(src.rglob("*")):
+            if f.is_file():
+                z.write(f, f"sources/{f.relative_to(src).as_posix()}")
+        for arc, text in docs.items():
+            z.writestr(arc, text)

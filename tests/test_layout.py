@@ -12,26 +12,27 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 STAGES = {"pdbfs/modelling": "modelling", "pdbfs/native": "native", "pdbfs/simulation": "simulation",
           "pdbfs/studies": "studies", "pdbfs/cli": "cli", "pdbfs/app": "app", "components": "components",
           "models": "models", "fmu": "fmu"}
-MODULES = {"pdbfs/errors.py": "errors", "pdbfs/rig.py": "rig", "pdbfs/__init__.py": "api"}
+MODULES = {"pdbfs/errors.py": "errors", "pdbfs/files.py": "files", "pdbfs/rig.py": "rig", "pdbfs/__init__.py": "api"}
 #: what each stage may import (besides itself)
 ALLOWED = {
     "errors": set(),
+    "files": set(),
     "modelling": {"errors"},
-    "components": {"errors", "modelling"},
-    "native": {"errors", "modelling"},
-    "simulation": {"errors", "modelling", "native"},
-    "fmu": {"errors", "modelling", "native"},
-    "rig": {"errors", "modelling", "simulation", "fmu"},
-    "models": {"errors", "modelling", "components", "rig"},
-    "studies": {"errors", "modelling", "simulation", "components", "models", "rig"},
-    "cli": {"errors", "modelling", "simulation", "fmu", "studies", "models", "components", "rig",
+    "components": {"errors", "files", "modelling"},
+    "native": {"errors", "files", "modelling"},
+    "simulation": {"errors", "files", "modelling", "native"},
+    "fmu": {"errors", "files", "modelling", "native"},
+    "rig": {"errors", "files", "modelling", "simulation", "fmu"},
+    "models": {"errors", "files", "modelling", "components", "rig"},
+    "studies": {"errors", "files", "modelling", "simulation", "components", "models", "rig"},
+    "cli": {"errors", "files", "modelling", "simulation", "fmu", "studies", "models", "components", "rig",
             "app"},
-    "app": {"errors", "modelling", "simulation", "studies", "models", "components", "rig"},
+    "app": {"errors", "files", "modelling", "simulation", "studies", "models", "components", "rig"},
 }
 #: pdbfs.<name> -> stage
 TARGETS = {"modelling": "modelling", "native": "native", "simulation": "simulation",
            "studies": "studies", "cli": "cli", "app": "app", "components": "components",
-           "models": "models", "fmu": "fmu", "errors": "errors", "rig": "rig"}
+           "models": "models", "fmu": "fmu", "errors": "errors", "files": "files", "rig": "rig"}
 MAX_LINES = 400
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from pdbfs.files import write_text
+
 from .common import parse_sets, prepare_out, rig_by_name
 
 
@@ -17,9 +19,7 @@ def write_outputs(out, stem, result):
     out.mkdir(parents=True, exist_ok=True)
     result.plot(out / f"{stem}.png")
     result.to_csv(out / f"{stem}.csv")
-    part = out / f".{stem}.json.part"
-    part.write_text(json.dumps(result.to_dict(), indent=2) + "\n")
-    part.replace(out / f"{stem}.json")
+    write_text(out / f"{stem}.json", json.dumps(result.to_dict(), indent=2) + "\n")
     return [out / f"{stem}.{ext}" for ext in ("png", "csv", "json")]
 
 

@@ -22,6 +22,8 @@ import sys
 import threading
 from contextlib import contextmanager
 
+from pdbfs import files
+
 #: seconds the main thread has to stop by itself before the process is ended
 GRACE = 1.0
 STATUS = 130                     # 128 + SIGINT, as a shell reports it
@@ -94,6 +96,7 @@ def _watch(fd):
             if _done.wait(GRACE):
                 return
             try:
+                files.discard()          # no half-written file left under a part name
                 sys.stderr.write("pdbfs: interrupted\n")
                 sys.stderr.flush()
             finally:

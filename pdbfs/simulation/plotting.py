@@ -1,6 +1,8 @@
 """Plots of results (matplotlib, headless)."""
 from __future__ import annotations
 
+from pdbfs.files import save_figure
+
 SCALE = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm"), "m/s": (1.0, "m/s")}
 
 
@@ -33,7 +35,7 @@ def plot_result(res, names=None, path=None, title=None):
     fig.suptitle(title or _title(res), fontsize=10)
     fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=120)
+        save_figure(fig, path, dpi=120)
     return fig
 
 

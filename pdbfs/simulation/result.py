@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 
 from pdbfs.errors import PdbfsError
+from pdbfs.files import whole
 
 from .c_summary import summary_of
 from .summary import summarize
@@ -155,7 +156,7 @@ class Result:
         data = np.vstack([self.t] + [self[n] for n in names]).T
         if not np.all(np.isfinite(data)):
             raise PdbfsError("refusing to write NaN or infinite values to " + str(path))
-        with open(path, "w", newline="") as fh:
+        with whole(path) as part, open(part, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
             w.writerows(data.tolist())

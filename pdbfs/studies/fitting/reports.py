@@ -4,10 +4,11 @@ a temporary name and renamed, so a failure never leaves half a file."""
 from __future__ import annotations
 
 import csv
-import os
 from pathlib import Path
 
 import numpy as np
+
+from pdbfs import files
 
 SCALE = {"Pa": (1e-6, "MPa"), "N": (1e-3, "kN"), "m": (1e3, "mm")}
 
@@ -93,23 +94,19 @@ def plot_fit(res, path=None, title=None, labels=("trace", "fit")):
 
 def save_figure(fig, path):
     import matplotlib.pyplot as plt
-    path = Path(path)
-    part = path.with_name(f".{path.name}.part{path.suffix}")
-    fig.savefig(part, dpi=130)
-    plt.close(fig)
-    os.replace(part, path)
-    return path
+    try:
+        return files.save_figure(fig, path, dpi=130)
+    finally:
+        plt.close(fig)
 
 
 def write_columns(path, columns: dict):
     """A CSV with one column per entry of ``columns`` (equal lengths)."""
     path = Path(path)
-    part = path.with_name(f".{path.name}.part")
-    with open(part, "w", newline="") as fh:
+    with files.whole(path) as part, open(part, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(list(columns))
         w.writerows(np.column_stack([np.asarray(v, float) for v in columns.values()]).tolist())
-    os.replace(part, path)
     return path
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdbfs.files import save_figure
+
 from .cases import FIGURES, N_PER_MS, OIL_K, SEAL_C, STYLES, V_TABLE1, VELOCITIES
 
 
@@ -19,7 +21,7 @@ def _axes(title=None, figsize=(6.4, 4.6)):
 def _save(fig, path):
     import matplotlib.pyplot as plt
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    save_figure(fig, path, dpi=130)
     plt.close(fig)
 
 

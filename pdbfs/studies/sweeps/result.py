@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdbfs.errors import PdbfsError
+from pdbfs.files import save_figure, whole
 from pdbfs.simulation import SUMMARY_UNITS as UNITS
 
 from .runner import LIST_KEYS
@@ -155,7 +156,7 @@ class SweepResult:
         """One row per point: swept parameters, every summary key (SI units in
         the header; an undefined value is an empty cell), and the error."""
         head = self.names + [f"{k} [{UNITS.get(k, '')}]".replace(" []", "") for k in self.keys]
-        with open(path, "w", newline="") as fh:
+        with whole(path) as part, open(part, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(head + ["error"])
             for row in self.frame[self.names + self.keys + ["error"]].itertuples(index=False):
@@ -195,7 +196,7 @@ class SweepResult:
         if own:
             fig.tight_layout()
         if path is not None:
-            fig.savefig(path, dpi=130)
+            save_figure(fig, path, dpi=130)
         return fig
 
     def table(self, limit: int | None = 200) -> str:

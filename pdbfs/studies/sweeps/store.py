@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import time
 from pathlib import Path
 
 import numpy as np
 
 from pdbfs.errors import ParameterError
+from pdbfs.files import whole, write_text
 
 MANIFEST = "manifest.json"
 CHUNKS = "chunks"
@@ -56,7 +56,7 @@ class Store:
             self._clear()
         self.chunk_dir.mkdir(parents=True, exist_ok=True)
         if old is None:
-            _write_atomic(manifest, json.dumps(
+            write_text(manifest, json.dumps(
                 {"hash": self.hash, "started": time.strftime("%Y-%m-%d %H:%M:%S"),
                  "spec": self.spec}, indent=1, default=str) + "\n")
 
@@ -106,16 +106,15 @@ class Store:
     def write(self, chunk_id: int, columns: dict):
         """Write one chunk (a dict of equal-length columns) atomically."""
         path = self.path_of(chunk_id)
-        part = path.with_name(f".{path.name}.{os.getpid()}.part")
-        if self.fmt == "parquet":
-            import pyarrow as pa
-            import pyarrow.parquet as pq
-            table = pa.table({k: pa.array(v, from_pandas=True) for k, v in columns.items()})
-            pq.write_table(table, part)
-        else:
-            import pandas as pd
-            pd.DataFrame(columns).to_csv(part, index=False)
-        os.replace(part, path)
+        with whole(path) as part:
+            if self.fmt == "parquet":
+                import pyarrow as pa
+                import pyarrow.parquet as pq
+                table = pa.table({k: pa.array(v, from_pandas=True) for k, v in columns.items()})
+                pq.write_table(table, part)
+            else:
+                import pandas as pd
+                pd.DataFrame(columns).to_csv(part, index=False)
 
     def read(self):
         """Every chunk as one pandas DataFrame, in point order."""
@@ -164,8 +163,3 @@ def chunk_columns(chunk, names, keys) -> dict:
     cols["error"] = list(chunk.error)
     return cols
 
-
-def _write_atomic(path: Path, text: str):
-    part = path.with_name(f".{path.name}.{os.getpid()}.part")
-    part.write_text(text)
-    os.replace(part, path)

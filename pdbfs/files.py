@@ -1,0 +1,74 @@
+"""Files written whole or not at all.
+
+Every file pdbfs writes for a user (CSV, PNG, JSON, sweep chunks) is written
+under a hidden part name beside its destination and renamed onto it only
+once complete, so a failure or Ctrl-C never leaves a half-written file under
+the real name. Parts still open when the process is ended on purpose (the
+CLI's Ctrl-C watcher, pdbfs.cli.interrupt) are removed by :func:`discard`.
+"""
+from __future__ import annotations
+
+import os
+import threading
+from contextlib import contextmanager
+from pathlib import Path
+
+_open: set[Path] = set()
+_lock = threading.Lock()
+
+
+def part_of(path) -> Path:
+    """The hidden part name of ``path`` (same folder, so the rename is atomic;
+    same suffix, so writers that go by it, as matplotlib, still can)."""
+    path = Path(path)
+    return path.with_name(f".{path.stem}.{os.getpid()}.{threading.get_ident()}.part{path.suffix}")
+
+
+@contextmanager
+def whole(path):
+    """Yield a part path to write ``path``'s content to; on leaving the block
+    the part replaces ``path``, or, if the block raised, is removed."""
+    path = Path(path)
+    part = part_of(path)
+    with _lock:
+        _open.add(part)
+    try:
+        yield part
+        os.replace(part, path)
+    finally:
+        with _lock:
+            _open.discard(part)
+        try:
+            part.unlink()
+        except FileNotFoundError:
+            pass
+
+
+def write_text(path, text: str) -> Path:
+    """``path`` with ``text``, written whole."""
+    with whole(path) as part:
+        part.write_text(text)
+    return Path(path)
+
+
+def discard():
+    """Remove the parts of writes still under way (before a forced exit)."""
+    with _lock:
+        parts = list(_open)
+    for part in parts:
+        try:
+            part.unlink()
+        except OSError:
+            pass
+
+
+def save_figure(fig, path, **savefig_kw) -> Path:
+    """``fig`` saved whole to ``path``, in the format its suffix names
+    (matplotlib's default format when it has none)."""
+    fmt = Path(path).suffix[1:]
+    if not fmt:
+        import matplotlib
+        fmt = matplotlib.rcParams["savefig.format"]
+    with whole(path) as part:
+        fig.savefig(part, format=fmt, **savefig_kw)
+    return Path(path)
