@@ -199,3 +199,14 @@ def test_starts_that_all_reach_the_optimum_are_said_to(tmp_path):
     assert ends == [0] * len(ends)
     assert f"{len(ends)} of {len(ends)} start(s) reached this optimum" in text
     assert "worse" not in text
+
+
+def test_a_hammer_resting_on_the_piston_strikes_no_blow():
+    """In contact from the start and no pressure rise: no blow at t = 0."""
+    with pytest.warns(PulseIncompleteWarning, match="no pulse"):
+        s = drop_rig(rest=True).simulate(0.02, method="adams").summary()
+    assert s["impact_count"] == 0 and s["impact_times"] == []
+    assert s["impact_peak_pressures"] == [] and s["peak_pressure"] is None
+    # the dropped hammer's blows are all still counted, none at t = 0
+    blows = drop_rig().simulate(1.5, n_out=1501).summary()
+    assert blows["impact_count"] == 3 and min(blows["impact_times"]) > 0.2

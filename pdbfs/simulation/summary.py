@@ -235,11 +235,14 @@ def blows(R, indentation, pressure=None, base=0.0, peak_after=-np.inf) -> dict:
         t_pk, p_pk = R.peak(pressure, window=(a, b))
         last = i == len(starts) - 1
         rose = has_pulse(base, p_pk)
+        if i == 0 and d[0] > 0 and not rose:       # resting in contact from the start: no blow
+            continue
         higher = last and peak_after > p_pk       # its peak lies past the horizon
         cut = last and (not rose or higher or y[-1] >= pulse_level(base, p_pk))
         peaks.append(None if higher or not rose else p_pk)     # no rise: no peak (at rest)
         durations.append(None if cut or not rose else
                          time_above(R, pressure, pulse_level(base, p_pk), (a, b)))
+    starts = starts[len(starts) - len(peaks):]
     return {"impact_count": len(starts), "impact_times": [float(s) for s in starts],
             "impact_peak_pressures": peaks, "impact_durations": durations,
             "cut_last": bool(cut and len(starts) > 1)}
