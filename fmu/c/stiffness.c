@@ -172,8 +172,11 @@ static int hessenberg_eigenvalues(double *a, int n, double *wr, double *wi) {
 
 int stiffness_choose(Inst *m, double span, char *why, size_t len) {
     const int n = NX;
+    /* CasADi's pattern: {nrow, ncol, colind[ncol + 1], row[nnz]}, a dense one
+     * compressed to {nrow, ncol, 1} (its nonzeros column by column) */
     const casadi_int *sp = pdbfs_jac_sparsity_out(0);
-    const casadi_int ncol = sp[1], *colind = sp + 2, *row = sp + 3 + ncol;
+    const int dense = sp[2] == 1;
+    const casadi_int nnz = dense ? (casadi_int)n * n : sp[2 + n];
     double *nz, *a, *wr, *wi, fastest = 0.0, rate = 0.0;
     int i, ok = 1, bad = 0;
     if (n == 0) {
@@ -184,20 +187,20 @@ int stiffness_choose(Inst *m, double span, char *why, size_t len) {
         snprintf(why, len, "%d states: more than the %d whose modes are computed here", n, PDBFS_DENSE_UP_TO);
         return METHOD_BDF;
     }
-    nz = (double *)m->host.alloc((size_t)colind[ncol] + (size_t)n * (size_t)(n + 3) + 1, sizeof(double));
+    nz = (double *)m->host.alloc((size_t)nnz + (size_t)n * (size_t)(n + 3) + 1, sizeof(double));
     if (!nz) {
         snprintf(why, len, "no memory for the Jacobian's modes");
         return METHOD_BDF;
     }
-    a = nz + colind[ncol] + 1;
+    a = nz + nnz + 1;
     wr = a + (size_t)n * (size_t)n;
     wi = wr + n;
     if (pdbfs_eval_txp(&m->ev, pdbfs_jac, m->s.time, m->s.x, nz)) bad = 1;
-    for (i = 0; i < ncol; i++) {
-        casadi_int k;
-        for (k = colind[i]; k < colind[i + 1]; k++) {
+    for (i = 0; i < n; i++) {
+        casadi_int k, k0 = dense ? (casadi_int)i * n : sp[2 + i], k1 = dense ? k0 + n : sp[3 + i];
+        for (k = k0; k < k1; k++) {
             if (!isfinite(nz[k])) bad = 1;
-            A_(row[k], i) = nz[k];
+            A_(dense ? k - k0 : sp[3 + n + k], i) = nz[k];
         }
     }
     /* a Jacobian not finite at the start: no modes, as the compiled backend takes it */
