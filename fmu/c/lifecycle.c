@@ -111,7 +111,7 @@ int fmu_exit_init(Inst *m, const char *fn) {
         /* the run: to the stop time, else the default experiment's length */
         double span = m->s.stop_defined ? m->s.t_stop - m->s.t_start : PDBFS_DEFAULT_SPAN;
         m->s.method_used = stiffness_choose(m, span, why, sizeof why);
-        fmu_log(m, FMU_OK, "logAll", "solver.method auto: %s, %s", method_name(m->s.method_used), why);
+        fmu_log(m, FMU_OK, "logAll", "solver.method auto: %s; %s", method_name(m->s.method_used), why);
     }
     m->s.mode = m->s.type == FMU_CS ? ST_STEPDONE : ST_EVENT;
     if (m->s.type == FMU_CS) return cosim_start(m);
