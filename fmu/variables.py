@@ -23,8 +23,8 @@ DEFAULT_MAX_NUM_STEPS = 10_000_000
 #: solver.method's items (name, value, description): the pdbfs.SolverMethod type of
 #: both FMI versions, the documentation's range and the C (fmu_instance.h METHOD_*)
 SOLVER_METHODS = (
-    ("auto", 0, "decided at initialisation from the parameters, start and stop time as in pdbfs's "
-                "compiled backend: explicit Runge-Kutta for a run of at most 1,000 radians of the "
+    ("auto", 0, "decided at initialisation from the parameters, the start and the stop time (without "
+                "one: the default experiment's) as in pdbfs's compiled backend: explicit Runge-Kutta for a run of at most 1,000 radians of the "
                 "fastest mode of d(der(x))/dx at the start, else BDF when a mode decays without "
                 "oscillating fast enough to cost Adams over 50,000 steps, else Adams"),
     ("BDF", 1, "CVODE backward differentiation formulas, Newton (exact sparse Jacobian, band or dense LU)"),

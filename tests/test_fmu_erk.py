@@ -338,3 +338,25 @@ def test_solver_method_declares_its_four_items(fmi_version):
     assert items == {"auto": AUTO, "BDF": BDF, "Adams": ADAMS, "ERK": ERK}
     assert int(var.start) == AUTO and "explicit Runge-Kutta" in var.description
     assert all(i.description for i in var.declaredType.items)
+
+
+def test_model_exchange_takes_its_fmu_state_back_under_auto(tmp_path):
+    """solver.method auto means nothing to Model Exchange: its FMU state
+    after initialisation is given back and taken (regression: the state said
+    the method in use was auto, and was refused as invalid)."""
+    from fmpy.fmi2 import FMU2Model
+    path = T.built_fmu("paper")
+    md = fmpy.read_model_description(path)
+    rec = T.Recorder("me-auto")
+    fmu = FMU2Model(guid=md.guid, unzipDirectory=fmpy.extract(path, unzipdir=str(tmp_path / "me")),
+                    modelIdentifier=md.modelExchange.modelIdentifier, instanceName="me-auto")
+    fmu.instantiate(callbacks=rec.callbacks)
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    state = fmu.getFMUstate()
+    fmu.setFMUstate(state)
+    fmu.freeFMUstate(state)
+    assert not rec.errors()
+    fmu.terminate()
+    fmu.freeInstance()

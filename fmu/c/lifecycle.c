@@ -105,7 +105,7 @@ int fmu_exit_init(Inst *m, const char *fn) {
     m->derived_ok = 0;
     if (model_check_finite(m, fn) != FMU_OK) return FMU_ERROR;
     m->need_restart = 1;
-    m->s.method_used = m->s.method;
+    m->s.method_used = m->s.method == METHOD_AUTO ? METHOD_BDF : m->s.method;   /* (Model Exchange: unused) */
     if (m->s.type == FMU_CS && m->s.method == METHOD_AUTO) {
         char why[256];
         /* the run: to the stop time, else the default experiment's length */
