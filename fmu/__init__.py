@@ -1,5 +1,6 @@
 """FMI export: a rig's DAE -> C code -> one FMU (FMI 2.0, or 3.0 with
-``fmi_version=3``) with Model Exchange and Co-Simulation (CVODE inside),
+``fmi_version=3``) with Model Exchange and Co-Simulation (an explicit
+Runge-Kutta method or CVODE inside, ``solver.method``),
 validated by fmpy, simulated by any importer.
 
     from pdbfs.fmu import export_fmu
@@ -18,7 +19,10 @@ validated by fmpy, simulated by any importer.
     export.py       pdbfs_model.h, compile, zip
     c/              the generic C: the life cycle (lifecycle.c) calling down into one
                     wrapper per FMI version (fmi2_*, fmi3_*) over the same model
-                    code, co-simulation loop and derivatives (derivatives.c)
+                    code, co-simulation loop and derivatives (derivatives.c);
+                    stiffness.c: solver.method auto at initialisation
+    (the co-simulation's solvers are pdbfs.native's C, native/c/pdbfs_cvode.c and
+    native/c/pdbfs_erk.c, the compiled backend's own files)
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.

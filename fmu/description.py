@@ -6,7 +6,7 @@ from importlib import metadata
 from xml.sax.saxutils import quoteattr
 
 from . import units as _units
-from .variables import FmuModel
+from .variables import SOLVER_METHODS, FmuModel
 
 
 def _x(v: float) -> str:
@@ -123,10 +123,9 @@ def model_description(model: FmuModel, guid: str, source_files: list[str] | tupl
     L += unit_lines(model)
     L += ['  </UnitDefinitions>',
           '  <TypeDefinitions>',
-          '    <SimpleType name="pdbfs.SolverMethod" description="CVODE linear multistep method">',
+          '    <SimpleType name="pdbfs.SolverMethod" description="Co-Simulation integration method">',
           '      <Enumeration>',
-          '        <Item name="BDF" value="1" description="backward differentiation formulas, Newton"/>',
-          '        <Item name="Adams" value="2" description="Adams-Moulton, fixed-point iteration"/>',
+          *[f'        <Item name="{n}" value="{v}" description={quoteattr(d)}/>' for n, v, d in SOLVER_METHODS],
           '      </Enumeration>',
           '    </SimpleType>',
           '  </TypeDefinitions>',

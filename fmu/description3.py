@@ -12,7 +12,7 @@ import casadi as ca
 from pdbfs.errors import ExportError
 
 from .description import LOG_CATEGORIES, _x, model_text, package_attrs, type_attrs, unit_lines
-from .variables import FmuModel, _deps
+from .variables import SOLVER_METHODS, FmuModel, _deps
 
 #: FMI 2.0 type -> FMI 3.0 element
 _TYPES = {"Real": "Float64", "Integer": "Int32", "Enumeration": "Enumeration"}
@@ -80,9 +80,8 @@ def model_description3(model: FmuModel, token: str) -> str:
          'mightReturnEarlyFromDoStep="false"/>',
          '  <UnitDefinitions>', *unit_lines(model), '  </UnitDefinitions>',
          '  <TypeDefinitions>',
-         '    <EnumerationType name="pdbfs.SolverMethod" description="CVODE linear multistep method">',
-         '      <Item name="BDF" value="1" description="backward differentiation formulas, Newton"/>',
-         '      <Item name="Adams" value="2" description="Adams-Moulton, fixed-point iteration"/>',
+         '    <EnumerationType name="pdbfs.SolverMethod" description="Co-Simulation integration method">',
+         *[f'      <Item name="{n}" value="{v}" description={quoteattr(d)}/>' for n, v, d in SOLVER_METHODS],
          '    </EnumerationType>',
          '  </TypeDefinitions>',
          *LOG_CATEGORIES,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import html
 from importlib import metadata
 
-from .variables import FmuModel
+from .variables import SOLVER_METHODS, FmuModel
 
 
 #: where each FMI version lists the C files of a source build
@@ -32,7 +32,7 @@ def _table(head: list[str], rows: list[list[str]]) -> list[str]:
 
 def _range(v) -> str:
     if v.type == "Enumeration":   # solver.method: its items, as the type declares them
-        return "1 (BDF), 2 (Adams)"
+        return ", ".join(f"{v} ({html.escape(n)})" for n, v, _ in SOLVER_METHODS)
     lo = "-&infin;" if v.min is None else _num(v.min)
     hi = "&infin;" if v.max is None else _num(v.max)
     return f"[{lo}, {hi}]"
@@ -59,7 +59,9 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
          f"<p>{e(getattr(d, 'description', '') or 'A rig built with pdbfs.')}</p>",
          f"<p>An FMI {fmi_version}.0 FMU (Model Exchange and Co-Simulation) exported by pdbfs: a lumped model, "
          f"{model.nx} states, {model.np} parameters, {model.ne} event indicators (below). Units are SI. "
-         "In Co-Simulation the FMU integrates with CVODE (SUNDIALS) inside, through the event "
+         "In Co-Simulation the FMU integrates with CVODE (SUNDIALS) or an explicit Runge-Kutta "
+         "method 8(5,3) inside (<code>solver.method</code>; <em>auto</em>, the default, takes the "
+         "explicit method where the rig is not stiff over the run), through the event "
          "indicators' roots; results do not depend on the communication step.</p>",
          "<h2>Parameters</h2>",
          "<p>Tunable parameters may be changed between communication steps (Co-Simulation) or in event "

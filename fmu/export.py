@@ -2,7 +2,8 @@
 
 rig -> C code -> FMU: CasADi generates the model's C (``pdbfs.native.codegen``);
 the FMI layer is the generic C in ``fmu/c/`` (FMI plumbing, Model Exchange,
-Co-Simulation on CVODE through ``native/c/pdbfs_cvode.c``); a generated
+Co-Simulation on CVODE through ``native/c/pdbfs_cvode.c`` or on the explicit
+Runge-Kutta method of ``native/c/pdbfs_erk.c``); a generated
 ``pdbfs_model.h`` gives it the sizes, value references and parameter table;
 ``modelDescription.xml`` comes from ``description.py`` (``description3.py``
 for FMI 3.0).  Each platform's binary links a static CVODE (``platforms.py``);
@@ -29,7 +30,8 @@ import casadi as ca
 from pdbfs.errors import ExportError
 from pdbfs.files import whole
 from pdbfs.modelling import DAE
-from pdbfs.native.codegen import CVODE_DRIVER, FUNCS, check_compiler_memory, generate, sizes_header_lines
+from pdbfs.native.codegen import CVODE_DRIVER, ERK_DRIVER, FUNCS, check_compiler_memory, generate, sizes_header_lines
+from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
 from . import description3
@@ -45,7 +47,7 @@ C_DIR = Path(__file__).with_name("c")
 FMI_VERSIONS = (2, 3)
 #: the version-neutral C: the model, variables, FMU state, Model Exchange, the co-simulation loop
 COMMON_FILES = ("fmu_instance.h", "lifecycle.c", "model.c", "values.c", "snapshot.c", "model_exchange.c",
-                "derivatives.c", "cosimulation.c")
+                "derivatives.c", "cosimulation.c", "stiffness.c")
 #: the generic wrapper of each FMI version over them
 VERSION_FILES = {2: ("fmi2_functions.c", "fmi2_interfaces.c", "fmi2_state.c", "fmi2_prefix.h"),
                  3: ("fmi3_functions.c", "fmi3_interfaces.c", "fmi3_state.c")}
@@ -60,9 +62,11 @@ BINARY_DIRS = {2: {n: p.fmi2_dir for n, p in PLATFORMS.items()},
 
 def wrapper_files(fmi_version: int = 2) -> list[Path]:
     """The generic C of a pdbfs FMU of ``fmi_version`` (in the package): the
-    version's wrapper, the version-neutral model code and the CVODE driver.
+    version's wrapper, the version-neutral model code, the CVODE driver and
+    the explicit Runge-Kutta driver (the compiled backend's own files).
     The generated pdbfs_model.h and pdbfs_model_funcs.c/h come on top."""
-    return [C_DIR / f for f in (*VERSION_FILES[fmi_version], *COMMON_FILES)] + list(CVODE_DRIVER)
+    return [C_DIR / f for f in (*VERSION_FILES[fmi_version], *COMMON_FILES)] + list(CVODE_DRIVER) \
+        + list(ERK_DRIVER)
 
 
 #: the generic C of an FMI 2.0 FMU
@@ -135,7 +139,13 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          f"#define PDBFS_DEFAULT_MAXNUMSTEPS {DEFAULT_MAX_NUM_STEPS}",
          f"#define PDBFS_DEFAULT_RTOL {_c_double(model.tolerance)}",
          f"#define PDBFS_RTOL_MIN {_c_double(RTOL_MIN)}", f"#define PDBFS_RTOL_MAX {_c_double(RTOL_MAX)}",
-         "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 1",
+         "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 0",   # auto
+         # solver.method auto (stiffness.c): pdbfs.native.stiffness's rule; the run's
+         # length when the importer gives no stop time: the default experiment's
+         f"#define PDBFS_ERK_RADIANS {_c_double(ERK_RADIANS)}",
+         f"#define PDBFS_STIFF_STEPS {_c_double(STIFF_STEPS)}",
+         f"#define PDBFS_DENSE_UP_TO {int(DENSE_UP_TO)}",
+         f"#define PDBFS_DEFAULT_SPAN {_c_double(model.stop_time)}",
          *sizes_header_lines(work),
          "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"
          + pad([p.value for p in d.params], _c_double, "0") + "};",

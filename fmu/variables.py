@@ -20,6 +20,19 @@ from . import units as _units
 from .derivatives import derivative_functions
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
+#: solver.method's items (name, value, description): the pdbfs.SolverMethod type of
+#: both FMI versions, the documentation's range and the C (fmu_instance.h METHOD_*)
+SOLVER_METHODS = (
+    ("auto", 0, "decided at initialisation from the parameters, the start and the stop time (without "
+                "one: the default experiment's) as in pdbfs's compiled backend: explicit Runge-Kutta for a run of at most 1,000 radians of the "
+                "fastest mode of d(der(x))/dx at the start, else BDF when a mode decays without "
+                "oscillating fast enough to cost Adams over 50,000 steps, else Adams"),
+    ("BDF", 1, "CVODE backward differentiation formulas, Newton (exact sparse Jacobian, band or dense LU)"),
+    ("Adams", 2, "CVODE Adams-Moulton (fixed point below 40 states, else Newton)"),
+    ("ERK", 3, "explicit Runge-Kutta 8(5,3), Dormand and Prince, 7th-order dense output; roots of the "
+               "event indicators located and the integration restarted there, a stop at each "
+               "switch time"),
+)
 #: the declared min of a parameter that must be > 0: FMI's min is inclusive,
 #: so the smallest normal double stands for "above 0" (0 and denormals are refused)
 POSITIVE_MIN = 2.2250738585072014e-308
@@ -157,17 +170,18 @@ class FmuModel:
             V.append(_Var(prm.name, self.vr_p + k, "parameter", "tunable" if prm.tunable else "fixed", "exact",
                           desc, start=prm.value, unit=prm.unit, min=lo, max=prm.max))
         V.append(_Var("solver.rtol", self.vr_rtol, "parameter", "fixed", "exact",
-                      "Co-Simulation: CVODE relative tolerance; if not set, fmi2SetupExperiment's tolerance "
+                      "Co-Simulation: the solver's relative tolerance; if not set, fmi2SetupExperiment's tolerance "
                       "is used when given. Absolute tolerance = rtol * nominal of each state",
                       start=self.tolerance, unit="1", min=RTOL_MIN, max=RTOL_MAX))
         V.append(_Var("solver.max_step", self.vr_maxstep, "parameter", "fixed", "exact",
-                      "Co-Simulation: maximum internal CVODE step (0: no limit)", start=0.0, unit="s", min=0.0))
+                      "Co-Simulation: maximum internal solver step (0: no limit)", start=0.0, unit="s", min=0.0))
         V.append(_Var("solver.method", self.vr_method, "parameter", "fixed", "exact",
-                      "Co-Simulation: CVODE method, 1 = BDF (Newton, exact sparse Jacobian, "
-                      "band or dense LU), 2 = Adams (fixed point below 40 states, else Newton)", type="Enumeration", start=1,
-                      declared_type="pdbfs.SolverMethod"))
+                      "Co-Simulation: integration method, 0 = auto (decided at initialisation: "
+                      "explicit Runge-Kutta where the rig is not stiff over the run, else CVODE), "
+                      "1 = CVODE BDF, 2 = CVODE Adams, 3 = explicit Runge-Kutta 8(5,3)",
+                      type="Enumeration", start=0, declared_type="pdbfs.SolverMethod"))
         V.append(_Var("solver.max_num_steps", self.vr_maxnumsteps, "parameter", "fixed", "exact",
-                      "Co-Simulation: most internal CVODE steps in one fmi2DoStep (more is a solver failure)",
+                      "Co-Simulation: most internal solver steps in one fmi2DoStep (more is a solver failure)",
                       type="Integer", start=DEFAULT_MAX_NUM_STEPS, min=1))
         p_tunable = [prm.tunable for prm in d.params]
         jc = _deps(ca.jacobian_sparsity(self.calc_expr, d.p), list(range(self.np))) \

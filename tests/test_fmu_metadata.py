@@ -52,8 +52,8 @@ def test_indicators_say_what_they_mark():
 def test_solver_method_range_is_its_items():
     with zipfile.ZipFile(T.built_fmu("paper")) as z:
         page = z.read("documentation/index.html").decode()
-    row = next(r for r in page.split("<tr>") if "solver.method" in r)
-    assert "1 (BDF), 2 (Adams)" in row and "&infin;" not in row
+    row = next(r for r in page.split("<tr>")[1:] if "solver.method" in r)
+    assert "0 (auto), 1 (BDF), 2 (Adams), 3 (ERK)" in row and "&infin;" not in row
 
 
 @pytest.mark.parametrize("fmi_version", [2, 3])

@@ -1,7 +1,9 @@
 /* The co-simulation loop of a pdbfs FMU, for every FMI version: CVODE
- * through the rig's non-smooth points (native/c/pdbfs_cvode.c).  Communication points are served from CVODE's
+ * (native/c/pdbfs_cvode.c) or the explicit Runge-Kutta method 8(5,3)
+ * (native/c/pdbfs_erk.c, the compiled backend's "erk") through the rig's
+ * non-smooth points.  Communication points are served from the solver's
  * dense output, so the trajectory does not depend on the communication
- * step; a tunable parameter changed between steps restarts CVODE. */
+ * step; a tunable parameter changed between steps restarts the solver. */
 #include <float.h>
 #include <math.h>
 
@@ -16,22 +18,52 @@ static void solver_log(void *env, int kind, const char *text) {
 
 void cosim_free(Inst *m) {
     pdbfs_cvode_free(&m->solver);
+    if (m->rk.y) pdbfs_erk_free(&m->rk);
     m->need_restart = 1;
 }
 
-/* (Re)start CVODE at (time, x); absolute tolerance = rtol * nominal */
+/* how far the solver may look ahead, the same whatever the communication
+ * step (it bounds the first step after each (re)start): the stop time,
+ * else INFINITY, for which pdbfs_cvode_advance takes 1 s beyond each
+ * (re)start */
+static double horizon(const Inst *m, double t) {
+    if (m->s.stop_defined && m->s.t_stop > t) return m->s.t_stop;
+    return INFINITY;
+}
+
+/* (Re)start the explicit method at (t, x): it never steps past the next
+ * time event (a valve's switch: the right-hand side jumps there) nor the
+ * stop time, where it is started again */
+static int erk_start(Inst *m, double t, const double *x) {
+    PdbfsCvodeSettings set = {0};
+    double stop = horizon(m, t);
+    m->t_break = pdbfs_next_time_event(&m->solver, t, x);
+    set.rtol = model_rtol(m);
+    set.atol = m->atol;
+    set.max_step = m->s.max_step > 0 ? m->s.max_step : 0.0;
+    set.t_stop = m->t_break < stop ? m->t_break : stop;
+    if (pdbfs_erk_start(&m->rk, &set, t, x)) return ERR(m, "explicit Runge-Kutta: %s", m->rk.msg);
+    return FMU_OK;
+}
+
+/* (Re)start the solver at (time, x); absolute tolerance = rtol * nominal */
 int cosim_start(Inst *m) {
     PdbfsCvodeSettings set = {0};
-    double atol[NX + 1];
     int i;
     if (!m->solver.ev) {
         pdbfs_cvode_init(&m->solver, NX, NE, &m->ev, solver_log, m);
         m->solver.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
     }
-    set.method = m->s.method == METHOD_ADAMS ? PDBFS_ADAMS : PDBFS_BDF;
     set.rtol = model_rtol(m);
-    for (i = 0; i < NX; i++) atol[i] = set.rtol * PDBFS_X_NOMINAL[i];
-    set.atol = atol;
+    for (i = 0; i < NX; i++) m->atol[i] = set.rtol * PDBFS_X_NOMINAL[i];
+    if (m->s.method_used == METHOD_ERK) {
+        if (!m->rk.y && pdbfs_erk_init(&m->rk, NX, NE, &m->ev)) return ERR(m, "out of memory");
+        if (erk_start(m, m->s.time, m->s.x) != FMU_OK) return FMU_ERROR;
+        m->need_restart = 0;
+        return FMU_OK;
+    }
+    set.method = m->s.method_used == METHOD_ADAMS ? PDBFS_ADAMS : PDBFS_BDF;
+    set.atol = m->atol;
     set.max_step = m->s.max_step > 0 ? m->s.max_step : 0.0;
     set.t_stop = INFINITY;
     if (pdbfs_cvode_start(&m->solver, &set, m->s.time, m->s.x)) return ERR(m, "CVODE setup failed");
@@ -39,12 +71,29 @@ int cosim_start(Inst *m) {
     return FMU_OK;
 }
 
-/* how far CVODE may look ahead, the same whatever the communication step (it
- * bounds the first step after each (re)start): the stop time, else INFINITY,
- * for which pdbfs_cvode_advance takes 1 s beyond each (re)start */
-static double horizon(const Inst *m) {
-    if (m->s.stop_defined && m->s.t_stop > m->solver.tn) return m->s.t_stop;
-    return INFINITY;
+/* the explicit method to tEnd, through the time events on the way (each a
+ * restart); at most max_num_steps steps */
+static int erk_to(Inst *m, double tEnd) {
+    long steps0 = m->rk.steps, left;
+    int flag = 0;
+    for (;;) {
+        double target = m->t_break < tEnd ? m->t_break : tEnd;
+        /* a last step may end within roundoff past the stop time (DoStep allows it) */
+        int at_stop = target > m->rk.t_stop && m->rk.t_stop < m->t_break;
+        if (at_stop) target = m->rk.t_stop;
+        left = (long)m->s.max_num_steps - (m->rk.steps - steps0);
+        flag = left > 0 ? pdbfs_erk_advance(&m->rk, target, left, m->s.x) : PDBFS_CV_TOO_MUCH_WORK;
+        if (flag || target == tEnd || at_stop) break;
+        fmu_log(m, FMU_OK, "logEvents", "time event at t=%.17g, explicit Runge-Kutta restarted", target);
+        if (erk_start(m, target, m->s.x) != FMU_OK) return FMU_ERROR;
+    }
+    if (flag == PDBFS_CV_TOO_MUCH_WORK)
+        return ERR(m, "explicit Runge-Kutta failed (too much work: solver.max_num_steps = %d steps) at "
+                   "t=%.17g while integrating to t=%.17g", m->s.max_num_steps, m->rk.t, tEnd);
+    if (flag)
+        return ERR(m, "explicit Runge-Kutta failed at t=%.17g while integrating to t=%.17g: %s", m->rk.t, tEnd,
+                   m->rk.msg);
+    return FMU_OK;
 }
 
 /* integrate to tEnd; on success m->s.x is the state at tEnd */
@@ -54,7 +103,12 @@ static int integrate_to(Inst *m, double tEnd) {
         int st = cosim_start(m);
         if (st != FMU_OK) return st;
     }
-    flag = pdbfs_cvode_advance(&m->solver, tEnd, horizon(m), m->s.max_num_steps, m->s.x);
+    if (m->s.method_used == METHOD_ERK) {
+        flag = erk_to(m, tEnd);
+        if (flag != FMU_OK) m->need_restart = 1;
+        return flag;
+    }
+    flag = pdbfs_cvode_advance(&m->solver, tEnd, horizon(m, m->solver.tn), m->s.max_num_steps, m->s.x);
     if (flag == PDBFS_CV_TOO_MUCH_WORK) {
         m->need_restart = 1;
         return ERR(m, "CVODE failed (too much work: solver.max_num_steps = %d internal steps) at t=%.17g "

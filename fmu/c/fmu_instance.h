@@ -7,8 +7,10 @@
  *   snapshot.c         the FMU state: get, set, serialise
  *   model_exchange.c   what Model Exchange asks of the model
  *   derivatives.c      directional and adjoint derivatives (exact: CasADi's AD)
- *   cosimulation.c     the co-simulation loop: CVODE through the events
- *                      (native/c/pdbfs_cvode.c)
+ *   cosimulation.c     the co-simulation loop: CVODE or the explicit
+ *                      Runge-Kutta method through the events
+ *                      (native/c/pdbfs_cvode.c, native/c/pdbfs_erk.c)
+ *   stiffness.c        solver.method "auto": which of them suits the run
  *   model.c            the model on the CasADi-generated functions, logging,
  *                      the state machine's check
  *
@@ -38,6 +40,7 @@
 #include <stddef.h>
 
 #include "pdbfs_cvode.h"
+#include "pdbfs_erk.h"
 #include "pdbfs_model.h"
 
 /* zero-size arrays are not C: every model-sized array is padded by one */
@@ -58,9 +61,12 @@
 #define FMU_ME 0
 #define FMU_CS 1
 
-/* solver.method, as in modelDescription.xml */
+/* solver.method, as in modelDescription.xml (auto: decided at initialisation) */
+#define METHOD_AUTO 0
 #define METHOD_BDF 1
 #define METHOD_ADAMS 2
+#define METHOD_ERK 3
+#define METHOD_VALID(v) ((v) >= METHOD_AUTO && (v) <= METHOD_ERK)
 
 typedef enum {
     ST_INSTANTIATED = 1 << 0,
@@ -90,6 +96,7 @@ typedef struct {
     double rtol;
     double max_step;
     int method;
+    int method_used;         /* the method co-simulation integrates with (auto resolved) */
     int max_num_steps;       /* internal steps allowed in one DoStep */
     int rtol_user;           /* solver.rtol set explicitly: wins over the experiment's tolerance */
     int tol_defined;
@@ -123,8 +130,11 @@ struct Inst {
     double xdot[NX + 1], y[NY + 1], e[NE + 1], c[NC + 1];
     int derived_ok;
     /* co-simulation */
-    PdbfsCvode solver;
-    int need_restart;        /* restart CVODE from (time, x) before integrating */
+    PdbfsCvode solver;       /* CVODE (its time events also serve the explicit method) */
+    PdbfsErk rk;             /* the explicit Runge-Kutta method (rk.y: allocated) */
+    double atol[NX + 1];     /* absolute tolerances (the explicit method keeps a pointer) */
+    double t_break;          /* the explicit method stops and restarts here (a time event) */
+    int need_restart;        /* restart the solver from (time, x) before integrating */
     /* CasADi work memory */
     PdbfsEval ev;
     const double *arg[PDBFS_SZ_ARG + 1];
@@ -192,6 +202,10 @@ int deriv_forward(Inst *m, const char *fn, const unsigned unknown[], size_t nu, 
                   const double seed[], double sens[]);
 int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
                   const double seed[], double sens[]);
+
+/* stiffness.c: solver.method "auto" resolved for a run of ``span`` s from
+ * (time, x, p): METHOD_ERK, METHOD_ADAMS or METHOD_BDF, the reason in why */
+int stiffness_choose(Inst *m, double span, char *why, size_t n);
 
 /* cosimulation.c */
 int cosim_start(Inst *m);

@@ -89,7 +89,13 @@ static int check_conditions(Inst *m, const char *fn) {
     return FMU_OK;
 }
 
-/* the start values fix the state; Co-Simulation starts CVODE */
+static const char *method_name(int method) {
+    return method == METHOD_ERK ? "explicit Runge-Kutta 8(5,3)" : method == METHOD_ADAMS ? "CVODE Adams" : "CVODE BDF";
+}
+
+/* the start values fix the state; Co-Simulation resolves solver.method "auto"
+ * (now that the parameters, start and stop time of the run are known) and
+ * starts the solver */
 int fmu_exit_init(Inst *m, const char *fn) {
     if (fmu_check(m, fn, ST_INIT, -1) != FMU_OK) return FMU_ERROR;
     if (check_conditions(m, fn) != FMU_OK) return FMU_ERROR;
@@ -99,6 +105,14 @@ int fmu_exit_init(Inst *m, const char *fn) {
     m->derived_ok = 0;
     if (model_check_finite(m, fn) != FMU_OK) return FMU_ERROR;
     m->need_restart = 1;
+    m->s.method_used = m->s.method == METHOD_AUTO ? METHOD_BDF : m->s.method;   /* (Model Exchange: unused) */
+    if (m->s.type == FMU_CS && m->s.method == METHOD_AUTO) {
+        char why[256];
+        /* the run: to the stop time, else the default experiment's length */
+        double span = m->s.stop_defined ? m->s.t_stop - m->s.t_start : PDBFS_DEFAULT_SPAN;
+        m->s.method_used = stiffness_choose(m, span, why, sizeof why);
+        fmu_log(m, FMU_OK, "logAll", "solver.method auto: %s; %s", method_name(m->s.method_used), why);
+    }
     m->s.mode = m->s.type == FMU_CS ? ST_STEPDONE : ST_EVENT;
     if (m->s.type == FMU_CS) return cosim_start(m);
     return FMU_OK;

@@ -64,6 +64,7 @@ void model_defaults(Inst *m) {
     m->s.rtol = PDBFS_DEFAULT_RTOL;
     m->s.max_step = PDBFS_DEFAULT_MAXSTEP;
     m->s.method = PDBFS_DEFAULT_METHOD;
+    m->s.method_used = METHOD_BDF;   /* resolved at initialisation */
     m->s.max_num_steps = PDBFS_DEFAULT_MAXNUMSTEPS;
     m->s.rtol_user = 0;
     m->s.tol_defined = 0;

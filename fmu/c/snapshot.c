@@ -30,7 +30,8 @@ static int check_snapshot(Inst *m, const Snapshot *s, const char *fn) {
         return ERR(m, "%s: solver.rtol = %g in the state is outside [%g, %g]", fn, s->rtol, PDBFS_RTOL_MIN,
                    PDBFS_RTOL_MAX);
     if (!(isfinite(s->max_step) && s->max_step >= 0)) return ERR(m, "%s: invalid solver.max_step in the state", fn);
-    if (s->method != METHOD_BDF && s->method != METHOD_ADAMS) return ERR(m, "%s: invalid solver.method", fn);
+    if (!METHOD_VALID(s->method) || !METHOD_VALID(s->method_used) || s->method_used == METHOD_AUTO)
+        return ERR(m, "%s: invalid solver.method", fn);
     if (s->max_num_steps < 1) return ERR(m, "%s: invalid solver.max_num_steps in the state", fn);
     if (s->tol_defined && !(isfinite(s->tol) && s->tol > 0 && s->tol < 1))
         return ERR(m, "%s: invalid tolerance in the state", fn);

@@ -129,8 +129,9 @@ int values_check_int(Inst *m, const char *fn, unsigned vr, long long v) {
         return ERR(m, "%s: unknown value reference %u", fn, vr);
     if (!(m->s.mode & (ST_INSTANTIATED | ST_INIT)))
         return ERR(m, "%s: %s is fixed and cannot be changed after initialization", fn, nm);
-    if (vr == PDBFS_VR_METHOD && v != METHOD_BDF && v != METHOD_ADAMS)
-        return ERR(m, "%s: solver.method = %lld must be 1 (BDF) or 2 (Adams)", fn, v);
+    if (vr == PDBFS_VR_METHOD && !METHOD_VALID(v))
+        return ERR(m, "%s: solver.method = %lld must be 0 (auto), 1 (BDF), 2 (Adams) or 3 (explicit "
+                   "Runge-Kutta)", fn, v);
     if (vr == PDBFS_VR_MAXNUMSTEPS && (v < 1 || v > 2147483647LL))
         return ERR(m, "%s: solver.max_num_steps = %lld must be >= 1", fn, v);
     return FMU_OK;

@@ -11,7 +11,9 @@ fetched once from a PyPI sdist, compiled once per target by ``zig cc``).
     initial.py          a solved start (initial equations) as a C-generatable
                         damped Newton of the parameters
     tolerances.py       the one rule for relative tolerances (every path, the FMU's too)
+    stiffness.py        the thresholds of method "auto" (every path, the FMU's C too)
     c/pdbfs_cvode.[ch]  the CVODE driver
+    c/pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same interface
 
 May import: pdbfs.errors and pdbfs.modelling. Nothing here knows about
 FMI, results or studies.

@@ -36,6 +36,9 @@ from .sundials import Sundials, find_sundials
 #: the C shared by every generated binary: CVODE through the events
 NATIVE_C = Path(__file__).with_name("c")
 CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h")
+#: the explicit Runge-Kutta 8(5,3) with root finding at the kinks (method "erk"),
+#: on the CVODE driver's model interface: one source for both users
+ERK_DRIVER = (NATIVE_C / "pdbfs_erk.c", NATIVE_C / "pdbfs_erk.h", NATIVE_C / "pdbfs_erk_table.h")
 
 #: name (without extension) of the generated C file of the model functions
 FUNCS = "pdbfs_model_funcs"

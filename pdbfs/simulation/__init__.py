@@ -4,7 +4,7 @@
     simulator.py   Simulator: CVODES/IDAS through casadi.integrator,
                    integrators cached per setting, clear SolverErrors
     compiled.py    backend="c" (the default where it builds): the DAE's
-                   generated C + c/pdbfs_batch.c + CVODE or c/pdbfs_erk.c
+                   generated C + c/pdbfs_batch.c + CVODE or native/c/pdbfs_erk.c
                    (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes
     c_summary.py   a compiled run's summary from the run itself (no second run)
     on_grid.py     outputs, rates and event indicators on a whole grid

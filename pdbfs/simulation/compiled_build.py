@@ -23,15 +23,14 @@ from pathlib import Path
 import casadi as ca
 
 from pdbfs.native import toolchain
-from pdbfs.native.codegen import (CVODE_DRIVER, FUNCS, check_compiler_memory, compile_command,
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, FUNCS, check_compiler_memory, compile_command,
                                   generate, model_functions, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
-                                     "pdbfs_erk.c", "pdbfs_erk.h", "pdbfs_erk_table.h",
-                                     "pdbfs_batch_erk.c", "pdbfs_run_summary.c"))
+                                     "pdbfs_batch_erk.c", "pdbfs_run_summary.c")) + ERK_DRIVER
 HEADER = "pdbfs_batch_model.h"
 ABI = 5
 

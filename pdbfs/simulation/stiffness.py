@@ -23,13 +23,11 @@ import numpy as np
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
-#: Adams steps over the run beyond which a fast decaying mode makes BDF the
-#: cheaper method (BDF's own accuracy-limited step count on impact pulses at
-#: rtol 1e-8 is of this order: 5,000-50,000 on the rigs here)
-STIFF_STEPS = 5e4
-
-#: above this many states, only the eigenvalues of largest modulus
-DENSE_UP_TO = 400
+# the thresholds (STIFF_STEPS: a fast decaying mode's Adams steps that make BDF
+# the cheaper method; DENSE_UP_TO: above, only the modes of largest modulus;
+# ERK_RADIANS: the longest run, in radians of the fastest mode, given the
+# explicit method) are shared with the FMU's C
+from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS  # noqa: F401
 
 
 def jacobian_function(dae) -> ca.Function:
@@ -57,14 +55,6 @@ def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:
                          maxiter=20 * n, tol=1e-3)
     except spla.ArpackNoConvergence as err:   # what did converge still tells
         return np.asarray(err.eigenvalues, complex)
-
-
-#: the explicit Runge-Kutta method (compiled backend) is taken for runs up to this
-#: many radians of the fastest mode: beyond, its steps are limited by stability
-#: rather than accuracy, where it wanders (measured on the drop rig over 0.27 s,
-#: 1,900 rad of the breech mode: the piston at rest drifted 1e-9 m/s at rtol
-#: 1e-9 and 2e-8 at 1e-10, Adams 9e-11); the paper rig's 20 ms are 140 rad
-ERK_RADIANS = 1000.0
 
 
 def explicit_suits(dae, p, x0, t_end: float, lam=None) -> bool:
