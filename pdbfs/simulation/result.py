@@ -8,17 +8,19 @@ from __future__ import annotations
 
 import csv
 import warnings
+from functools import cached_property
 
 import numpy as np
 
 from pdbfs.errors import PdbfsError
 
 from .c_summary import summary_of
+from .initialize import InitialState
 from .summary import summarize
 
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None):
+    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
@@ -32,18 +34,50 @@ class Result:
         self.p = p
         self.settings = settings
         dae = sim.dae
-        self.names = dae.y_names
         names = dae.__dict__.get("_result_names")     # the same for every Result of the rig
         if names is None:
             names = dae.__dict__["_result_names"] = (
-                {n: i for i, n in enumerate(self.names)}, {v.name: v.unit for v in dae.y_info},
-                {v.name: v.description for v in dae.y_info})
+                {n: i for i, n in enumerate(dae.y_names)}, {v.name: v.unit for v in dae.y_info},
+                {v.name: v.description for v in dae.y_info}, tuple(dae.y_names),
+                tuple(dae.p_names), tuple(dae.x_names))
+        self._names = names
         self._index = names[0]
-        self.units = dict(names[1])
-        self.descriptions = dict(names[2])
-        self.params = dict(zip(dae.p_names, p.tolist()))
-        #: the start the run began from (initialize.InitialState), where known
-        self.initial = None
+        # the start the run began from: an initialize.InitialState, or the start
+        # vector of a rig that starts as declared (its record made on first use)
+        self._initial = initial
+
+    # made on first use: most runs (sweeps, a summary) never read them
+    @cached_property
+    def names(self) -> list:
+        """Every variable's name, in the DAE's order."""
+        return list(self._names[3])
+
+    @cached_property
+    def units(self) -> dict:
+        """name -> SI unit."""
+        return dict(self._names[1])
+
+    @cached_property
+    def descriptions(self) -> dict:
+        return dict(self._names[2])
+
+    @cached_property
+    def params(self) -> dict:
+        """The run's parameter values by name."""
+        return dict(zip(self._names[4], self.p.tolist()))
+
+    @property
+    def initial(self):
+        """The start the run began from (initialize.InitialState): each state's
+        value, and what initialization solved (nothing where the rig starts as
+        declared)."""
+        if isinstance(self._initial, np.ndarray):
+            self._initial = InitialState(dict(zip(self._names[5], self._initial.tolist())))
+        return self._initial
+
+    @initial.setter
+    def initial(self, value):
+        self._initial = value
 
     @property
     def rig(self) -> str:
