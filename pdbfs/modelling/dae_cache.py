@@ -31,7 +31,6 @@ FORMAT = 1
 #: the Component attributes the key covers by other means (or that do not matter)
 _INTERNAL = {"_name", "_parent", "_params", "_vars", "_connectors", "_children", "_connections",
              "_compiled", "_given", "_declaring", "_pending"}
-_SOURCES: dict[Path, str] = {}       # package folder -> hash of its source text, per process
 
 
 class _NotPlain(Exception):
@@ -67,15 +66,12 @@ def _package_dir(module_name: str) -> Path | None:
 
 def _source_hash(where: Path) -> str:
     """The hash of every .py file's text under ``where`` (a package folder),
-    once per process."""
-    h = _SOURCES.get(where)
-    if h is None:
-        d = hashlib.sha256()
-        files = sorted(where.rglob("*.py")) if where.is_dir() else [where]
-        for f in files:
-            d.update(str(f.relative_to(where.parent)).encode() + b"\0" + f.read_bytes() + b"\0")
-        h = _SOURCES[where] = d.hexdigest()
-    return h
+    read each time (about a millisecond): an edit in a running session counts,
+    however soon after the last."""
+    d = hashlib.sha256()
+    for f in sorted(where.rglob("*.py")) if where.is_dir() else [where]:
+        d.update(f"{f.relative_to(where.parent)}\0".encode() + f.read_bytes() + b"\0")
+    return d.hexdigest()
 
 
 def declaration_key(root) -> str | None:

