@@ -27,23 +27,30 @@ class Curves:
     def __init__(self, res):
         self.res, self.t = res, res.t
         self._rows = {}
+        self._rates = {}      # d/dt of outputs, where computed beforehand (Result.prefetch)
         self._kinks = None
 
     @property
     def kinks(self) -> np.ndarray:
         """Per output interval: True where an event indicator changes sign."""
         if self._kinks is None:
-            E = self.res._sim.events_on(self.t, self.res._X, self.res._Z, self.res.p)
-            s = np.sign(E)
-            self._kinks = np.any(s[:, :-1] * s[:, 1:] <= 0, axis=0) if E.size else \
-                np.zeros(len(self.t) - 1, dtype=bool)
+            self.set_events(self.res._sim.events_on(self.t, self.res._X, self.res._Z,
+                                                    self.res.p))
         return self._kinks
+
+    def set_events(self, E):
+        """The kinks from the event indicators ``E`` on the grid (one row each)."""
+        s = np.sign(E)
+        self._kinks = np.any(s[:, :-1] * s[:, 1:] <= 0, axis=0) if E.size else \
+            np.zeros(len(self.t) - 1, dtype=bool)
 
     def data(self, name):
         """(y, dy/dt, trusted interval mask) of ``name``, or None without derivatives."""
         if name not in self._rows:
             sim = self.res._sim
-            rate = sim.rates_on(self.t, self.res._X, self.res._Z, self.res.p, name)
+            rate = self._rates.pop(name, None)
+            if rate is None:
+                rate = sim.rates_on(self.t, self.res._X, self.res._Z, self.res.p, name)
             if rate is None:
                 self._rows[name] = None
             else:
@@ -86,12 +93,11 @@ class Curves:
         d = self.data(name)
         if d is None or not d[3][i]:
             return None
-        c = [m[i] for m in d[2]]
-        roots = np.roots([c[3], c[2], c[1], c[0] - level]) if any(c[1:]) else []
-        real = sorted(r.real for r in np.atleast_1d(roots) if abs(r.imag) < 1e-9 and -1e-12 <= r.real <= 1 + 1e-12)
-        if len(real) != 1:
+        c = [float(m[i]) for m in d[2]]
+        s = _one_root(c[0] - level, c[1], c[2], c[3])
+        if s is None:
             return None                                      # two turns in one step: not trusted
-        return float(self.t[i] + min(max(real[0], 0.0), 1.0) * (self.t[i + 1] - self.t[i]))
+        return float(self.t[i] + s * (self.t[i + 1] - self.t[i]))
 
     def integral(self, name, a, b):
         """The integral of ``name`` over [a, b] on the interpolant (None without derivatives)."""
@@ -119,3 +125,51 @@ def _quadratic_roots(A, B, C):
         return []
     q = -0.5 * (B + np.copysign(np.sqrt(disc), B))
     return [q / A] + ([C / q] if q != 0 else [])
+
+
+def _one_root(c0, c1, c2, c3):
+    """The root in [0, 1] of c0 + c1 s + c2 s^2 + c3 s^3 if it has exactly
+    one there (a crossing), else None (none, several, or one where the cubic
+    turns: not a clean crossing). Between the cubic's turning points it is
+    monotone: a sign change there is bracketed and refined by Newton's
+    method kept inside its bracket (no eigenvalues, no LAPACK)."""
+    poly = lambda s: c0 + s * (c1 + s * (c2 + s * c3))       # noqa: E731
+    slope = lambda s: c1 + s * (2.0 * c2 + s * 3.0 * c3)     # noqa: E731
+    size = abs(c0) + abs(c1) + abs(c2) + abs(c3)
+    if size == 0.0:
+        return None
+    cuts = [0.0] + sorted(r for r in _quadratic_roots(3.0 * c3, 2.0 * c2, c1) if 0.0 < r < 1.0) \
+        + [1.0]
+    found = []
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        f_lo, f_hi = poly(lo), poly(hi)
+        if lo > 0.0 and abs(f_lo) <= 1e-13 * size:
+            return None                                      # a root where it turns
+        if f_lo == 0.0:
+            found.append(lo)
+            continue
+        if f_lo * f_hi > 0:
+            continue
+        if f_hi == 0.0:
+            if hi == 1.0:
+                found.append(hi)
+            continue
+        s = lo - f_lo * (hi - lo) / (f_hi - f_lo)            # regula falsi start
+        for _ in range(60):
+            f = poly(s)
+            if f == 0.0:
+                break
+            if (f < 0) == (f_lo < 0):
+                lo, f_lo = s, f
+            else:
+                hi = s
+            d = slope(s)
+            step = s - f / d if d != 0.0 else 0.5 * (lo + hi)
+            nxt = step if lo < step < hi else 0.5 * (lo + hi)
+            if abs(nxt - s) <= 4e-16 * max(1.0, abs(s)):
+                s = nxt
+                break
+            s = nxt
+        found.append(s)
+    found = sorted(set(found))
+    return found[0] if len(found) == 1 else None

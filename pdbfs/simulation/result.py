@@ -99,6 +99,21 @@ class Result:
             self._rows[i] = self._sim.outputs(self.t, self._X, self._Z, self.p, [i])[0]
         return self._rows[i]
 
+    def prefetch(self, names):
+        """Compute the outputs ``names``, their rates and the event indicators
+        in one pass over the grid (a summary reads all of them)."""
+        names = [n for n in dict.fromkeys(names) if n in self._index]
+        if not names or self._Y is not None:
+            return
+        Y, rates, E = self._sim.rows_rates_events(self.t, self._X, self._Z, self.p, names)
+        curves = self.curves
+        for k, n in enumerate(names):
+            self._rows[self._index[n]] = Y[k]
+            if rates is not None:
+                curves._rates[n] = rates[k]
+        if curves._kinks is None:
+            curves.set_events(E)
+
     def _all(self):
         if self._Y is None:
             self._Y = self._sim.outputs(self.t, self._X, self._Z, self.p)
