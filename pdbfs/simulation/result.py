@@ -15,6 +15,7 @@ import numpy as np
 from pdbfs.errors import PdbfsError
 
 from .c_summary import summary_of
+from .hermite import Curves
 from .initialize import InitialState
 from .summary import summarize
 
@@ -144,7 +145,6 @@ class Result:
     def curves(self):
         """The Hermite interpolants of the variables (pdbfs.simulation.hermite)."""
         if "_curves" not in self.__dict__:
-            from .hermite import Curves
             self._curves = Curves(self)
         return self._curves
 
