@@ -109,3 +109,27 @@ def test_output_checks_are_found_again_when_the_rig_is_compiled_again():
     r.simulate(0.01, n_out=11)
     r.simulate(0.01, n_out=101)
     assert seen == [pytest.approx(1e-3), pytest.approx(1e-4)]
+
+
+@pytest.mark.parametrize("backend", ["c", "casadi"])
+def test_a_run_and_its_summary_leave_no_reference_cycle(rig, backend):
+    import gc
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rig.simulate(backend=backend).summary()
+        gc.collect()
+        was = gc.get_debug()
+        gc.set_debug(gc.DEBUG_SAVEALL)
+        try:
+            for _ in range(3):
+                rig.simulate(backend=backend).summary()
+                rig.simulate(0.005, n_out=501, backend=backend).summary()   # summary.py's path
+            gc.collect()
+            # pdbfs's objects and arrays (ctypes keeps cycles of its own array types)
+            left = [type(o).__name__ for o in gc.garbage
+                     if type(o).__module__.startswith("pdbfs") or isinstance(o, np.ndarray)]
+        finally:
+            gc.set_debug(was)
+            gc.garbage.clear()
+    assert not left, sorted(set(left))

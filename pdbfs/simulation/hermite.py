@@ -13,6 +13,8 @@ this way they cost a few numpy operations instead of tens of integrations.
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from .impulse import integral
@@ -25,17 +27,26 @@ class Curves:
     """The Hermite data of one Result (built lazily per variable)."""
 
     def __init__(self, res):
-        self.res, self.t = res, res.t
+        # the Result by a weak reference (it holds these curves: no cycle for
+        # the garbage collector to find after every run), its arrays directly
+        self._res = weakref.ref(res)
+        self._sim, self.t, self._X, self._Z, self._p = res._sim, res.t, res._X, res._Z, res.p
         self._rows = {}
         self._rates = {}      # d/dt of outputs, where computed beforehand (Result.prefetch)
         self._kinks = None
+
+    def _row(self, name):
+        res = self._res()
+        if res is not None:
+            return res[name]
+        return self._sim.outputs(self.t, self._X, self._Z, self._p,
+                                 [self._sim.dae.y_names.index(name)])[0]
 
     @property
     def kinks(self) -> np.ndarray:
         """Per output interval: True where an event indicator changes sign."""
         if self._kinks is None:
-            self.set_events(self.res._sim.events_on(self.t, self.res._X, self.res._Z,
-                                                    self.res.p))
+            self.set_events(self._sim.events_on(self.t, self._X, self._Z, self._p))
         return self._kinks
 
     def set_events(self, E):
@@ -47,14 +58,13 @@ class Curves:
     def data(self, name):
         """(y, dy/dt, trusted interval mask) of ``name``, or None without derivatives."""
         if name not in self._rows:
-            sim = self.res._sim
             rate = self._rates.pop(name, None)
             if rate is None:
-                rate = sim.rates_on(self.t, self.res._X, self.res._Z, self.res.p, name)
+                rate = self._sim.rates_on(self.t, self._X, self._Z, self._p, name)
             if rate is None:
                 self._rows[name] = None
             else:
-                y = self.res[name]
+                y = self._row(name)
                 c = coefficients(self.t, y, rate)
                 h = np.diff(self.t)
                 jerk = 6.0 * c[3] / h ** 3                   # y''' on each interval
