@@ -133,3 +133,14 @@ def test_a_run_and_its_summary_leave_no_reference_cycle(rig, backend):
             gc.set_debug(was)
             gc.garbage.clear()
     assert not left, sorted(set(left))
+
+
+def test_the_components_conditions_are_checked_on_every_run():
+    from pdbfs.models import RIGS
+    rig = RIGS["hydraulic-pulse"]()
+    rig.simulate(0.001, n_out=3)                     # the defaults pass, and are remembered
+    t_close = next(q.value for q in rig.compile().params if q.name == "valve.t_close")
+    with pytest.raises(ParameterError, match="valve.t_open") as err:
+        rig.simulate(0.001, n_out=3, params={"valve.t_open": 2 * t_close})
+    assert "close before it opens" in str(err.value) and "\n" not in str(err.value)
+    rig.simulate(0.001, n_out=3)                     # and the defaults still pass

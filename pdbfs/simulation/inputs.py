@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import difflib
 
+import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError
@@ -15,6 +16,12 @@ from pdbfs.modelling import check_value, reduced_start
 
 from .initialize import needs_solving
 from .settings import MAX_NUM_STEPS, check_settings, mapping, output_grid
+from .vectorize import vectorize
+
+
+#: Functions of up to this many instructions are evaluated by numpy replay (about
+#: 0.3 us an instruction against about 15 us a CasADi call from Python)
+REPLAY_UP_TO = 40
 
 
 class RunInputs:
@@ -49,7 +56,12 @@ class RunInputs:
                 raise ParameterError(f"unknown parameter {name!r} of rig {dae.name}{hint}")
             info = dae.params[index[name]]
             p[index[name]] = check_value(value, name, info)
-        dae.check_conditions(p)      # the components' physical consistency
+        conds = getattr(dae, "conditions", None)
+        if conds:                    # the components' physical consistency
+            v = self.numeric("conditions", lambda: ca.Function(
+                "conditions", [dae.p], [ca.vertcat(*[e for e, _ in conds])]))(p)
+            if not np.all(v >= 0):
+                dae.check_conditions(p)      # (CasADi's verdict, naming what is wrong)
         if params and getattr(dae, "reduced_starts", None):
             # a start of a state index reduction made algebraic is not free: never ignored
             reduced_start.check(dae, p, ParameterError)
@@ -61,7 +73,7 @@ class RunInputs:
         if known is None:
             if len(self._cache) > 10_000:                # sweeps: do not grow without bound
                 self._cache = {k: v for k, v in self._cache.items() if k[0] != "x0"}
-            x0 = np.array(self.dae.function("start")(p), dtype=float).ravel()
+            x0 = self.numeric("start", lambda: self.dae.function("start"))(p)
             known = self._cache[key] = (x0, bool(np.all(np.isfinite(x0))))
         if known[1] and (start is None or (type(start) is dict and not start)):
             return known[0].copy()                       # nothing to set, finite: as it is
@@ -81,6 +93,23 @@ class RunInputs:
             bad = [n for n, v in zip(self.dae.x_names, x0) if not np.isfinite(v)]
             raise ParameterError(f"start values are not finite: {', '.join(bad)}")
         return x0
+
+    def numeric(self, name, make):
+        """The first output of the CasADi Function ``make()`` as a function of
+        numpy vectors, cached: for a short Function by vectorize.py's replay of
+        its instructions (a quarter of the cost of a CasADi call from Python;
+        a long one costs more that way)."""
+        f = self._cache.get(("numeric", name))
+        if f is None:
+            fun = make()
+            fast = vectorize(fun) if fun.n_instructions() <= REPLAY_UP_TO else None
+            if fast is not None:
+                f = lambda *a: fast(*[np.reshape(np.asarray(x, float), (-1, 1))  # noqa: E731
+                                      for x in a])[0][:, 0].copy()
+            else:
+                f = lambda *a: np.array(fun(*a), dtype=float).ravel()   # noqa: E731
+            self._cache[("numeric", name)] = f
+        return f
 
     def settings_ok(self, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
                     backend="auto"):
