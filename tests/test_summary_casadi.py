@@ -92,3 +92,26 @@ def test_the_simulation_package_has_no_import_circle():
         graph[f.stem] = deps
     order = list(graphlib.TopologicalSorter(graph).static_order())   # CycleError if one
     assert order.index("summary_run") < order.index("summary") < order.index("result")
+
+
+def test_the_intervals_cubics_and_trust_are_those_of_the_whole_grid(rig):
+    """Curves.interval (worked out per interval) against the whole-grid
+    computation it replaced: the same coefficients, bit for bit, and the same
+    trusted intervals (error estimate from the jumps of the third derivative)."""
+    from pdbfs.simulation.hermite import TRUST, coefficients
+    res = rig.simulate(backend="casadi")
+    curves = res.curves
+    for name in ("oil.pressure", "contact.fc", "hammer.v"):
+        y, rate, _ = curves.data(name)
+        c = coefficients(res.t, y, rate)
+        h = np.diff(res.t)
+        jump = np.abs(np.diff(6.0 * c[3] / h ** 3))
+        err = np.zeros_like(h)
+        err[:-1] = np.maximum(err[:-1], jump * h[:-1] ** 3 / 384)
+        err[1:] = np.maximum(err[1:], jump * h[1:] ** 3 / 384)
+        trusted = (err <= TRUST * np.max(np.abs(y))) & ~curves.kinks
+        assert 0 < trusted.sum() < trusted.size          # both kinds occur
+        for i in range(h.size):
+            ci, ti = curves.interval(name, i)
+            assert [float(v) for v in ci] == [float(m[i]) for m in c], (name, i)
+            assert ti == bool(trusted[i]), (name, i)

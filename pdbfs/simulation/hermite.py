@@ -56,7 +56,7 @@ class Curves:
             np.zeros(len(self.t) - 1, dtype=bool)
 
     def data(self, name):
-        """(y, dy/dt, trusted interval mask) of ``name``, or None without derivatives."""
+        """(y, dy/dt, scale = max |y|) of ``name``, or None without derivatives."""
         if name not in self._rows:
             rate = self._rates.pop(name, None)
             if rate is None:
@@ -65,17 +65,33 @@ class Curves:
                 self._rows[name] = None
             else:
                 y = self._row(name)
-                c = coefficients(self.t, y, rate)
-                h = np.diff(self.t)
-                jerk = 6.0 * c[3] / h ** 3                   # y''' on each interval
-                jump = np.abs(np.diff(jerk))
-                err = np.zeros_like(h)
-                err[:-1] = np.maximum(err[:-1], jump * h[:-1] ** 3 / 384)
-                err[1:] = np.maximum(err[1:], jump * h[1:] ** 3 / 384)
-                scale = max(float(np.max(np.abs(y))), 1e-300)
-                trusted = (err <= TRUST * scale) & ~self.kinks
-                self._rows[name] = (y, rate, c, trusted)
+                self._rows[name] = (y, rate, max(float(np.max(np.abs(y))), 1e-300))
         return self._rows[name]
+
+    def interval(self, name, i):
+        """(the cubic's coefficients (a, b, c, d) in s = (t - t_i) / h on
+        interval i, trusted or not), or None without derivatives. Trusted: its
+        error estimate h^3 |jump of the third derivative| / 384 (the jumps at
+        both ends) within TRUST of the signal's scale, and no kink inside.
+        Worked out for the intervals asked only (a summary asks a few dozen
+        of thousands)."""
+        d = self.data(name)
+        if d is None:
+            return None
+        y, rate, scale = d
+        t = self.t
+        coef = lambda j: _cubic(t[j + 1] - t[j], y[j], y[j + 1], rate[j], rate[j + 1])  # noqa: E731
+        c = coef(i)
+        h = t[i + 1] - t[i]
+        jerk = 6.0 * c[3] / h ** 3                           # the third derivative on it
+        limit = TRUST * scale
+        trusted = not self.kinks[i]
+        for j in (i - 1, i + 1):                             # the jumps at its ends
+            if trusted and 0 <= j < len(t) - 1:
+                hj = t[j + 1] - t[j]
+                jump = abs(6.0 * coef(j)[3] / hj ** 3 - jerk)
+                trusted = bool(jump * h ** 3 / 384 <= limit)
+        return c, trusted
 
     def peak(self, name, k, sign=1.0):
         """(t, value) of the largest of sign * ``name`` on the intervals next to
@@ -83,14 +99,15 @@ class Curves:
         d = self.data(name)
         if d is None:
             return None
-        y, _, c, trusted = d
+        y = d[0]
         best = (float(self.t[k]), float(y[k]))
         for i in (k - 1, k):
             if i < 0 or i >= len(self.t) - 1:
                 continue
-            if not trusted[i]:
+            c, trusted = self.interval(name, i)
+            if not trusted:
                 return None
-            a, b, cc, dd = (sign * c[m][i] for m in range(4))
+            a, b, cc, dd = (sign * c[m] for m in range(4))
             for s in _quadratic_roots(3 * dd, 2 * cc, b):
                 if 0.0 < s < 1.0:
                     v = a + s * (b + s * (cc + s * dd))
@@ -100,10 +117,10 @@ class Curves:
 
     def crossing(self, name, level, i):
         """The time ``name`` crosses ``level`` in interval i, or None if not trusted."""
-        d = self.data(name)
-        if d is None or not d[3][i]:
+        got = self.interval(name, i)
+        if got is None or not got[1]:
             return None
-        c = [float(m[i]) for m in d[2]]
+        c = [float(m) for m in got[0]]
         s = _one_root(c[0] - level, c[1], c[2], c[3])
         if s is None:
             return None                                      # two turns in one step: not trusted
@@ -115,6 +132,12 @@ class Curves:
         if d is None:
             return None
         return integral(self.t, d[0], a, b, d[1])
+
+
+def _cubic(h, y0, y1, r0, r1):
+    """One interval's cubic, by the operations of coefficients()."""
+    m0, m1 = r0 * h, r1 * h
+    return (y0, m0, 3.0 * (y1 - y0) - 2.0 * m0 - m1, 2.0 * (y0 - y1) + m0 + m1)
 
 
 def coefficients(t, y, rate):
