@@ -25,6 +25,9 @@ class Rig(Component):
         return simulate(self, t_end, **kwargs)
 
     def _check_output(self, t_end, kwargs):
+        checks = self._output_checks()
+        if not checks:
+            return
         t_out = kwargs.get("t_out")
         try:
             dt = float(np.min(np.diff(np.asarray(t_out, float)))) if t_out is not None else \
@@ -33,10 +36,19 @@ class Rig(Component):
             return                    # bad settings: simulate() says what is wrong
         if not (np.isfinite(dt) and dt > 0):
             return
-        for comp in self.walk():
-            check = getattr(comp, "check_output", None)
-            if check is not None:
-                check(dt, kwargs.get("params"))
+        for check in checks:
+            check(dt, kwargs.get("params"))
+
+    def _output_checks(self) -> list:
+        """The components' check_output methods, found once per compiled rig
+        (a rig changed since is compiled again, and searched again)."""
+        dae = self.compile()
+        checks = dae.__dict__.get("_output_checks")
+        if checks is None:
+            checks = [c for c in (getattr(comp, "check_output", None) for comp in self.walk())
+                      if c is not None]
+            dae.__dict__["_output_checks"] = checks
+        return checks
 
     def linearize(self, at="start", **kwargs):
         """State-space matrices A, B, C, D at ``at`` ("start", "steady" or a

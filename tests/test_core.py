@@ -175,12 +175,13 @@ def test_paper_rig_simplifies_to_six_states_and_no_algebraic():
 def test_parameters_change_without_rebuilding(monkeypatch):
     rig = paper_rig()
     dae = rig.compile()
-    import pdbfs.modelling.component as C
+    import pdbfs.modelling.flatten as F
+    import pdbfs.modelling.structure as S
 
     def boom(*a, **k):
         raise AssertionError("rebuilt")
-    monkeypatch.setattr(C, "flatten", boom)
-    monkeypatch.setattr(C, "simplify", boom)
+    monkeypatch.setattr(F, "flatten", boom)
+    monkeypatch.setattr(S, "simplify", boom)
     r1 = rig.simulate(0.01, params={"hammer.v0": 2.0})
     r2 = rig.simulate(0.01, params={"hammer.v0": 4.0}, rtol=1e-6, n_out=11)
     assert rig.compile() is dae

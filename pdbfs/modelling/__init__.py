@@ -12,6 +12,7 @@ analysis, and the one CasADi DAE every back end consumes.
       index.py       index reduction to any index (Pantelides, dummy derivatives)
       reduced_start.py  declared starts of states index reduction made algebraic
     dae.py         the DAE (x, z, p, ode, alg, outputs, events) and its infos
+    dae_cache.py   compiled DAEs kept on disk, keyed by the rig's declaration and sources
 
 May import: pdbfs.errors only. Nothing here knows about solvers, C code,
 FMUs or studies.

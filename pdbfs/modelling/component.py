@@ -13,8 +13,6 @@ import casadi as ca
 from pdbfs.errors import ConnectError, ModelError, ParameterError
 
 from .connectors import Connector
-from .flatten import flatten
-from .structure import simplify
 from .symbols import Parameter, Variable
 
 
@@ -217,11 +215,22 @@ class Component:
 
     # -- compile ----------------------------------------------------------------
     def compile(self):
-        """The simplified CasADi DAE of this rig (built once, then cached)."""
+        """The simplified CasADi DAE of this rig (built once, then cached; a
+        rig of pdbfs's own components whose declaration was compiled before,
+        by any process, is read from the disk cache: dae_cache.py)."""
         if self._compiled is None:
-            dae = simplify(flatten(self), name=self.rig_name())
-            dae.signals = dict(getattr(self, "summary_signals", {}) or {})
-            dae.description = _first_sentence(type(self).__doc__)
+            from . import dae_cache
+            key = dae_cache.declaration_key(self)
+            dae = dae_cache.load(key) if key is not None else None
+            if dae is None:
+                # flattening and structural analysis (scipy.sparse): imported when needed
+                from .flatten import flatten
+                from .structure import simplify
+                dae = simplify(flatten(self), name=self.rig_name())
+                dae.signals = dict(getattr(self, "summary_signals", {}) or {})
+                dae.description = _first_sentence(type(self).__doc__)
+                if key is not None:
+                    dae_cache.store(key, dae)
             object.__setattr__(self, "_compiled", dae)
         return self._compiled
 

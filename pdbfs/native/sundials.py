@@ -25,15 +25,11 @@ import os
 import shutil
 import subprocess
 import sys
-import tarfile
 import tempfile
-import urllib.request
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 import platformdirs
-from filelock import FileLock
 
 from pdbfs.errors import ExportError
 
@@ -135,6 +131,7 @@ def _download() -> bytes:
             raise SundialsNotFound(f"PDBFS_SUNDIALS_SDIST={local}: {err.strerror or err}") from None
     _say(f"fetching SUNDIALS {VERSION}'s sources once: {SDIST} (1.3 MB) from PyPI")
     try:
+        import urllib.request          # (imported here: a run that finds its library needs none)
         with urllib.request.urlopen(SDIST_URL, timeout=120) as r:   # honours *_proxy
             return r.read()
     except OSError as err:
@@ -148,6 +145,7 @@ def _extract(data: bytes, dest: Path) -> None:
         raise SundialsNotFound(f"{SDIST} has SHA-256 {digest}, not the pinned {SDIST_SHA256}")
     part = Path(tempfile.mkdtemp(prefix=dest.name + ".", dir=dest.parent))
     try:
+        import tarfile
         with tarfile.open(fileobj=io.BytesIO(data), mode="r:gz") as tar:
             for m in tar.getmembers():
                 rel = m.name[len(SDIST_ROOT):] if m.name.startswith(SDIST_ROOT) else None
@@ -168,7 +166,9 @@ def _extract(data: bytes, dest: Path) -> None:
         shutil.rmtree(part, ignore_errors=True)
 
 
-def _lock(path: Path) -> FileLock:
+def _lock(path: Path):
+    """A FileLock beside ``path``."""
+    from filelock import FileLock
     path.parent.mkdir(parents=True, exist_ok=True)
     return FileLock(str(path.parent / f".{path.name}.lock"))
 
@@ -196,6 +196,7 @@ def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path) -> list
         if r.returncode != 0:
             raise SundialsNotFound(f"compiling SUNDIALS' {rel} failed: {r.stderr.strip()[-1500:]}")
         return obj
+    from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
         return list(pool.map(one, SUNDIALS_C))
 

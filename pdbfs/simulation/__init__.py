@@ -20,6 +20,8 @@
     linearize.py   A, B, C, D at an operating point (algebraic variables
                    eliminated), modes: omega, frequency, damping, shape
     settings.py    tolerances, method, output grid and argument types, checked first
+    inputs.py      parameters, start values, grid and settings of a run as vectors,
+                   checked; what depends on the rig alone made once
     memory.py      sizes that cannot fit in the memory available, refused up front
     time_events.py switch times: integrated from switch to switch, never stepped over
     trajectory.py  the simulation as a differentiable CasADi Function of

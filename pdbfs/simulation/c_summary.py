@@ -16,28 +16,38 @@ from __future__ import annotations
 import math
 
 from .compiled import SUMMARY_KEYS
+from .summary import keys_for
+
+COMPLETE = SUMMARY_KEYS.index("complete")
 
 
 def usable(dae, lib) -> bool:
     """Whether the driver's summary of this rig has every key summary.py gives."""
     ok = getattr(lib, "_summary_usable", None)
     if ok is None:
-        from .summary import keys_for
         keys = keys_for(dae)
         ok = lib._summary_usable = bool(keys) and set(keys) <= set(lib.summary_keys)
     return ok
 
 
+def _layout(dae) -> tuple:
+    """(key, its index in SUMMARY_KEYS) of the rig's summary keys, once per DAE."""
+    layout = dae.__dict__.get("_c_summary_layout")
+    if layout is None:
+        layout = dae.__dict__["_c_summary_layout"] = tuple(
+            (k, SUMMARY_KEYS.index(k)) for k in keys_for(dae))
+    return layout
+
+
 def summary_of(dae, fast) -> dict | None:
     """Result.summary()'s dict from the run's own summary (values, code,
     note), or None where summary.py must be asked."""
-    from .summary import keys_for
     values, code, note = fast
-    if code != 0 or note or values[SUMMARY_KEYS.index("complete")] != 1.0:
+    if code != 0 or note or values[COMPLETE] != 1.0:
         return None
     out = {}
-    for k in keys_for(dae):
-        v = float(values[SUMMARY_KEYS.index(k)])
+    for k, i in _layout(dae):
+        v = float(values[i])
         if k == "complete":
             out[k] = True
         elif math.isnan(v):

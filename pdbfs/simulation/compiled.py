@@ -49,6 +49,9 @@ RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
 #: a summary point whose pressure crossings do not alternate (c/pdbfs_summary.c)
 RC_BAD_CROSSINGS = 6
 INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
+#: run_summary's buffer after p and x0: info, the summary values, the summary code (one
+#: double's room) and the messages (MSG_LEN + 2 POINT_MSG_LEN bytes)
+_RS_TAIL = INFO_N + len(SUMMARY_KEYS) + 1 + (MSG_LEN + 2 * POINT_MSG_LEN + 7) // 8
 NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
 
 
@@ -62,6 +65,14 @@ def solver_name(code: int) -> str:
     if (code >> 4) & 15 != 2:
         return f"{method}/fixed-point"
     return f"{method}/newton-{'band' if (code >> 8) & 15 == 2 else 'dense'}"
+
+
+def _text(raw, strip=True) -> str:
+    """A C string written into a numpy byte buffer (NUL-terminated), as str."""
+    if not raw[0]:
+        return ""
+    text = raw.tobytes().split(b"\0", 1)[0].decode(errors="replace")
+    return text.strip() if strip else text
 
 
 def _stats(steps, rhs, jac, roots, method, wall) -> dict:
@@ -159,8 +170,8 @@ class CompiledODE:
         self._pulse_pairs = h
         r = lib.pdbfs_run_summary
         r.restype = ctypes.c_int
-        r.argtypes = [vp, vp, ll, vp, vp, d, d, ctypes.c_int, d, ll, vp, ctypes.c_char_p, ll, vp,
-                      vp, ctypes.c_char_p, ll]
+        # the messages are addresses in a numpy buffer (run_summary): c_void_p
+        r.argtypes = [vp, vp, ll, vp, vp, d, d, ctypes.c_int, d, ll, vp, vp, ll, vp, vp, vp, ll]
         self._run_summary = r
         return lib
 
@@ -192,39 +203,48 @@ class CompiledODE:
 
 
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
-                    max_num_steps=500000):
+                    max_num_steps=500000, checked=False):
         """As ``run`` (``t`` from 0), and the summary of the same integration
         (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values
         (len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
-        the run failed), note (its warnings or failure))."""
+        the run failed), note (its warnings or failure)). ``checked``: the
+        caller (Simulator.run) has checked the arguments already, only their
+        types and sizes are checked here (C checks them all again)."""
         t = np.ascontiguousarray(t, dtype=float).ravel()
         x0 = np.ascontiguousarray(x0, dtype=float).ravel()
         p = np.ascontiguousarray(p, dtype=float).ravel()
-        if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 \
-                or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+        if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 or not checked \
+                and not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
             raise ParameterError(f"rig {self.name}: run_summary needs {self.nx} start values, "
                                  f"{self.np} parameters and a strictly increasing grid from 0")
-        if not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)) \
-                or method not in METHOD_CODES or not (max_step or 0.0) >= 0:
+        if method not in METHOD_CODES or not checked and \
+                not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)
+                     and (max_step or 0.0) >= 0):
             raise ParameterError(f"rig {self.name}: rtol = {rtol}, atol = {atol}, "
                                  f"method = {method!r}, max_step = {max_step}: not valid")
         X = np.empty((self.nx, t.size))
-        info = np.zeros(INFO_N)
-        msg = ctypes.create_string_buffer(MSG_LEN)
-        out = np.empty(len(SUMMARY_KEYS))
-        scode = ctypes.c_int(0)
-        note = ctypes.create_string_buffer(POINT_MSG_LEN * 2)
+        # one buffer for the small arguments (an address costs a microsecond):
+        # p, x0, info[INFO_N], the summary values, its code, the two messages
+        n_in = self.np + self.nx
+        buf = np.zeros(n_in + _RS_TAIL)
+        buf[:self.np] = p
+        buf[self.np:n_in] = x0
+        info, out = buf[n_in:n_in + INFO_N], buf[n_in + INFO_N:n_in + INFO_N + len(SUMMARY_KEYS)]
+        base = buf.ctypes.data
+        at = base + 8 * (n_in + INFO_N + len(SUMMARY_KEYS))     # the code, then the messages
         wall = time.perf_counter()
-        code = self._run_summary(p.ctypes.data, x0.ctypes.data, t.size, t.ctypes.data,
-                                 X.ctypes.data, float(rtol), float(atol), METHOD_CODES[method],
-                                 float(max_step or 0.0), int(max_num_steps), info.ctypes.data, msg,
-                                 MSG_LEN, out.ctypes.data, ctypes.byref(scode), note,
+        code = self._run_summary(base, base + 8 * self.np, t.size, t.ctypes.data, X.ctypes.data,
+                                 float(rtol), float(atol), METHOD_CODES[method],
+                                 float(max_step or 0.0), int(max_num_steps), base + 8 * n_in,
+                                 at + 8, MSG_LEN, base + 8 * (n_in + INFO_N), at, at + 8 + MSG_LEN,
                                  POINT_MSG_LEN * 2)
         wall = time.perf_counter() - wall
-        status = RunStatus(int(code), float(info[0]), int(info[1]), int(info[2]), int(info[3]),
-                           int(info[4]), msg.value.decode(errors="replace").strip(),
-                           _stats(info[1], info[3], info[5], info[2], info[6], wall))
-        return X, status, out, int(scode.value), note.value.decode(errors="replace")
+        raw = buf.view(np.uint8)[8 * (n_in + INFO_N + len(SUMMARY_KEYS)):]
+        i = info.tolist()
+        status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
+                           _text(raw[8:8 + MSG_LEN]), _stats(i[1], i[3], i[5], i[2], i[6], wall))
+        return X, status, out.copy(), int(raw[:4].view(np.intc)[0]), \
+            _text(raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN], strip=False)
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):

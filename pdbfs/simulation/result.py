@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import csv
 import warnings
+from functools import cached_property
 
 import numpy as np
 
@@ -15,11 +16,13 @@ from pdbfs.errors import PdbfsError
 from pdbfs.files import whole
 
 from .c_summary import summary_of
+from .hermite import Curves
+from .initialize import InitialState
 from .summary import summarize
 
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None):
+    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
@@ -33,18 +36,50 @@ class Result:
         self.p = p
         self.settings = settings
         dae = sim.dae
-        self.names = dae.y_names
         names = dae.__dict__.get("_result_names")     # the same for every Result of the rig
         if names is None:
             names = dae.__dict__["_result_names"] = (
-                {n: i for i, n in enumerate(self.names)}, {v.name: v.unit for v in dae.y_info},
-                {v.name: v.description for v in dae.y_info})
+                {n: i for i, n in enumerate(dae.y_names)}, {v.name: v.unit for v in dae.y_info},
+                {v.name: v.description for v in dae.y_info}, tuple(dae.y_names),
+                tuple(dae.p_names), tuple(dae.x_names))
+        self._names = names
         self._index = names[0]
-        self.units = dict(names[1])
-        self.descriptions = dict(names[2])
-        self.params = dict(zip(dae.p_names, p.tolist()))
-        #: the start the run began from (initialize.InitialState), where known
-        self.initial = None
+        # the start the run began from: an initialize.InitialState, or the start
+        # vector of a rig that starts as declared (its record made on first use)
+        self._initial = initial
+
+    # made on first use: most runs (sweeps, a summary) never read them
+    @cached_property
+    def names(self) -> list:
+        """Every variable's name, in the DAE's order."""
+        return list(self._names[3])
+
+    @cached_property
+    def units(self) -> dict:
+        """name -> SI unit."""
+        return dict(self._names[1])
+
+    @cached_property
+    def descriptions(self) -> dict:
+        return dict(self._names[2])
+
+    @cached_property
+    def params(self) -> dict:
+        """The run's parameter values by name."""
+        return dict(zip(self._names[4], self.p.tolist()))
+
+    @property
+    def initial(self):
+        """The start the run began from (initialize.InitialState): each state's
+        value, and what initialization solved (nothing where the rig starts as
+        declared)."""
+        if isinstance(self._initial, np.ndarray):
+            self._initial = InitialState(dict(zip(self._names[5], self._initial.tolist())))
+        return self._initial
+
+    @initial.setter
+    def initial(self, value):
+        self._initial = value
 
     @property
     def rig(self) -> str:
@@ -65,6 +100,21 @@ class Result:
         if i not in self._rows:
             self._rows[i] = self._sim.outputs(self.t, self._X, self._Z, self.p, [i])[0]
         return self._rows[i]
+
+    def prefetch(self, names):
+        """Compute the outputs ``names``, their rates and the event indicators
+        in one pass over the grid (a summary reads all of them)."""
+        names = [n for n in dict.fromkeys(names) if n in self._index]
+        if not names or self._Y is not None:
+            return
+        Y, rates, E = self._sim.rows_rates_events(self.t, self._X, self._Z, self.p, names)
+        curves = self.curves
+        for k, n in enumerate(names):
+            self._rows[self._index[n]] = Y[k]
+            if rates is not None:
+                curves._rates[n] = rates[k]
+        if curves._kinks is None:
+            curves.set_events(E)
 
     def _all(self):
         if self._Y is None:
@@ -88,6 +138,9 @@ class Result:
     def value_at(self, name: str, t: float) -> float:
         """Variable ``name`` at time ``t``, exact to the solver tolerance."""
         i = self._index[name]
+        k = int(np.searchsorted(self.t, t))
+        if k < len(self.t) and self.t[k] == t and (self._Y is not None or i in self._rows):
+            return float(self[name][k])        # an output time whose row is at hand
         x, z = self._state_at(t)
         out = self._sim.dae.function("out")
         return float(out(t, x, z, self.p)[i])
@@ -96,7 +149,6 @@ class Result:
     def curves(self):
         """The Hermite interpolants of the variables (pdbfs.simulation.hermite)."""
         if "_curves" not in self.__dict__:
-            from .hermite import Curves
             self._curves = Curves(self)
         return self._curves
 
@@ -156,10 +208,10 @@ class Result:
         data = np.vstack([self.t] + [self[n] for n in names]).T
         if not np.all(np.isfinite(data)):
             raise PdbfsError("refusing to write NaN or infinite values to " + str(path))
+        row = ",".join(["%r"] * data.shape[1])      # what csv.writer writes, a third sooner
         with whole(path) as part, open(part, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
-            w.writerows(data.tolist())
+            csv.writer(fh).writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
+            fh.write("".join([row % tuple(r) + "\r\n" for r in data.tolist()]))
         return path
 
     def to_pandas(self, names=None):

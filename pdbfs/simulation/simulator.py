@@ -12,7 +12,6 @@ tests/test_accuracy.py checks against a tight event-located reference.
 """
 from __future__ import annotations
 
-import difflib
 import time
 import warnings
 
@@ -20,28 +19,34 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
-from pdbfs.modelling import DAE, check_value, reduced_start
+from pdbfs.modelling import DAE
 
 from . import c_summary
 from . import compiled as C
 from . import time_events as TE
 from .failures import compiled_failure, walk_failure
+from .initialize import check_initial, solve_start
+from .inputs import RunInputs
 from .memory import require, run_bytes
 from .on_grid import OnGrid
+from .result import Result
 from .stats import casadi_stats
 from .stiffness import choose_method, explicit_suits, fast_modes
 
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
-                       mapping, output_grid)
+                       output_grid)
 
 
-class Simulator(OnGrid):
+class Simulator(RunInputs, OnGrid):
     """Integrators of one DAE, cached by their settings."""
 
     def __init__(self, dae: DAE):
         self.dae = dae
         self._cache = {}
         self._last_stats = {}
+        self._checked = set()     # settings that passed check_settings (inputs.py)
+        self._grids = {}          # output grids by (t_end, n_out)
+        self.x_names = tuple(dae.x_names)
 
     @staticmethod
     def of(model) -> "Simulator":
@@ -53,51 +58,6 @@ class Simulator(OnGrid):
         if sim is None:
             sim = dae.__dict__["_simulator"] = Simulator(dae)
         return sim
-
-    # -- inputs ----------------------------------------------------------------
-    def param_vector(self, params=None) -> np.ndarray:
-        dae = self.dae
-        p = dae.p_default()
-        index = {n: i for i, n in enumerate(dae.p_names)}
-        for name, value in mapping(params, "params").items():
-            if name not in index:
-                if name in dae.calculated:
-                    raise ParameterError(f"{name} is computed from other parameters "
-                                         "and cannot be set; set those instead")
-                close = difflib.get_close_matches(name, dae.p_names, n=3)
-                hint = f"; did you mean {', '.join(close)}?" if close else \
-                    "; `pdbfs params` lists them"
-                raise ParameterError(f"unknown parameter {name!r} of rig {dae.name}{hint}")
-            info = dae.params[index[name]]
-            p[index[name]] = check_value(value, name, info)
-        dae.check_conditions(p)      # the components' physical consistency
-        if params and getattr(dae, "reduced_starts", None):
-            # a start of a state index reduction made algebraic is not free: never ignored
-            reduced_start.check(dae, p, ParameterError)
-        return p
-
-    def start_vector(self, p, start=None) -> np.ndarray:
-        key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
-        if key not in self._cache:
-            if len(self._cache) > 10_000:                # sweeps: do not grow without bound
-                self._cache = {k: v for k, v in self._cache.items() if k[0] != "x0"}
-            self._cache[key] = np.array(self.dae.function("start")(p), dtype=float).ravel()
-        x0 = self._cache[key].copy()
-        index = {n: i for i, n in enumerate(self.dae.x_names)}
-        for name, value in mapping(start, "start", "'hammer.s': 0.0").items():
-            if name in {n for n, *_ in getattr(self.dae, "reduced_starts", ())}:
-                raise ParameterError(
-                    f"{name} is not a state of rig {self.dae.name}: index reduction computes it "
-                    f"from {'; '.join(self.dae.reduced_by)}, so its start is not free")
-            if name not in index:
-                raise ParameterError(f"{name!r} is not a state of rig {self.dae.name}; "
-                                     f"states: {', '.join(self.dae.x_names)}")
-            x0[index[name]] = check_value(value, f"start value of {name}",
-                                          _Unbounded(self.dae.x_info[index[name]]))
-        if not np.all(np.isfinite(x0)):
-            bad = [n for n, v in zip(self.dae.x_names, x0) if not np.isfinite(v)]
-            raise ParameterError(f"start values are not finite: {', '.join(bad)}")
-        return x0
 
     def z_guess(self, p) -> np.ndarray:
         dae = self.dae
@@ -123,8 +83,6 @@ class Simulator(OnGrid):
             self._cache[key] = (method, why, erk)
         chosen, _, erk = self._cache[key]
         return "erk" if erk and backend == "c" else chosen
-
-    check_settings = staticmethod(check_settings)
 
     def resolve_backend(self, backend: str) -> str:
         """``backend``, or for "auto" the compiled backend where it can be
@@ -236,21 +194,28 @@ class Simulator(OnGrid):
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=None, atol=1e-10, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
-        from .initialize import check_initial, solve_start
-        from .result import Result
-        self.check_settings(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
-                            backend)
-        check_initial(initial, self.dae)
+        dae = self.dae
+        self.settings_ok(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
+                         backend)
+        if initial is not None:
+            check_initial(initial, dae)
         backend = self.resolve_backend(backend)
-        if backend == "c" and self.dae.x.numel():
+        if backend == "c" and self.nx:
             self.compiled()          # a DAE rig is refused before anything else
         n_points = np.size(t_out) if t_out is not None else n_out
         if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
-            require(run_bytes(self.dae, n_points), f"rig {self.dae.name}: {n_points} output "
-                    "points", "ask for fewer (n_out, --n-out)")
+            per_point = self._cache.get("bytes/point")
+            if per_point is None:
+                per_point = self._cache["bytes/point"] = run_bytes(dae, 1)
+            require(per_point * n_points, f"rig {dae.name}: {n_points} output points",
+                    "ask for fewer (n_out, --n-out)")
         grid = self.grid(t_end, n_out, t_out)
         p = self.param_vector(params)
-        x0, init = solve_start(self, p, self.start_vector(p, start), initial, float(grid[0]))
+        x0 = self.start_vector(p, start)
+        if initial is None and not self._needs_solving():
+            init = x0       # the start as declared: Result.initial makes its record on demand
+        else:
+            x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
         wall = time.perf_counter()
@@ -264,11 +229,7 @@ class Simulator(OnGrid):
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
                         max_num_steps=max_num_steps, backend=backend)
-        res = Result(self, grid, p, X, Z, settings, stats, fast_summary=fast)
-        res.initial = init
-        return res
-
-    grid = staticmethod(output_grid)
+        return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         if self.dae.x.numel() == 0:
@@ -346,14 +307,15 @@ class Simulator(OnGrid):
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False):
         """States on ``grid`` (nx x len(grid)) from the compiled driver; with
-        ``summary``, (states, the run's own summary (c_summary.py) or None)."""
-        if self.dae.x.numel() == 0:
+        ``summary``, (states, the run's own summary (c_summary.py) or None)
+        (called from run(), whose arguments are checked already)."""
+        if self.nx == 0:
             X = self.prescribed(grid, p)[0]
             return (X, None) if summary else X
         lib, fast = self.compiled(), None
         if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
             X, st, values, code, note = lib.run_summary(grid, x0, p, rtol, atol, method, max_step,
-                                                        max_num_steps)
+                                                        max_num_steps, checked=True)
             fast = (values, code, note)
         else:
             X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
@@ -361,7 +323,10 @@ class Simulator(OnGrid):
             raise compiled_failure(self.dae.name, grid, st)
         self._last_stats = {k: v for k, v in (getattr(st, "stats", None) or {}).items()
                             if k != "wall_time"} or {"method": method}
-        self._check_finite(grid, X)
+        # the driver refuses a solution that is not finite (RC_NOT_FINITE), so
+        # a sum (a NaN or infinity anywhere makes it one) is all it takes here
+        if not np.isfinite(np.add.reduce(X, axis=None)):
+            self._check_finite(grid, X)
         return (X, fast) if summary else X
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
@@ -381,10 +346,3 @@ def _call(F, **args):
     if r.get("xf") is None:
         raise KeyboardInterrupt
     return r
-
-
-class _Unbounded:
-    def __init__(self, info):
-        self.unit, self.description = info.unit, info.description
-        self.min = self.max = None
-        self.positive = False

@@ -20,8 +20,6 @@ from __future__ import annotations
 
 import casadi as ca
 import numpy as np
-import scipy.sparse as sps
-import scipy.sparse.linalg as spla
 
 # the thresholds (STIFF_STEPS: a fast decaying mode's Adams steps that make BDF
 # the cheaper method; DENSE_UP_TO: above, only the modes of largest modulus;
@@ -45,11 +43,16 @@ def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:
     J = jacobian_function(dae)(t0, x0, p)
     rows, cols = J.sparsity().get_triplet()
     n = dae.x.numel()
-    A = sps.csc_matrix((np.asarray(J.nonzeros(), float), (rows, cols)), shape=(n, n))
-    if not np.all(np.isfinite(A.data)):
+    values = np.asarray(J.nonzeros(), float)
+    if not np.all(np.isfinite(values)):
         return np.zeros(0, complex)
-    if n <= DENSE_UP_TO or A.nnz == 0:
-        return np.linalg.eigvals(A.toarray())
+    if n <= DENSE_UP_TO or values.size == 0:      # (no scipy: a one-shot run starts sooner)
+        A = np.zeros((n, n))
+        A[rows, cols] = values
+        return np.linalg.eigvals(A)
+    import scipy.sparse as sps
+    import scipy.sparse.linalg as spla
+    A = sps.csc_matrix((values, (rows, cols)), shape=(n, n))
     try:
         return spla.eigs(A, k=min(k, n - 2), which="LM", return_eigenvectors=False,
                          maxiter=20 * n, tol=1e-3)

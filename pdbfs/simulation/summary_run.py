@@ -15,7 +15,8 @@ finding on the solution elsewhere).
 
 When the caller's grid is this grid's first window (the default 2001 points
 over 20 ms), its solution is reused: the default summary costs no
-integration.
+integration, and the rows it reads are computed in one pass
+(Result.prefetch) and kept on the caller's Result.
 """
 from __future__ import annotations
 
@@ -95,8 +96,11 @@ def summary_run(res) -> SummaryRun:
             end = min(end, listed_until)
         if grid[-1] >= end - 1e-6 * h:   # a grid point a rounding error short of the end is the end
             grid = np.append(grid[grid < end - 1e-6 * h], end)
-        if t_last == 0.0 and np.array_equal(grid, res.t):
+        own = t_last == 0.0 and np.array_equal(grid, res.t)
+        if own:
             X, Z = res._X, res._Z                                 # the caller's own run
+            # every role's row, rate and the events in one pass: the summary reads them all
+            res.prefetch([n for n in roles.values() if isinstance(n, str)])
         else:
             X, Z = _integrate(sim, grid, x, res.p, s)
         first = 0 if not ts else 1
@@ -105,9 +109,13 @@ def summary_run(res) -> SummaryRun:
         Zs.append(Z[:, first:])
         t_last, x = float(grid[-1]), X[:, -1]
         if watch:
-            Y = np.atleast_2d(sim.outputs(grid, X, Z, res.p, rows))
-            P = Y[watch.index(p_name)] if p_name else None
-            F = Y[watch.index(f_name)] if f_name else None
+            if own:
+                P = res[p_name] if p_name else None
+                F = res[f_name] if f_name else None
+            else:
+                Y = np.atleast_2d(sim.outputs(grid, X, Z, res.p, rows))
+                P = Y[watch.index(p_name)] if p_name else None
+                F = Y[watch.index(f_name)] if f_name else None
             busy = np.zeros(grid.size, dtype=bool)
             if P is not None:
                 base = float(P[0]) if base is None else base
@@ -133,9 +141,12 @@ def summary_run(res) -> SummaryRun:
         if t_last >= limit or (over and (t_last >= t_end or not follow_all)) or \
                 (listed_until is not None and t_done is not None and t_last >= listed_until):
             break
-    t_all, X_all, Z_all = np.concatenate(ts), np.hstack(Xs), np.hstack(Zs)
-    inside = t_all <= t_end
-    traj = Result(sim, t_all[inside], res.p, X_all[:, inside], Z_all[:, inside], dict(s))
+    if len(ts) == 1 and own and ts[0][-1] <= t_end:
+        traj = res          # the caller's run is the summary's solution: its rows serve both
+    else:
+        t_all, X_all, Z_all = np.concatenate(ts), np.hstack(Xs), np.hstack(Zs)
+        inside = t_all <= t_end
+        traj = Result(sim, t_all[inside], res.p, X_all[:, inside], Z_all[:, inside], dict(s))
     pulse = has_pulse(base, p_peak_in) if p_name else None
     complete = (t_done is not None and t_done <= t_end and bool(pulse) if p_name else
                 t_done is not None and t_done <= t_end) if watch else None

@@ -1,0 +1,170 @@
+"""What a run is given, checked and turned into vectors (mixed into
+Simulator): parameters, start values, the output grid and the settings.
+What depends on the rig alone is made and checked once per Simulator and
+copied for each run (the default parameter and start vectors, the grid of a
+(t_end, n_out), settings that passed), so that a run costs microseconds of
+Python; anything given is checked every time."""
+from __future__ import annotations
+
+import difflib
+
+import casadi as ca
+import numpy as np
+
+from pdbfs.errors import ParameterError
+from pdbfs.modelling import check_value, reduced_start
+
+from .initialize import needs_solving
+from .settings import MAX_NUM_STEPS, check_settings, mapping, output_grid
+from .vectorize import vectorize
+
+
+#: Functions of up to this many instructions are evaluated by numpy replay (about
+#: 0.3 us an instruction against about 15 us a CasADi call from Python)
+REPLAY_UP_TO = 40
+
+
+class RunInputs:
+    """Mixed into Simulator (which has ``dae``, ``_cache``, ``_checked``,
+    ``_grids`` and ``x_names``)."""
+
+    check_settings = staticmethod(check_settings)
+
+    def param_vector(self, params=None) -> np.ndarray:
+        """The parameter vector: the defaults with ``params`` set, every value
+        checked (bounds, the components' conditions). The defaults' vector is
+        checked once and kept (a fresh copy each call)."""
+        if params is None or (type(params) is dict and not params):
+            base = self._cache.get("p0")
+            if base is None or base[0] is not self.dae.params:   # a new parameter list: again
+                base = self._cache["p0"] = (self.dae.params, self._param_vector(None))
+            return base[1].copy()
+        return self._param_vector(params)
+
+    def _param_vector(self, params) -> np.ndarray:
+        dae = self.dae
+        p = dae.p_default()
+        index = {n: i for i, n in enumerate(dae.p_names)}
+        for name, value in mapping(params, "params").items():
+            if name not in index:
+                if name in dae.calculated:
+                    raise ParameterError(f"{name} is computed from other parameters "
+                                         "and cannot be set; set those instead")
+                close = difflib.get_close_matches(name, dae.p_names, n=3)
+                hint = f"; did you mean {', '.join(close)}?" if close else \
+                    "; `pdbfs params` lists them"
+                raise ParameterError(f"unknown parameter {name!r} of rig {dae.name}{hint}")
+            info = dae.params[index[name]]
+            p[index[name]] = check_value(value, name, info)
+        conds = getattr(dae, "conditions", None)
+        if conds:                    # the components' physical consistency
+            v = self.numeric("conditions", lambda: ca.Function(
+                "conditions", [dae.p], [ca.vertcat(*[e for e, _ in conds])]))(p)
+            if not np.all(v >= 0):
+                dae.check_conditions(p)      # (CasADi's verdict, naming what is wrong)
+        if params and getattr(dae, "reduced_starts", None):
+            # a start of a state index reduction made algebraic is not free: never ignored
+            reduced_start.check(dae, p, ParameterError)
+        return p
+
+    def start_vector(self, p, start=None) -> np.ndarray:
+        key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
+        known = self._cache.get(key)
+        if known is None:
+            if len(self._cache) > 10_000:                # sweeps: do not grow without bound
+                self._cache = {k: v for k, v in self._cache.items() if k[0] != "x0"}
+            x0 = self.numeric("start", lambda: self.dae.function("start"))(p)
+            known = self._cache[key] = (x0, bool(np.all(np.isfinite(x0))))
+        if known[1] and (start is None or (type(start) is dict and not start)):
+            return known[0].copy()                       # nothing to set, finite: as it is
+        x0 = known[0].copy()
+        index = {n: i for i, n in enumerate(self.x_names)}
+        for name, value in mapping(start, "start", "'hammer.s': 0.0").items():
+            if name in {n for n, *_ in getattr(self.dae, "reduced_starts", ())}:
+                raise ParameterError(
+                    f"{name} is not a state of rig {self.dae.name}: index reduction computes it "
+                    f"from {'; '.join(self.dae.reduced_by)}, so its start is not free")
+            if name not in index:
+                raise ParameterError(f"{name!r} is not a state of rig {self.dae.name}; "
+                                     f"states: {', '.join(self.dae.x_names)}")
+            x0[index[name]] = check_value(value, f"start value of {name}",
+                                          _Unbounded(self.dae.x_info[index[name]]))
+        if not np.all(np.isfinite(x0)):
+            bad = [n for n, v in zip(self.dae.x_names, x0) if not np.isfinite(v)]
+            raise ParameterError(f"start values are not finite: {', '.join(bad)}")
+        return x0
+
+    def numeric(self, name, make):
+        """The first output of the CasADi Function ``make()`` as a function of
+        numpy vectors, cached: for a short Function by vectorize.py's replay of
+        its instructions (a quarter of the cost of a CasADi call from Python;
+        a long one costs more that way)."""
+        f = self._cache.get(("numeric", name))
+        if f is None:
+            fun = make()
+            fast = vectorize(fun) if fun.n_instructions() <= REPLAY_UP_TO else None
+            if fast is not None:
+                f = lambda *a: fast(*[np.reshape(np.asarray(x, float), (-1, 1))  # noqa: E731
+                                      for x in a])[0][:, 0].copy()
+            else:
+                f = lambda *a: np.array(fun(*a), dtype=float).ravel()   # noqa: E731
+            self._cache[("numeric", name)] = f
+        return f
+
+    def settings_ok(self, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
+                    backend="auto"):
+        """check_settings, remembered for settings that passed (keyed with
+        their types: 1 and True are not the same setting)."""
+        args = (rtol, atol, method, max_step, max_num_steps, backend)
+        try:
+            key = tuple((type(a), a) for a in args)
+            if key in self._checked:
+                return
+        except TypeError:        # unhashable (a list where a number belongs): checked below
+            key = None
+        self.check_settings(*args)
+        if key is not None and len(self._checked) < 1000:
+            self._checked.add(key)
+
+    def _needs_solving(self) -> bool:
+        """Whether the rig's declared start must be solved (free states, initial
+        equations); decided once."""
+        need = self._cache.get("needs_solving")
+        if need is None:
+            need = self._cache["needs_solving"] = needs_solving(self.dae, None)
+        return need
+
+    @property
+    def nx(self) -> int:
+        n = self.__dict__.get("_nx")
+        if n is None:
+            n = self._nx = int(self.dae.x.numel())
+        return n
+
+    def grid(self, t_end, n_out, t_out=None) -> np.ndarray:
+        """The output grid (settings.output_grid); the grid of a (t_end, n_out)
+        is made and checked once, and copied for each run."""
+        if t_out is not None:
+            return output_grid(t_end, n_out, t_out)
+        try:
+            key = (type(t_end), t_end, type(n_out), n_out)
+            g = self._grids.get(key)
+        except TypeError:
+            return output_grid(t_end, n_out, t_out)
+        if g is None:
+            g = output_grid(t_end, n_out)
+            if not (np.all(np.diff(g) > 0) and np.isfinite(g[-1])):   # a t_end under n_out ulps
+                raise ParameterError(f"t_end = {t_end}: too short for {n_out} distinct output "
+                                     "times")
+            if len(self._grids) > 16:       # sweeps over t_end: keep a few
+                self._grids.clear()
+            g.flags.writeable = False
+            self._grids[key] = g
+        return g.copy()
+
+
+class _Unbounded:
+    def __init__(self, info):
+        self.unit, self.description = info.unit, info.description
+        self.min = self.max = None
+        self.positive = False

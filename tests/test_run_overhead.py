@@ -1,0 +1,146 @@
+"""The Python around a compiled run (issue 23): what depends on the rig alone
+(its default parameter and start vectors, the grid of a (t_end, n_out),
+settings that passed, its output checks) is made and checked once; what a
+caller gives is checked every time; nothing cached leaks from one run into
+the next."""
+import math
+import sys
+
+import numpy as np
+import pytest
+
+from pdbfs.errors import ParameterError
+from pdbfs.models import paper_rig
+from pdbfs.simulation import Simulator
+
+
+@pytest.fixture(scope="module")
+def rig():
+    r = paper_rig()
+    r.simulate().summary()       # built, loaded, every cache filled
+    return r
+
+
+def _calls(fn):
+    """The Python functions called by ``fn()`` (file:name of each call)."""
+    seen = []
+
+    def prof(frame, event, arg):
+        if event == "call":
+            seen.append(f"{frame.f_code.co_filename.rsplit('/', 1)[-1]}:{frame.f_code.co_name}")
+    sys.setprofile(prof)
+    try:
+        fn()
+    finally:
+        sys.setprofile(None)
+    return seen
+
+
+def test_a_default_run_and_its_summary_do_the_rig_s_work_once(rig):
+    calls = _calls(lambda: rig.simulate().summary())
+    # walking the component tree, building the grid, the CasADi start function,
+    # the component conditions and the summary's keys: done by the first run only
+    for once in ("component.py:walk", "function_base.py:linspace", "dae.py:check_conditions",
+                 "dae.py:p_default", "summary.py:keys_for", "dae.py:function",
+                 "summary_run.py:summary_run"):
+        assert once not in calls, once
+    assert len(calls) < 90, sorted(set(calls))
+
+
+def test_a_run_never_sees_what_an_earlier_one_was_given_or_changed(rig):
+    default = rig.simulate()
+    v0 = default.params["hammer.v0"]
+    faster = rig.simulate(params={"hammer.v0": v0 + 1.0}, start={"hammer.s": 0.0})
+    assert faster.params["hammer.v0"] == v0 + 1.0
+    # the caller's arrays are the caller's: changing them changes no later run
+    default.t[:] = 7.0
+    default.p[:] = 7.0
+    again = rig.simulate()
+    assert again.params["hammer.v0"] == v0
+    assert again.t[0] == 0.0 and again.t[-1] == pytest.approx(0.02, rel=1e-15)
+    assert np.array_equal(again.t, np.linspace(0.0, 0.02, 2001))
+    assert again.summary()["peak_pressure"] < faster.summary()["peak_pressure"]
+    assert again.summary()["peak_pressure"] == rig.simulate().summary()["peak_pressure"]
+
+
+@pytest.mark.parametrize("kwargs, culprit", [
+    ({"params": {"hammer.v0": float("nan")}}, "hammer.v0"),
+    ({"params": {"hammer.vv0": 3.0}}, "hammer.vv0"),
+    ({"start": {"hammer.s": math.inf}}, "hammer.s"),
+    ({"rtol": "1e-8"}, "rtol"),
+    ({"atol": -1.0}, "atol"),
+    ({"max_num_steps": True}, "max_num_steps"),
+    ({"n_out": 1}, "n_out"),
+    ({"t_end": float("nan")}, "t_end"),
+    ({"t_out": [0.0, 0.01, 0.005]}, "t_out"),
+])
+def test_bad_input_after_good_runs_is_still_refused_in_one_line(rig, kwargs, culprit):
+    rig.simulate(max_num_steps=1000, n_out=11)      # good settings remembered first
+    kw = dict(kwargs)
+    t_end = kw.pop("t_end", 0.02)
+    with pytest.raises(ParameterError) as err:
+        rig.simulate(t_end, **kw)
+    assert culprit in str(err.value) and "\n" not in str(err.value)
+
+
+def test_remembered_settings_are_keyed_with_their_types(rig):
+    sim = Simulator.of(rig)
+    sim.settings_ok(1e-8, 1e-10, "adams", None, 1, "c")
+    with pytest.raises(ParameterError, match="max_num_steps"):
+        sim.settings_ok(1e-8, 1e-10, "adams", None, True, "c")     # True == 1, but no number
+    with pytest.raises(ParameterError, match="rtol"):
+        sim.settings_ok([1e-8], 1e-10, "adams", None, 10, "c")    # unhashable: checked
+
+
+def test_the_initial_record_of_a_declared_start_is_the_start(rig):
+    res = rig.simulate(start={"hammer.s": 1e-4})
+    assert res.initial["hammer.s"] == 1e-4
+    assert res.initial.values == dict(zip(Simulator.of(rig).x_names, res._X[:, 0].tolist()))
+    assert res.initial.solved == []
+
+
+def test_output_checks_are_found_again_when_the_rig_is_compiled_again():
+    r = paper_rig()
+    r.simulate(n_out=11)
+    assert r.compile().__dict__["_output_checks"] == []
+    seen = []
+    r.hammer.check_output = lambda dt, params: seen.append(dt)
+    object.__setattr__(r, "_compiled", None)     # as connect() and free() leave a changed rig
+    r.simulate(0.01, n_out=11)
+    r.simulate(0.01, n_out=101)
+    assert seen == [pytest.approx(1e-3), pytest.approx(1e-4)]
+
+
+@pytest.mark.parametrize("backend", ["c", "casadi"])
+def test_a_run_and_its_summary_leave_no_reference_cycle(rig, backend):
+    import gc
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rig.simulate(backend=backend).summary()
+        gc.collect()
+        was = gc.get_debug()
+        gc.set_debug(gc.DEBUG_SAVEALL)
+        try:
+            for _ in range(3):
+                rig.simulate(backend=backend).summary()
+                rig.simulate(0.005, n_out=501, backend=backend).summary()   # summary.py's path
+            gc.collect()
+            # pdbfs's objects and arrays (ctypes keeps cycles of its own array types)
+            left = [type(o).__name__ for o in gc.garbage
+                     if type(o).__module__.startswith("pdbfs") or isinstance(o, np.ndarray)]
+        finally:
+            gc.set_debug(was)
+            gc.garbage.clear()
+    assert not left, sorted(set(left))
+
+
+def test_the_components_conditions_are_checked_on_every_run():
+    from pdbfs.models import RIGS
+    rig = RIGS["hydraulic-pulse"]()
+    rig.simulate(0.001, n_out=3)                     # the defaults pass, and are remembered
+    t_close = next(q.value for q in rig.compile().params if q.name == "valve.t_close")
+    with pytest.raises(ParameterError, match="valve.t_open") as err:
+        rig.simulate(0.001, n_out=3, params={"valve.t_open": 2 * t_close})
+    assert "close before it opens" in str(err.value) and "\n" not in str(err.value)
+    rig.simulate(0.001, n_out=3)                     # and the defaults still pass
