@@ -1,6 +1,5 @@
 """Files are written whole or not at all: a failure, or Ctrl-C, leaves the
 destination as it was and no part file behind (pdbfs.files)."""
-import csv
 import os
 import signal
 import subprocess
@@ -41,28 +40,32 @@ def test_discard_removes_parts_under_way(tmp_path):
 
 
 def test_result_csv_failure_leaves_nothing(tmp_path, monkeypatch):
+    """The disk fills up after the header: no file under either name."""
+    import pdbfs.simulation.result as result_module
     res = RIGS["paper"]().simulate(t_end=0.002)
     dest = tmp_path / "r.csv"
-    calls = []
+    writes = []
 
-    def failing_writerows(self, rows):
-        calls.append(1)
-        raise OSError("disk full")
-
-    class Writer:
+    class Full:
         def __init__(self, fh):
-            self.w = csv_writer(fh)
+            self.fh = fh
 
-        def writerow(self, row):
-            self.w.writerow(row)
+        def write(self, text):
+            writes.append(len(text))
+            if len(writes) > 1:
+                raise OSError("No space left on device")
+            return self.fh.write(text)
 
-        writerows = failing_writerows
+        def __enter__(self):
+            return self
 
-    csv_writer = csv.writer
-    monkeypatch.setattr("pdbfs.simulation.result.csv.writer", Writer)
-    with pytest.raises(OSError):
+        def __exit__(self, *exc):
+            self.fh.close()
+
+    monkeypatch.setattr(result_module, "open", lambda *a, **k: Full(open(*a, **k)), raising=False)
+    with pytest.raises(OSError, match="No space"):
         res.to_csv(dest)
-    assert calls and list(tmp_path.iterdir()) == []
+    assert len(writes) == 2 and list(tmp_path.iterdir()) == []
     monkeypatch.undo()
     res.to_csv(dest)
     data = np.loadtxt(dest, delimiter=",", skiprows=1)
