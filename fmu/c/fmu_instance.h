@@ -165,6 +165,9 @@ const double *model_x(Inst *m);
 void model_update(Inst *m);
 double model_rtol(const Inst *m);
 int model_check_param(Inst *m, int k, double v);
+int model_failed_condition(Inst *m, const double *p);
+int model_finite(Inst *m);
+int model_check_reduced(Inst *m, const char *fn);
 int model_check_finite(Inst *m, const char *fn);
 int fmu_all_finite(const double *v, int n);
 

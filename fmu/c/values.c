@@ -1,9 +1,11 @@
 /* Variables of a pdbfs FMU by value reference, for every FMI version: the
  * parameters (checked against their bounds; fixed ones only before
- * initialisation, tunable ones in event mode or between steps), the solver
+ * initialisation, tunable ones in event mode or between steps, and then
+ * only to values that keep the components' conditions), the solver
  * settings, calculated parameters, states, derivatives, outputs.  A call
  * that is refused changes nothing. */
 #include <math.h>
+#include <stdio.h>
 
 #include "fmu_instance.h"
 
@@ -61,6 +63,46 @@ static int read_only(unsigned r) {
     return r >= PDBFS_VR_P && r < VR_Y_END;
 }
 
+/* "name = value, ..." of the parameters among vr: for a message */
+static void param_list(char *buf, size_t size, const unsigned vr[], size_t n, const double v[]) {
+    size_t i, used = 0;
+    buf[0] = 0;
+    for (i = 0; i < n && used + 1 < size; i++) {
+        int w;
+        if (vr[i] < PDBFS_VR_P || vr[i] >= VR_P_END) continue;
+        w = snprintf(buf + used, size - used, "%s%s = %g", used ? ", " : "", PDBFS_P_NAME[vr[i] - PDBFS_VR_P], v[i]);
+        if (w < 0) break;
+        used += (size_t)w < size - used ? (size_t)w : size - used - 1;
+    }
+}
+
+/* tunable parameters changed during a run, in one call: refused (changing
+ * nothing) unless the new values keep the components' conditions
+ * (Component.conditions, checked at initialisation too) and the model finite
+ * at the current time and state; pdbfs refuses such settings per run, so the
+ * FMU must not integrate with them either */
+static int check_tunable_change(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
+    double old[NP + 1];
+    char what[512];
+    size_t i;
+    int bad, finite;
+    for (i = 0; i < (size_t)NP; i++) old[i] = m->s.p[i];
+    for (i = 0; i < n; i++)
+        if (vr[i] >= PDBFS_VR_P && vr[i] < VR_P_END) m->s.p[vr[i] - PDBFS_VR_P] = v[i];
+    bad = model_failed_condition(m, m->s.p);
+    m->derived_ok = 0;
+    finite = bad < 0 ? model_finite(m) : 1;
+    for (i = 0; i < (size_t)NP; i++) m->s.p[i] = old[i];
+    m->derived_ok = 0;
+    if (bad < 0 && finite) return FMU_OK;
+    param_list(what, sizeof what, vr, n, v);
+    if (bad >= 0)
+        return ERR(m, "%s: %s refused at t=%.17g: %s; the parameters keep their values", fn, what, m->s.time,
+                   PDBFS_COND_TEXT[bad]);
+    return ERR(m, "%s: %s refused at t=%.17g: the derivatives or outputs would not be finite there; the "
+               "parameters keep their values", fn, what, m->s.time);
+}
+
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
     size_t i;
     int before_init, tunable_ok, changed = 0;
@@ -97,6 +139,7 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
             return ERR(m, "%s: unknown value reference %u", fn, r);
         }
     }
+    if (!before_init && check_tunable_change(m, fn, vr, n, v) != FMU_OK) return FMU_ERROR;
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
         if (r >= PDBFS_VR_P && r < VR_P_END) {
