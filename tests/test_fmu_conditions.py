@@ -233,6 +233,7 @@ def test_the_reduced_state_is_calculated_not_settable(cam, tmp_path):
     v = {x.name: x for x in md.modelVariables}
     assert v["m2.v"].initial == "calculated" and v["m2.v"].start is None
     assert v["m2.v0"].causality == "parameter" and v["m2.v0"].initial == "exact"
+    assert "start of m2.v" in v["m2.v0"].description and "cam (Cam)" in v["m2.v0"].description
     extract(path, str(tmp_path))
     unzipped = (version, str(tmp_path), md, {x.name: x.valueReference for x in md.modelVariables})
     a = Instance(unzipped, name="camset")
@@ -240,15 +241,16 @@ def test_the_reduced_state_is_calculated_not_settable(cam, tmp_path):
     a.fmu.freeInstance()
 
 
+@pytest.mark.parametrize("interface", ["CoSimulation", "ModelExchange"])
 @pytest.mark.parametrize("start", [{"m2.v0": 1.0}, {"m1.v0": 2 * V1}], ids=["m2.v0", "m1.v0"])
-def test_a_start_the_constraint_overrides_is_refused_at_initialisation(cam, start, capfd):
+def test_a_start_the_constraint_overrides_is_refused_at_initialisation(cam, start, interface, capfd):
     version, path, _ = cam
     def said(out=""):
         return [ln for ln in T.fmu_log_text(out).splitlines() if "m2.v starts at" in ln]
     capfd.readouterr()
     before = said()
     with pytest.raises(Exception, match="ExitInitializationMode"):
-        simulate_fmu(path, stop_time=0.1, start_values=start)
+        simulate_fmu(path, stop_time=0.1, start_values=start, fmi_type=interface)
     lines = list((Counter(said(capfd.readouterr().out)) - Counter(before)).elements())
     assert len(lines) == 1, lines
     assert "cam (Cam), equation 1" in lines[0] and f"fmi{version}ExitInitializationMode" in lines[0]
