@@ -130,6 +130,26 @@ def test_a_tunable_change_that_breaks_a_condition_is_refused_and_named(pulse):
     b.fmu.freeInstance()
 
 
+@pytest.mark.parametrize("values,words", [
+    ({"valve.t_open": 5e-3}, "valve (PulseValve): the valve would start to close before it opens"),
+    ({"supply.p0": 50e6}, "supply (Accumulator): starts below its gas precharge")])
+def test_settings_that_break_a_condition_are_refused_at_initialisation(pulse, values, words):
+    """Before initialisation parameters are set one at a time; the
+    conditions are checked on leaving initialisation (one line), and a reset
+    instance runs again."""
+    a = Instance(pulse, name="init")
+    a.set(**{k.replace(".", "__"): v for k, v in values.items()})
+    a.clear()
+    with pytest.raises(FMICallException):
+        a.init()
+    errs = a.errors()
+    assert len(errs) == 1 and words in errs[0] and "ExitInitializationMode" in errs[0], errs
+    a.fmu.reset()
+    a.init()
+    assert np.all(np.isfinite(a.run(0.001)))
+    a.fmu.freeInstance()
+
+
 def test_a_tunable_change_that_makes_the_model_infinite_is_refused(pulse):
     """drain.A = 1e308 m2 is within its bounds (> 0) but the drain's flow
     overflows: refused at the set, not integrated into Infinity."""
