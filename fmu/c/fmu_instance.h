@@ -26,7 +26,8 @@
  * Everything model-specific comes from two generated files: pdbfs_model.h
  * (sizes, value references, parameter table, token) and pdbfs_model_funcs.c
  * (CasADi's C of ode, Jacobian, outputs, start values, event indicators,
- * calculated parameters).
+ * calculated parameters, the components' conditions, the declared starts of
+ * states index reduction made algebraic).
  *
  * Value references (Real): [params | solver.rtol, solver.max_step |
  *   calculated params | states | derivatives | other outputs/locals],
