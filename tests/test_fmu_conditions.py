@@ -179,6 +179,25 @@ def test_model_exchange_refuses_it_in_event_mode(pulse):
     m.fmu.freeInstance()
 
 
+def test_no_value_that_is_not_finite_is_returned_as_ok(pulse):
+    """Model Exchange: the importer's state may be one the model cannot run
+    at (the accumulator's gas volume at zero, supply.V_oil = V0: an infinite
+    pressure): its derivatives and outputs are errors naming them, never NaN
+    with status OK."""
+    import ctypes
+    m = Instance(pulse, kind="me", name="nan")
+    m.init()
+    x = (ctypes.c_double * 2)(4e-3, 101325.0)          # supply.V_oil = supply.V0, chamber.p_law
+    m.fmu.setContinuousStates(x, 2)
+    for name in ("der(chamber.p_law)", "supply.p"):
+        m.clear()
+        with pytest.raises(FMICallException):
+            m.get(name)
+        errs = m.errors()
+        assert len(errs) == 1 and f"{name} = " in errs[0] and ("nan" in errs[0] or "inf" in errs[0]), errs
+    m.fmu.freeInstance()
+
+
 def test_a_valid_tunable_change_runs_as_a_fresh_run_with_that_value(pulse):
     """valve.t_close moved from 4.5 to 6 ms at 3 ms: the valve has not begun to
     close, so the run must be Python's run with t_close = 6 ms from the start

@@ -15,6 +15,19 @@
 #define VR_DX_END (PDBFS_VR_DX + NX)
 #define VR_Y_END (PDBFS_VR_Y + NYV)
 
+/* a computed value that is not finite (an importer's state or parameters the
+ * model cannot run at) is an error naming it, never returned as OK */
+static int not_finite(Inst *m, const char *fn, unsigned r, double x) {
+    if (r >= PDBFS_VR_X && r < VR_X_END)
+        return ERR(m, "%s: state %s = %g at t=%.17g: check the parameters", fn, PDBFS_X_NAME[r - PDBFS_VR_X], x,
+                   m->s.time);
+    if (r >= PDBFS_VR_DX && r < VR_DX_END)
+        return ERR(m, "%s: der(%s) = %g at t=%.17g: check the parameters and states", fn,
+                   PDBFS_X_NAME[r - PDBFS_VR_DX], x, m->s.time);
+    return ERR(m, "%s: the variable of value reference %u is %g at t=%.17g: check the parameters and states", fn, r,
+               x, m->s.time);
+}
+
 int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[]) {
     size_t i;
     if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
@@ -51,6 +64,7 @@ int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, doub
         } else {
             return ERR(m, "%s: unknown value reference %u", fn, r);
         }
+        if (!isfinite(v[i])) return not_finite(m, fn, r, v[i]);
     }
     return FMU_OK;
 }
