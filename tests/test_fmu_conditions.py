@@ -119,11 +119,12 @@ def test_a_tunable_change_that_breaks_a_condition_is_refused_and_named(pulse):
     msg = a.refused(valve__t_open=5e-3)
     assert "valve.t_open = 0.005" in msg and "valve (PulseValve)" in msg
     assert "would start to close before it opens" in msg and "t=0.002" in msg
-    # together in one call, a consistent pair is taken; one at a time, the first is refused
     msg = a.refused(valve__t_open=5e-3, valve__t_close=4e-3)
     assert "valve.t_open = 0.005, valve.t_close = 0.004" in msg
     assert list(a.get("valve.t_open", "valve.t_close")) == [0.0, 4.5e-3]     # nothing changed
-    a.state("set", saved)
+    a.set(valve__t_open=5e-3, valve__t_close=6e-3)     # consistent, in one call: taken
+    assert list(a.get("valve.t_open", "valve.t_close")) == [5e-3, 6e-3]
+    a.state("set", saved)                              # back to the state before all this
     b.state("set", b.state("get"))      # the same restart of the solver, never refused
     assert np.array_equal(a.run(0.01), b.run(0.01))
     a.fmu.freeInstance()
