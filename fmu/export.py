@@ -116,6 +116,22 @@ def _identifier(name: str) -> str:
     return ident
 
 
+def _reduced_lines(d) -> list[str]:
+    """The states index reduction made algebraic whose start is declared
+    (pdbfs_reduced gives the declared starts): where each is in y, its name
+    and unit, and the constraint that computes them, for the check at
+    initialisation (model.c, as pdbfs.modelling.reduced_start)."""
+    rs = getattr(d, "reduced_starts", None) or []
+    by = "; ".join(getattr(d, "reduced_by", None) or []) or "a constraint"
+    strings = lambda seq: ", ".join([_c_string(s) for s in seq] + ['""'])  # noqa: E731
+    return [f"#define PDBFS_NRS {len(rs)}",
+            "static const int PDBFS_RS_Y[PDBFS_NRS + 1] = {"
+            + ", ".join([str(d.y_names.index(n)) for n, _, _ in rs] + ["0"]) + "};",
+            f"static const char *const PDBFS_RS_NAME[PDBFS_NRS + 1] = {{{strings(n for n, _, _ in rs)}}};",
+            f"static const char *const PDBFS_RS_UNIT[PDBFS_NRS + 1] = {{{strings(u for _, u, _ in rs)}}};",
+            f"#define PDBFS_RS_BY {_c_string(by)}"]
+
+
 def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], extra: tuple[str, ...] = ()) -> str:
     """pdbfs_model.h: sizes, value references and the parameter table for the C files."""
     d = model.dae
@@ -131,6 +147,7 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          "static const char *const PDBFS_COND_TEXT[PDBFS_NCOND + 1] = {"
          + ", ".join([_c_string(f"{w}: {text} ({', '.join(names)})")
                       for _, (w, text, names) in d.conditions] + ['""']) + "};",
+         *_reduced_lines(d),
          f"#define PDBFS_VR_P {model.vr_p}", f"#define PDBFS_VR_RTOL {model.vr_rtol}",
          f"#define PDBFS_VR_MAXSTEP {model.vr_maxstep}", f"#define PDBFS_VR_C {model.vr_c}",
          f"#define PDBFS_VR_X {model.vr_x}", f"#define PDBFS_VR_DX {model.vr_dx}",

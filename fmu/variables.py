@@ -96,6 +96,16 @@ def _check_dae(dae: DAE) -> None:
             raise ExportError(f"'{n}' is both a state and a parameter")
 
 
+def _reduced_start_parameters(dae: DAE) -> dict[str, list[str]]:
+    """Parameter name -> the states index reduction made algebraic whose
+    declared start it enters (their starts are checked, not free)."""
+    out: dict[str, list[str]] = {}
+    for name, _, expr in getattr(dae, "reduced_starts", None) or []:
+        for sym in ca.symvar(expr):
+            out.setdefault(sym.name(), []).append(name)
+    return out
+
+
 class FmuModel:
     """Everything derived from the DAE that the C header and the XML need."""
 
@@ -162,11 +172,15 @@ class FmuModel:
     def _build_variables(self) -> None:
         d = self.dae
         V: list[_Var] = []
+        starts_of = _reduced_start_parameters(d)
         for k, prm in enumerate(d.params):
             lo = prm.min
             if prm.positive:
                 lo = POSITIVE_MIN if lo is None else max(lo, POSITIVE_MIN)
             desc = prm.description + (" (must be > 0)" if prm.positive else "")
+            if prm.name in starts_of:
+                desc += (f"; gives the start of {', '.join(starts_of[prm.name])}, which index reduction "
+                         f"computes from {'; '.join(d.reduced_by)}: checked against it at initialisation")
             V.append(_Var(prm.name, self.vr_p + k, "parameter", "tunable" if prm.tunable else "fixed", "exact",
                           desc, start=prm.value, unit=prm.unit, min=lo, max=prm.max))
         V.append(_Var("solver.rtol", self.vr_rtol, "parameter", "fixed", "exact",

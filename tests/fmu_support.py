@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from pdbfs.fmu import export_fmu
-from pdbfs.models import paper_hydraulic_rig, paper_rig, split_piston_rig
+from pdbfs.models import hydraulic_pulse_rig, paper_hydraulic_rig, paper_rig, split_piston_rig
 
 #: rigs the FMU tests export: name -> builder
 RIG_BUILDERS = {
@@ -22,6 +22,8 @@ RIG_BUILDERS = {
     "split3": lambda: split_piston_rig(3),
     # an oil column with a cavitation clamp: other states, other event indicators
     "hydraulic": paper_hydraulic_rig,
+    # a valve pulse: tunable valve times tied by a condition (t_close >= t_open)
+    "pulse": hydraulic_pulse_rig,
 }
 
 _CACHE: dict = {}

@@ -26,7 +26,8 @@
  * Everything model-specific comes from two generated files: pdbfs_model.h
  * (sizes, value references, parameter table, token) and pdbfs_model_funcs.c
  * (CasADi's C of ode, Jacobian, outputs, start values, event indicators,
- * calculated parameters).
+ * calculated parameters, the components' conditions, the declared starts of
+ * states index reduction made algebraic).
  *
  * Value references (Real): [params | solver.rtol, solver.max_step |
  *   calculated params | states | derivatives | other outputs/locals],
@@ -165,6 +166,9 @@ const double *model_x(Inst *m);
 void model_update(Inst *m);
 double model_rtol(const Inst *m);
 int model_check_param(Inst *m, int k, double v);
+int model_failed_condition(Inst *m, const double *p);
+int model_finite(Inst *m);
+int model_check_reduced(Inst *m, const char *fn);
 int model_check_finite(Inst *m, const char *fn);
 int fmu_all_finite(const double *v, int n);
 

@@ -79,13 +79,8 @@ int fmu_enter_init(Inst *m, const char *fn) {
 
 /* the components' physical consistency (Component.conditions): each >= 0 */
 static int check_conditions(Inst *m, const char *fn) {
-    double c[PDBFS_NCOND + 1];
-    int i;
-    m->arg[0] = m->s.p;
-    m->res[0] = c;
-    if (PDBFS_NCOND > 0) pdbfs_conditions(m->arg, m->res, m->iw, m->w, 0);
-    for (i = 0; i < PDBFS_NCOND; i++)
-        if (!(c[i] >= 0)) return ERR(m, "%s: %s", fn, PDBFS_COND_TEXT[i]);
+    int i = model_failed_condition(m, m->s.p);
+    if (i >= 0) return ERR(m, "%s: %s", fn, PDBFS_COND_TEXT[i]);
     return FMU_OK;
 }
 
@@ -103,7 +98,11 @@ int fmu_exit_init(Inst *m, const char *fn) {
     if (!fmu_all_finite(m->s.x, NX)) return ERR(m, "start values are not finite: check the parameters");
     m->s.x_fixed = 1;
     m->derived_ok = 0;
-    if (model_check_finite(m, fn) != FMU_OK) return FMU_ERROR;
+    if (model_check_finite(m, fn) != FMU_OK || model_check_reduced(m, fn) != FMU_OK) {
+        m->s.x_fixed = 0;   /* still in initialisation: the start follows the parameters */
+        m->derived_ok = 0;
+        return FMU_ERROR;
+    }
     m->need_restart = 1;
     m->s.method_used = m->s.method == METHOD_AUTO ? METHOD_BDF : m->s.method;   /* (Model Exchange: unused) */
     if (m->s.type == FMU_CS && m->s.method == METHOD_AUTO) {

@@ -141,6 +141,53 @@ int model_check_finite(Inst *m, const char *fn) {
     return FMU_OK;
 }
 
+/* the derivatives and the outputs at (time, x, p) all finite (no message) */
+int model_finite(Inst *m) {
+    int i;
+    model_update(m);
+    if (!fmu_all_finite(m->xdot, NX)) return 0;
+    for (i = 0; i < NYV; i++)
+        if (!isfinite(m->y[PDBFS_Y_INDEX[i]])) return 0;
+    return 1;
+}
+
+/* the components' physical consistency (Component.conditions, each >= 0) at
+ * parameters p: the index of the first that fails, else -1 */
+int model_failed_condition(Inst *m, const double *p) {
+    double c[PDBFS_NCOND + 1];
+    int i;
+    if (PDBFS_NCOND == 0) return -1;
+    m->arg[0] = p;
+    m->res[0] = c;
+    pdbfs_conditions(m->arg, m->res, m->iw, m->w, 0);
+    for (i = 0; i < PDBFS_NCOND; i++)
+        if (!(c[i] >= 0)) return i;
+    return -1;
+}
+
+/* the declared start of each state index reduction made algebraic equal to
+ * what its constraint gives at the start (the outputs y at time and x), else
+ * one error naming it: the start of such a state is not free, and a value set
+ * for it must not be ignored silently (as pdbfs.modelling.reduced_start) */
+int model_check_reduced(Inst *m, const char *fn) {
+    double s[PDBFS_NRS + 1], a, b;
+    int i;
+    if (PDBFS_NRS == 0) return FMU_OK;
+    model_update(m);
+    m->arg[0] = m->s.p;
+    m->res[0] = s;
+    pdbfs_reduced(m->arg, m->res, m->iw, m->w, 0);
+    for (i = 0; i < PDBFS_NRS; i++) {
+        a = s[i];
+        b = m->y[PDBFS_RS_Y[i]];
+        if (isfinite(b) && !(fabs(a - b) <= 1e-8 * (1.0 + fabs(a) + fabs(b))))
+            return ERR(m, "%s: %s starts at %g %s, but the constraint that index reduction solves for it (%s) "
+                       "gives %g %s at the start: its start is not free; give start values that satisfy the "
+                       "constraint", fn, PDBFS_RS_NAME[i], a, PDBFS_RS_UNIT[i], PDBFS_RS_BY, b, PDBFS_RS_UNIT[i]);
+    }
+    return FMU_OK;
+}
+
 int model_check_param(Inst *m, int k, double v) {
     if (!isfinite(v)) return ERR(m, "parameter %s: value %g is not finite", PDBFS_P_NAME[k], v);
     if (PDBFS_P_POSITIVE[k] && !(v > 0))

@@ -81,6 +81,7 @@ int me_get_event_indicators(Inst *m, const char *fn, double e[], size_t ne) {
     if (ne > 0 && !e) return ERR(m, "%s: NULL argument", fn);
     model_update(m);
     for (i = 0; i < ne; i++) e[i] = m->e[i];
+    if (!fmu_all_finite(m->e, NE)) return ERR(m, "%s: event indicators are not finite at t=%g", fn, m->s.time);
     return FMU_OK;
 }
 
@@ -92,6 +93,7 @@ int me_get_states(Inst *m, const char *fn, double x[], size_t nx) {
     if (!x) return ERR(m, "%s: NULL argument", fn);
     xs = model_x(m);
     for (i = 0; i < NX; i++) x[i] = xs[i];
+    if (!fmu_all_finite(xs, NX)) return ERR(m, "%s: states are not finite: check the parameters", fn);
     return FMU_OK;
 }
 

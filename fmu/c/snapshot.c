@@ -26,6 +26,9 @@ static int check_snapshot(Inst *m, const Snapshot *s, const char *fn) {
         return ERR(m, "%s: a state after initialization without its continuous states", fn);
     for (k = 0; k < NP; k++)
         if (model_check_param(m, k, s->p[k]) != FMU_OK) return ERR(m, "%s: the state's parameters are invalid", fn);
+    /* after initialisation the parameters keep the components' conditions (before: checked on leaving it) */
+    if ((s->mode & (ST_STEPDONE | ST_EVENT | ST_CONT | ST_TERMINATED)) && (k = model_failed_condition(m, s->p)) >= 0)
+        return ERR(m, "%s: the state's parameters break a condition: %s", fn, PDBFS_COND_TEXT[k]);
     if (!(s->rtol >= PDBFS_RTOL_MIN && s->rtol <= PDBFS_RTOL_MAX))
         return ERR(m, "%s: solver.rtol = %g in the state is outside [%g, %g]", fn, s->rtol, PDBFS_RTOL_MIN,
                    PDBFS_RTOL_MAX);

@@ -1,9 +1,11 @@
 /* Variables of a pdbfs FMU by value reference, for every FMI version: the
  * parameters (checked against their bounds; fixed ones only before
- * initialisation, tunable ones in event mode or between steps), the solver
+ * initialisation, tunable ones in event mode or between steps, and then
+ * only to values that keep the components' conditions), the solver
  * settings, calculated parameters, states, derivatives, outputs.  A call
  * that is refused changes nothing. */
 #include <math.h>
+#include <stdio.h>
 
 #include "fmu_instance.h"
 
@@ -12,6 +14,19 @@
 #define VR_X_END (PDBFS_VR_X + NX)
 #define VR_DX_END (PDBFS_VR_DX + NX)
 #define VR_Y_END (PDBFS_VR_Y + NYV)
+
+/* a computed value that is not finite (an importer's state or parameters the
+ * model cannot run at) is an error naming it, never returned as OK */
+static int not_finite(Inst *m, const char *fn, unsigned r, double x) {
+    if (r >= PDBFS_VR_X && r < VR_X_END)
+        return ERR(m, "%s: state %s = %g at t=%.17g: check the parameters", fn, PDBFS_X_NAME[r - PDBFS_VR_X], x,
+                   m->s.time);
+    if (r >= PDBFS_VR_DX && r < VR_DX_END)
+        return ERR(m, "%s: der(%s) = %g at t=%.17g: check the parameters and states", fn,
+                   PDBFS_X_NAME[r - PDBFS_VR_DX], x, m->s.time);
+    return ERR(m, "%s: the variable of value reference %u is %g at t=%.17g: check the parameters and states", fn, r,
+               x, m->s.time);
+}
 
 int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[]) {
     size_t i;
@@ -49,6 +64,7 @@ int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, doub
         } else {
             return ERR(m, "%s: unknown value reference %u", fn, r);
         }
+        if (!isfinite(v[i])) return not_finite(m, fn, r, v[i]);
     }
     return FMU_OK;
 }
@@ -59,6 +75,46 @@ static int read_only(unsigned r) {
     if (r == PDBFS_VR_TIME || (r >= PDBFS_VR_E && r < PDBFS_VR_E + NE)) return 1;
 #endif
     return r >= PDBFS_VR_P && r < VR_Y_END;
+}
+
+/* "name = value, ..." of the parameters among vr: for a message */
+static void param_list(char *buf, size_t size, const unsigned vr[], size_t n, const double v[]) {
+    size_t i, used = 0;
+    buf[0] = 0;
+    for (i = 0; i < n && used + 1 < size; i++) {
+        int w;
+        if (vr[i] < PDBFS_VR_P || vr[i] >= VR_P_END) continue;
+        w = snprintf(buf + used, size - used, "%s%s = %g", used ? ", " : "", PDBFS_P_NAME[vr[i] - PDBFS_VR_P], v[i]);
+        if (w < 0) break;
+        used += (size_t)w < size - used ? (size_t)w : size - used - 1;
+    }
+}
+
+/* tunable parameters changed during a run, in one call: refused (changing
+ * nothing) unless the new values keep the components' conditions
+ * (Component.conditions, checked at initialisation too) and the model finite
+ * at the current time and state; pdbfs refuses such settings per run, so the
+ * FMU must not integrate with them either */
+static int check_tunable_change(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
+    double old[NP + 1];
+    char what[512];
+    size_t i;
+    int bad, finite;
+    for (i = 0; i < (size_t)NP; i++) old[i] = m->s.p[i];
+    for (i = 0; i < n; i++)
+        if (vr[i] >= PDBFS_VR_P && vr[i] < VR_P_END) m->s.p[vr[i] - PDBFS_VR_P] = v[i];
+    bad = model_failed_condition(m, m->s.p);
+    m->derived_ok = 0;
+    finite = bad < 0 ? model_finite(m) : 1;
+    for (i = 0; i < (size_t)NP; i++) m->s.p[i] = old[i];
+    m->derived_ok = 0;
+    if (bad < 0 && finite) return FMU_OK;
+    param_list(what, sizeof what, vr, n, v);
+    if (bad >= 0)
+        return ERR(m, "%s: %s refused at t=%.17g: %s; the parameters keep their values", fn, what, m->s.time,
+                   PDBFS_COND_TEXT[bad]);
+    return ERR(m, "%s: %s refused at t=%.17g: the derivatives or outputs would not be finite there; the "
+               "parameters keep their values", fn, what, m->s.time);
 }
 
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
@@ -97,6 +153,7 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
             return ERR(m, "%s: unknown value reference %u", fn, r);
         }
     }
+    if (!before_init && check_tunable_change(m, fn, vr, n, v) != FMU_OK) return FMU_ERROR;
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
         if (r >= PDBFS_VR_P && r < VR_P_END) {

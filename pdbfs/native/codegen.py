@@ -44,7 +44,7 @@ ERK_DRIVER = (NATIVE_C / "pdbfs_erk.c", NATIVE_C / "pdbfs_erk.h", NATIVE_C / "pd
 FUNCS = "pdbfs_model_funcs"
 
 #: the model functions a driver can ask for
-FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc", "conditions")
+FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc", "conditions", "reduced")
 
 
 def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()) -> list[ca.Function]:
@@ -54,6 +54,8 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     ``events`` (event indicators), ``start``
     (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters),
     ``conditions`` (of p: the components' consistency conditions, each >= 0),
+    ``reduced`` (of p: the declared starts of the states index reduction
+    made algebraic, ``dae.reduced_starts``; each must equal its output at the start),
     ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
     derivatives for a state derivative v: (d/dx) v + d/dt, a function of
     (t, x, v, p)), ``roles_dot`` (their derivatives along the solution),
@@ -85,6 +87,10 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
         "conditions": lambda: ca.Function("pdbfs_conditions", [dae.p], [ca.densify(
             ca.vertcat(*[e for e, _ in getattr(dae, "conditions", None) or []])
             if getattr(dae, "conditions", None) else ca.SX(0, 1))], ["p"], ["c"]),
+        # declared starts of states index reduction made algebraic (reduced_start.py)
+        "reduced": lambda: ca.Function("pdbfs_reduced", [dae.p], [ca.densify(
+            ca.vertcat(*[e for _, _, e in getattr(dae, "reduced_starts", None) or []])
+            if getattr(dae, "reduced_starts", None) else ca.SX(0, 1))], ["p"], ["s"]),
         "roles": lambda: ca.Function("pdbfs_roles", args, [ca.densify(r)], names, ["r"]),
         "roles_rate": lambda: ca.Function("pdbfs_roles_rate", [dae.t, dae.x, v, dae.p],
                                           [ca.densify(r_rate)], ["t", "x", "v", "p"], ["r_dot"]),
