@@ -12,13 +12,23 @@
 #define NK 16                      /* with the dense output's three */
 #define SAFETY 0.9
 #define GROW_MAX 6.0
+#ifndef SHRINK_MIN
 #define SHRINK_MIN 0.333
+#endif
 #define ROOT_ITER 100
+#ifndef RESTART_STEP
 #define RESTART_STEP 0.01          /* first step after a root, of the step before */
+#endif
 /* the indicators are also looked at inside each step, at these many equal
  * parts of it: a contact that opens and closes within one long step, which
  * the step's ends alone would not show, is found */
 #define EVENT_PARTS 4
+#define STEP_AGAIN 1               /* step(): no step taken, try again from where it began */
+#ifndef KINK_MARGIN
+#define KINK_MARGIN 1e-3
+#endif
+#define KINK_TOL 1e-4
+#define KINK_MIN 1e-3
 
 int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     size_t n = (size_t)nx, m = (size_t)(ne > 0 ? ne : 1);
@@ -239,12 +249,50 @@ static double root_of(PdbfsErk *s, int i, double a, double b, double g0, double 
     return b;
 }
 
+/* where an attempt that failed its error test has an indicator change sign
+ * (its stages straddle a kink: that, not the step's length, is what failed):
+ * the first such theta in (0, 1), located roughly on the cubic Hermite
+ * interpolant of the attempt's ends; 2 when none changes sign */
+static double kink_in_attempt(PdbfsErk *s, double h) {
+    const int n = s->nx;
+    const double *y1 = s->ynew, *f0 = s->k, *f1 = s->k + NSTAGE * n;
+    double best = 2.0;
+    int i, j, it;
+    events(s, s->t + h, y1, s->g_new);
+    for (i = 0; i < s->ne; i++) {
+        double g0 = s->g_old[i], g1 = s->g_new[i], a = 0.0, b = 1.0, fa = g0, fb = g1;
+        if (i == s->quiet || !((g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0))) continue;
+        for (it = 0; it < 30 && b - a > KINK_TOL; it++) {   /* Illinois, to KINK_TOL */
+            double c = (fa != fb) ? b - fb * (b - a) / (fb - fa) : 0.5 * (a + b), fc, c2, c3;
+            if (!(c > a && c < b)) c = 0.5 * (a + b);
+            c2 = c * c;
+            c3 = c2 * c;
+            for (j = 0; j < n; j++)
+                s->tmp[j] = (2 * c3 - 3 * c2 + 1) * s->y[j] + (c3 - 2 * c2 + c) * h * f0[j]
+                            + (3 * c2 - 2 * c3) * y1[j] + (c3 - c2) * h * f1[j];
+            events(s, s->t + c * h, s->tmp, s->g_tmp);
+            fc = s->g_tmp[i];
+            if ((g0 < 0) ? fc >= 0 : fc <= 0) {
+                b = c;
+                fb = fc;
+                fa *= 0.5;
+            } else {
+                a = c;
+                fa = fc;
+                fb *= 0.5;
+            }
+        }
+        if (b < best) best = b;
+    }
+    return best;
+}
+
 /* one accepted step (rejections inside); dense output made when the step
  * reaches t_out or holds a root, where the step is cut and restarted */
 static int step(PdbfsErk *s, double t_out) {
     const int n = s->nx;
     double h = s->h, err, fac;
-    int rejected = 0, i, first = -1;
+    int rejected = 0, i, first = -1, was_fresh = s->fresh;
     double th_root = 2.0;
     for (;;) {
         if (s->max_step > 0 && h > s->max_step) h = s->max_step;
@@ -257,7 +305,14 @@ static int step(PdbfsErk *s, double t_out) {
         if (err <= 1.0) break;
         s->rejected++;
         rejected = 1;
-        h *= isfinite(err) ? fmax(SHRINK_MIN, SAFETY * pow(err, -1.0 / 8.0)) : 0.25;
+        fac = isfinite(err) ? fmax(SHRINK_MIN, SAFETY * pow(err, -1.0 / 8.0)) : 0.25;
+        /* a kink inside: the next attempt ends just past it (its root is
+         * then located on that step's dense output, and the step cut there) */
+        if (isfinite(err) && s->ne > 0 && KINK_MARGIN > 0) {
+            double th = kink_in_attempt(s, h) * (1.0 + KINK_MARGIN);
+            if (th < fac) fac = fmax(th, KINK_MIN);
+        }
+        h *= fac;
     }
     fac = err == 0.0 ? GROW_MAX : fmin(GROW_MAX, SAFETY * pow(err, -1.0 / 8.0));
     if (rejected && fac > 1.0) fac = 1.0;
@@ -303,12 +358,25 @@ static int step(PdbfsErk *s, double t_out) {
          * that found it has stages beyond the kink; the step is taken again up
          * to the root (its stages all before it), with its own dense output */
         double h2 = th_root * h;
-        if (h2 > 8.0 * DBL_EPSILON * fabs(s->t_old) && attempt(s, h2) <= 1.0) {
+        double e2 = h2 > 8.0 * DBL_EPSILON * fabs(s->t_old) ? attempt(s, h2) : INFINITY;
+        if (e2 <= 1.0) {
             s->h_old = h2;
             if (make_dense(s)) return -3;
             memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
             s->t = s->t_old + h2;
-        } else {                  /* (attempt leaves the first step's dense output alone) */
+        } else if (h2 > 8.0 * DBL_EPSILON * fabs(s->t_old)) {
+            /* the step up to the root fails its error test (near a contact's
+             * end the solution is not smooth: the force falls as d^1.5), so the
+             * first step's error estimate, across the kink, did not see its
+             * error either: no step is taken.  The next attempt ends short of
+             * the root (its length to the root would fail again) */
+            s->steps--;
+            s->rejected++;
+            s->dense_ready = 0;
+            s->fresh = was_fresh;
+            s->h = h2 * (isfinite(e2) ? fmax(SHRINK_MIN, SAFETY * pow(e2, -1.0 / 8.0)) : 0.25);
+            return STEP_AGAIN;
+        } else {                  /* at the start: its dense output is the start */
             s->t = s->t_old + th_root * h;
             dense_at(s, th_root, s->y);
         }
@@ -354,6 +422,7 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
             return PDBFS_CV_TOO_MUCH_WORK;
         }
         flag = step(s, t_out);
+        if (flag == STEP_AGAIN) continue;
         if (flag) return flag;
         /* whoever watches the steps may read their dense output (pdbfs_record.c) */
         if (s->on_step && !s->dense_ready && s->t > s->t_old && make_dense(s)) return -3;
