@@ -39,11 +39,12 @@ typedef struct {
     int dense_ready, fresh;   /* fresh: nothing integrated since the (re)start */
     int quiet;                /* the indicator restarted at (its sign is not looked at in the
                                * first step after: it is at its root, roundoff either side) */
-    double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp, *g_a, *g_b;
+    double *k, *ynew, *tmp, *acc, *g_old, *g_new, *g_tmp, *g_a, *g_b;
     pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
     void *step_env;
     int substeps;             /* > 1: on_step also sees substeps - 1 points inside each
                                * step, from the dense output (records as fine as CVODE's) */
+    double err_prev;          /* the error of the step before (step control) */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
 } PdbfsErk;
