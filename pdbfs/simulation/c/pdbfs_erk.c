@@ -186,6 +186,19 @@ static int make_dense(PdbfsErk *s) {
 #undef ERK_DENSE
 }
 
+int pdbfs_erk_rows(PdbfsErk *s, double t_old, double h, const double *y_old,
+                   const double *y_end, const double *k13, double *rows) {
+    const size_t n = (size_t)s->nx;
+    memcpy(s->y_old, y_old, sizeof(double) * n);
+    memcpy(s->ynew, y_end, sizeof(double) * n);
+    memcpy(s->k, k13, sizeof(double) * n * (NSTAGE + 1));
+    s->t_old = t_old;
+    s->h_old = h;
+    if (make_dense(s)) return 1;
+    memcpy(rows, s->dense, sizeof(double) * n * 7);
+    return 0;
+}
+
 void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
 #define ERK_POLY(N) erk_poly_n(N, y_old, r, th, out)
     if (n == PDBFS_NX + 1) ERK_POLY(PDBFS_NX + 1);
@@ -280,6 +293,41 @@ static double kink_in_attempt(PdbfsErk *s, double h) {
     return best;
 }
 
+/* lazy (sweeps): whether the indicators need the look on the step's dense
+ * output, judged on the cubic Hermite interpolant of its ends (free) at the
+ * same parts: an indicator that is zero or changes sign at an end or a part,
+ * or bends inside the step by half its distance from zero or more; the
+ * others stay clear of zero, and the step needs no dense output */
+static int near_a_root(PdbfsErk *s, double h) {
+    const int n = s->nx;
+    const double *y0 = s->y_old, *f0 = s->k, *y1 = s->ynew, *f1 = s->k + NSTAGE * n;
+    double *lo = s->g_a, *bend = s->g_b;
+    int i, j, part;
+    for (i = 0; i < s->ne; i++) {
+        if (i == s->quiet) continue;
+        if (!(s->g_old[i] * s->g_new[i] > 0)) return 1;
+        lo[i] = fmin(fabs(s->g_old[i]), fabs(s->g_new[i]));
+        bend[i] = 0.0;
+    }
+    for (part = 1; part < EVENT_PARTS; part++) {
+        const double c = (double)part / EVENT_PARTS, c2 = c * c, c3 = c2 * c;
+        for (j = 0; j < n; j++)
+            s->tmp[j] = (2 * c3 - 3 * c2 + 1) * y0[j] + (c3 - 2 * c2 + c) * h * f0[j]
+                        + (3 * c2 - 2 * c3) * y1[j] + (c3 - c2) * h * f1[j];
+        events(s, s->t_old + c * h, s->tmp, s->g_tmp);
+        for (i = 0; i < s->ne; i++) {
+            double sg = s->g_old[i] > 0 ? 1.0 : -1.0, v = sg * s->g_tmp[i];
+            double line = sg * (s->g_old[i] + c * (s->g_new[i] - s->g_old[i]));
+            if (i == s->quiet) continue;
+            lo[i] = fmin(lo[i], v);
+            bend[i] = fmax(bend[i], fabs(v - line));
+        }
+    }
+    for (i = 0; i < s->ne; i++)
+        if (i != s->quiet && !(lo[i] > 2.0 * bend[i])) return 1;
+    return 0;
+}
+
 /* one accepted step (rejections inside); dense output made when the step
  * reaches t_out or holds a root, where the step is cut and restarted */
 static int step(PdbfsErk *s, double t_out) {
@@ -327,9 +375,11 @@ static int step(PdbfsErk *s, double t_out) {
         int part;
         double *ga = s->g_a, *gb = s->g_b;
         events(s, s->t_old + h, s->ynew, s->g_new);
-        if (make_dense(s)) return -3;
+        if (s->lazy && !near_a_root(s, h)) part = EVENT_PARTS + 1;   /* nothing to look at */
+        else if (make_dense(s)) return -3;
+        else part = 1;
         memcpy(ga, s->g_old, sizeof(double) * (size_t)s->ne);
-        for (part = 1; part <= EVENT_PARTS && first < 0; part++) {
+        for (; part <= EVENT_PARTS && first < 0; part++) {
             double a = (double)(part - 1) / EVENT_PARTS, b = (double)part / EVENT_PARTS, *sw;
             if (part == EVENT_PARTS) {
                 memcpy(gb, s->g_new, sizeof(double) * (size_t)s->ne);
@@ -426,7 +476,8 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
         if (flag == STEP_AGAIN) continue;
         if (flag) return flag;
         /* whoever watches the steps may read their dense output (pdbfs_record.c) */
-        if (s->on_step && !s->dense_ready && s->t > s->t_old && make_dense(s)) return -3;
+        if (s->on_step && !s->dense_ready && !s->lazy && s->t > s->t_old && make_dense(s))
+            return -3;
         if (s->on_step && s->substeps > 1) {
             int j;
             double *xi = s->k + 13 * s->nx;    /* free once the dense output is made */
