@@ -31,7 +31,7 @@ from pdbfs.native.sundials import cache_root, find_sundials
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
-                                     "pdbfs_erk.c", "pdbfs_erk.h", "pdbfs_erk_la.h",
+                                     "pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk.h", "pdbfs_erk_la.h",
                                      "pdbfs_erk_table.h",
                                      "pdbfs_batch_erk.c", "pdbfs_run_summary.c"))
 HEADER = "pdbfs_batch_model.h"

@@ -7,10 +7,7 @@
 
 #include "pdbfs_erk.h"
 #include "pdbfs_erk_la.h"
-#include "pdbfs_erk_table.h"
 
-#define NSTAGE 12                  /* stages of a step; the 13th is f at its end */
-#define NK 16                      /* with the dense output's three */
 #define SAFETY 0.9
 #define GROW_MAX 6.0
 #define SHRINK_MIN 0.333
@@ -58,15 +55,6 @@ void pdbfs_erk_free(PdbfsErk *s) {
     s->y = NULL;
 }
 
-static int rhs(PdbfsErk *s, double t, const double *x, double *out) {
-    int i;
-    s->rhs_evals++;
-    if (pdbfs_eval_txp(s->ev, s->ode, t, x, out)) return 1;
-    for (i = 0; i < s->nx; i++)
-        if (!isfinite(out[i])) return 1;
-    return 0;
-}
-
 static void events(PdbfsErk *s, double t, const double *x, double *g) {
     if (s->ne > 0) pdbfs_eval_txp(s->ev, pdbfs_events, t, x, g);
 }
@@ -90,7 +78,7 @@ static double first_step(PdbfsErk *s) {
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     if (isfinite(s->t_stop) && s->t_stop > s->t && h0 > s->t_stop - s->t) h0 = s->t_stop - s->t;
     for (i = 0; i < s->nx; i++) s->tmp[i] = s->y[i] + h0 * s->f[i];
-    if (rhs(s, s->t + h0, s->tmp, f1)) return 1e-3 * h0;
+    if (erk_rhs(s, s->t + h0, s->tmp, f1)) return 1e-3 * h0;
     for (i = 0; i < s->nx; i++) f1[i] -= s->f[i];
     d2 = wnorm(s, f1, s->y) / h0;
     h1 = fmax(d1, d2) <= 1e-15 ? fmax(1e-6, 1e-3 * h0) : pow(0.01 / fmax(d1, d2), 1.0 / 8.0);
@@ -110,7 +98,7 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     s->err_prev = 0.0;
     s->msg[0] = 0;
     memcpy(s->y, x0, sizeof(double) * (size_t)s->nx);
-    if (rhs(s, t0, s->y, s->f)) {
+    if (erk_rhs(s, t0, s->y, s->f)) {
         snprintf(s->msg, sizeof s->msg, "the right-hand side is not finite at t = %.10g", t0);
         return 1;
     }
@@ -120,104 +108,8 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     return 0;
 }
 
-/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
- * INFINITY when a stage is not finite */
-ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n) {
-    double local[2 * ERK_LOCAL], *k = s->k, e3 = 0.0, e5 = 0.0;
-    double *acc = n <= ERK_LOCAL ? local : s->acc, *acc3 = n <= ERK_LOCAL ? local + ERK_LOCAL : s->tmp;
-    int st, i;
-    memcpy(k, s->f, sizeof(double) * (size_t)n);
-    for (st = 1; st < NSTAGE; st++) {
-        erk_combine(n, st, RK_A + st * NK, k, acc);
-        for (i = 0; i < n; i++) s->tmp[i] = s->y[i] + h * acc[i];
-        if (rhs(s, s->t + RK_C[st] * h, s->tmp, k + st * n)) return INFINITY;
-    }
-    erk_combine(n, NSTAGE, RK_B, k, acc);
-    for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
-    if (rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
-    /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
-     * free: acc3 may be it) */
-    erk_combine(n, NSTAGE + 1, RK_E5, k, acc);
-    erk_combine(n, NSTAGE + 1, RK_E3, k, acc3);
-    for (i = 0; i < n; i++) {
-        double sc = s->atol[i] + s->rtol * fmax(fabs(s->y[i]), fabs(s->ynew[i]));
-        double a5 = acc[i] / sc, a3 = acc3[i] / sc;
-        e5 += a5 * a5;
-        e3 += a3 * a3;
-    }
-    if (e5 == 0.0 && e3 == 0.0) return 0.0;
-    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * n);
-}
-
-static double attempt(PdbfsErk *s, double h) {
-#define ERK_ATTEMPT(N) attempt_n(s, h, N)
-    return ERK_BY_SIZE(s->nx, ERK_ATTEMPT);
-#undef ERK_ATTEMPT
-}
-
-/* the dense output of the step just accepted (y_old, k of the step, h_old):
- * three more stages */
-ERK_INLINE int make_dense_n(PdbfsErk *s, const int n) {
-    const double h = s->h_old, *k = s->k;
-    double local[ERK_LOCAL], *acc = n <= ERK_LOCAL ? local : s->acc, *r = s->dense;
-    int st, i;
-    for (st = NSTAGE + 1; st < NK; st++) {
-        erk_combine(n, st, RK_A + st * NK, k, acc);
-        for (i = 0; i < n; i++) s->tmp[i] = s->y_old[i] + h * acc[i];
-        if (rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + st * n)) return 1;
-    }
-    for (i = 0; i < n; i++) {
-        double dy = s->ynew[i] - s->y_old[i];
-        r[i] = dy;
-        r[n + i] = h * k[i] - dy;
-        r[2 * n + i] = 2.0 * dy - h * (k[i] + k[NSTAGE * n + i]);
-    }
-    for (st = 0; st < 4; st++) {
-        erk_combine(n, NK, RK_D + st * NK, k, acc);
-        for (i = 0; i < n; i++) r[(3 + st) * n + i] = h * acc[i];
-    }
-    s->dense_ready = 1;
-    return 0;
-}
-
-static int make_dense(PdbfsErk *s) {
-#define ERK_DENSE(N) make_dense_n(s, N)
-    return ERK_BY_SIZE(s->nx, ERK_DENSE);
-#undef ERK_DENSE
-}
-
-int pdbfs_erk_rows(PdbfsErk *s, double t_old, double h, const double *y_old,
-                   const double *y_end, const double *k13, double *rows) {
-    const size_t n = (size_t)s->nx;
-    memcpy(s->y_old, y_old, sizeof(double) * n);
-    memcpy(s->ynew, y_end, sizeof(double) * n);
-    memcpy(s->k, k13, sizeof(double) * n * (NSTAGE + 1));
-    s->t_old = t_old;
-    s->h_old = h;
-    if (make_dense(s)) return 1;
-    memcpy(rows, s->dense, sizeof(double) * n * 7);
-    return 0;
-}
-
-void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
-#define ERK_POLY(N) erk_poly_n(N, y_old, r, th, out)
-    if (n == PDBFS_NX + 1) ERK_POLY(PDBFS_NX + 1);
-    else if (n == PDBFS_NX) ERK_POLY(PDBFS_NX);
-    else ERK_POLY(n);
-#undef ERK_POLY
-}
-
 static void dense_at(const PdbfsErk *s, double th, double *out) {
     pdbfs_erk_poly(s->y_old, s->dense, s->nx, th, out);
-}
-
-void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out) {
-    double th = s->h_old > 0 ? (t - s->t_old) / s->h_old : 0.0;
-    if (!s->dense_ready || s->fresh) {
-        memcpy(out, s->y, sizeof(double) * (size_t)s->nx);
-        return;
-    }
-    dense_at(s, th < 0 ? 0.0 : th > 1 ? 1.0 : th, out);
 }
 
 /* indicator i on the dense output at theta */
@@ -342,7 +234,7 @@ static int step(PdbfsErk *s, double t_out) {
             snprintf(s->msg, sizeof s->msg, "the step size fell below roundoff at t = %.10g", s->t);
             return PDBFS_ERK_STEP_UNDERFLOW;
         }
-        err = attempt(s, h);
+        err = pdbfs_erk_attempt(s, h);
         if (err <= 1.0) break;
         s->rejected++;
         rejected = 1;
@@ -376,7 +268,7 @@ static int step(PdbfsErk *s, double t_out) {
         double *ga = s->g_a, *gb = s->g_b;
         events(s, s->t_old + h, s->ynew, s->g_new);
         if (s->lazy && !near_a_root(s, h)) part = EVENT_PARTS + 1;   /* nothing to look at */
-        else if (make_dense(s)) return -3;
+        else if (pdbfs_erk_make_dense(s)) return -3;
         else part = 1;
         memcpy(ga, s->g_old, sizeof(double) * (size_t)s->ne);
         for (; part <= EVENT_PARTS && first < 0; part++) {
@@ -408,10 +300,10 @@ static int step(PdbfsErk *s, double t_out) {
          * that found it has stages beyond the kink; the step is taken again up
          * to the root (its stages all before it), with its own dense output */
         double h2 = th_root * h;
-        double e2 = h2 > 8.0 * DBL_EPSILON * fabs(s->t_old) ? attempt(s, h2) : INFINITY;
+        double e2 = h2 > 8.0 * DBL_EPSILON * fabs(s->t_old) ? pdbfs_erk_attempt(s, h2) : INFINITY;
         if (e2 <= 1.0) {
             s->h_old = h2;
-            if (make_dense(s)) return -3;
+            if (pdbfs_erk_make_dense(s)) return -3;
             memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
             s->t = s->t_old + h2;
         } else if (h2 > 8.0 * DBL_EPSILON * fabs(s->t_old)) {
@@ -430,7 +322,7 @@ static int step(PdbfsErk *s, double t_out) {
             s->t = s->t_old + th_root * h;
             dense_at(s, th_root, s->y);
         }
-        if (rhs(s, s->t, s->y, s->f)) return -3;
+        if (erk_rhs(s, s->t, s->y, s->f)) return -3;
         events(s, s->t, s->y, s->g_old);
         s->roots++;
         /* past a kink the solution is smooth again only to a low order (the
@@ -446,7 +338,7 @@ static int step(PdbfsErk *s, double t_out) {
         memcpy(s->f, s->k + NSTAGE * n, sizeof(double) * (size_t)n);   /* f at the end: FSAL */
         if (first >= 0) s->roots++;                                      /* the root is the end */
         if (s->ne > 0) memcpy(s->g_old, s->g_new, sizeof(double) * (size_t)s->ne);
-        if (s->t >= t_out && !s->dense_ready && make_dense(s)) return -3;
+        if (s->t >= t_out && !s->dense_ready && pdbfs_erk_make_dense(s)) return -3;
     }
     for (i = 0; i < n; i++)
         if (!isfinite(s->y[i])) {
@@ -476,7 +368,7 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
         if (flag == STEP_AGAIN) continue;
         if (flag) return flag;
         /* whoever watches the steps may read their dense output (pdbfs_record.c) */
-        if (s->on_step && !s->dense_ready && !s->lazy && s->t > s->t_old && make_dense(s))
+        if (s->on_step && !s->dense_ready && !s->lazy && s->t > s->t_old && pdbfs_erk_make_dense(s))
             return -3;
         if (s->on_step && s->substeps > 1) {
             int j;

@@ -6,11 +6,19 @@
  * the compiler keeps the sums of a few states in registers and unrolls them:
  * these loops were half of a run's time, more than the model's right-hand
  * side.  The sums run over the stages in their order, as the textbook's.
+ * Also what pdbfs_erk.c calls of pdbfs_erk_rk.c (internal: the library
+ * exports neither).
  */
 #ifndef PDBFS_ERK_LA_H
 #define PDBFS_ERK_LA_H
 
+#include <math.h>
+
 #include "pdbfs_batch_model.h"
+#include "pdbfs_erk.h"
+
+#define NSTAGE 12                  /* stages of a step; the 13th is f at its end */
+#define NK 16                      /* with the dense output's three */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define ERK_INLINE static inline __attribute__((always_inline))
@@ -53,5 +61,23 @@ ERK_INLINE void erk_poly_n(const int n, const double *y_old, const double *r, do
 #define ERK_BY_SIZE(n, call)                                                    \
     ((n) == PDBFS_NX + 1 ? call(PDBFS_NX + 1) : (n) == PDBFS_NX ? call(PDBFS_NX) \
                                                                 : call(n))
+
+/* f(t, x) into out, counted; 1 when it fails or is not finite */
+ERK_INLINE int erk_rhs(PdbfsErk *s, double t, const double *x, double *out) {
+    int i;
+    s->rhs_evals++;
+    if (pdbfs_eval_txp(s->ev, s->ode, t, x, out)) return 1;
+    for (i = 0; i < s->nx; i++)
+        if (!isfinite(out[i])) return 1;
+    return 0;
+}
+
+/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
+ * INFINITY when a stage is not finite (pdbfs_erk_rk.c) */
+double pdbfs_erk_attempt(PdbfsErk *s, double h);
+
+/* the dense output of the step just accepted (y_old, ynew, k of the step,
+ * t_old, h_old): three more stages; 0, or 1 when one is not finite */
+int pdbfs_erk_make_dense(PdbfsErk *s);
 
 #endif
