@@ -86,6 +86,7 @@ static double first_step(PdbfsErk *s) {
 }
 
 int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const double *x0) {
+    int i;
     s->rtol = set->rtol;
     s->atol = set->atol;
     s->max_step = set->max_step;
@@ -104,6 +105,10 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     }
     events(s, t0, s->y, s->g_old);
     s->h = first_step(s);
+    /* a start at a kink (an indicator at its root: a contact that begins at
+     * t0) is a restart: the estimate above assumes a smooth solution */
+    for (i = 0; i < s->ne && s->g_old[i] != 0.0; i++) {}
+    if (i < s->ne) s->h *= RESTART_STEP;
     if (s->max_step > 0 && s->h > s->max_step) s->h = s->max_step;
     return 0;
 }
