@@ -9,7 +9,7 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
     int j;
     if (h->n == h->cap) {
-        long cap = h->cap ? 2 * h->cap : 2048;
+        long cap = h->cap ? 2 * h->cap : 256;
         double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
         if (nt) h->t = nt;
         if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
