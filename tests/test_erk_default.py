@@ -2,7 +2,7 @@
 issue 23): with no options, the paper rig's peak pressure within 1e-7 of a
 tight event-located reference written by hand (paper_equations.py) on the
 paper's cases, and every point of a default sweep within 1e-6; asserted
-with a margin (measured: 1.1e-8 and 3.1e-8 at worst)."""
+with a margin (measured: 1.1e-8 and 3.2e-8 at worst)."""
 import numpy as np
 import pytest
 
