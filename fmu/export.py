@@ -30,7 +30,8 @@ import casadi as ca
 from pdbfs.errors import ExportError
 from pdbfs.files import whole
 from pdbfs.modelling import DAE
-from pdbfs.native.codegen import CVODE_DRIVER, ERK_DRIVER, FUNCS, check_compiler_memory, generate, sizes_header_lines
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, check_compiler_memory,
+                                  erk_size_header, generate, sizes_header_lines)
 from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
@@ -238,6 +239,7 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         guid = "{" + str(uuid.UUID(bytes=h.digest()[:16], version=5)) + "}"
         make_private(src, f"{ident}_{h.hexdigest()[:8]}_", fmi_version, SRC_DIR if source_files else None)
         (src / "pdbfs_model.h").write_text(model_header(model, guid, work, extra))
+        (src / ERK_SIZE_HEADER).write_text(erk_size_header(model.nx))
         xml = describe(guid)
         if fmi_version == 3:
             (src / "buildDescription.xml").write_text(description3.build_description(

@@ -63,7 +63,8 @@ def reference(t_out, rtol=1e-12, atol=1e-15, **over):
                         events=events, dense_output=True)
         stop = sol.t[-1]
         take = mask & (t_out <= stop)
-        out[:, take] = sol.sol(t_out[take])
+        if take.any():            # (a short segment between two events may hold no output time)
+            out[:, take] = sol.sol(t_out[take])
         if sol.status != 1 or stop >= t_end:
             break
         # step just past the event so it does not trigger again at once

@@ -159,6 +159,10 @@ class _Blowup(pdbfs.Rig):
 def test_solver_failure_reports_time_and_cause(rig):
     with pytest.raises(SolverError, match=r"failed after t = 0\.00(099\d*|1) s \(of 0\.002 s\): "
                                           r"too many steps"):
+        _Blowup().simulate(0.002, n_out=2001, backend="c", max_num_steps=20000, rtol=1e-9)
+    # at the explicit method's default rtol its steps fall below roundoff first
+    with pytest.raises(SolverError, match=r"failed after t = 0\.00(099\d*|1) s \(of 0\.002 s\): "
+                                          r"the error test failed repeatedly.*below roundoff"):
         _Blowup().simulate(0.002, n_out=2001, backend="c", max_num_steps=20000)
     with pytest.raises(SolverError, match=r"failed after t = [0-9.e-]+ s \(of 0\.02 s\): too many "
                                           r"steps.*CVODE: 5 internal steps"):

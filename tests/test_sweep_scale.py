@@ -70,9 +70,11 @@ def test_chunks_on_disk_resume_and_refuse_another_sweep(tmp_path):
 
 def test_a_killed_sweep_resumes_without_recomputing(tmp_path):
     out = tmp_path / "killed"
+    # 0.2 s per point, so that the sweep lasts long enough to be killed part way
+    # (at 20 ms its 12 chunks could all be written between two looks)
     cmd = [sys.executable, "-m", "pdbfs.cli", "sweep", "--set", "hammer.v0=1.5:5.5:60",
-           "--set", "seal.c=2e4,3e4", "--no-plot", "--chunk", "10", "--workers", "1",
-           "--out", str(out), "--quiet"]
+           "--set", "seal.c=2e4,3e4", "--t-end", "0.2", "--no-plot", "--chunk", "10",
+           "--workers", "1", "--out", str(out), "--quiet"]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.time() + 120
     while len(list((out / "chunks").glob("chunk-*.parquet"))) < 3 and time.time() < deadline:

@@ -30,7 +30,7 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
                        help="output points (default: the rig's own, 2001; the drop rig: 30001)")
     if rtol:
         s.add_argument("--rtol", type=float, default=None,
-                       help="relative tolerance (default 1e-8; 1e-9 for the explicit method)")
+                       help="relative tolerance (default 1e-8; 5e-8 for the explicit method)")
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
                        help="integration method: CVODE's adams or bdf, or erk (explicit "

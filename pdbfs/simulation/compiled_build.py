@@ -23,8 +23,9 @@ from pathlib import Path
 import casadi as ca
 
 from pdbfs.native import toolchain
-from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, FUNCS, check_compiler_memory, compile_command,
-                                  generate, model_functions, run_compiler, sizes_header_lines)
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, POW_HELPER,
+                                  check_compiler_memory, compile_command, erk_size_header, generate,
+                                  model_functions, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
 C_DIR = Path(__file__).with_name("c")
@@ -81,7 +82,7 @@ def fingerprint(dae) -> str:
     host = toolchain.host_target()
     sd = find_sundials(target=host)
     h = hashlib.sha256()
-    for part in (f"abi {ABI}", host, ca.__version__, dae.name, f.serialize(),
+    for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
                  f"nte {dae.time_events.numel()}", "\0".join(roles),
                  *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
                  "\0".join(compile_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")],
@@ -124,6 +125,7 @@ def _build(dae) -> Path:
         work = generate(funcs, src)
         hdr = header(dae, work)
         (src / HEADER).write_text(hdr)
+        (src / ERK_SIZE_HEADER).write_text(erk_size_header(dae.x.numel()))   # nx is in hdr (the key)
         host = toolchain.host_target()
         sd = find_sundials(target=host)
         files = {f.name: f.read_text() for f in (*DRIVERS, *CVODE_DRIVER)}

@@ -22,8 +22,8 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               names: those at rest, the rest as declared (initialize.py).
               The start used is ``Result.initial``.
     rtol/atol relative and absolute tolerances of the integrator (rtol
-              None: 1e-8, and 1e-9 for the explicit method, whose long steps
-              need it for the peak pressure within 1e-7 of a tight reference)
+              None: 1e-8, and 5e-8 for the explicit method, whose peak
+              pressure is then within 1e-7 of a tight reference)
     method    'auto' (the default: Adams unless a fast mode decays without
               oscillating, see stiffness.py; in the compiled backend the
               explicit Runge-Kutta method instead of Adams), 'adams'

@@ -15,10 +15,11 @@ METHODS = ("auto", "adams", "bdf", "erk")
 BACKENDS = ("auto", "casadi", "c")
 MAX_NUM_STEPS = 500000
 #: relative tolerance when none is given, per method: the explicit method's
-#: long steps put the peak pressure (a small difference of two displacements)
-#: within 1e-7 of a tight reference only from 1e-9 on (paper rig, v0 1.5-5.5
-#: m/s, oil.k 1e8-5e8 Pa/m: at 1e-8 some step sequences missed it by 2e-7)
-DEFAULT_RTOL = {"erk": 1e-9}
+#: peak pressure on the paper rig is within 1.1e-8 of a tight reference at
+#: 5e-8 (the paper's 8 cases; 3.2e-8 over 300 sweep points, hammer.v0
+#: 1.5-5.5 m/s x oil.k 1e8-5e8 Pa/m; tests/test_erk_default.py): 9x inside
+#: the 1e-7 asked, where 1e-7 left 2x
+DEFAULT_RTOL = {"erk": 5e-8}
 RTOL = 1e-8
 
 

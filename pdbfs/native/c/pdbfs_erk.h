@@ -39,11 +39,15 @@ typedef struct {
     int dense_ready, fresh;   /* fresh: nothing integrated since the (re)start */
     int quiet;                /* the indicator restarted at (its sign is not looked at in the
                                * first step after: it is at its root, roundoff either side) */
-    double *k, *ynew, *tmp, *g_old, *g_new, *g_tmp, *g_a, *g_b;
+    double *k, *ynew, *tmp, *acc, *g_old, *g_new, *g_tmp, *g_a, *g_b;
     pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
     void *step_env;
     int substeps;             /* > 1: on_step also sees substeps - 1 points inside each
                                * step, from the dense output (records as fine as CVODE's) */
+    int lazy;                 /* 1: no dense output unless an indicator nears a root (or
+                               * t_out is reached): on_step finds the step's stages in k
+                               * (13 nx, pdbfs_erk_rows) when dense_ready is 0 (sweeps) */
+    double err_prev;          /* the error of the step before (step control) */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
 } PdbfsErk;
@@ -65,6 +69,13 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out);
 /* A step's dense output at theta in [0, 1]: y_old and the 7 x n polynomial
  * rows of the step (PdbfsErk.dense), n states, into out. */
 void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out);
+
+/* The 7 x nx rows of a step's dense output (as PdbfsErk.dense) from its start
+ * (t_old, y_old), length h, end state y_end and 13 stages k13 (as a lazy
+ * run's k after the step): three more stages.  Uses s's memory, so only
+ * after the integration.  0, or 1 when a stage is not finite. */
+int pdbfs_erk_rows(PdbfsErk *s, double t_old, double h, const double *y_old,
+                   const double *y_end, const double *k13, double *rows);
 
 /* The state at time t in the last step (t_old <= t <= t), into out. */
 void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out);

@@ -9,7 +9,7 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
     int j;
     if (h->n == h->cap) {
-        long cap = h->cap ? 2 * h->cap : 2048;
+        long cap = h->cap ? 2 * h->cap : 256;
         double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
         if (nt) h->t = nt;
         if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
@@ -33,13 +33,16 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     memcpy(h->x + h->n * NXQ, x, sizeof(double) * NXQ);
     if (h->rk) {               /* the step this record lies in (none for the first) */
         double *d = h->dn + h->n * DNREC;
+        const PdbfsErk *rk = h->rk;
+        int none = h->n == 0 || rk->fresh || (!rk->dense_ready && !rk->lazy);
         if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, h->rdot + h->n * NRX);
-        int fresh = h->n == 0 || h->rk->fresh || !h->rk->dense_ready;
-        d[0] = fresh ? t : h->rk->t_old;
-        d[1] = fresh ? 0.0 : h->rk->h_old;
-        if (!fresh) {
-            memcpy(d + 2, h->rk->y_old, sizeof(double) * NXQ);
-            memcpy(d + 2 + NXQ, h->rk->dense, sizeof(double) * 7 * NXQ);
+        d[0] = none ? t : rk->t_old;
+        d[1] = none ? 0.0 : rk->h_old;
+        d[2] = none ? DN_NONE : rk->dense_ready ? DN_ROWS : DN_STAGES;
+        if (!none) {
+            memcpy(d + 3, rk->y_old, sizeof(double) * NXQ);
+            if (rk->dense_ready) memcpy(d + 3 + NXQ, rk->dense, sizeof(double) * 7 * NXQ);
+            else memcpy(d + 3 + NXQ, rk->k, sizeof(double) * 13 * NXQ);   /* made if needed */
         }
     }
     if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
@@ -130,6 +133,18 @@ static int grow_roots(History *H, int cap) {
     return 0;
 }
 
+/* record k's step with its dense output (made now from its stages, on the
+ * integrator's memory, for a lazy run's step); NULL when a stage is not finite */
+static const double *step_dense(History *H, long k) {
+    double *d = H->dn + k * DNREC;
+    if (d[2] == DN_STAGES) {
+        if (pdbfs_erk_rows(H->rk, d[0], d[1], d + 3, H->x + k * NXQ, d + 3 + NXQ, d + 3 + NXQ))
+            return NULL;
+        d[2] = DN_ROWS;
+    }
+    return d;
+}
+
 /* refine() on an explicit Runge-Kutta run's record: a sign change of the
  * target between two records is located on the dense output of the step
  * that holds them (Illinois, to a few roundoffs); nothing is integrated */
@@ -138,7 +153,7 @@ static int refine_dense(History *H, long k0, long k1, Target *q, int dir) {
     long k;
     double *xs = H->rx;        /* scratch: a root's state is written there anyway */
     for (k = k0; k < k1; k++) {
-        const double *d = H->dn + (k + 1) * DNREC;
+        const double *d;
         double ta = H->t[k], tb = H->t[k + 1], fa, fb, g;
         int up, side = 0;
         target_fn(q, ta, H->x + k * NXQ, &fa);
@@ -146,13 +161,15 @@ static int refine_dense(History *H, long k0, long k1, Target *q, int dir) {
         up = fa < 0 && fb >= 0;
         if (!up && !(fa > 0 && fb <= 0)) continue;
         if ((dir > 0 && !up) || (dir < 0 && up)) continue;
+        d = step_dense(H, k + 1);
+        if (!d) return -1;
         if (!(d[1] > 0)) continue;                         /* no step: cannot happen */
         if (n == H->rcap && grow_roots(H, H->rcap ? 2 * H->rcap : MAXR)) return -1;
         xs = H->rx + n * NXQ;
         for (it = 0; it < 100 && tb - ta > 4e-16 * fabs(tb) + 1e-300; it++) {
             double tc = fa != fb ? tb - fb * (tb - ta) / (fb - fa) : 0.5 * (ta + tb);
             if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
-            pdbfs_erk_poly(d + 2, d + 2 + NXQ, NXQ, (tc - d[0]) / d[1], xs);
+            pdbfs_erk_poly(d + 3, d + 3 + NXQ, NXQ, (tc - d[0]) / d[1], xs);
             target_fn(q, tc, xs, &g);
             if (up ? g >= 0 : g <= 0) {
                 tb = tc;
@@ -167,7 +184,7 @@ static int refine_dense(History *H, long k0, long k1, Target *q, int dir) {
             }
         }
         H->rt[n] = tb;
-        pdbfs_erk_poly(d + 2, d + 2 + NXQ, NXQ, (tb - d[0]) / d[1], H->rx + n * NXQ);
+        pdbfs_erk_poly(d + 3, d + 3 + NXQ, NXQ, (tb - d[0]) / d[1], H->rx + n * NXQ);
         H->rd[n] = up ? 1 : -1;
         n++;
     }

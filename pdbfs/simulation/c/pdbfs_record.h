@@ -16,9 +16,13 @@
 #define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
 #define NXQ (PDBFS_NX + NQ)
 #define MAXR 8                                /* roots of one refined step, to start with */
-/* per record of an explicit Runge-Kutta run: its step's t_old, h_old, y_old (NXQ)
- * and dense output (7 NXQ) */
-#define DNREC (2 + 8 * NXQ)
+/* per record of an explicit Runge-Kutta run: its step's t_old, h_old, what
+ * follows (DN_*), y_old (NXQ), and its dense output (7 NXQ) or, for a lazy
+ * run, its 13 stages (13 NXQ: the dense output made from them when needed) */
+#define DNREC (3 + 14 * NXQ)
+#define DN_NONE 0.0
+#define DN_ROWS 1.0
+#define DN_STAGES 2.0
 
 typedef struct {
     double *t, *x, *r;        /* per record: time, state (NXQ), roles (NR) */
@@ -33,7 +37,7 @@ typedef struct {
     /* an explicit Runge-Kutta run (else NULL): each record keeps its step's dense
      * output (dn, DNREC per record), and refinements are root finding on it, not
      * integrations again */
-    const PdbfsErk *rk;
+    PdbfsErk *rk;
     double *dn;
     double *rdot;             /* with rk: the roles' rates per record (NR each) */
 } History;

@@ -206,6 +206,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     }
     rk.ode = pdbfs_ode_q;
     rk.substeps = 1;     /* peaks and crossings on the dense output of each step (record.c) */
+    rk.lazy = 1;         /* made only for the steps that need it: near a root, or refined */
     x0 = atolv + NXQ;
     xe = x0 + NXQ;
     x_pk = xe + NXQ;

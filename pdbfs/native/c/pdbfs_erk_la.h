@@ -1,0 +1,83 @@
+/*
+ * The arithmetic of pdbfs_erk.c's steps (stages, error, dense output),
+ * written once for any number of states n and inlined where it is called
+ * with the rig's own state counts as constants (pdbfs_erk_size.h: the
+ * states, and the states with the impulse of the summary drivers), so that
+ * the compiler keeps the sums of a few states in registers and unrolls them:
+ * these loops were half of a run's time, more than the model's right-hand
+ * side.  The sums run over the stages in their order, as the textbook's.
+ * Also what pdbfs_erk.c calls of pdbfs_erk_rk.c (internal: the library
+ * exports neither).
+ */
+#ifndef PDBFS_ERK_LA_H
+#define PDBFS_ERK_LA_H
+
+#include <math.h>
+
+#include "pdbfs_erk_size.h"       /* PDBFS_ERK_NX: the rig's state count */
+#include "pdbfs_erk.h"
+
+#define NSTAGE 12                  /* stages of a step; the 13th is f at its end */
+#define NK 16                      /* with the dense output's three */
+
+#if defined(__GNUC__) || defined(__clang__)
+#define ERK_INLINE static inline __attribute__((always_inline))
+#else
+#define ERK_INLINE static inline
+#endif
+
+/* up to so many states the sums are local (registers); beyond, in memory */
+#define ERK_LOCAL 16
+
+/* acc = the sum of c[j] k_j over j < nj (zero coefficients skipped) */
+ERK_INLINE void erk_combine(const int n, int nj, const double *c, const double *k, double *acc) {
+    int i, j;
+    for (i = 0; i < n; i++) acc[i] = 0.0;
+    for (j = 0; j < nj; j++) {
+        const double cj = c[j], *kj = k + (size_t)j * (size_t)n;
+        if (cj == 0.0) continue;
+        for (i = 0; i < n; i++) acc[i] += cj * kj[i];
+    }
+}
+
+/* the polynomial of a step's dense output at theta (pdbfs_erk_poly) */
+ERK_INLINE void erk_poly_n(const int n, const double *y_old, const double *r, double th,
+                           double *out) {
+    const double th1 = 1.0 - th;
+    int i;
+    for (i = 0; i < n; i++) {          /* alternately times theta and 1 - theta */
+        double acc = r[6 * n + i] * th;
+        acc = (acc + r[5 * n + i]) * th1;
+        acc = (acc + r[4 * n + i]) * th;
+        acc = (acc + r[3 * n + i]) * th1;
+        acc = (acc + r[2 * n + i]) * th;
+        acc = (acc + r[n + i]) * th1;
+        acc = (acc + r[i]) * th;
+        out[i] = y_old[i] + acc;
+    }
+}
+
+/* call f(..., n) with n a constant where it is one of the rig's counts */
+#define ERK_BY_SIZE(n, call)                                                    \
+    ((n) == PDBFS_ERK_NX + 1 ? call(PDBFS_ERK_NX + 1) : (n) == PDBFS_ERK_NX ? call(PDBFS_ERK_NX) \
+                                                                : call(n))
+
+/* f(t, x) into out, counted; 1 when it fails or is not finite */
+ERK_INLINE int erk_rhs(PdbfsErk *s, double t, const double *x, double *out) {
+    int i;
+    s->rhs_evals++;
+    if (pdbfs_eval_txp(s->ev, s->ode, t, x, out)) return 1;
+    for (i = 0; i < s->nx; i++)
+        if (!isfinite(out[i])) return 1;
+    return 0;
+}
+
+/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
+ * INFINITY when a stage is not finite (pdbfs_erk_rk.c) */
+double pdbfs_erk_attempt(PdbfsErk *s, double h);
+
+/* the dense output of the step just accepted (y_old, ynew, k of the step,
+ * t_old, h_old): three more stages; 0, or 1 when one is not finite */
+int pdbfs_erk_make_dense(PdbfsErk *s);
+
+#endif

@@ -1,0 +1,105 @@
+/* pdbfs_erk_rk: the Runge-Kutta arithmetic of pdbfs_erk.c (an attempted
+ * step, its dense output, the dense output's polynomial); see
+ * pdbfs_erk_la.h.  Never aborts, never prints. */
+#include <math.h>
+#include <string.h>
+
+#include "pdbfs_erk.h"
+#include "pdbfs_erk_la.h"
+#include "pdbfs_erk_table.h"
+
+/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
+ * INFINITY when a stage is not finite */
+ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n) {
+    double local[2 * ERK_LOCAL], *k = s->k, e3 = 0.0, e5 = 0.0;
+    double *acc = n <= ERK_LOCAL ? local : s->acc, *acc3 = n <= ERK_LOCAL ? local + ERK_LOCAL : s->tmp;
+    int st, i;
+    memcpy(k, s->f, sizeof(double) * (size_t)n);
+    for (st = 1; st < NSTAGE; st++) {
+        erk_combine(n, st, RK_A + st * NK, k, acc);
+        for (i = 0; i < n; i++) s->tmp[i] = s->y[i] + h * acc[i];
+        if (erk_rhs(s, s->t + RK_C[st] * h, s->tmp, k + st * n)) return INFINITY;
+    }
+    erk_combine(n, NSTAGE, RK_B, k, acc);
+    for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
+    if (erk_rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
+    /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
+     * free: acc3 may be it) */
+    erk_combine(n, NSTAGE + 1, RK_E5, k, acc);
+    erk_combine(n, NSTAGE + 1, RK_E3, k, acc3);
+    for (i = 0; i < n; i++) {
+        double sc = s->atol[i] + s->rtol * fmax(fabs(s->y[i]), fabs(s->ynew[i]));
+        double a5 = acc[i] / sc, a3 = acc3[i] / sc;
+        e5 += a5 * a5;
+        e3 += a3 * a3;
+    }
+    if (e5 == 0.0 && e3 == 0.0) return 0.0;
+    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * n);
+}
+
+double pdbfs_erk_attempt(PdbfsErk *s, double h) {
+#define ERK_ATTEMPT(N) attempt_n(s, h, N)
+    return ERK_BY_SIZE(s->nx, ERK_ATTEMPT);
+#undef ERK_ATTEMPT
+}
+
+/* the dense output of the step just accepted (y_old, k of the step, h_old):
+ * three more stages */
+ERK_INLINE int make_dense_n(PdbfsErk *s, const int n) {
+    const double h = s->h_old, *k = s->k;
+    double local[ERK_LOCAL], *acc = n <= ERK_LOCAL ? local : s->acc, *r = s->dense;
+    int st, i;
+    for (st = NSTAGE + 1; st < NK; st++) {
+        erk_combine(n, st, RK_A + st * NK, k, acc);
+        for (i = 0; i < n; i++) s->tmp[i] = s->y_old[i] + h * acc[i];
+        if (erk_rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + st * n)) return 1;
+    }
+    for (i = 0; i < n; i++) {
+        double dy = s->ynew[i] - s->y_old[i];
+        r[i] = dy;
+        r[n + i] = h * k[i] - dy;
+        r[2 * n + i] = 2.0 * dy - h * (k[i] + k[NSTAGE * n + i]);
+    }
+    for (st = 0; st < 4; st++) {
+        erk_combine(n, NK, RK_D + st * NK, k, acc);
+        for (i = 0; i < n; i++) r[(3 + st) * n + i] = h * acc[i];
+    }
+    s->dense_ready = 1;
+    return 0;
+}
+
+int pdbfs_erk_make_dense(PdbfsErk *s) {
+#define ERK_DENSE(N) make_dense_n(s, N)
+    return ERK_BY_SIZE(s->nx, ERK_DENSE);
+#undef ERK_DENSE
+}
+
+int pdbfs_erk_rows(PdbfsErk *s, double t_old, double h, const double *y_old,
+                   const double *y_end, const double *k13, double *rows) {
+    const size_t n = (size_t)s->nx;
+    memcpy(s->y_old, y_old, sizeof(double) * n);
+    memcpy(s->ynew, y_end, sizeof(double) * n);
+    memcpy(s->k, k13, sizeof(double) * n * (NSTAGE + 1));
+    s->t_old = t_old;
+    s->h_old = h;
+    if (pdbfs_erk_make_dense(s)) return 1;
+    memcpy(rows, s->dense, sizeof(double) * n * 7);
+    return 0;
+}
+
+void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
+#define ERK_POLY(N) erk_poly_n(N, y_old, r, th, out)
+    if (n == PDBFS_ERK_NX + 1) ERK_POLY(PDBFS_ERK_NX + 1);
+    else if (n == PDBFS_ERK_NX) ERK_POLY(PDBFS_ERK_NX);
+    else ERK_POLY(n);
+#undef ERK_POLY
+}
+
+void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out) {
+    double th = s->h_old > 0 ? (t - s->t_old) / s->h_old : 0.0;
+    if (!s->dense_ready || s->fresh) {
+        memcpy(out, s->y, sizeof(double) * (size_t)s->nx);
+        return;
+    }
+    pdbfs_erk_poly(s->y_old, s->dense, s->nx, th < 0 ? 0.0 : th > 1 ? 1.0 : th, out);
+}
