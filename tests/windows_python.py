@@ -95,9 +95,10 @@ def windows_python() -> Path:
 def pdbfs_site(tmp: Path) -> Path:
     """pdbfs's wheel, built from this checkout, installed into ``tmp/site``."""
     # built from a copy of the tracked files: a build in place would write build/ into the checkout
-    files = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    files = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                           capture_output=True, text=True, check=True).stdout
     src = tmp / "src"
-    for f in files.split():
+    for f in files.splitlines():
         if (ROOT / f).is_file():
             (src / f).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(ROOT / f, src / f)
