@@ -164,7 +164,8 @@ def readme_txt(ident: str, fmi_version: int, casadi: str, sundials: str, platfor
                           "                 x86_64-linux's, which names libm: nothing to add (MSVC has\n"
                           "                 no m.lib: drop that <Library> there)\n"}[fmi_version]
     part = (_README_SUNDIALS if with_sundials else _README_NO_SUNDIALS).format(
-        libm=libm, bd2cmake=bd2cmake, ident=ident, sundials=sundials, SRC_DIR=SRC_DIR, LICENSE=LICENSE, listing=_LISTING[fmi_version])
+        libm=libm, bd2cmake=bd2cmake, ident=ident, sundials=sundials, SRC_DIR=SRC_DIR, LICENSE=LICENSE,
+        listing=_LISTING[fmi_version])
     prefix_h = ("fmi2_prefix.h         fmi2Functions.h with FMI2_FUNCTION_PREFIX honoured (FMPy's copy\n"
                 "                      of the header ignores it)\n") if fmi_version == 2 else ""
     return _README.format(prefix_h=prefix_h, ident=ident, v=fmi_version, casadi=casadi, sundials=sundials, sundials_part=part,
