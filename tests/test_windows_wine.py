@@ -131,8 +131,22 @@ def test_zig_as_it_is_stops_under_wine_in_one_line(windows, args):
     assert not (cwd / "pdbfs.fmu").exists() and not (cwd / "out").exists()
 
 
+#: zig's own failures under Wine while its cache is cold, not pdbfs's: a process
+#: start or a cache lock that Wine gets wrong now and then (each seen once in
+#: about ten cold builds here); such a run is tried again, twice at most
+WINE_RACES = ("failed to spawn", "manifest_create Unexpected", "failed to map the shared user data")
+
+
+def _bridged(windows, bridged, *args):
+    for _ in range(3):
+        r, cwd = windows(*args, env=bridged)
+        if r.returncode == 0 or not any(w in r.stderr for w in WINE_RACES):
+            break
+    return r, cwd
+
+
 def test_compiled_backend_on_windows_gives_the_linux_summary(windows, bridged, tmp_path):
-    r, cwd = windows("simulate", "--backend", "c", "--json", "--out", "out", env=bridged)
+    r, cwd = _bridged(windows, bridged, "simulate", "--backend", "c", "--json", "--out", "out")
     assert r.returncode == 0, r.stderr[-2000:]
     win = json.loads(r.stdout)
     assert win["stats"]["backend"] == "c" and (cwd / "out" / "results.csv").is_file()
@@ -146,7 +160,7 @@ def test_compiled_backend_on_windows_gives_the_linux_summary(windows, bridged, t
 
 
 def test_an_fmu_exported_on_windows_simulates_there_to_the_linux_peak(windows, bridged, tmp_path):
-    r, cwd = windows("export-fmu", "-o", "win.fmu", env=bridged)
+    r, cwd = _bridged(windows, bridged, "export-fmu", "-o", "win.fmu")
     assert r.returncode == 0, r.stderr[-2000:]
     with zipfile.ZipFile(cwd / "win.fmu") as z:
         assert "binaries/win64/pdbfs_paper.dll" in z.namelist()
