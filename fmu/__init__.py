@@ -16,6 +16,7 @@ validated by fmpy, simulated by any importer.
     derivatives.py  CasADi's forward and reverse AD for the directional and adjoint derivatives
     symbols.py      private names for everything but the FMI functions (pdbfs_names.h)
     documentation.py documentation/index.html
+    rights.py       version, author, license and copyright (the user's; CVODES's kept)
     export.py       pdbfs_model.h, compile, zip
     c/              the generic C: the life cycle (lifecycle.c) calling down into one
                     wrapper per FMI version (fmi2_*, fmi3_*) over the same model
@@ -28,5 +29,6 @@ May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.
 """
 from .export import check_fmi_version, export_fmu
+from .rights import check_rights
 
-__all__ = ["check_fmi_version", "export_fmu"]
+__all__ = ["check_fmi_version", "check_rights", "export_fmu"]

@@ -2,7 +2,6 @@
 Co-Simulation): every parameter with its unit, bounds and description."""
 from __future__ import annotations
 
-from importlib import metadata
 from xml.sax.saxutils import quoteattr
 
 from . import units as _units
@@ -28,22 +27,6 @@ def model_text(model: FmuModel) -> str:
     d = model.dae
     what = getattr(d, "description", "") or "A rig built with pdbfs."
     return f"{what} pdbfs rig '{d.name}': {model.nx} states, {model.np} parameters."
-
-
-def package_attrs() -> list[str]:
-    """version, author, license and copyright of the FMU (FMI 2.0 and 3.0
-    alike) from pdbfs's package metadata (pyproject.toml); those it does not
-    declare are left out."""
-    try:
-        meta = metadata.metadata("pdbfs")
-    except metadata.PackageNotFoundError:
-        return []
-    author = meta.get("Author") or ", ".join(
-        a.split("<")[0].strip().strip('"') for a in (meta.get("Author-email") or "").split(",") if a.strip())
-    licence = meta.get("License-Expression") or meta.get("License")
-    attrs = [("version", meta.get("Version")), ("author", author), ("license", licence),
-             ("copyright", f"Copyright (c) {author}" if author else None)]
-    return [f"  {k}={quoteattr(v)}" for k, v in attrs if v]
 
 
 def _interface(tag: str, attrs: str, source_files) -> list[str]:
@@ -105,7 +88,7 @@ def model_description(model: FmuModel, guid: str, source_files: list[str] | tupl
          f'  modelName={quoteattr(d.name)}',
          f'  guid="{guid}"',
          f'  description={quoteattr(model_text(model))}',
-         *package_attrs(),
+         *model.rights,
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured"',
          f'  numberOfEventIndicators="{model.ne}">',

@@ -11,7 +11,7 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 
-from .description import LOG_CATEGORIES, _x, model_text, package_attrs, type_attrs, unit_lines
+from .description import LOG_CATEGORIES, _x, model_text, type_attrs, unit_lines
 from .variables import SOLVER_METHODS, FmuModel, _deps
 
 #: FMI 2.0 type -> FMI 3.0 element
@@ -71,7 +71,7 @@ def model_description3(model: FmuModel, token: str) -> str:
          f'  modelName={quoteattr(d.name)}',
          f'  instantiationToken="{token}"',
          f'  description={quoteattr(model_text(model))}',
-         *package_attrs(),
+         *model.rights,
          '  generationTool="pdbfs.fmu (CasADi code generation, CVODE co-simulation)"',
          '  variableNamingConvention="structured">',
          f'  <ModelExchange modelIdentifier="{model.ident}" {caps} needsCompletedIntegratorStep="false"/>',

@@ -134,13 +134,18 @@ lines are untested. GCC attributes are used only under __GNUC__, so MSVC
 may take them too, untested.)
 
 The C math library: on Linux the binary must be linked with -lm
-({libm}). `fmpy compile` links none: its binary loads only into a
-host that has libm loaded already (Python has; a C program may not:
-"undefined symbol: tanh").
-With FMPy, add it at the end of the link line:
+({libm}); without it the binary loads only into a host that has libm
+loaded already (Python has; a C program may not: "undefined symbol: tanh").
+What the common tools read (tested: FMPy 0.3.32, fmi-bd2cmake 0.1.0):
 
-  python -c "from fmpy.build import build_platform_binary as b; b('<unzipped FMU>',
-      cmake_options={{'CMAKE_C_STANDARD_LIBRARIES:STRING': '-lm'}})"
+  fmpy compile   reads the source files, preprocessor definitions and C
+                 standard, not <Library>, and does not pass on its own
+                 --cmake-options; CMake takes LDFLAGS from the environment:
+                   LDFLAGS="-Wl,--no-as-needed -lm" fmpy compile <file>.fmu
+                 (from Python: fmpy.build.build_platform_binary(<unzipped FMU>,
+                   cmake_options={{'CMAKE_C_STANDARD_LIBRARIES:STRING': '-lm'}}))
+{bd2cmake}  zig cc         links libm by itself
+  gcc, clang     -lm at the end of the link line, as above
 """
 
 _README_NO_SUNDIALS = """\
@@ -159,10 +164,13 @@ def readme_txt(ident: str, fmi_version: int, casadi: str, sundials: str, platfor
                with_sundials: bool) -> str:
     """sources/README.txt: what each file is and how to build the binary by hand."""
     libm = {2: "FMI 2.0's <SourceFiles> cannot say so",
-            3: 'buildDescription.xml names it, <Library name="m">, in the configurations of '
-               "x86_64-linux and aarch64-linux"}[fmi_version]
+            3: 'buildDescription.xml names it for\nx86_64-linux and aarch64-linux: <Library name="m">'}[fmi_version]
+    bd2cmake = {2: "", 3: "  fmi-bd2cmake   links the <Library> elements of the first configuration,\n"
+                          "                 x86_64-linux's, which names libm: nothing to add (MSVC has\n"
+                          "                 no m.lib: drop that <Library> there)\n"}[fmi_version]
     part = (_README_SUNDIALS if with_sundials else _README_NO_SUNDIALS).format(
-        libm=libm, ident=ident, sundials=sundials, SRC_DIR=SRC_DIR, LICENSE=LICENSE, listing=_LISTING[fmi_version])
+        libm=libm, bd2cmake=bd2cmake, ident=ident, sundials=sundials, SRC_DIR=SRC_DIR, LICENSE=LICENSE,
+        listing=_LISTING[fmi_version])
     prefix_h = ("fmi2_prefix.h         fmi2Functions.h with FMI2_FUNCTION_PREFIX honoured (FMPy's copy\n"
                 "                      of the header ignores it)\n") if fmi_version == 2 else ""
     return _README.format(prefix_h=prefix_h, ident=ident, v=fmi_version, casadi=casadi, sundials=sundials, sundials_part=part,

@@ -113,6 +113,8 @@ class FmuModel:
         _check_dae(dae)
         self.dae, self.ident = dae, ident
         self.stop_time, self.step_size, self.tolerance = stop_time, step_size, tolerance
+        #: modelDescription's version, author, license, copyright lines (rights.rights_attrs)
+        self.rights: list[str] = []
         nx, npar = dae.x.numel(), dae.p.numel()
         self.nx, self.np = nx, npar
         self.calc_names = list(dae.calculated)

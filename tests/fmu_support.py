@@ -54,11 +54,10 @@ def built_fmu3(kind: str = "paper") -> str:
     return built_fmu(kind, fmi_version=3)
 
 
-def source_build(fmu: str, dest, cflags=(), libraries: str = "") -> Path:
+def source_build(fmu: str, dest, cflags=()) -> Path:
     """Unzip ``fmu`` into ``dest`` without its binaries and build the binary
     from sources/ as `fmpy compile` does (FMPy's CMake project, the source
-    files the FMU declares; ``libraries`` at the end of the link line);
-    returns ``dest``."""
+    files the FMU declares); returns ``dest``."""
     import zipfile
     from pathlib import Path
 
@@ -68,8 +67,6 @@ def source_build(fmu: str, dest, cflags=(), libraries: str = "") -> Path:
         z.extractall(dest)
     shutil.rmtree(dest / "binaries", ignore_errors=True)
     opts = {"CMAKE_C_FLAGS:STRING": " ".join(cflags)} if cflags else {}
-    if libraries:
-        opts["CMAKE_C_STANDARD_LIBRARIES:STRING"] = libraries
     build_platform_binary(str(dest.resolve()), build_dir=None, cmake_options=opts or None)
     return dest
 

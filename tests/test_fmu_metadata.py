@@ -1,15 +1,13 @@
 """What an FMU says about itself (issue 22): the rig's own model name and
 description, what each event indicator marks (from its component),
-solver.method's items as its range, and pdbfs's version, author, licence
-and copyright from the package metadata (pyproject.toml)."""
+solver.method's items as its range (version, author, licence and copyright:
+test_fmu_rights.py)."""
 import zipfile
-from importlib import metadata
 
 import fmpy
 import pytest
 
 import fmu_support as T
-from pdbfs.fmu import description as D
 from pdbfs.fmu import export_fmu
 from pdbfs.models import hydraulic_pulse_rig
 
@@ -54,21 +52,3 @@ def test_solver_method_range_is_its_items():
         page = z.read("documentation/index.html").decode()
     row = next(r for r in page.split("<tr>")[1:] if "solver.method" in r)
     assert "0 (auto), 1 (BDF), 2 (Adams), 3 (ERK)" in row and "&infin;" not in row
-
-
-@pytest.mark.parametrize("fmi_version", [2, 3])
-def test_version_author_licence_from_the_package(fmi_version):
-    md = fmpy.read_model_description(T.built_fmu("paper", fmi_version))
-    meta = metadata.metadata("pdbfs")
-    assert md.version == meta["Version"]
-    assert md.author == meta["Author"] and md.copyright == f"Copyright (c) {meta['Author']}"
-    assert md.license == (meta.get("License-Expression") or meta.get("License"))
-
-
-def test_package_attrs_take_what_the_metadata_declares(monkeypatch):
-    fake = {"Version": "9.1", "Author-email": '"Ada Lovelace" <ada@example.org>', "License-Expression": "MIT"}
-    monkeypatch.setattr(D.metadata, "metadata", lambda name: fake)
-    assert D.package_attrs() == ['  version="9.1"', '  author="Ada Lovelace"', '  license="MIT"',
-                                 '  copyright="Copyright (c) Ada Lovelace"']
-    monkeypatch.setattr(D.metadata, "metadata", lambda name: {"Version": "1.0"})
-    assert D.package_attrs() == ['  version="1.0"']

@@ -4,8 +4,9 @@ Python runs its SIGINT handler only between bytecodes; inside a CasADi call
 (an integration of many seconds, with the GIL released) it runs late or, when
 CasADi polls for signals itself, its KeyboardInterrupt is swallowed and the
 run goes on to exit 0. So the signal is also watched at C level: Python's
-own handler writes each signal's number to a pipe (signal.set_wakeup_fd) the
-moment it arrives, and a thread reading that pipe gives the main thread
+own handler writes each signal's number to a socket pair (signal.set_wakeup_fd;
+a socket, not a pipe, as Windows requires) the moment it arrives, and a thread
+reading the other end gives the main thread
 GRACE seconds to stop by itself (a KeyboardInterrupt leaving the watched
 block); otherwise it prints the line and ends the process. After the block
 the previous handler is back (cli.main may run many times in one process).
@@ -18,6 +19,7 @@ from __future__ import annotations
 
 import os
 import signal
+import socket
 import sys
 import threading
 from contextlib import contextmanager
@@ -53,19 +55,19 @@ def watching():
         yield
         return
     try:
-        r, w = os.pipe()
+        r, w = socket.socketpair()
     except OSError:
         yield
         return
-    os.set_blocking(w, False)
+    w.setblocking(False)
     _done.clear()
     old_handler = signal.signal(signal.SIGINT, _handler)
     try:
-        old_fd = signal.set_wakeup_fd(w, warn_on_full_buffer=False)
+        old_fd = signal.set_wakeup_fd(w.fileno(), warn_on_full_buffer=False)
     except ValueError:
         signal.signal(signal.SIGINT, old_handler)
-        os.close(r)
-        os.close(w)
+        r.close()
+        w.close()
         yield
         return
     watcher = threading.Thread(target=_watch, args=(r,), name="pdbfs-ctrl-c", daemon=True)
@@ -78,15 +80,15 @@ def watching():
     finally:
         signal.set_wakeup_fd(old_fd)
         signal.signal(signal.SIGINT, old_handler)
-        os.close(w)                  # the watcher reads the end of its pipe and stops
+        w.close()                    # the watcher reads the end of its socket and stops
         watcher.join(1.0)
 
 
-def _watch(fd):
+def _watch(sock):
     try:
         while True:
             try:
-                data = os.read(fd, 64)
+                data = sock.recv(64)
             except OSError:
                 return
             if not data:
@@ -102,4 +104,4 @@ def _watch(fd):
             finally:
                 os._exit(STATUS)
     finally:
-        os.close(fd)
+        sock.close()

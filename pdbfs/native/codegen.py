@@ -268,4 +268,5 @@ def run_compiler(cmd: list[str], what: str) -> None:
         raise ExportError(f"compiling {what}: the compiler was killed by signal {-r.returncode}"
                           " (out of memory? a rig this large needs fewer masses or more memory)")
     if r.returncode != 0:
-        raise ExportError(f"compiling {what} failed:\n{' '.join(cmd)}\n{r.stderr[-4000:]}")
+        # one line (the first error); the whole output is the compiler's to give when run by hand
+        raise ExportError(f"compiling {what} with {Path(cmd[0]).name} failed: {toolchain.first_error(r.stderr)}")

@@ -194,7 +194,8 @@ def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path) -> list
         r = subprocess.run([*cmd, "-c", f"-I{sources.include}", f"-I{sources.src / 'sundials'}", str(sources.src / rel), "-o", str(obj)],
                            capture_output=True, text=True)
         if r.returncode != 0:
-            raise SundialsNotFound(f"compiling SUNDIALS' {rel} failed: {r.stderr.strip()[-1500:]}")
+            raise SundialsNotFound(f"compiling SUNDIALS' {rel} with {Path(cmd[0]).name} failed: "
+                                   f"{toolchain.first_error(r.stderr)}")
         return obj
     from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
@@ -224,6 +225,6 @@ def find_sundials(fetch: bool = True, target: str | None = None) -> Sundials:
                     r = subprocess.run([*toolchain.archiver(), "rcs", str(part), *map(str, objs)],
                                        capture_output=True, text=True)
                     if r.returncode != 0:
-                        raise SundialsNotFound(f"archiving CVODE failed: {r.stderr.strip()[-800:]}")
+                        raise SundialsNotFound(f"archiving CVODE failed: {toolchain.first_error(r.stderr)}")
                     os.replace(part, lib)
     return Sundials(sources.include, (lib,), VERSION, origin, target)

@@ -122,5 +122,12 @@ def shared_flags(target: str, cmd: list[str]) -> tuple[list[str], list[str]]:
     return ["-shared", *strip], ["-lm", "-Wl,-z,defs", *extra]
 
 
+def first_error(stderr: str) -> str:
+    """A compiler's failure in one line: its first error, else its last line."""
+    lines = [line.strip() for line in stderr.splitlines() if line.strip()]
+    errors = [line for line in lines if "error:" in line or "error " in line.lower()]
+    return (errors or lines[-1:] or ["no message"])[0][:600]
+
+
 def library_suffix(target: str) -> str:
     return ".dll" if target.endswith("-windows") else ".dylib" if target.endswith("-darwin") else ".so"

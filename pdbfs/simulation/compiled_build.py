@@ -146,7 +146,9 @@ def _build(dae) -> Path:
         for name, text in files.items():
             (src / name).write_text(text)
         target.parent.mkdir(parents=True, exist_ok=True)
-        part = Path(tempfile.mkstemp(prefix=f".{key}-", suffix=target.suffix, dir=target.parent)[1])
+        fd, name = tempfile.mkstemp(prefix=f".{key}-", suffix=target.suffix, dir=target.parent)
+        os.close(fd)    # Windows: an open handle forbids the compiler's write and the rename
+        part = Path(name)
         try:
             what = f"the compiled model of rig {dae.name}"
             check_compiler_memory(src / f"{FUNCS}.c", what)

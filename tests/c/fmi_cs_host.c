@@ -7,7 +7,10 @@
  *
  *   fmi_cs_host DLL TOKEN VR STOP STEP      (TOKEN: guid / instantiationToken)
  *
- * Output: "peak <value> at <time>" (%.17g); exit status 1 on any FMI error.
+ * Output: "peak <value> at <time>" (%.17g); exit status 1 on any FMI error
+ * or when the library does not load (with the loader's reason). It calls no
+ * function of libm, so built without -lm it has no libm of its own
+ * (tests/test_fmu_libm.py).
  */
 #include <math.h>
 #include <stdarg.h>
@@ -16,11 +19,13 @@
 #ifdef _WIN32
 #include <windows.h>
 #define SYMBOL(lib, name) GetProcAddress(lib, name)
+static char load_error[32];
+#define LOAD_ERROR() (sprintf(load_error, "error %lu", (unsigned long)GetLastError()), load_error)
 #else
 #include <dlfcn.h>
 typedef void *HMODULE;
 #define LoadLibraryA(path) dlopen(path, RTLD_NOW | RTLD_LOCAL)
-#define GetLastError() 0UL
+#define LOAD_ERROR() dlerror()
 #define SYMBOL(lib, name) dlsym(lib, name)
 #endif
 
@@ -79,7 +84,7 @@ int main(int argc, char **argv) {
     h = strtod(argv[5], NULL);
     dll = LoadLibraryA(argv[1]);
     if (!dll) {
-        fprintf(stderr, "cannot load %s (error %lu)\n", argv[1], GetLastError());
+        fprintf(stderr, "cannot load %s: %s\n", argv[1], LOAD_ERROR());
         return 1;
     }
     {
