@@ -57,7 +57,7 @@ def interrupted(args, tmp_path, after=4.0):
 
 KISTLER = str(ROOT / "docs" / "data" / "kistler_synthetic.csv")
 LONG = {
-    "simulate": ["simulate", "--t-end", "100", "--out", "o"],
+    "simulate": ["simulate", "--t-end", "1000", "--out", "o"],
     "calibrate": ["calibrate", "--trace", KISTLER, "--free", "oil.k,seal.c,hammer.v0",
                   "--starts", "40", "--out", "o"],
     "design": ["design", "--peak", "150e6", "--duration", "0.009", "--free", "hammer.h,oil.k",
@@ -65,7 +65,7 @@ LONG = {
     "design-map": ["design-map", "--x", "hammer.h=0.1:1.5", "--y", "oil.k=1e8:1e9", "--n", "300",
                    "--out", "o"],
     "sensitivity": ["sensitivity", "--range", "hammer.v0=2:4", "--range", "oil.k=1e8:1e9",
-                    "--n", "4096"],
+                    "--n", "65536"],
 }
 
 
