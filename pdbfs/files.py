@@ -44,6 +44,13 @@ def whole(path):
             pass
 
 
+def cache_folder() -> Path:
+    """pdbfs's cache folder, not made here: ``$XDG_CACHE_HOME/pdbfs`` on
+    Linux (default ``~/.cache/pdbfs``), the platform's user cache elsewhere."""
+    import platformdirs
+    return Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
+
+
 def write_text(path, text: str) -> Path:
     """``path`` with ``text``, written whole."""
     with whole(path) as part:

@@ -17,7 +17,7 @@ MODULES = {"pdbfs/errors.py": "errors", "pdbfs/files.py": "files", "pdbfs/rig.py
 ALLOWED = {
     "errors": set(),
     "files": set(),
-    "modelling": {"errors"},
+    "modelling": {"errors", "files"},
     "components": {"errors", "files", "modelling"},
     "native": {"errors", "files", "modelling"},
     "simulation": {"errors", "files", "modelling", "native"},

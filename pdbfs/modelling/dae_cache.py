@@ -18,13 +18,13 @@ cache, never a stale DAE.
 from __future__ import annotations
 
 import hashlib
-import os
 import pickle
 import sys
-import tempfile
 from pathlib import Path
 
 import casadi as ca
+
+from pdbfs.files import cache_folder, whole
 
 #: bump when the DAE's pickled form changes
 FORMAT = 1
@@ -114,8 +114,7 @@ def declaration_key(root) -> str | None:
 
 
 def _cache_dir() -> Path:
-    import platformdirs
-    return Path(platformdirs.user_cache_dir("pdbfs", appauthor=False)) / "dae"
+    return cache_folder() / "dae"
 
 
 def load(key: str):
@@ -137,12 +136,7 @@ def store(key: str, dae) -> None:
             data = pickle.dumps(dae, protocol=pickle.HIGHEST_PROTOCOL)
         folder = _cache_dir()
         folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{key}-", dir=folder)
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                fh.write(data)
-            os.replace(tmp, folder / f"{key}.pkl")
-        finally:
-            Path(tmp).unlink(missing_ok=True)
+        with whole(folder / f"{key}.pkl") as part:
+            part.write_bytes(data)
     except Exception:            # noqa: BLE001 -- no cache, nothing worse
         return

@@ -29,9 +29,8 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-import platformdirs
-
 from pdbfs.errors import ExportError
+from pdbfs.files import cache_folder
 
 from . import toolchain
 from .sundials_config import CONFIG_H, EXPORT_H
@@ -107,7 +106,7 @@ def cache_root() -> Path:
     """pdbfs's cache folder: ``$XDG_CACHE_HOME/pdbfs`` (default ``~/.cache/pdbfs``),
     made if need be; one that cannot be made is an ExportError naming the folder
     and the variable it came from."""
-    root = Path(platformdirs.user_cache_dir("pdbfs", appauthor=False))
+    root = cache_folder()
     try:
         root.mkdir(parents=True, exist_ok=True)
     except OSError as err:
