@@ -218,8 +218,8 @@ def test_export_fmu_to_a_folder_or_nowhere_is_refused(tmp_path):
 
 
 def test_ctrl_c_on_a_sweep_is_one_line_and_the_same_command_resumes(tmp_path):
-    args = [sys.executable, "-m", "pdbfs.cli", "sweep", "--sample", "lhs:400",
-            "--range", "hammer.v0=2:4", "--out", str(tmp_path / "sw"), "--chunk", "20",
+    args = [sys.executable, "-m", "pdbfs.cli", "sweep", "--sample", "lhs:2000",
+            "--range", "hammer.v0=2:4", "--out", str(tmp_path / "sw"), "--chunk", "20", "--t-end", "1",
             "--workers", "1", "--quiet"]
     p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     chunks = tmp_path / "sw" / "chunks"
