@@ -39,7 +39,8 @@ NATIVE_C = Path(__file__).with_name("c")
 CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h")
 #: the explicit Runge-Kutta 8(5,3) with root finding at the kinks (method "erk"),
 #: on the CVODE driver's model interface: one source for both users
-ERK_DRIVER = tuple(NATIVE_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk.h",
+ERK_DRIVER = tuple(NATIVE_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk_screen.c",
+                                          "pdbfs_erk.h",
                                           "pdbfs_erk_la.h", "pdbfs_erk_table.h"))
 #: generated beside the model: the state count pdbfs_erk_la.h specialises for
 ERK_SIZE_HEADER = "pdbfs_erk_size.h"
@@ -133,10 +134,11 @@ def generate(funcs: list[ca.Function], directory: str | os.PathLike,
 
 
 #: pow for the exponents the laws use most (a Hertz contact's 1.5, a linear
-#: law's 1): libm's general pow was a quarter of a compiled run's time.  The
-#: same value as pow to an ulp (x sqrt(x): two roundings; 1 and 2: exact) and
-#: the same special cases (x < 0, NaN and -inf go to pow); static, so that an
-#: FMU exports nothing more (fmu/symbols.py)
+#: law's 1, and 0 and 0.5 in their derivatives): libm's general pow was a
+#: quarter of a compiled run's time.  The same value as pow to an ulp (x
+#: sqrt(x): two roundings; 0, 1 and 2: exact) and the same special cases
+#: (x < 0, NaN and -inf go to pow; pow(x, 0) is 1 for every x, NaN
+#: included); static, so that an FMU exports nothing more (fmu/symbols.py)
 POW_HELPER = """
 /* pdbfs (native/codegen.py): pow without libm's general case for common exponents */
 static double pdbfs_pow(double x, double y) {
@@ -146,6 +148,8 @@ static double pdbfs_pow(double x, double y) {
     return x;
   } else if (y == 2.0) {
     return x * x;
+  } else if (y == 0.0) {
+    return 1.0;
   } else if (y == 0.5) {
     if (x > 0) return sqrt(x);
     if (x == 0) return 0.0;           /* +-0: pow gives +0 (sqrt(-0) is -0) */

@@ -85,8 +85,8 @@ def fingerprint(dae) -> str:
     for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
                  f"nte {dae.time_events.numel()}", "\0".join(roles),
                  *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
-                 "\0".join(compile_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")],
-                                           sd=sd, target=host)), _archives_stamp(sd)):
+                 "\0".join(_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")], sd, host)),
+                 _archives_stamp(sd)):
         h.update(part.encode())
         h.update(b"\0")
     return h.hexdigest()[:32]
@@ -117,8 +117,8 @@ def _build(dae) -> Path:
     global BUILDS
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
-    funcs = model_functions(dae, ("ode", "jac", "events", "start", "roles", "roles_dot", "ode_q",
-                                  "jac_q"), roles=roles_of(dae),
+    funcs = model_functions(dae, ("ode", "jac", "events", "start", "roles", "roles_dot",
+                                  "roles_rate", "ode_q", "jac_q"), roles=roles_of(dae),
                             quad=[force] if force in dae.y_names else [])
     with tempfile.TemporaryDirectory(prefix="pdbfs-batch-") as tmp:
         src = Path(tmp)
@@ -131,8 +131,8 @@ def _build(dae) -> Path:
         files = {f.name: f.read_text() for f in (*DRIVERS, *CVODE_DRIVER)}
         c_files = [n for n in files if n.endswith(".c")] + [f"{FUNCS}.c"]
         # the command with placeholders for the temporary paths: part of the key
-        cmd_key = compile_command([Path(f"@SRC@/{n}") for n in c_files], Path("@OUT@"),
-                                  [Path("@SRC@")], sd=sd, target=host)
+        cmd_key = _command([Path(f"@SRC@/{n}") for n in c_files], Path("@OUT@"), [Path("@SRC@")],
+                           sd, host)
         h = hashlib.sha256()
         for part in (f"abi {ABI}", host, *files.values(), hdr,
                      (src / f"{FUNCS}.c").read_text(), (src / f"{FUNCS}.h").read_text(),
@@ -152,7 +152,7 @@ def _build(dae) -> Path:
         try:
             what = f"the compiled model of rig {dae.name}"
             check_compiler_memory(src / f"{FUNCS}.c", what)
-            cmd = compile_command([src / n for n in c_files], part, [src], sd=sd, target=host)
+            cmd = _command([src / n for n in c_files], part, [src], sd, host)
             run_compiler(cmd, what)
             BUILDS += 1
             os.chmod(part, 0o755)
@@ -160,6 +160,12 @@ def _build(dae) -> Path:
         finally:
             part.unlink(missing_ok=True)
     return target
+
+
+def _command(sources, out, include_dirs, sd, host) -> list[str]:
+    """The compile command of the library: for this machine's CPU (it runs nowhere else)."""
+    return compile_command(sources, out, include_dirs,
+                           toolchain.host_cpu_flags(toolchain.compiler(host)), sd=sd, target=host)
 
 
 def _archives_stamp(sd) -> str:

@@ -48,6 +48,7 @@ typedef struct {
                                * t_out is reached): on_step finds the step's stages in k
                                * (13 nx, pdbfs_erk_rows) when dense_ready is 0 (sweeps) */
     double err_prev;          /* the error of the step before (step control) */
+    int kink_steps;           /* steps after a (re)start at a kink: step control for low order */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
 } PdbfsErk;

@@ -26,11 +26,20 @@
 #define ERK_INLINE static inline
 #endif
 
+/* the sums' operands do not overlap: the compiler may vectorise them over the
+ * states without checking (C99's restrict; MSVC's C spells it __restrict) */
+#if defined(_MSC_VER) && !defined(__clang__)
+#define ERK_RESTRICT __restrict
+#else
+#define ERK_RESTRICT restrict
+#endif
+
 /* up to so many states the sums are local (registers); beyond, in memory */
 #define ERK_LOCAL 16
 
 /* acc = the sum of c[j] k_j over j < nj (zero coefficients skipped) */
-ERK_INLINE void erk_combine(const int n, int nj, const double *c, const double *k, double *acc) {
+ERK_INLINE void erk_combine(const int n, int nj, const double *ERK_RESTRICT c,
+                             const double *ERK_RESTRICT k, double *ERK_RESTRICT acc) {
     int i, j;
     for (i = 0; i < n; i++) acc[i] = 0.0;
     for (j = 0; j < nj; j++) {
@@ -41,8 +50,8 @@ ERK_INLINE void erk_combine(const int n, int nj, const double *c, const double *
 }
 
 /* the polynomial of a step's dense output at theta (pdbfs_erk_poly) */
-ERK_INLINE void erk_poly_n(const int n, const double *y_old, const double *r, double th,
-                           double *out) {
+ERK_INLINE void erk_poly_n(const int n, const double *ERK_RESTRICT y_old,
+                           const double *ERK_RESTRICT r, double th, double *ERK_RESTRICT out) {
     const double th1 = 1.0 - th;
     int i;
     for (i = 0; i < n; i++) {          /* alternately times theta and 1 - theta */
@@ -71,6 +80,25 @@ ERK_INLINE int erk_rhs(PdbfsErk *s, double t, const double *x, double *out) {
         if (!isfinite(out[i])) return 1;
     return 0;
 }
+
+/* the event indicators at (t, x) into g */
+ERK_INLINE void erk_events(PdbfsErk *s, double t, const double *x, double *g) {
+    if (s->ne > 0) pdbfs_eval_txp(s->ev, pdbfs_events, t, x, g);
+}
+
+/* the indicators are also looked at inside each step, at these many equal
+ * parts of it: a contact that opens and closes within one long step, which
+ * the step's ends alone would not show, is found */
+#define EVENT_PARTS 4
+/* a rejected attempt's kink is located on the attempt's ends to this (of it) */
+#define KINK_TOL 1e-4
+
+/* where an attempt of length h that failed its error test has an indicator
+ * change sign: the first such theta in (0, 1), 2 when none does; and whether a
+ * lazy step needs its dense output to look at its indicators
+ * (pdbfs_erk_screen.c) */
+double pdbfs_erk_kink_in_attempt(PdbfsErk *s, double h);
+int pdbfs_erk_near_a_root(PdbfsErk *s, double h);
 
 /* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
  * INFINITY when a stage is not finite (pdbfs_erk_rk.c) */

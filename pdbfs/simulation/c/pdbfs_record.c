@@ -5,6 +5,24 @@
 
 #include "pdbfs_record.h"
 
+/* the roles' rates at (t, x) into out: from the explicit method's derivative
+ * at its own point where x is that (its first stage of the next step, at hand:
+ * no evaluation of the right-hand side), else from the right-hand side */
+static void role_rates(History *h, double t, const double *x, double *out) {
+    const PdbfsErk *rk = h->rk;
+    if (rk && x == rk->y) {
+        double tt = t;
+        h->ev->arg[0] = &tt;
+        h->ev->arg[1] = x;
+        h->ev->arg[2] = rk->f;
+        h->ev->arg[3] = h->ev->p;
+        h->ev->res[0] = out;
+        pdbfs_roles_rate(h->ev->arg, h->ev->res, h->ev->iw, h->ev->w, 0);
+    } else {
+        pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, out);
+    }
+}
+
 int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
     int j;
@@ -35,7 +53,7 @@ int pdbfs_record_step(void *env, double t, const double *x) {
         double *d = h->dn + h->n * DNREC;
         const PdbfsErk *rk = h->rk;
         int none = h->n == 0 || rk->fresh || (!rk->dense_ready && !rk->lazy);
-        if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, h->rdot + h->n * NRX);
+        if (NR > 0) role_rates(h, t, x, h->rdot + h->n * NRX);
         d[0] = none ? t : rk->t_old;
         d[1] = none ? 0.0 : rk->h_old;
         d[2] = none ? DN_NONE : rk->dense_ready ? DN_ROWS : DN_STAGES;
