@@ -101,9 +101,21 @@ def test_a_large_upload_is_refused_with_its_size(server, browser, tmp_path):
 def test_rigs_bring_their_own_study_defaults_and_say_they_are_building(server, browser):
     load(browser, server)
     _, text = shown_peak(browser)
+    # every text the note takes, kept by the page itself: the note lasts only as long
+    # as the server takes to answer, which a poll from here can miss on a fast machine
+    browser.execute_script("""
+        window.pdbfsNotes = [];
+        new MutationObserver(() => {
+            const e = document.getElementById('rig-note');
+            if (e) window.pdbfsNotes.push(e.textContent);
+        }).observe(document.body, {childList: true, characterData: true, subtree: true});""")
     browser.find_element(By.ID, "rig").click()
     wait(browser, "[role=option]", lambda e: e.text == "hydraulic-pulse").click()
-    wait(browser, "#rig-note", lambda e: e.text.startswith("building rig hydraulic-pulse"))
+    t0 = time.time()
+    while not any(n.startswith("building rig hydraulic-pulse")
+                  for n in browser.execute_script("return window.pdbfsNotes")):
+        assert time.time() - t0 < 30, "the page never said it was building the rig"
+        time.sleep(0.05)
     shown_peak(browser, text)
     wait(browser, "#rig-note", lambda e: e.text == "")
     tab(browser, "trace")

@@ -125,7 +125,12 @@ def host_cpu_flags(cmd: list[str]) -> list[str]:
             from numpy.core._multiarray_umath import __cpu_features__ as features
         except ImportError:
             return []
-    return ["-mcpu=x86_64_v3"] if features.get("X86_V3") else []
+    # numpy 2 names the level; numpy 1.x its parts (a part it does not know: no flag)
+    v3 = features.get("X86_V3")
+    if v3 is None:
+        v3 = all(features.get(k) for k in ("AVX", "AVX2", "FMA3", "F16C", "BMI", "BMI2", "LZCNT",
+                                            "MOVBE"))
+    return ["-mcpu=x86_64_v3"] if v3 else []
 
 
 def shared_flags(target: str, cmd: list[str]) -> tuple[list[str], list[str]]:
