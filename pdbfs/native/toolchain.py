@@ -13,6 +13,7 @@ instead of zig; ``PDBFS_ZIG`` names a zig executable to use.
 """
 from __future__ import annotations
 
+import functools
 import os
 import platform
 import shlex
@@ -118,19 +119,25 @@ def host_cpu_flags(cmd: list[str]) -> list[str]:
     holds a library for each."""
     if not is_zig(cmd) or not host_target().startswith("x86_64-"):
         return []
+    return ["-mcpu=x86_64_v3"] if _x86_64_v3() else []
+
+
+@functools.lru_cache(maxsize=None)
+def _x86_64_v3() -> bool:
+    """Whether this CPU runs x86-64-v3 code (numpy's detection, asked once)."""
     try:
         from numpy._core._multiarray_umath import __cpu_features__ as features
     except ImportError:            # numpy 1.x
         try:
             from numpy.core._multiarray_umath import __cpu_features__ as features
         except ImportError:
-            return []
+            return False
     # numpy 2 names the level; numpy 1.x its parts (a part it does not know: no flag)
     v3 = features.get("X86_V3")
     if v3 is None:
         v3 = all(features.get(k) for k in ("AVX", "AVX2", "FMA3", "F16C", "BMI", "BMI2", "LZCNT",
                                             "MOVBE"))
-    return ["-mcpu=x86_64_v3"] if v3 else []
+    return bool(v3)
 
 
 def shared_flags(target: str, cmd: list[str]) -> tuple[list[str], list[str]]:

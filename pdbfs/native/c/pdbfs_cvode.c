@@ -30,11 +30,12 @@ static void say(PdbfsCvode *s, int kind, const char *fmt, ...) {
     s->log(s->env, kind, buf);
 }
 
-int pdbfs_eval_txp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, double *out) {
+int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
+                    double *out) {
     double tt = t;
     ev->arg[0] = &tt;
     ev->arg[1] = x;
-    ev->arg[2] = NULL;
+    ev->arg[2] = v;
     ev->arg[3] = ev->p;
     ev->res[0] = out;
     return f(ev->arg, ev->res, ev->iw, ev->w, 0);

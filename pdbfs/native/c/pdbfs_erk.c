@@ -266,7 +266,7 @@ static int step(PdbfsErk *s, double t_out) {
         s->roots++;
         /* past a kink the solution is smooth again only to a low order (the
          * contact force grows as d^1.5): begin with a short step, grown back
-         * by the step control (at most 10x per step) */
+         * by the step control for that order (factor(), KINK_STEPS) */
         if (s->h > RESTART_STEP * h) s->h = RESTART_STEP * h;
         s->err_prev = 0.0;        /* a fresh start: the errors before the kink say nothing */
         s->kink_steps = KINK_STEPS;

@@ -7,6 +7,16 @@
 #include "pdbfs_erk.h"
 #include "pdbfs_erk_la.h"
 
+/* the cubic Hermite interpolant of (y0, f0) and (y1, f1) over h at theta c, into s->tmp */
+static void hermite(PdbfsErk *s, const double *y0, const double *f0, const double *y1,
+                    const double *f1, double h, double c) {
+    const double c2 = c * c, c3 = c2 * c;
+    int j;
+    for (j = 0; j < s->nx; j++)
+        s->tmp[j] = (2 * c3 - 3 * c2 + 1) * y0[j] + (c3 - 2 * c2 + c) * h * f0[j]
+                    + (3 * c2 - 2 * c3) * y1[j] + (c3 - c2) * h * f1[j];
+}
+
 /* where an attempt that failed its error test has an indicator change sign
  * (its stages straddle a kink: that, not the step's length, is what failed):
  * the first such theta in (0, 1), located roughly on the cubic Hermite
@@ -15,19 +25,15 @@ double pdbfs_erk_kink_in_attempt(PdbfsErk *s, double h) {
     const int n = s->nx;
     const double *y1 = s->ynew, *f0 = s->k, *f1 = s->k + NSTAGE * n;
     double best = 2.0;
-    int i, j, it;
+    int i, it;
     erk_events(s, s->t + h, y1, s->g_new);
     for (i = 0; i < s->ne; i++) {
         double g0 = s->g_old[i], g1 = s->g_new[i], a = 0.0, b = 1.0, fa = g0, fb = g1;
         if (i == s->quiet || !((g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0))) continue;
         for (it = 0; it < 30 && b - a > KINK_TOL; it++) {   /* Illinois, to KINK_TOL */
-            double c = (fa != fb) ? b - fb * (b - a) / (fb - fa) : 0.5 * (a + b), fc, c2, c3;
+            double c = (fa != fb) ? b - fb * (b - a) / (fb - fa) : 0.5 * (a + b), fc;
             if (!(c > a && c < b)) c = 0.5 * (a + b);
-            c2 = c * c;
-            c3 = c2 * c;
-            for (j = 0; j < n; j++)
-                s->tmp[j] = (2 * c3 - 3 * c2 + 1) * s->y[j] + (c3 - 2 * c2 + c) * h * f0[j]
-                            + (3 * c2 - 2 * c3) * y1[j] + (c3 - c2) * h * f1[j];
+            hermite(s, s->y, f0, y1, f1, h, c);
             erk_events(s, s->t + c * h, s->tmp, s->g_tmp);
             fc = s->g_tmp[i];
             if ((g0 < 0) ? fc >= 0 : fc <= 0) {
@@ -54,7 +60,7 @@ int pdbfs_erk_near_a_root(PdbfsErk *s, double h) {
     const int n = s->nx;
     const double *y0 = s->y_old, *f0 = s->k, *y1 = s->ynew, *f1 = s->k + NSTAGE * n;
     double *lo = s->g_a, *bend = s->g_b;
-    int i, j, part;
+    int i, part;
     for (i = 0; i < s->ne; i++) {
         if (i == s->quiet) continue;
         if (!(s->g_old[i] * s->g_new[i] > 0)) return 1;
@@ -62,10 +68,8 @@ int pdbfs_erk_near_a_root(PdbfsErk *s, double h) {
         bend[i] = 0.0;
     }
     for (part = 1; part < EVENT_PARTS; part++) {
-        const double c = (double)part / EVENT_PARTS, c2 = c * c, c3 = c2 * c;
-        for (j = 0; j < n; j++)
-            s->tmp[j] = (2 * c3 - 3 * c2 + 1) * y0[j] + (c3 - 2 * c2 + c) * h * f0[j]
-                        + (3 * c2 - 2 * c3) * y1[j] + (c3 - c2) * h * f1[j];
+        const double c = (double)part / EVENT_PARTS;
+        hermite(s, y0, f0, y1, f1, h, c);
         erk_events(s, s->t_old + c * h, s->tmp, s->g_tmp);
         for (i = 0; i < s->ne; i++) {
             double sg = s->g_old[i] > 0 ? 1.0 : -1.0, v = sg * s->g_tmp[i];

@@ -9,18 +9,8 @@
  * at its own point where x is that (its first stage of the next step, at hand:
  * no evaluation of the right-hand side), else from the right-hand side */
 static void role_rates(History *h, double t, const double *x, double *out) {
-    const PdbfsErk *rk = h->rk;
-    if (rk && x == rk->y) {
-        double tt = t;
-        h->ev->arg[0] = &tt;
-        h->ev->arg[1] = x;
-        h->ev->arg[2] = rk->f;
-        h->ev->arg[3] = h->ev->p;
-        h->ev->res[0] = out;
-        pdbfs_roles_rate(h->ev->arg, h->ev->res, h->ev->iw, h->ev->w, 0);
-    } else {
-        pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, out);
-    }
+    if (h->rk && x == h->rk->y) pdbfs_eval_txvp(h->ev, pdbfs_roles_rate, t, x, h->rk->f, out);
+    else pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, out);
 }
 
 int pdbfs_record_step(void *env, double t, const double *x) {
