@@ -182,14 +182,26 @@ def test_nan_in_the_solution_is_a_solver_error(rig, monkeypatch):
         return X, st
     real_with_summary = type(c).run_summary
 
-    def poisoned_with_summary(self, *a, **k):   # the default path: the run and its summary
+    def poisoned_with_summary(self, *a, **k):   # the run and its summary, states made at once
         X, st, *rest = real_with_summary(self, *a, **k)
-        X[1, -3:] = np.nan
+        if X is not None:
+            X[1, -3:] = np.nan
         return (X, st, *rest)
+    real_states = batch.KeptRun.states
+
+    def poisoned_states(self):                   # the default path: states made when read
+        X, code, message = real_states(self)
+        X[1, -3:] = np.nan
+        return X, code, message
     monkeypatch.setattr(type(c), "run", poisoned)
     monkeypatch.setattr(type(c), "run_summary", poisoned_with_summary)
+    monkeypatch.setattr(batch.KeptRun, "states", poisoned_states)
     with pytest.raises(SolverError, match=r"NaN or infinite at t = 0\.0199"):
-        rig.simulate(backend="c")
+        rig.simulate(backend="c", method="adams")
+    res = rig.simulate(backend="c")
+    assert res.settings["method"] == "erk"
+    with pytest.raises(SolverError, match=r"NaN or infinite at t = 0\.0199"):
+        res["oil.pressure"]
 
 
 def test_cli_and_sweep_take_the_backend(rig, tmp_path, capsys):

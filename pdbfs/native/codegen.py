@@ -70,7 +70,8 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     made algebraic, ``dae.reduced_starts``; each must equal its output at the start),
     ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
     derivatives for a state derivative v: (d/dx) v + d/dt, a function of
-    (t, x, v, p)), ``roles_dot`` (their derivatives along the solution),
+    (t, x, v, p)), ``roles_both`` (both, one after the other: one call),
+    ``roles_dot`` (their derivatives along the solution),
     ``ode_q`` and ``jac_q`` (the ODE with the outputs named in ``quad``
     integrated as extra states, and its Jacobian)."""
     args, names = [dae.t, dae.x, dae.z, dae.p], ["t", "x", "z", "p"]
@@ -108,6 +109,9 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
                                           [ca.densify(r_rate)], ["t", "x", "v", "p"], ["r_dot"]),
         "roles_dot": lambda: ca.Function("pdbfs_roles_dot", args, [ca.densify(r_dot)], names,
                                          ["r_dot"]),
+        "roles_both": lambda: ca.Function("pdbfs_roles_both", [dae.t, dae.x, v, dae.p],
+                                          [ca.densify(ca.vertcat(r, r_rate))],
+                                          ["t", "x", "v", "p"], ["r_and_rate"]),
         "ode_q": lambda: ca.Function("pdbfs_ode_q", args_q, [ca.densify(ode_q)], names, ["xdot"]),
         "jac_q": lambda: ca.Function("pdbfs_jac_q", args_q, [ca.jacobian(ode_q, xq)], names,
                                      ["jac"]),
@@ -119,18 +123,38 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
 
 
 def generate(funcs: list[ca.Function], directory: str | os.PathLike,
-             name: str = FUNCS) -> tuple[int, int, int, int]:
+             name: str = FUNCS, straight=()) -> tuple[int, int, int, int]:
     """Write ``<name>.c`` and ``<name>.h`` of ``funcs`` into ``directory``
     (large functions split into parts, see :func:`split`); return the work
-    sizes (arg, res, iw, w) a caller must provide."""
-    cg = ca.CodeGenerator(f"{name}.c", {"with_header": True, "with_export": False, "verbose": False})
-    funcs = [split(f) for f in funcs]
+    sizes (arg, res, iw, w) a caller must provide. The functions named in
+    ``straight`` are written as straight-line C (straight.py) where that
+    can be done, the others by CasADi."""
+    from .straight import HELPERS, straight_c, zeros_needed
+    own = {}
     for f in funcs:
-        cg.add(f)
+        if f.name() in straight:
+            text = straight_c(f, f.name())
+            if text is not None:
+                own[f.name()] = text
+    cg = ca.CodeGenerator(f"{name}.c", {"with_header": True, "with_export": False, "verbose": False})
+    parts = [f if f.name() in own else split(f) for f in funcs]
+    for f in parts:
+        if f.name() not in own:
+            cg.add(f)
     cg.generate(str(directory) + os.sep)
-    c_file = Path(directory) / f"{name}.c"
-    c_file.write_text(fast_pow(c_file.read_text()))
-    return work_sizes(funcs)
+    c_file, h_file = Path(directory) / f"{name}.c", Path(directory) / f"{name}.h"
+    c_text = fast_pow(c_file.read_text())
+    if own:
+        if "static double pdbfs_pow(" not in c_text:
+            c_text = c_text.replace("#include <math.h>\n", "#include <math.h>\n" + POW_HELPER, 1) \
+                if "#include <math.h>\n" in c_text else "#include <math.h>\n" + POW_HELPER + c_text
+        c_text += HELPERS % zeros_needed([f for f in funcs if f.name() in own])
+        c_text += "\n".join(own.values())
+        h_file.write_text(h_file.read_text() + "\n/* straight-line C (native/straight.py) */\n" + "".join(
+            f"int {n}(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, "
+            "int mem);\n" for n in own))
+    c_file.write_text(c_text)
+    return work_sizes(parts)
 
 
 #: pow for the exponents the laws use most (a Hertz contact's 1.5, a linear

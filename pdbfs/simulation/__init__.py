@@ -5,7 +5,8 @@
                    integrators cached per setting, clear SolverErrors
     compiled.py    backend="c" (the default where it builds): the DAE's
                    generated C + c/pdbfs_batch.c + CVODE or native/c/pdbfs_erk.c
-                   (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes
+                   (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes;
+                   a run's states on the grid made when first read (c/pdbfs_run_*.c)
     c_summary.py   a compiled run's summary from the run itself (no second run)
     on_grid.py     outputs, rates and event indicators on a whole grid
     result.py      Result: arrays by dotted name, values off the grid, peaks

@@ -16,6 +16,7 @@ GIL during a call, so threads run calls in parallel.
 from __future__ import annotations
 
 import ctypes
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -51,7 +52,7 @@ RC_BAD_CROSSINGS = 6
 INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
 #: run_summary's buffer after p and x0: info, the summary values, the summary code (one
 #: double's room) and the messages (MSG_LEN + 2 POINT_MSG_LEN bytes)
-_RS_TAIL = INFO_N + len(SUMMARY_KEYS) + 1 + (MSG_LEN + 2 * POINT_MSG_LEN + 7) // 8
+_RS_TAIL = INFO_N + len(SUMMARY_KEYS) + 1 + (MSG_LEN + 2 * POINT_MSG_LEN + 7) // 8 + 1
 NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
 
 
@@ -171,8 +172,16 @@ class CompiledODE:
         r = lib.pdbfs_run_summary
         r.restype = ctypes.c_int
         # the messages are addresses in a numpy buffer (run_summary): c_void_p
-        r.argtypes = [vp, vp, ll, vp, vp, d, d, ctypes.c_int, d, ll, vp, vp, ll, vp, vp, vp, ll]
+        r.argtypes = [vp, vp, ll, vp, vp, d, d, ctypes.c_int, d, ll, vp, vp, ll, vp, vp, vp, ll, vp]
         self._run_summary = r
+        tr = lib.pdbfs_run_trajectory
+        tr.restype = ctypes.c_int
+        tr.argtypes = [vp, ll, vp, vp, ctypes.c_char_p, ll]
+        self._trajectory = tr
+        rel = lib.pdbfs_run_release
+        rel.restype = None
+        rel.argtypes = [vp]
+        self._release = rel
         return lib
 
     # -- run ------------------------------------------------------------------------
@@ -203,13 +212,16 @@ class CompiledODE:
 
 
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
-                    max_num_steps=500000, checked=False):
+                    max_num_steps=500000, checked=False, keep=False):
         """As ``run`` (``t`` from 0), and the summary of the same integration
         (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values
         (len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
-        the run failed), note (its warnings or failure)). ``checked``: the
+        the run failed), note (its warnings or failure), kept). ``checked``: the
         caller (Simulator.run) has checked the arguments already, only their
-        types and sizes are checked here (C checks them all again)."""
+        types and sizes are checked here (C checks them all again).
+        ``keep`` with method "erk": the states on the grid are not computed
+        now; X is None and ``kept`` (a KeptRun, None when the run failed) makes
+        them when asked (c/pdbfs_run_trajectory.c); else ``kept`` is None."""
         t = np.ascontiguousarray(t, dtype=float).ravel()
         x0 = np.ascontiguousarray(x0, dtype=float).ravel()
         p = np.ascontiguousarray(p, dtype=float).ravel()
@@ -222,9 +234,10 @@ class CompiledODE:
                      and (max_step or 0.0) >= 0):
             raise ParameterError(f"rig {self.name}: rtol = {rtol}, atol = {atol}, "
                                  f"method = {method!r}, max_step = {max_step}: not valid")
-        X = np.empty((self.nx, t.size))
+        keep = keep and method == "erk"
+        X = None if keep else np.empty((self.nx, t.size))
         # one buffer for the small arguments (an address costs a microsecond):
-        # p, x0, info[INFO_N], the summary values, its code, the two messages
+        # p, x0, info[INFO_N], the summary values, its code, the two messages, the kept run
         n_in = self.np + self.nx
         buf = np.zeros(n_in + _RS_TAIL)
         buf[:self.np] = p
@@ -233,18 +246,21 @@ class CompiledODE:
         base = buf.ctypes.data
         at = base + 8 * (n_in + INFO_N + len(SUMMARY_KEYS))     # the code, then the messages
         wall = time.perf_counter()
-        code = self._run_summary(base, base + 8 * self.np, t.size, t.ctypes.data, X.ctypes.data,
+        code = self._run_summary(base, base + 8 * self.np, t.size, t.ctypes.data,
+                                 None if keep else X.ctypes.data,
                                  float(rtol), float(atol), METHOD_CODES[method],
                                  float(max_step or 0.0), int(max_num_steps), base + 8 * n_in,
                                  at + 8, MSG_LEN, base + 8 * (n_in + INFO_N), at, at + 8 + MSG_LEN,
-                                 POINT_MSG_LEN * 2)
+                                 POINT_MSG_LEN * 2, base + 8 * (buf.size - 1) if keep else None)
         wall = time.perf_counter() - wall
         raw = buf.view(np.uint8)[8 * (n_in + INFO_N + len(SUMMARY_KEYS)):]
         i = info.tolist()
         status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
                            _text(raw[8:8 + MSG_LEN]), _stats(i[1], i[3], i[5], i[2], i[6], wall))
+        handle = int(buf[-1:].view(np.uint64)[0]) if keep else 0
+        kept = KeptRun(self, handle, t, status.steps) if handle else None
         return X, status, out.copy(), int(raw[:4].view(np.intc)[0]), \
-            _text(raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN], strip=False)
+            _text(raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN], strip=False), kept
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):
@@ -292,6 +308,41 @@ class CompiledODE:
                                 int(bool(above1)), float(t0), float(t1), dur.ctypes.data, msg,
                                 POINT_MSG_LEN * 2)
         return int(ans), float(dur[0]), msg.value.decode(errors="replace")
+
+
+class KeptRun:
+    """A run of ``run_summary(keep=True)`` kept in the library's memory
+    (its record of every step) until its states on the grid are made:
+    ``states()`` makes them on its first call (each step's dense output at
+    the grid's times in it, c/pdbfs_run_trajectory.c: the numbers of a run
+    that wrote them as it went), frees the record and answers the same
+    after; garbage collection frees it too."""
+
+    def __init__(self, lib: CompiledODE, handle: int, t: np.ndarray, steps: int):
+        self._lib, self._handle, self._t = lib, handle, t
+        self._made = None
+        self._lock = threading.Lock()
+        #: the record's size, about: per step its stages, state, roles and their rates
+        self.nbytes = 8 * (steps + 1) * (17 * (lib.nx + 1) + 2 * len(lib.roles) + 4)
+
+    def states(self) -> tuple[np.ndarray | None, int, str]:
+        """(X (nx x len(t)), 0) or (None, the driver's code, its message)."""
+        with self._lock:             # two threads reading one Result: made once, freed once
+            if self._made is not None:
+                return self._made
+            t = self._t
+            X = np.empty((self._lib.nx, t.size))
+            msg = ctypes.create_string_buffer(MSG_LEN)
+            code = self._lib._trajectory(self._handle, t.size, t.ctypes.data, X.ctypes.data, msg,
+                                         MSG_LEN)
+            self._lib._release(self._handle)
+            self._made = (None, int(code), msg.value.decode(errors="replace").strip()) if code \
+                else (X, 0, "")
+            return self._made
+
+    def __del__(self):             # never read: the record freed with its Result
+        if self._made is None:
+            self._lib._release(self._handle)
 
 
 def compiled(dae) -> CompiledODE:

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from pdbfs.native import toolchain
+from pdbfs.native import codegen, straight, toolchain
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, POW_HELPER,
                                   check_compiler_memory, compile_command, erk_size_header, generate,
                                   model_functions, run_compiler, sizes_header_lines)
@@ -31,13 +31,20 @@ from pdbfs.native.sundials import cache_root, find_sundials
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
-                                     "pdbfs_batch_erk.c", "pdbfs_run_summary.c")) + ERK_DRIVER
+                                     "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
+                                     "pdbfs_run_trajectory.c")) + ERK_DRIVER
 HEADER = "pdbfs_batch_model.h"
-ABI = 5
+ABI = 6
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
 ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
+
+#: the model functions the drivers call (native/codegen.model_functions)
+FUNCTIONS = ("ode", "jac", "events", "start", "roles", "roles_dot", "roles_both", "ode_q", "jac_q")
+#: those of the integration's inner loop, as straight-line C (native/straight.py)
+STRAIGHT = ("pdbfs_ode", "pdbfs_ode_q", "pdbfs_events", "pdbfs_roles", "pdbfs_roles_dot",
+            "pdbfs_roles_both")
 
 #: compilations done by this process (tests check that nothing is rebuilt)
 BUILDS = 0
@@ -69,8 +76,9 @@ def header(dae, work) -> str:
 
 def fingerprint(dae) -> str:
     """A cheap key of the library of ``dae``, known before any code generation:
-    the DAE's expressions (serialised), the drivers' text, the compiler
-    command and the SUNDIALS archives. Equal fingerprints give the same
+    the DAE's expressions (serialised), the functions generated and how
+    (codegen.py, straight.py), the drivers' text, the compiler command and the
+    SUNDIALS archives. Equal fingerprints give the same
     library; a change anywhere gives another (at worst a rebuild)."""
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
@@ -83,6 +91,8 @@ def fingerprint(dae) -> str:
     sd = find_sundials(target=host)
     h = hashlib.sha256()
     for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
+                 "\0".join(FUNCTIONS), "\0".join(STRAIGHT),
+                 *(Path(m.__file__).read_text() for m in (codegen, straight)),
                  f"nte {dae.time_events.numel()}", "\0".join(roles),
                  *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
                  "\0".join(_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")], sd, host)),
@@ -117,12 +127,11 @@ def _build(dae) -> Path:
     global BUILDS
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
-    funcs = model_functions(dae, ("ode", "jac", "events", "start", "roles", "roles_dot",
-                                  "roles_rate", "ode_q", "jac_q"), roles=roles_of(dae),
+    funcs = model_functions(dae, FUNCTIONS, roles=roles_of(dae),
                             quad=[force] if force in dae.y_names else [])
     with tempfile.TemporaryDirectory(prefix="pdbfs-batch-") as tmp:
         src = Path(tmp)
-        work = generate(funcs, src)
+        work = generate(funcs, src, straight=STRAIGHT)
         hdr = header(dae, work)
         (src / HEADER).write_text(hdr)
         (src / ERK_SIZE_HEADER).write_text(erk_size_header(dae.x.numel()))   # nx is in hdr (the key)

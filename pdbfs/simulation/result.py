@@ -22,7 +22,8 @@ from .summary import summarize
 
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None):
+    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None,
+                 states=None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
@@ -31,7 +32,9 @@ class Result:
         self.t = t
         self._Y = None        # all outputs, computed on first need
         self._rows = {}       # single outputs computed so far
-        self._X = X
+        # the states on the grid; None: ``states()`` makes them when first read
+        # (a compiled run's dense output: a summary alone does not need them)
+        self._states, self._make_states = X, states
         self._Z = Z
         self.p = p
         self.settings = settings
@@ -47,6 +50,12 @@ class Result:
         # the start the run began from: an initialize.InitialState, or the start
         # vector of a rig that starts as declared (its record made on first use)
         self._initial = initial
+
+    @property
+    def _X(self) -> np.ndarray:
+        if self._states is None:         # (made once: a second thread gets the same array)
+            self._states = self._make_states()
+        return self._states
 
     # made on first use: most runs (sweeps, a summary) never read them
     @cached_property

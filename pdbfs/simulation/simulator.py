@@ -219,17 +219,18 @@ class Simulator(RunInputs, OnGrid):
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
         wall = time.perf_counter()
-        fast = None
+        fast = states = None
         if backend == "c":
-            X, fast = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps,
-                                       summary=True)
+            X, fast, states = self.integrate_c(grid, x0, p, rtol, atol, method, max_step,
+                                               max_num_steps, summary=True)
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
                         max_num_steps=max_num_steps, backend=backend)
-        return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init)
+        return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
+                      states=states)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         if self.dae.x.numel() == 0:
@@ -307,15 +308,18 @@ class Simulator(RunInputs, OnGrid):
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False):
         """States on ``grid`` (nx x len(grid)) from the compiled driver; with
-        ``summary``, (states, the run's own summary (c_summary.py) or None)
-        (called from run(), whose arguments are checked already)."""
+        ``summary``, (states, the run's own summary (c_summary.py) or None,
+        None) or, with the explicit method, (None, its summary, a function
+        that makes the states when they are first read: a summary alone
+        needs no dense output) (called from run(), whose arguments are
+        checked already)."""
         if self.nx == 0:
             X = self.prescribed(grid, p)[0]
-            return (X, None) if summary else X
-        lib, fast = self.compiled(), None
+            return (X, None, None) if summary else X
+        lib, fast, kept = self.compiled(), None, None
         if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
-            X, st, values, code, note = lib.run_summary(grid, x0, p, rtol, atol, method, max_step,
-                                                        max_num_steps, checked=True)
+            X, st, values, code, note, kept = lib.run_summary(
+                grid, x0, p, rtol, atol, method, max_step, max_num_steps, checked=True, keep=True)
             fast = (values, code, note)
         else:
             X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
@@ -323,11 +327,27 @@ class Simulator(RunInputs, OnGrid):
             raise compiled_failure(self.dae.name, grid, st)
         self._last_stats = {k: v for k, v in (getattr(st, "stats", None) or {}).items()
                             if k != "wall_time"} or {"method": method}
+        if kept is not None:
+            # kept while it is smaller than a few grids of states (a long run's
+            # record is not: its states are made now, and it is freed)
+            if kept.nbytes <= 4 * 8 * self.nx * grid.size:
+                return None, fast, lambda: self._kept_states(kept, grid)
+            return self._kept_states(kept, grid), fast, None
         # the driver refuses a solution that is not finite (RC_NOT_FINITE), so
         # a sum (a NaN or infinity anywhere makes it one) is all it takes here
         if not np.isfinite(np.add.reduce(X, axis=None)):
             self._check_finite(grid, X)
-        return (X, fast) if summary else X
+        return (X, fast, None) if summary else X
+
+    def _kept_states(self, kept, grid):
+        """The states of a kept run on its grid (integrate_c), checked as a run's."""
+        X, code, message = kept.states()
+        if code:
+            raise SolverError(f"rig {self.dae.name}: the states on the output grid could not be "
+                              f"made from the run: {message}")
+        if not np.isfinite(np.add.reduce(X, axis=None)):
+            self._check_finite(grid, X)
+        return X
 
     def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
                  max_num_steps=MAX_NUM_STEPS):

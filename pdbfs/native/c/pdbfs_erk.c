@@ -288,6 +288,32 @@ static int step(PdbfsErk *s, double t_out) {
     return 0;
 }
 
+int pdbfs_erk_step_watched(PdbfsErk *s, double t_out) {
+    int flag = step(s, t_out);
+    if (flag == STEP_AGAIN) return PDBFS_ERK_AGAIN;
+    if (flag) return flag;
+    /* whoever watches the steps may read their dense output (pdbfs_record.c) */
+    if (s->on_step && !s->dense_ready && !s->lazy && s->t > s->t_old && pdbfs_erk_make_dense(s))
+        return -3;
+    if (s->on_step && s->substeps > 1) {
+        int j;
+        double *xi = s->k + 13 * s->nx;    /* free once the dense output is made */
+        for (j = 1; j < s->substeps; j++) {
+            double ti = s->t_old + (s->t - s->t_old) * j / s->substeps;
+            dense_at(s, (ti - s->t_old) / s->h_old, xi);
+            if (s->on_step(s->step_env, ti, xi)) {
+                snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", ti);
+                return PDBFS_CV_STOPPED;
+            }
+        }
+    }
+    if (s->on_step && s->on_step(s->step_env, s->t, s->y)) {
+        snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", s->t);
+        return PDBFS_CV_STOPPED;
+    }
+    return 0;
+}
+
 int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) {
     long n = 0;
     int flag;
@@ -304,28 +330,9 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
             snprintf(s->msg, sizeof s->msg, "%ld steps without reaching t = %.10g", max_steps, t_out);
             return PDBFS_CV_TOO_MUCH_WORK;
         }
-        flag = step(s, t_out);
-        if (flag == STEP_AGAIN) continue;
+        flag = pdbfs_erk_step_watched(s, t_out);
+        if (flag == PDBFS_ERK_AGAIN) continue;
         if (flag) return flag;
-        /* whoever watches the steps may read their dense output (pdbfs_record.c) */
-        if (s->on_step && !s->dense_ready && !s->lazy && s->t > s->t_old && pdbfs_erk_make_dense(s))
-            return -3;
-        if (s->on_step && s->substeps > 1) {
-            int j;
-            double *xi = s->k + 13 * s->nx;    /* free once the dense output is made */
-            for (j = 1; j < s->substeps; j++) {
-                double ti = s->t_old + (s->t - s->t_old) * j / s->substeps;
-                dense_at(s, (ti - s->t_old) / s->h_old, xi);
-                if (s->on_step(s->step_env, ti, xi)) {
-                    snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", ti);
-                    return PDBFS_CV_STOPPED;
-                }
-            }
-        }
-        if (s->on_step && s->on_step(s->step_env, s->t, s->y)) {
-            snprintf(s->msg, sizeof s->msg, "stopped by the step callback at t = %.10g", s->t);
-            return PDBFS_CV_STOPPED;
-        }
     }
     if (s->fresh || t_out == s->t) memcpy(x_out, s->y, sizeof(double) * (size_t)s->nx);
     else pdbfs_erk_dense(s, t_out, x_out);

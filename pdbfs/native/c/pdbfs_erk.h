@@ -26,6 +26,9 @@
 
 typedef struct {
     int nx, ne;
+    int nq;                   /* the last nq states are quadratures: integrals the
+                               * right-hand side does not read, left out of the error
+                               * test (their absolute tolerance must be huge) */
     PdbfsEval *ev;
     pdbfs_casadi_fn ode;      /* default pdbfs_ode */
     double rtol;
@@ -67,6 +70,14 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
  * being finite); s->t is then the time reached and s->msg says why. */
 int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out);
 
+/* One step towards t_out (the dense output is made when the step reaches it),
+ * then whoever watches the steps (on_step, substeps) sees it: 0,
+ * PDBFS_ERK_AGAIN (no step taken: call again), or a failure as
+ * pdbfs_erk_advance's.  pdbfs_erk_advance's loop, for drivers of their own
+ * (pdbfs_erk_grid.c). */
+#define PDBFS_ERK_AGAIN 1
+int pdbfs_erk_step_watched(PdbfsErk *s, double t_out);
+
 /* A step's dense output at theta in [0, 1]: y_old and the 7 x n polynomial
  * rows of the step (PdbfsErk.dense), n states, into out. */
 void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out);
@@ -88,5 +99,23 @@ void pdbfs_erk_free(PdbfsErk *s);
 int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const double *t,
                         double *X, double rtol, double atol, double max_step,
                         long long max_num_steps, double *info, char *msg, long long msglen);
+
+/* The dense output (y_old, rows: as pdbfs_erk_poly's, n states) of a step
+ * [t_old, t_old + h_old] at the times t[k0 .. k1-1] (theta clipped to [0, 1]),
+ * the first nout states into X[i * ld + k]: pdbfs_erk_poly's numbers,
+ * computed for many times at once.  0, or the first k whose state is not
+ * finite, + 1 (pdbfs_erk_grid.c) */
+long pdbfs_erk_poly_times(const double *y_old, const double *rows, int n, int nout, double t_old,
+                          double h_old, const double *t, long k0, long k1, double *X, long ld);
+
+/* The integration from where s started (t[0]) over the output grid t[1 ..
+ * nt-1] (strictly increasing), the first nout states at t[k] written into
+ * X[i * ld + k]: the numbers and the steps of pdbfs_erk_advance at every
+ * output time, with at most max_steps steps between two of them.  Returns
+ * as pdbfs_erk_advance; *reached: the outputs written (k < *reached).
+ * X NULL: the same steps, nothing written (and no dense output asked for)
+ * (pdbfs_erk_grid.c, with the drivers of one simulation) */
+int pdbfs_erk_grid(PdbfsErk *s, long nt, const double *t, int nout, double *X, long ld,
+                   long max_steps, long *reached);
 
 #endif

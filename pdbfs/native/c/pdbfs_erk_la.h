@@ -37,15 +37,16 @@
 /* up to so many states the sums are local (registers); beyond, in memory */
 #define ERK_LOCAL 16
 
-/* acc = the sum of c[j] k_j over j < nj (zero coefficients skipped) */
-ERK_INLINE void erk_combine(const int n, int nj, const double *ERK_RESTRICT c,
+/* acc = the sum of c[j] k_j over j < nj (zero coefficients skipped), of the
+ * first m of the n entries of each stage k_j */
+ERK_INLINE void erk_combine(const int m, const int n, int nj, const double *ERK_RESTRICT c,
                              const double *ERK_RESTRICT k, double *ERK_RESTRICT acc) {
     int i, j;
-    for (i = 0; i < n; i++) acc[i] = 0.0;
+    for (i = 0; i < m; i++) acc[i] = 0.0;
     for (j = 0; j < nj; j++) {
         const double cj = c[j], *kj = k + (size_t)j * (size_t)n;
         if (cj == 0.0) continue;
-        for (i = 0; i < n; i++) acc[i] += cj * kj[i];
+        for (i = 0; i < m; i++) acc[i] += cj * kj[i];
     }
 }
 
@@ -66,10 +67,13 @@ ERK_INLINE void erk_poly_n(const int n, const double *ERK_RESTRICT y_old,
     }
 }
 
-/* call f(..., n) with n a constant where it is one of the rig's counts */
-#define ERK_BY_SIZE(n, call)                                                    \
-    ((n) == PDBFS_ERK_NX + 1 ? call(PDBFS_ERK_NX + 1) : (n) == PDBFS_ERK_NX ? call(PDBFS_ERK_NX) \
-                                                                : call(n))
+/* call f(n, m) with n the states of s and m those the stages need (n less
+ * its quadratures), constants where they are the rig's counts: its states,
+ * or with the summary drivers' impulse as a quadrature */
+#define ERK_BY_SIZE(s, call)                                                    \
+    ((s)->nx == PDBFS_ERK_NX + 1 && (s)->nq == 1 ? call(PDBFS_ERK_NX + 1, PDBFS_ERK_NX)   \
+     : (s)->nx == PDBFS_ERK_NX && (s)->nq == 0 ? call(PDBFS_ERK_NX, PDBFS_ERK_NX)         \
+     : call((s)->nx, (s)->nx - (s)->nq))
 
 /* f(t, x) into out, counted; 1 when it fails or is not finite */
 ERK_INLINE int erk_rhs(PdbfsErk *s, double t, const double *x, double *out) {

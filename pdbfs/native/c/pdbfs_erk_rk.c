@@ -9,25 +9,28 @@
 #include "pdbfs_erk_table.h"
 
 /* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
- * INFINITY when a stage is not finite */
-ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n) {
+ * INFINITY when a stage is not finite.  The stages' states and the error
+ * are of the first m states only: the others are integrals (quadratures)
+ * that the right-hand side does not read and the error test leaves out */
+ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
     double local[2 * ERK_LOCAL], *k = s->k, e3 = 0.0, e5 = 0.0;
     double *acc = n <= ERK_LOCAL ? local : s->acc, *acc3 = n <= ERK_LOCAL ? local + ERK_LOCAL : s->tmp;
     int st, i;
     memcpy(k, s->f, sizeof(double) * (size_t)n);
     for (st = 1; st < NSTAGE; st++) {
-        erk_combine(n, st, RK_A + st * NK, k, acc);
-        for (i = 0; i < n; i++) s->tmp[i] = s->y[i] + h * acc[i];
+        erk_combine(m, n, st, RK_A + st * NK, k, acc);
+        for (i = 0; i < m; i++) s->tmp[i] = s->y[i] + h * acc[i];
         if (erk_rhs(s, s->t + RK_C[st] * h, s->tmp, k + st * n)) return INFINITY;
     }
-    erk_combine(n, NSTAGE, RK_B, k, acc);
+    erk_combine(n, n, NSTAGE, RK_B, k, acc);
     for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
     if (erk_rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
     /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
-     * free: acc3 may be it) */
-    erk_combine(n, NSTAGE + 1, RK_E5, k, acc);
-    erk_combine(n, NSTAGE + 1, RK_E3, k, acc3);
-    for (i = 0; i < n; i++) {
+     * free: acc3 may be it); the RMS over all n states (a quadrature's term
+     * is zero: its absolute tolerance is huge) */
+    erk_combine(m, n, NSTAGE + 1, RK_E5, k, acc);
+    erk_combine(m, n, NSTAGE + 1, RK_E3, k, acc3);
+    for (i = 0; i < m; i++) {
         double sc = s->atol[i] + s->rtol * fmax(fabs(s->y[i]), fabs(s->ynew[i]));
         double a5 = acc[i] / sc, a3 = acc3[i] / sc;
         e5 += a5 * a5;
@@ -38,20 +41,20 @@ ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n) {
 }
 
 double pdbfs_erk_attempt(PdbfsErk *s, double h) {
-#define ERK_ATTEMPT(N) attempt_n(s, h, N)
-    return ERK_BY_SIZE(s->nx, ERK_ATTEMPT);
+#define ERK_ATTEMPT(N, M) attempt_n(s, h, N, M)
+    return ERK_BY_SIZE(s, ERK_ATTEMPT);
 #undef ERK_ATTEMPT
 }
 
 /* the dense output of the step just accepted (y_old, k of the step, h_old):
  * three more stages */
-ERK_INLINE int make_dense_n(PdbfsErk *s, const int n) {
+ERK_INLINE int make_dense_n(PdbfsErk *s, const int n, const int m) {
     const double h = s->h_old, *k = s->k;
     double local[ERK_LOCAL], *acc = n <= ERK_LOCAL ? local : s->acc, *r = s->dense;
     int st, i;
     for (st = NSTAGE + 1; st < NK; st++) {
-        erk_combine(n, st, RK_A + st * NK, k, acc);
-        for (i = 0; i < n; i++) s->tmp[i] = s->y_old[i] + h * acc[i];
+        erk_combine(m, n, st, RK_A + st * NK, k, acc);
+        for (i = 0; i < m; i++) s->tmp[i] = s->y_old[i] + h * acc[i];
         if (erk_rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + st * n)) return 1;
     }
     for (i = 0; i < n; i++) {
@@ -61,7 +64,7 @@ ERK_INLINE int make_dense_n(PdbfsErk *s, const int n) {
         r[2 * n + i] = 2.0 * dy - h * (k[i] + k[NSTAGE * n + i]);
     }
     for (st = 0; st < 4; st++) {
-        erk_combine(n, NK, RK_D + st * NK, k, acc);
+        erk_combine(n, n, NK, RK_D + st * NK, k, acc);
         for (i = 0; i < n; i++) r[(3 + st) * n + i] = h * acc[i];
     }
     s->dense_ready = 1;
@@ -69,8 +72,8 @@ ERK_INLINE int make_dense_n(PdbfsErk *s, const int n) {
 }
 
 int pdbfs_erk_make_dense(PdbfsErk *s) {
-#define ERK_DENSE(N) make_dense_n(s, N)
-    return ERK_BY_SIZE(s->nx, ERK_DENSE);
+#define ERK_DENSE(N, M) make_dense_n(s, N, M)
+    return ERK_BY_SIZE(s, ERK_DENSE);
 #undef ERK_DENSE
 }
 

@@ -33,7 +33,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 5
+#define PDBFS_BATCH_ABI 6
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0

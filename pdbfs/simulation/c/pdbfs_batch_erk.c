@@ -22,9 +22,9 @@ int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const d
     PdbfsEval ev;
     PdbfsErk s;
     PdbfsCvodeSettings set;
-    double *atolv, *x;
+    double *atolv;
     void *work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
-    long long k, i;
+    long long i;
     int rc = 0;
     atolv = malloc(sizeof(double) * 2 * (PDBFS_NX + 1));
     if (!work || !atolv || pdbfs_erk_init(&s, PDBFS_NX, PDBFS_NE, &ev)) {
@@ -33,7 +33,6 @@ int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const d
         if (msg && msglen > 0) snprintf(msg, (size_t)msglen, "out of memory");
         return RC_SETUP;
     }
-    x = atolv + PDBFS_NX + 1;
     ev.p = p;
     for (i = 0; i < PDBFS_NX; i++) atolv[i] = atol;
     memset(&set, 0, sizeof set);
@@ -44,21 +43,15 @@ int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const d
     for (i = 0; i < PDBFS_NX; i++) X[i * nt] = x0[i];
     info[INFO_T] = t[0];
     rc = pdbfs_erk_start(&s, &set, t[0], x0) ? RC_NOT_FINITE : 0;
-    for (k = 1; k < nt && !rc; k++) {
-        int flag = pdbfs_erk_advance(&s, t[k], (long)max_num_steps, x);
+    if (!rc) {
+        long reached = 1;
+        int flag = pdbfs_erk_grid(&s, (long)nt, t, PDBFS_NX, X, (long)nt, (long)max_num_steps,
+                                  &reached);
+        info[INFO_T] = t[reached - 1];
         if (flag) {
             rc = flag == -3 ? RC_NOT_FINITE : flag == PDBFS_ERK_STEP_UNDERFLOW ? -3 : flag;
-            if (s.t > info[INFO_T]) info[INFO_T] = s.t < t[k] ? s.t : t[k - 1];
-            break;
+            if (reached < nt && s.t > info[INFO_T]) info[INFO_T] = s.t < t[reached] ? s.t : t[reached - 1];
         }
-        for (i = 0; i < PDBFS_NX; i++) {
-            if (!isfinite(x[i])) {
-                snprintf(s.msg, sizeof s.msg, "the solution is NaN or infinite at t = %.17g", t[k]);
-                rc = RC_NOT_FINITE;
-            }
-            X[i * nt + k] = x[i];
-        }
-        if (!rc) info[INFO_T] = t[k];
     }
     if (rc && msg && msglen > 0) snprintf(msg, (size_t)msglen, "%s", s.msg);
     info[INFO_STEPS] = (double)s.steps;

@@ -5,17 +5,14 @@
 
 #include "pdbfs_record.h"
 
-/* the roles' rates at (t, x) into out: from the explicit method's derivative
- * at its own point where x is that (its first stage of the next step, at hand:
- * no evaluation of the right-hand side), else from the right-hand side */
+/* the roles' rates at (t, x) into out (from the right-hand side) */
 static void role_rates(History *h, double t, const double *x, double *out) {
-    if (h->rk && x == h->rk->y) pdbfs_eval_txvp(h->ev, pdbfs_roles_rate, t, x, h->rk->f, out);
-    else pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, out);
+    pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, out);
 }
 
 int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
-    int j;
+    int j, roles_done = 0;
     if (h->n == h->cap) {
         long cap = h->cap ? 2 * h->cap : 256;
         double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
@@ -43,7 +40,18 @@ int pdbfs_record_step(void *env, double t, const double *x) {
         double *d = h->dn + h->n * DNREC;
         const PdbfsErk *rk = h->rk;
         int none = h->n == 0 || rk->fresh || (!rk->dense_ready && !rk->lazy);
-        if (NR > 0) role_rates(h, t, x, h->rdot + h->n * NRX);
+        if (NR > 0 && x == rk->y) {
+            /* the roles and their rates in one call, from the explicit method's
+             * derivative at its own point (its next step's first stage, at hand:
+             * no evaluation of the right-hand side) */
+            double both[2 * NRX];
+            pdbfs_eval_txvp(h->ev, pdbfs_roles_both, t, x, rk->f, both);
+            memcpy(h->r + h->n * NRX, both, sizeof(double) * NR);
+            memcpy(h->rdot + h->n * NRX, both + NR, sizeof(double) * NR);
+            roles_done = 1;
+        } else if (NR > 0) {
+            role_rates(h, t, x, h->rdot + h->n * NRX);
+        }
         d[0] = none ? t : rk->t_old;
         d[1] = none ? 0.0 : rk->h_old;
         d[2] = none ? DN_NONE : rk->dense_ready ? DN_ROWS : DN_STAGES;
@@ -53,7 +61,7 @@ int pdbfs_record_step(void *env, double t, const double *x) {
             else memcpy(d + 3 + NXQ, rk->k, sizeof(double) * 13 * NXQ);   /* made if needed */
         }
     }
-    if (NR > 0) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
+    if (NR > 0 && !roles_done) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
     for (j = 0; j < NR; j++)
         if (!isfinite(R(h, h->n, j))) h->bad = 1;
     h->n++;
@@ -141,9 +149,7 @@ static int grow_roots(History *H, int cap) {
     return 0;
 }
 
-/* record k's step with its dense output (made now from its stages, on the
- * integrator's memory, for a lazy run's step); NULL when a stage is not finite */
-static const double *step_dense(History *H, long k) {
+const double *pdbfs_step_dense(History *H, long k) {
     double *d = H->dn + k * DNREC;
     if (d[2] == DN_STAGES) {
         if (pdbfs_erk_rows(H->rk, d[0], d[1], d + 3, H->x + k * NXQ, d + 3 + NXQ, d + 3 + NXQ))
@@ -169,7 +175,7 @@ static int refine_dense(History *H, long k0, long k1, Target *q, int dir) {
         up = fa < 0 && fb >= 0;
         if (!up && !(fa > 0 && fb <= 0)) continue;
         if ((dir > 0 && !up) || (dir < 0 && up)) continue;
-        d = step_dense(H, k + 1);
+        d = pdbfs_step_dense(H, k + 1);
         if (!d) return -1;
         if (!(d[1] > 0)) continue;                         /* no step: cannot happen */
         if (n == H->rcap && grow_roots(H, H->rcap ? 2 * H->rcap : MAXR)) return -1;
@@ -240,9 +246,18 @@ int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, 
     q.level = 0.0;
     if (H->rk) {
         /* long steps: a narrow spike may hold no record near it, so every turn
-         * of the role (rate from + to -) is located on the dense output */
+         * of the role (rate from + to -) is located on the dense output, but
+         * for a turn that cannot reach the largest value found so far: its
+         * step's larger end plus twice the step times the rate's fall across
+         * it (the rate inside a step, resolved to the tolerance, does not rise
+         * above its start by as much as it falls; the oscillations that
+         * follow a pulse are turns far below its peak) */
         for (k = k0; k + 1 < k1; k++) {
-            if (!(H->rdot[k * NRX + j] > 0 && H->rdot[(k + 1) * NRX + j] <= 0)) continue;
+            const double ra = H->rdot[k * NRX + j], rb = H->rdot[(k + 1) * NRX + j];
+            if (!(ra > 0 && rb <= 0)) continue;
+            if (fmax(R(H, k, j), R(H, k + 1, j)) + 2.0 * (H->t[k + 1] - H->t[k]) * (ra - rb)
+                < *v_pk)
+                continue;
             n = refine(H, k, k + 1, &q, -1);
             if (n < 0) return -1;
             for (i = 0; i < n; i++) {

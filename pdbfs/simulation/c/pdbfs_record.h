@@ -42,6 +42,24 @@ typedef struct {
     double *rdot;             /* with rk: the roles' rates per record (NR each) */
 } History;
 
+/* record k's step with its dense output (made now from its stages, on the
+ * integrator's memory, for a lazy run's step): the record's DNREC entries;
+ * NULL when a stage is not finite */
+const double *pdbfs_step_dense(History *H, long k);
+
+/* a run kept for its trajectory (pdbfs_run_summary.c, pdbfs_run_trajectory.c):
+ * its evaluation memory, integrator (its memory makes dense output from a
+ * record's stages) and record; mem: tolerances, states and p */
+typedef struct {
+    PdbfsEval ev;
+    void *work;
+    PdbfsErk rk;
+    History H;
+    double *mem;
+} Kept;
+
+void pdbfs_kept_free(Kept *K);
+
 /* crossings of a level: times, directions (+1 up, -1 down), states (NXQ each) */
 typedef struct {
     double *t, *x;

@@ -205,6 +205,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
         return -1;
     }
     rk.ode = pdbfs_ode_q;
+    rk.nq = NQ;          /* the impulse: a quadrature */
     rk.substeps = 1;     /* peaks and crossings on the dense output of each step (record.c) */
     rk.lazy = 1;         /* made only for the steps that need it: near a root, or refined */
     x0 = atolv + NXQ;
