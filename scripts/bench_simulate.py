@@ -12,6 +12,9 @@ caches), median:
 * diffrax Dopri8 (JAX, CPU), if installed; else skipped with a note;
 * scipy solve_ivp DOP853 on the numpy right-hand side (tests/paper_equations.py).
 
+Last, pdbfs's default path and numbalsoda alone, taking turns (``--pairs``):
+the median of the pairs' ratios.
+
 Every peak is compared with a tight event-located reference
 (paper_equations.reference, rtol 1e-12). A missing peer is skipped with a note.
 
@@ -83,6 +86,7 @@ def contenders(rig):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=30)
+    ap.add_argument("--pairs", type=int, default=600, help="pdbfs and numbalsoda taking turns")
     args = ap.parse_args()
     t0 = time.perf_counter()
     from pdbfs.models import paper_rig
@@ -111,6 +115,20 @@ def main():
             runs[k]()
             ts.append(time.perf_counter() - t)
         warm[k] = float(np.median(ts))
+    # pdbfs and numbalsoda alone, taking turns (nothing else between them): the
+    # median of the pairs' ratios
+    nb_name = next((k for k in names if k.startswith("numbalsoda")), None)
+    pairs = None
+    if nb_name is not None:
+        ratios = []
+        for _ in range(args.pairs):
+            t = time.perf_counter()
+            runs[names[0]]()
+            a = time.perf_counter() - t
+            t = time.perf_counter()
+            runs[nb_name]()
+            ratios.append((time.perf_counter() - t) / a)
+        pairs = float(np.median(ratios))
     base, wbase = med[names[0]], warm[names[0]]
     w = max(map(len, runs))
     print(f"paper rig, 0-20 ms, 2001 points; tight reference peak {ref / 1e6:.6f} MPa; "
@@ -120,6 +138,9 @@ def main():
     for k in names:
         print(f"{k:<{w}} {med[k] * 1e3:8.3f} {med[k] / base:10.2f}x {warm[k] * 1e3:9.3f} "
               f"{warm[k] / wbase:10.2f}x {abs(peaks[k] - ref) / ref:11.1e}")
+    if pairs is not None:
+        print(f"pdbfs default and numbalsoda taking turns, {args.pairs} pairs: numbalsoda takes "
+              f"{pairs:.2f}x pdbfs's time (median of the pairs)")
 
 
 if __name__ == "__main__":
