@@ -116,6 +116,7 @@ class CompiledODE:
                              f"{len(dae.event_names)} names")
         self.name = dae.name
         self.nx, self.np, self.ne = dae.x.numel(), dae.p.numel(), dae.events.numel()
+        self._blocks = threading.local()     # run_summary's buffers, one per thread
         signals = getattr(dae, "signals", {}) or {}
         self.roles = [r for r in ROLES if signals.get(r) in dae.y_names]
         #: the summary keys the summary driver gives for this rig
@@ -236,31 +237,24 @@ class CompiledODE:
                                  f"method = {method!r}, max_step = {max_step}: not valid")
         keep = keep and method == "erk"
         X = None if keep else np.empty((self.nx, t.size))
-        # one buffer for the small arguments (an address costs a microsecond):
-        # p, x0, info[INFO_N], the summary values, its code, the two messages, the kept run
-        n_in = self.np + self.nx
-        buf = np.zeros(n_in + _RS_TAIL)
-        buf[:self.np] = p
-        buf[self.np:n_in] = x0
-        info, out = buf[n_in:n_in + INFO_N], buf[n_in + INFO_N:n_in + INFO_N + len(SUMMARY_KEYS)]
-        base = buf.ctypes.data
-        at = base + 8 * (n_in + INFO_N + len(SUMMARY_KEYS))     # the code, then the messages
+        b = self._blocks.__dict__.get("block")
+        if b is None:
+            b = self._blocks.block = _Block(self.np, self.nx)
+        b.p[:] = p
+        b.x0[:] = x0
+        a = b.addr
         wall = time.perf_counter()
-        code = self._run_summary(base, base + 8 * self.np, t.size, t.ctypes.data,
-                                 None if keep else X.ctypes.data,
+        code = self._run_summary(a[0], a[1], t.size, t.ctypes.data, None if keep else X.ctypes.data,
                                  float(rtol), float(atol), METHOD_CODES[method],
-                                 float(max_step or 0.0), int(max_num_steps), base + 8 * n_in,
-                                 at + 8, MSG_LEN, base + 8 * (n_in + INFO_N), at, at + 8 + MSG_LEN,
-                                 POINT_MSG_LEN * 2, base + 8 * (buf.size - 1) if keep else None)
+                                 float(max_step or 0.0), int(max_num_steps), a[2], a[3], MSG_LEN,
+                                 a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7] if keep else None)
         wall = time.perf_counter() - wall
-        raw = buf.view(np.uint8)[8 * (n_in + INFO_N + len(SUMMARY_KEYS)):]
-        i = info.tolist()
+        i = b.info.tolist()
         status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
-                           _text(raw[8:8 + MSG_LEN]), _stats(i[1], i[3], i[5], i[2], i[6], wall))
-        handle = int(buf[-1:].view(np.uint64)[0]) if keep else 0
+                           _text(b.msg), _stats(i[1], i[3], i[5], i[2], i[6], wall))
+        handle = int(b.handle[0]) if keep else 0
         kept = KeptRun(self, handle, t, status.steps) if handle else None
-        return X, status, out.copy(), int(raw[:4].view(np.intc)[0]), \
-            _text(raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN], strip=False), kept
+        return X, status, b.out.copy(), int(b.code[0]), _text(b.note, strip=False), kept
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):
@@ -308,6 +302,27 @@ class CompiledODE:
                                 int(bool(above1)), float(t0), float(t1), dur.ctypes.data, msg,
                                 POINT_MSG_LEN * 2)
         return int(ans), float(dur[0]), msg.value.decode(errors="replace")
+
+
+class _Block:
+    """One thread's buffer for run_summary's small arguments and answers: p,
+    x0, info[INFO_N], the summary values, its code, the two messages and the
+    kept run, with their addresses, made once (an address costs a
+    microsecond; C writes every answer before it returns)."""
+
+    def __init__(self, n_p: int, nx: int):
+        n_in, n_sum = n_p + nx, len(SUMMARY_KEYS)
+        self.buf = buf = np.zeros(n_in + _RS_TAIL)
+        self.p, self.x0 = buf[:n_p], buf[n_p:n_in]
+        self.info, self.out = buf[n_in:n_in + INFO_N], buf[n_in + INFO_N:n_in + INFO_N + n_sum]
+        base = buf.ctypes.data
+        at = base + 8 * (n_in + INFO_N + n_sum)          # the code, then the messages
+        self.addr = (base, base + 8 * n_p, base + 8 * n_in, at + 8, base + 8 * (n_in + INFO_N),
+                     at, at + 8 + MSG_LEN, base + 8 * (buf.size - 1))
+        raw = buf.view(np.uint8)[8 * (n_in + INFO_N + n_sum):]
+        self.code = raw[:4].view(np.intc)
+        self.msg, self.note = raw[8:8 + MSG_LEN], raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN]
+        self.handle = buf[-1:].view(np.uint64)
 
 
 class KeptRun:
