@@ -15,7 +15,7 @@ from pdbfs.native.codegen import generate, model_functions
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.compiled_build import STRAIGHT, roles_of
 
-WHICH = ("ode", "events", "roles", "roles_dot", "roles_rate", "roles_both", "ode_q")
+WHICH = ("ode", "events", "roles", "roles_dot", "roles_both", "ode_q")
 
 
 def _library(funcs, directory, straight):
@@ -51,7 +51,7 @@ def test_straight_c_is_casadis_c_to_the_bit(name, tmp_path):
     funcs = model_functions(dae, WHICH, roles=roles_of(dae),
                             quad=[force] if force in dae.y_names else [])
     ref, _ = _library(funcs, tmp_path / "casadi", ())
-    own, text = _library(funcs, tmp_path / "straight", STRAIGHT + ("pdbfs_roles_rate",))
+    own, text = _library(funcs, tmp_path / "straight", STRAIGHT)
     assert text.count("straight-line C (native/straight.py) */") >= 4, "nothing was straightened"
     rng = np.random.default_rng(7)
     p0 = sim.param_vector(None)
@@ -67,7 +67,7 @@ def test_straight_c_is_casadis_c_to_the_bit(name, tmp_path):
         for f in funcs:
             nx = f.nnz_in(1)
             xx = np.r_[x, rng.normal(size=nx - x.size)] if nx > x.size else x
-            third = rng.normal(size=f.nnz_in(2))      # z (empty) or roles_rate's v
+            third = rng.normal(size=f.nnz_in(2))      # z (empty) or roles_both's v
             args = [[t], xx, third, p]
             a, b = _call(ref, f, args), _call(own, f, args)
             for u, v in zip(a, b):

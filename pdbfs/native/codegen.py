@@ -68,10 +68,9 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     ``conditions`` (of p: the components' consistency conditions, each >= 0),
     ``reduced`` (of p: the declared starts of the states index reduction
     made algebraic, ``dae.reduced_starts``; each must equal its output at the start),
-    ``roles`` (the outputs named in ``roles``) and ``roles_rate`` (their time
-    derivatives for a state derivative v: (d/dx) v + d/dt, a function of
-    (t, x, v, p)), ``roles_both`` (both, one after the other: one call),
-    ``roles_dot`` (their derivatives along the solution),
+    ``roles`` (the outputs named in ``roles``), ``roles_both`` (the roles,
+    then their time derivatives for a state derivative v: (d/dx) v + d/dt, a
+    function of (t, x, v, p): one call), ``roles_dot`` (their derivatives along the solution),
     ``ode_q`` and ``jac_q`` (the ODE with the outputs named in ``quad``
     integrated as extra states, and its Jacobian)."""
     args, names = [dae.t, dae.x, dae.z, dae.p], ["t", "x", "z", "p"]
@@ -105,8 +104,6 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
             ca.vertcat(*[e for _, _, e in getattr(dae, "reduced_starts", None) or []])
             if getattr(dae, "reduced_starts", None) else ca.SX(0, 1))], ["p"], ["s"]),
         "roles": lambda: ca.Function("pdbfs_roles", args, [ca.densify(r)], names, ["r"]),
-        "roles_rate": lambda: ca.Function("pdbfs_roles_rate", [dae.t, dae.x, v, dae.p],
-                                          [ca.densify(r_rate)], ["t", "x", "v", "p"], ["r_dot"]),
         "roles_dot": lambda: ca.Function("pdbfs_roles_dot", args, [ca.densify(r_dot)], names,
                                          ["r_dot"]),
         "roles_both": lambda: ca.Function("pdbfs_roles_both", [dae.t, dae.x, v, dae.p],

@@ -319,7 +319,7 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
     int flag;
     while (s->t < t_out) {
         /* restarted at a root within roundoff of t_out: no step is that short */
-        if (t_out - s->t <= 16.0 * DBL_EPSILON * fabs(t_out)) {
+        if (PDBFS_ERK_NEAR(t_out, s->t)) {
             if (s->dense_ready && !s->fresh && t_out <= s->t_old + s->h_old)
                 pdbfs_erk_dense(s, t_out, x_out);
             else

@@ -14,10 +14,17 @@
 #ifndef PDBFS_ERK_H
 #define PDBFS_ERK_H
 
+#include <float.h>
+#include <math.h>
+
 #include "pdbfs_cvode.h"
 
 /* the method code of the drivers (pdbfs_cvode.h has 0 Adams, 1 BDF) */
 #define PDBFS_ERK 2
+
+/* t_out within roundoff past t (a restart at a root just short of an output
+ * time): no step is that short, the output is taken where the run is */
+#define PDBFS_ERK_NEAR(t_out, t) ((t_out) - (t) <= 16.0 * DBL_EPSILON * fabs(t_out))
 
 /* pdbfs_erk_advance's failure when the step size falls below roundoff (a
  * force blowing up, a rig too stiff for an explicit method); the drivers

@@ -103,7 +103,7 @@ int pdbfs_erk_grid(PdbfsErk *s, long nt, const double *t, int nout, double *X, l
             continue;
         }
         /* restarted at a root within roundoff of t_out: no step is that short */
-        if (t_out - s->t <= 16.0 * DBL_EPSILON * fabs(t_out)) {
+        if (PDBFS_ERK_NEAR(t_out, s->t)) {
             if (X && s->dense_ready && !s->fresh && t_out <= s->t_old + s->h_old) {
                 double *xi = s->tmp;
                 int i;

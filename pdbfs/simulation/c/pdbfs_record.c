@@ -5,11 +5,6 @@
 
 #include "pdbfs_record.h"
 
-/* the roles' rates at (t, x) into out (from the right-hand side) */
-static void role_rates(History *h, double t, const double *x, double *out) {
-    pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, out);
-}
-
 int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
     int j, roles_done = 0;
@@ -49,8 +44,8 @@ int pdbfs_record_step(void *env, double t, const double *x) {
             memcpy(h->r + h->n * NRX, both, sizeof(double) * NR);
             memcpy(h->rdot + h->n * NRX, both + NR, sizeof(double) * NR);
             roles_done = 1;
-        } else if (NR > 0) {
-            role_rates(h, t, x, h->rdot + h->n * NRX);
+        } else if (NR > 0) {                 /* the rates from the right-hand side */
+            pdbfs_eval_txp(h->ev, pdbfs_roles_dot, t, x, h->rdot + h->n * NRX);
         }
         d[0] = none ? t : rk->t_old;
         d[1] = none ? 0.0 : rk->h_old;

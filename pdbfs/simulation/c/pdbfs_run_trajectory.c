@@ -49,7 +49,7 @@ API int pdbfs_run_trajectory(void *run, long long nt, const double *t, double *X
         long k1, bad;
         while (H->t[j] < tk) {
             /* a restart at a root within roundoff of tk: no step is that short */
-            if (tk - H->t[j] <= 16.0 * DBL_EPSILON * fabs(tk)) {
+            if (PDBFS_ERK_NEAR(tk, H->t[j])) {
                 near = 1;
                 break;
             }
