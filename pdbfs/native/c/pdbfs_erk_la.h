@@ -41,13 +41,17 @@
  * first m of the n entries of each stage k_j */
 ERK_INLINE void erk_combine(const int m, const int n, int nj, const double *ERK_RESTRICT c,
                              const double *ERK_RESTRICT k, double *ERK_RESTRICT acc) {
-    int i, j;
+    int i;
     for (i = 0; i < m; i++) acc[i] = 0.0;
-    for (j = 0; j < nj; j++) {
-        const double cj = c[j], *kj = k + (size_t)j * (size_t)n;
-        if (cj == 0.0) continue;
-        for (i = 0; i < m; i++) acc[i] += cj * kj[i];
-    }
+    /* written out: where nj and c are the table's (every call), no loop over
+     * the stages and no test of a coefficient is left */
+#define ERK_TERM(j)                                                                \
+    if ((j) < nj && c[j] != 0.0)                                                   \
+        for (i = 0; i < m; i++) acc[i] += c[j] * k[(size_t)(j) * (size_t)n + i];
+    ERK_TERM(0) ERK_TERM(1) ERK_TERM(2) ERK_TERM(3) ERK_TERM(4) ERK_TERM(5)
+    ERK_TERM(6) ERK_TERM(7) ERK_TERM(8) ERK_TERM(9) ERK_TERM(10) ERK_TERM(11)
+    ERK_TERM(12) ERK_TERM(13) ERK_TERM(14) ERK_TERM(15)
+#undef ERK_TERM
 }
 
 /* the polynomial of a step's dense output at theta (pdbfs_erk_poly) */
