@@ -13,8 +13,6 @@ run further and explains.
 """
 from __future__ import annotations
 
-import math
-
 from .compiled import SUMMARY_KEYS
 from .summary import keys_for
 
@@ -45,15 +43,13 @@ def summary_of(dae, fast) -> dict | None:
     values, code, note = fast
     if code != 0 or note or values[COMPLETE] != 1.0:
         return None
-    out = {}
-    for k, i in _layout(dae):
-        v = float(values[i])
-        if k == "complete":
-            out[k] = True
-        elif math.isnan(v):
+    v = values.tolist()
+    out = {k: v[i] for k, i in _layout(dae)}
+    for k, x in out.items():
+        if x != x:                     # NaN: undefined
             if k != "restitution_coefficient":
-                return None        # a figure summary.py would give: ask it
+                return None            # a figure summary.py would give: ask it
             out[k] = None
-        else:
-            out[k] = v
+    if "complete" in out:
+        out["complete"] = True
     return out

@@ -213,7 +213,7 @@ class CompiledODE:
 
 
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
-                    max_num_steps=500000, checked=False, keep=False):
+                    max_num_steps=500000, checked=False, keep=False, t_addr=None):
         """As ``run`` (``t`` from 0), and the summary of the same integration
         (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values
         (len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
@@ -222,19 +222,25 @@ class CompiledODE:
         types and sizes are checked here (C checks them all again).
         ``keep`` with method "erk": the states on the grid are not computed
         now; X is None and ``kept`` (a KeptRun, None when the run failed) makes
-        them when asked (c/pdbfs_run_trajectory.c); else ``kept`` is None."""
-        t = np.ascontiguousarray(t, dtype=float).ravel()
-        x0 = np.ascontiguousarray(x0, dtype=float).ravel()
-        p = np.ascontiguousarray(p, dtype=float).ravel()
-        if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 or not checked \
-                and not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
+        them when asked (c/pdbfs_run_trajectory.c); else ``kept`` is None.
+        ``t_addr``: the address of ``t``'s data, where the caller has it
+        (Simulator.run's plan: a read-only grid)."""
+        if not checked:
+            t = np.ascontiguousarray(t, dtype=float).ravel()
+            x0 = np.ascontiguousarray(x0, dtype=float).ravel()
+            p = np.ascontiguousarray(p, dtype=float).ravel()
+            if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)) or \
+                    not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)
+                         and (max_step or 0.0) >= 0):
+                raise ParameterError(f"rig {self.name}: rtol = {rtol}, atol = {atol}, "
+                                     f"max_step = {max_step}, a grid from {t[0]} to {t[-1]}: "
+                                     "not valid")
+        # checked or not: the sizes, what C would read past the end of (C checks the rest again)
+        if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 or \
+                t.dtype != np.float64 or not t.flags.c_contiguous or method not in METHOD_CODES:
             raise ParameterError(f"rig {self.name}: run_summary needs {self.nx} start values, "
-                                 f"{self.np} parameters and a strictly increasing grid from 0")
-        if method not in METHOD_CODES or not checked and \
-                not (rtol > 0 and atol > 0 and np.isfinite(rtol) and np.isfinite(atol)
-                     and (max_step or 0.0) >= 0):
-            raise ParameterError(f"rig {self.name}: rtol = {rtol}, atol = {atol}, "
-                                 f"method = {method!r}, max_step = {max_step}: not valid")
+                                 f"{self.np} parameters, a strictly increasing grid from 0 "
+                                 f"(float64) and a method of {', '.join(METHOD_CODES)}")
         keep = keep and method == "erk"
         X = None if keep else np.empty((self.nx, t.size))
         b = self._blocks.__dict__.get("block")
@@ -244,7 +250,8 @@ class CompiledODE:
         b.x0[:] = x0
         a = b.addr
         wall = time.perf_counter()
-        code = self._run_summary(a[0], a[1], t.size, t.ctypes.data, None if keep else X.ctypes.data,
+        code = self._run_summary(a[0], a[1], t.size, t_addr or t.ctypes.data,
+                                 None if keep else X.ctypes.data,
                                  float(rtol), float(atol), METHOD_CODES[method],
                                  float(max_step or 0.0), int(max_num_steps), a[2], a[3], MSG_LEN,
                                  a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7] if keep else None)

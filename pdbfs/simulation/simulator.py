@@ -207,8 +207,8 @@ class Simulator(RunInputs, OnGrid):
             except TypeError:         # unhashable (a list where a number belongs): checked below
                 key = plan = None
             if plan is not None and plan[0] is dae.params:
-                grid, p, x0 = plan[1].copy(), plan[2].copy(), plan[3].copy()
-                return self._run(grid, p, x0, x0, *plan[4:])
+                grid, p, x0 = plan[1][0].copy(), plan[2].copy(), plan[3].copy()
+                return self._run(grid, p, x0, x0, *plan[4:], c_grid=plan[1])
         self.settings_ok(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
                          backend)
         if initial is not None:
@@ -233,22 +233,31 @@ class Simulator(RunInputs, OnGrid):
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
         if key is not None and init is x0 and len(self._cache) < 10_000:
-            self._cache[key] = (dae.params, grid.copy(), p.copy(), x0.copy(), rtol, atol, method,
-                                max_step, max_num_steps, backend)
+            # the plan's grid, read-only, and its address for the compiled run
+            # (an address costs two microseconds); each Result gets a copy
+            g = grid.copy()
+            g.flags.writeable = False
+            self._cache[key] = (dae.params, (g, g.ctypes.data), p.copy(), x0.copy(), rtol, atol,
+                                method, max_step, max_num_steps, backend)
         return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend)
 
-    def _run(self, grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend):
+    def _run(self, grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
+             c_grid=None):
+        """One run on ``grid``; ``c_grid``: (the same times, read-only, their
+        address) for the compiled run, from run()'s plan."""
         wall = time.perf_counter()
         fast = states = None
         if backend == "c":
             X, fast, states = self.integrate_c(grid, x0, p, rtol, atol, method, max_step,
-                                               max_num_steps, summary=True)
+                                               max_num_steps, summary=True, c_grid=c_grid)
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-        stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
-        settings = dict(rtol=rtol, atol=atol, method=method, max_step=max_step,
-                        max_num_steps=max_num_steps, backend=backend)
+        stats = self._last_stats      # a new dict of each run's own (Result keeps it)
+        stats["wall_time"] = time.perf_counter() - wall
+        stats["backend"] = backend
+        settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
+                    "max_num_steps": max_num_steps, "backend": backend}
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
                       states=states)
 
@@ -326,7 +335,7 @@ class Simulator(RunInputs, OnGrid):
         return C.compiled(self.dae)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
-                    summary=False):
+                    summary=False, c_grid=None):
         """States on ``grid`` (nx x len(grid)) from the compiled driver; with
         ``summary``, (states, the run's own summary (c_summary.py) or None,
         None) or, with the explicit method, (None, its summary, a function
@@ -338,15 +347,18 @@ class Simulator(RunInputs, OnGrid):
             return (X, None, None) if summary else X
         lib, fast, kept = self.compiled(), None, None
         if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
+            t, t_addr = c_grid or (grid, None)
             X, st, values, code, note, kept = lib.run_summary(
-                grid, x0, p, rtol, atol, method, max_step, max_num_steps, checked=True, keep=True)
+                t, x0, p, rtol, atol, method, max_step, max_num_steps, checked=True, keep=True,
+                t_addr=t_addr)
             fast = (values, code, note)
         else:
             X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
             raise compiled_failure(self.dae.name, grid, st)
-        self._last_stats = {k: v for k, v in (getattr(st, "stats", None) or {}).items()
-                            if k != "wall_time"} or {"method": method}
+        stats = dict(getattr(st, "stats", None) or {"method": method})
+        stats.pop("wall_time", None)
+        self._last_stats = stats
         if kept is not None:
             # kept while it is smaller than a few grids of states (a long run's
             # record is not: its states are made now, and it is freed)
