@@ -235,6 +235,8 @@ class CompiledODE:
                 raise ParameterError(f"rig {self.name}: rtol = {rtol}, atol = {atol}, "
                                      f"max_step = {max_step}, a grid from {t[0]} to {t[-1]}: "
                                      "not valid")
+        elif t_addr is None:
+            t = np.ascontiguousarray(t, dtype=float)
         # checked or not: the sizes, what C would read past the end of (C checks the rest again)
         if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 or \
                 t.dtype != np.float64 or not t.flags.c_contiguous or method not in METHOD_CODES:
