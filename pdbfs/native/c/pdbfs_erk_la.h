@@ -5,7 +5,8 @@
  * states, and the states with the impulse of the summary drivers), so that
  * the compiler keeps the sums of a few states in registers and unrolls them:
  * these loops were half of a run's time, more than the model's right-hand
- * side.  The sums run over the stages in their order, as the textbook's.
+ * side.  The sums run over the stages in their order, as the textbook's
+ * (a stage's last term added last, to the state: pdbfs_erk_rk.c).
  * Also what pdbfs_erk.c calls of pdbfs_erk_rk.c (internal: the library
  * exports neither).
  */
