@@ -253,9 +253,7 @@ class Simulator(RunInputs, OnGrid):
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-        stats = self._last_stats      # a new dict of each run's own (Result keeps it)
-        stats["wall_time"] = time.perf_counter() - wall
-        stats["backend"] = backend
+        stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                     "max_num_steps": max_num_steps, "backend": backend}
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
