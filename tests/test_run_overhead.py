@@ -63,6 +63,20 @@ def test_a_run_never_sees_what_an_earlier_one_was_given_or_changed(rig):
     assert again.summary()["peak_pressure"] == rig.simulate().summary()["peak_pressure"]
 
 
+def test_a_strided_grid_gives_the_states_of_the_same_grid_made_contiguous(rig):
+    # the plan passes its own grid to C by address; any other grid is made
+    # contiguous first (a strided t_out read as it lies would be other times)
+    fine = np.linspace(0.0, 0.02, 801)
+    strided, whole = rig.simulate(t_out=fine[::4]), rig.simulate(t_out=fine[::4].copy())
+    assert not fine[::4].flags.c_contiguous
+    assert np.array_equal(strided.t, whole.t)
+    assert np.array_equal(strided["piston.s"], whole["piston.s"])
+    assert strided.summary() == whole.summary()
+    # and the plan's runs agree with a run on a grid of the caller's
+    default, given = rig.simulate(), rig.simulate(t_out=np.linspace(0.0, 0.02, 2001))
+    assert np.array_equal(default["piston.s"], given["piston.s"])
+
+
 @pytest.mark.parametrize("kwargs, culprit", [
     ({"params": {"hammer.v0": float("nan")}}, "hammer.v0"),
     ({"params": {"hammer.vv0": 3.0}}, "hammer.vv0"),
