@@ -5,6 +5,9 @@ in turn), median per contender; then each in a loop of its own (warm
 caches), median:
 
 * pdbfs default path: ``rig.simulate().summary()`` with no options;
+* the same with ``params=`` new at every run, as a user's own loop over
+  parameters sets them (hammer.v0 a unit in the last place further each
+  time: the same rig, but nothing of the run before can be reused);
 * pdbfs ``backend="c", method="adams"`` (compiled CVODE, rtol 1e-8) + summary;
 * pdbfs ``backend="casadi"`` (CVODES through CasADi) + summary;
 * numbalsoda DOP853 at rtol 1e-8 (the paper's equations in numba, needs
@@ -63,8 +66,15 @@ def contenders(rig):
             warnings.simplefilter("ignore")
             return rig.simulate(backend="casadi").summary()["peak_pressure"]
 
+    v0 = [TABLE1["v0"]]
+
+    def new_params():
+        v0[0] = float(np.nextafter(v0[0], np.inf))
+        return rig.simulate(params={"hammer.v0": v0[0]}).summary()["peak_pressure"]
+
     runs = {
         "pdbfs default (simulate + summary)": lambda: rig.simulate().summary()["peak_pressure"],
+        "pdbfs default, params= new each run": new_params,
         "pdbfs backend='c', method='adams'": lambda: rig.simulate(
             backend="c", method="adams").summary()["peak_pressure"],
         "pdbfs backend='casadi'": casadi,

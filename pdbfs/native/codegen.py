@@ -36,7 +36,9 @@ from .sundials import Sundials, find_sundials
 
 #: the C shared by every generated binary: CVODE through the events
 NATIVE_C = Path(__file__).with_name("c")
-CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h")
+CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h",
+                # ... and the modes at a state, for method "auto"
+                NATIVE_C / "pdbfs_modes.c", NATIVE_C / "pdbfs_modes.h")
 #: the explicit Runge-Kutta 8(5,3) with root finding at the kinks (method "erk"),
 #: on the CVODE driver's model interface: one source for both users
 ERK_DRIVER = tuple(NATIVE_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk_screen.c",

@@ -179,11 +179,32 @@ class CompiledODE:
         tr.restype = ctypes.c_int
         tr.argtypes = [vp, ll, vp, vp, ctypes.c_char_p, ll]
         self._trajectory = tr
+        mo = lib.pdbfs_batch_modes
+        mo.restype = ctypes.c_int
+        mo.argtypes = [vp, vp, d, vp]
+        self._modes = mo
         rel = lib.pdbfs_run_release
         rel.restype = None
         rel.argtypes = [vp]
         self._release = rel
         return lib
+
+    def modes(self, x0, p, t0=0.0):
+        """(the largest modulus of an eigenvalue of d(ode)/dx at (t0, x0), the
+        fastest decay of a mode that does not oscillate), as
+        stiffness.fast_modes' eigenvalues give them; (0, 0) where the Jacobian
+        is not finite; None where the eigenvalues did not converge (the caller
+        asks LAPACK). x0 and p: float arrays of the rig's sizes."""
+        x0 = np.ascontiguousarray(x0, dtype=float)
+        p = np.ascontiguousarray(p, dtype=float)
+        if x0.size != self.nx or p.size != self.np:
+            raise ParameterError(f"rig {self.name}: {x0.size} start values and {p.size} parameters "
+                                 f"given, expected {self.nx} and {self.np}")
+        out = np.zeros(2)
+        code = self._modes(p.ctypes.data, x0.ctypes.data, float(t0), out.ctypes.data)
+        if code == RC_SETUP:
+            raise MemoryError(f"rig {self.name}: no memory for the Jacobian's modes")
+        return None if code < 0 else (float(out[0]), float(out[1]))
 
     # -- run ------------------------------------------------------------------------
     def run(self, t, x0, p, rtol, atol, method="adams", max_step=None, max_num_steps=500000):

@@ -29,6 +29,10 @@ class RunInputs:
     ``_grids`` and ``x_names``)."""
 
     check_settings = staticmethod(check_settings)
+    #: entries ``_cache`` holds at most of what is kept per parameter vector
+    #: (starts, method choices, run plans): a loop over new parameters makes
+    #: the rest anew each time
+    CACHE_MAX = 10_000
 
     def param_vector(self, params=None) -> np.ndarray:
         """The parameter vector: the defaults with ``params`` set, every value
@@ -71,8 +75,10 @@ class RunInputs:
         key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
         known = self._cache.get(key)
         if known is None:
-            if len(self._cache) > 10_000:                # sweeps: do not grow without bound
-                self._cache = {k: v for k, v in self._cache.items() if k[0] != "x0"}
+            if len(self._cache) > self.CACHE_MAX:        # sweeps: do not grow without bound
+                # every entry of a parameter vector at once (starts, method choices): a
+                # loop over new parameters pays for this once per CACHE_MAX / 2 runs
+                self._cache = {k: v for k, v in self._cache.items() if k[0] not in ("x0", "auto")}
             x0 = self.numeric("start", lambda: self.dae.function("start"))(p)
             known = self._cache[key] = (x0, bool(np.all(np.isfinite(x0))))
         if known[1] and (start is None or (type(start) is dict and not start)):

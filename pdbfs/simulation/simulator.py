@@ -31,7 +31,7 @@ from .memory import require, run_bytes
 from .on_grid import OnGrid
 from .result import Result
 from .stats import casadi_stats
-from .stiffness import choose_method, explicit_suits, fast_modes
+from .stiffness import auto_method
 
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
                        output_grid)
@@ -67,21 +67,21 @@ class Simulator(RunInputs, OnGrid):
 
     # -- integrators -------------------------------------------------------------
     def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
-        """``method``, or for "auto" the one stiffness.choose_method picks
+        """``method``, or for "auto" the one stiffness.auto_method picks
         for this start and time span (cached: repeated runs pay nothing); in
         the compiled backend a rig that is not stiff gets the explicit
-        Runge-Kutta method ("erk") instead of Adams."""
+        Runge-Kutta method ("erk") instead of Adams, and the modes are the
+        compiled library's."""
         if method != "auto":
             return method
-        key = ("auto", np.asarray(p, float).tobytes(), np.asarray(x0, float).tobytes(),
-               float(span))
-        if key not in self._cache:
-            dae = self.dae
-            lam = fast_modes(dae, p, x0) if dae.is_ode and dae.x.numel() else None
-            method, why = choose_method(dae, p, x0, span, lam)
-            erk = method == "adams" and explicit_suits(dae, p, x0, span, lam)
-            self._cache[key] = (method, why, erk)
-        chosen, _, erk = self._cache[key]
+        key = ("auto", backend == "c", np.asarray(p, float).tobytes(),
+               np.asarray(x0, float).tobytes(), float(span))
+        found = self._cache.get(key)
+        if found is None:
+            found = auto_method(self.dae, p, x0, span, self.compiled() if backend == "c" else None)
+            if len(self._cache) < self.CACHE_MAX:   # a loop over new parameters: bounded
+                self._cache[key] = found
+        chosen, _, erk = found
         return "erk" if erk and backend == "c" else chosen
 
     def resolve_backend(self, backend: str) -> str:
@@ -232,7 +232,7 @@ class Simulator(RunInputs, OnGrid):
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
-        if key is not None and init is x0 and len(self._cache) < 10_000:
+        if key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
             # the plan's grid, read-only, and its address for the compiled run
             # (an address costs two microseconds); each Result gets a copy
             g = grid.copy()

@@ -60,6 +60,25 @@ def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:
         return np.asarray(err.eigenvalues, complex)
 
 
+def rates(lam) -> tuple[float, float]:
+    """(the largest modulus of the eigenvalues ``lam``, the fastest decay
+    -Re lambda of a mode that does not oscillate, |Re| > |Im|; 0 if none):
+    all the choice below needs of them."""
+    lam = np.asarray(lam, complex)
+    decaying = lam[np.abs(lam.real) > np.abs(lam.imag)]
+    return float(np.max(np.abs(lam), initial=0.0)), float(np.max(-decaying.real, initial=0.0))
+
+
+def decide(fastest: float, rate: float, t_end: float) -> tuple[str, str, bool]:
+    """(CVODE's method, "adams" or "bdf"; why; whether the explicit method
+    suits the run instead) from the modes' ``rates`` and the run's length."""
+    if rate * t_end > STIFF_STEPS:
+        return "bdf", (f"a mode decays at {rate:.3g} 1/s without oscillating: Adams would need "
+                       f"about {rate * t_end:.3g} steps"), False
+    return ("adams", f"the fastest mode ({fastest:.3g} rad/s) oscillates or is slow: not stiff",
+            fastest * t_end <= ERK_RADIANS)
+
+
 def explicit_suits(dae, p, x0, t_end: float, lam=None) -> bool:
     """Whether the explicit method suits a run of ``t_end`` from x0: a short
     run against the fastest mode at the start (see ERK_RADIANS); ``lam``:
@@ -67,7 +86,7 @@ def explicit_suits(dae, p, x0, t_end: float, lam=None) -> bool:
     if not dae.is_ode or dae.x.numel() == 0:
         return False
     lam = fast_modes(dae, p, x0) if lam is None else lam
-    return float(np.max(np.abs(lam), initial=0.0)) * t_end <= ERK_RADIANS
+    return rates(lam)[0] * t_end <= ERK_RADIANS
 
 
 def choose_method(dae, p, x0, t_end: float, lam=None) -> tuple[str, str]:
@@ -76,10 +95,15 @@ def choose_method(dae, p, x0, t_end: float, lam=None) -> tuple[str, str]:
     if not dae.is_ode or dae.x.numel() == 0:
         return "bdf", "a DAE rig (IDAS uses BDF)"
     lam = fast_modes(dae, p, x0) if lam is None else lam
-    decaying = lam[np.abs(lam.real) > np.abs(lam.imag)]
-    rate = float(np.max(-decaying.real, initial=0.0))
-    if rate * t_end > STIFF_STEPS:
-        return "bdf", (f"a mode decays at {rate:.3g} 1/s without oscillating: Adams would need "
-                       f"about {rate * t_end:.3g} steps")
-    fastest = float(np.max(np.abs(lam), initial=0.0))
-    return "adams", f"the fastest mode ({fastest:.3g} rad/s) oscillates or is slow: not stiff"
+    return decide(*rates(lam), t_end)[:2]
+
+
+def auto_method(dae, p, x0, t_end: float, lib=None) -> tuple[str, str, bool]:
+    """method="auto" for a run of ``t_end`` from x0: decide()'s answer. The
+    modes come from the compiled library ``lib`` where given (the FMU's C,
+    pdbfs_modes.c: a few microseconds, where CasADi's Jacobian and LAPACK
+    took longer than the run), else from fast_modes."""
+    if not dae.is_ode or dae.x.numel() == 0:
+        return (*choose_method(dae, p, x0, t_end), False)
+    found = lib.modes(x0, p) if lib is not None and dae.x.numel() <= DENSE_UP_TO else None
+    return decide(*(found or rates(fast_modes(dae, p, x0))), t_end)
