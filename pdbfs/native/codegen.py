@@ -58,14 +58,16 @@ def erk_size_header(nx: int) -> str:
 FUNCS = "pdbfs_model_funcs"
 
 #: the model functions a driver can ask for
-FUNCTION_NAMES = ("ode", "jac", "out", "events", "start", "calc", "conditions", "reduced")
+FUNCTION_NAMES = ("ode", "jac", "out", "events", "events_both", "start", "calc", "conditions",
+                  "reduced")
 
 
 def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()) -> list[ca.Function]:
     """CasADi Functions ``pdbfs_<name>`` of the DAE for code generation, in
     the order of ``which``: ``ode`` (der x), ``jac`` (d ode / d x, sparse:
     its nonzeros in CasADi's column-compressed order), ``out`` (y),
-    ``events`` (event indicators), ``start``
+    ``events`` (event indicators), ``events_both`` (the indicators, then
+    their rates along a state derivative v, as ``roles_both``), ``start``
     (x0 of p), ``calc`` (``calc_expr`` of p: the calculated parameters),
     ``conditions`` (of p: the components' consistency conditions, each >= 0),
     ``reduced`` (of p: the declared starts of the states index reduction
@@ -80,6 +82,8 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     v = ca.SX.sym("v", dae.x.numel())
     r_rate = ca.jtimes(r, dae.x, v) + ca.jacobian(r, dae.t) if roles else ca.SX(0, 1)
     r_dot = ca.jtimes(r, dae.x, dae.ode) + ca.jacobian(r, dae.t) if roles else ca.SX(0, 1)
+    e = ca.densify(dae.events)
+    e_rate = ca.jtimes(e, dae.x, v) + ca.jacobian(e, dae.t) if e.numel() else ca.SX(0, 1)
     q = ca.SX.sym("q", len(quad))
     xq = ca.vertcat(dae.x, q)
     ode_q = ca.vertcat(dae.ode, *[dae.y[dae.y_names.index(n)] for n in quad])
@@ -91,6 +95,10 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
         "jac": lambda: ca.Function("pdbfs_jac", args, [ca.jacobian(dae.ode, dae.x)], names, ["jac"]),
         "out": lambda: ca.Function("pdbfs_out", args, [ca.densify(dae.y)], names, ["y"]),
         "events": lambda: ca.Function("pdbfs_events", args, [ca.densify(dae.events)], names, ["e"]),
+        # ... and their rates, for the explicit method's look inside a step (pdbfs_erk_screen.c)
+        "events_both": lambda: ca.Function("pdbfs_events_both", [dae.t, dae.x, v, dae.p],
+                                           [ca.densify(ca.vertcat(e, e_rate))],
+                                           ["t", "x", "v", "p"], ["e_and_rate"]),
         # a solved start (initial equations, free states): Newton in the C (initial.py)
         "start": lambda: solved_start_function(dae) if needs_solving(dae) else
         ca.Function("pdbfs_start", [dae.p], [ca.densify(dae.x0)], ["p"], ["x0"]),

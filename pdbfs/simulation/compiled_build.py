@@ -41,7 +41,8 @@ ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
 ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
 
 #: the model functions the drivers call (native/codegen.model_functions)
-FUNCTIONS = ("ode", "jac", "events", "start", "roles", "roles_dot", "roles_both", "ode_q", "jac_q")
+FUNCTIONS = ("ode", "jac", "events", "events_both", "start", "roles", "roles_dot", "roles_both",
+             "ode_q", "jac_q")
 #: those of the integration's inner loop, as straight-line C (native/straight.py)
 STRAIGHT = ("pdbfs_ode", "pdbfs_ode_q", "pdbfs_events", "pdbfs_roles", "pdbfs_roles_dot",
             "pdbfs_roles_both")

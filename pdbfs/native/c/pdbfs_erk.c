@@ -39,7 +39,7 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->ev = ev;
     s->ode = pdbfs_ode;
     /* y, f, y_old, ynew, tmp, acc, dense (7), k (16) */
-    s->y = malloc(sizeof(double) * (n * (6 + 7 + NK) + 5 * m));
+    s->y = malloc(sizeof(double) * (n * (6 + 7 + NK) + 7 * m));
     if (!s->y) return -100;
     s->f = s->y + n;
     s->y_old = s->f + n;
@@ -49,8 +49,8 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->dense = s->acc + n;
     s->k = s->dense + 7 * n;
     s->g_old = s->k + NK * n;
-    s->g_new = s->g_old + m;
-    s->g_tmp = s->g_new + m;
+    s->g_new = s->g_old + 2 * m;
+    s->g_tmp = s->g_new + 2 * m;
     s->g_a = s->g_tmp + m;
     s->g_b = s->g_a + m;
     return 0;
@@ -106,7 +106,7 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
         snprintf(s->msg, sizeof s->msg, "the right-hand side is not finite at t = %.10g", t0);
         return 1;
     }
-    erk_events(s, t0, s->y, s->g_old);
+    erk_events_both(s, t0, s->y, s->f, s->g_old);
     s->h = first_step(s);
     /* a start at a kink (an indicator at its root: a contact that begins at
      * t0) is a restart: the estimate above assumes a smooth solution */
@@ -205,7 +205,7 @@ static int step(PdbfsErk *s, double t_out) {
     if (s->ne > 0) {
         int part;
         double *ga = s->g_a, *gb = s->g_b;
-        erk_events(s, s->t_old + h, s->ynew, s->g_new);
+        erk_events_both(s, s->t_old + h, s->ynew, s->k + NSTAGE * n, s->g_new);
         if (s->lazy && !pdbfs_erk_near_a_root(s, h)) part = EVENT_PARTS + 1;   /* nothing to look at */
         else if (pdbfs_erk_make_dense(s)) return -3;
         else part = 1;
@@ -262,7 +262,7 @@ static int step(PdbfsErk *s, double t_out) {
             dense_at(s, th_root, s->y);
         }
         if (erk_rhs(s, s->t, s->y, s->f)) return -3;
-        erk_events(s, s->t, s->y, s->g_old);
+        erk_events_both(s, s->t, s->y, s->f, s->g_old);
         s->roots++;
         /* past a kink the solution is smooth again only to a low order (the
          * contact force grows as d^1.5): begin with a short step, grown back
@@ -277,7 +277,7 @@ static int step(PdbfsErk *s, double t_out) {
         memcpy(s->y, s->ynew, sizeof(double) * (size_t)n);
         memcpy(s->f, s->k + NSTAGE * n, sizeof(double) * (size_t)n);   /* f at the end: FSAL */
         if (first >= 0) s->roots++;                                      /* the root is the end */
-        if (s->ne > 0) memcpy(s->g_old, s->g_new, sizeof(double) * (size_t)s->ne);
+        if (s->ne > 0) memcpy(s->g_old, s->g_new, sizeof(double) * 2 * (size_t)s->ne);
         if (s->t >= t_out && !s->dense_ready && pdbfs_erk_make_dense(s)) return -3;
     }
     for (i = 0; i < n; i++)

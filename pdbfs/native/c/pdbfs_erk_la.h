@@ -95,6 +95,12 @@ ERK_INLINE void erk_events(PdbfsErk *s, double t, const double *x, double *g) {
     if (s->ne > 0) pdbfs_eval_txp(s->ev, pdbfs_events, t, x, g);
 }
 
+/* ... and their rates for the state's derivative f (dg/dx f + dg/dt) into
+ * g[ne .. 2 ne - 1]: where a step begins and ends (pdbfs_erk_near_a_root) */
+ERK_INLINE void erk_events_both(PdbfsErk *s, double t, const double *x, const double *f, double *g) {
+    if (s->ne > 0) pdbfs_eval_txvp(s->ev, pdbfs_events_both, t, x, f, g);
+}
+
 /* the indicators are also looked at inside each step, at these many equal
  * parts of it: a contact that opens and closes within one long step, which
  * the step's ends alone would not show, is found */
