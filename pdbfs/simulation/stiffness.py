@@ -79,16 +79,6 @@ def decide(fastest: float, rate: float, t_end: float) -> tuple[str, str, bool]:
             fastest * t_end <= ERK_RADIANS)
 
 
-def explicit_suits(dae, p, x0, t_end: float, lam=None) -> bool:
-    """Whether the explicit method suits a run of ``t_end`` from x0: a short
-    run against the fastest mode at the start (see ERK_RADIANS); ``lam``:
-    fast_modes' answer, if at hand."""
-    if not dae.is_ode or dae.x.numel() == 0:
-        return False
-    lam = fast_modes(dae, p, x0) if lam is None else lam
-    return rates(lam)[0] * t_end <= ERK_RADIANS
-
-
 def choose_method(dae, p, x0, t_end: float, lam=None) -> tuple[str, str]:
     """("adams" or "bdf", why) for integrating ``dae`` over [0, t_end] from x0
     (``lam``: fast_modes' answer, if at hand)."""

@@ -49,8 +49,8 @@ typedef struct {
     int dense_ready, fresh;   /* fresh: nothing integrated since the (re)start */
     int quiet;                /* the indicator restarted at (its sign is not looked at in the
                                * first step after: it is at its root, roundoff either side) */
-    /* the indicators where the step begins and ends, each followed by their
-     * rates (2 ne); at a point inside; two parts' */
+    /* the indicators: where the step begins and where it ends (each ne values,
+     * then their ne rates), at a point inside, and at two parts' ends */
     double *k, *ynew, *tmp, *acc, *g_old, *g_new, *g_tmp, *g_a, *g_b;
     pdbfs_step_fn on_step;    /* after every step (and at every restart), as pdbfs_cvode */
     void *step_env;
