@@ -134,3 +134,27 @@ def test_cli_sweep_writes_csv_and_plot(tmp_path, capsys):
     assert "unknown parameter 'nope'" in capsys.readouterr().err
     assert main(["sweep", "--set", "hammer.v0=1,2", "--set", "seal.c=1", "--zip",
                  "--out", str(out)]) == 2
+
+
+def test_points_refused_by_limits_or_conditions_are_named_among_good_ones():
+    # the runner checks a chunk's values and the components' conditions all at
+    # once; a point refused is named as a single run would name it
+    from pdbfs.models import paper_hydraulic_rig
+    rig = paper_hydraulic_rig()
+    values = [-5e4, 0.0, 5e6, float("nan"), 1e3]
+    p0 = [0.0, 0.0, 0.0, 0.0, 2e3]
+    res = pdbfs.sweep(rig, {"oil.p_vap": values, "oil.p0": p0}, grid=False, progress=False,
+                      workers=2, chunk_size=2)
+    errors = [p.error for p in res]
+    assert [p.error_type for p in res] == ["ParameterError", None, "ParameterError",
+                                           "ParameterError", None]
+    assert errors[0].startswith("oil.p_vap = -50000 Pa: must be >= 0")
+    assert errors[2].startswith("oil (Volume): the oil would start as vapour")
+    assert "oil.p_vap = 5e+06 Pa, oil.p0 = 0 Pa" in errors[2]
+    assert errors[3].startswith("oil.p_vap = nan: must be finite")
+    assert not errors[1] and not errors[4]
+    for i in (1, 4):
+        single = rig.simulate(params={"oil.p_vap": values[i], "oil.p0": p0[i]}).summary()[
+            "peak_pressure"]
+        assert res[i]["peak_pressure"] == single
+    assert list(res.frame["point"]) == list(range(len(values)))

@@ -79,16 +79,34 @@ class DAE:
     # physical consistency: (expression of p that must be >= 0, (where, text, names))
     conditions: list = field(default_factory=list)
 
-    def check_conditions(self, p) -> None:
-        """Refuse parameters that contradict each other physically (each
-        component's conditions()): a ParameterError naming them."""
+    def _conditions_function(self):
         conds = getattr(self, "conditions", None) or []
         if not conds:
-            return
+            return None
         f = self.__dict__.setdefault("_functions", {}).get("conditions")
         if f is None:
             f = self.__dict__["_functions"]["conditions"] = ca.Function(
                 "conditions", [self.p], [ca.vertcat(*[e for e, _ in conds])])
+        return f
+
+    def conditions_hold(self, P) -> np.ndarray:
+        """Per row of ``P`` (points x parameters): whether every condition
+        holds, all rows in one call (a sweep's chunk; check_conditions names
+        what fails)."""
+        P = np.atleast_2d(np.asarray(P, float))
+        f = self._conditions_function()
+        if f is None or P.shape[0] == 0:
+            return np.ones(P.shape[0], dtype=bool)
+        v = np.array(f.map(P.shape[0])(P.T), float).reshape(-1, P.shape[0])
+        return np.all(v >= 0, axis=0)
+
+    def check_conditions(self, p) -> None:
+        """Refuse parameters that contradict each other physically (each
+        component's conditions()): a ParameterError naming them."""
+        f = self._conditions_function()
+        if f is None:
+            return
+        conds = self.conditions
         p = np.asarray(p, float)
         for (_, (where, text, names)), v in zip(conds, np.array(f(p), float).ravel()):
             if not v >= 0:

@@ -313,9 +313,9 @@ class CompiledODE:
                                  stats.ctypes.data)
         if failed < 0:
             raise PdbfsError(f"rig {self.name}: the summary driver refused its input")
-        raw = msgs.raw
-        messages = [raw[i * POINT_MSG_LEN:(i + 1) * POINT_MSG_LEN].split(b"\0", 1)[0]
-                    .decode(errors="replace") for i in range(n)]
+        raw, messages, L = msgs.raw, [""] * n, POINT_MSG_LEN    # most points say nothing
+        for i in np.flatnonzero(np.frombuffer(raw, np.uint8)[:n * L:L]):
+            messages[i] = raw[i * L:(i + 1) * L].split(b"\0", 1)[0].decode(errors="replace")
         if with_stats:
             return out, codes, messages, [_stats(*row) for row in stats]
         return out, codes, messages

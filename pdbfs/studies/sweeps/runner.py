@@ -77,7 +77,26 @@ class Runner:
         P = np.repeat(self.base[None, :], n, axis=0)
         P[:, self.columns] = block
         error = [""] * n
-        for i in range(n):          # each value within its parameter's limits
+        # each value within its parameter's limits and the components' conditions
+        # held, checked a column (a chunk) at a time; a point refused is looked at
+        # alone below, for the message naming what is wrong
+        fine = np.ones(n, dtype=bool)
+        for j, info in enumerate(self.infos):
+            col = block[:, j]
+            fine &= np.isfinite(col)
+            with np.errstate(invalid="ignore"):
+                if info.positive:
+                    fine &= col > 0
+                if info.min is not None:
+                    fine &= col >= info.min
+                if info.max is not None:
+                    fine &= col <= info.max
+        if fine.any():
+            fine[fine] = self.sim.dae.conditions_hold(P[fine])
+        alone = np.flatnonzero(~fine)
+        if getattr(self.sim.dae, "reduced_starts", None):
+            alone = range(n)        # a start index reduction computes is checked per point
+        for i in alone:
             for j, info in enumerate(self.infos):
                 try:
                     check_value(block[i, j], info.name, info)
