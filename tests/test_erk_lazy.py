@@ -103,3 +103,31 @@ def test_a_kept_record_is_freed_with_its_result():
         assert res.summary()["peak_pressure"] > 0
     grown = _rss_bytes() - before
     assert grown < 50e6, f"resident memory grew by {grown / 1e6:.0f} MB"   # 2,000 records: 440 MB
+
+
+NOWHERE = """
+import ctypes, numpy as np
+from pdbfs.models import paper_rig
+from pdbfs.simulation import Simulator
+sim = Simulator.of(paper_rig())
+lib = sim.compiled()
+p = sim.param_vector(None); x0 = sim.start_vector(p, None); t = np.linspace(0, 0.02, 11)
+info, out, code = np.zeros(8), np.zeros(8), np.zeros(1, np.intc)
+msg, note = ctypes.create_string_buffer(512), ctypes.create_string_buffer(512)
+# the explicit method (2) with neither X nor keep: no place for the states
+rc = lib._run_summary(p.ctypes.data, x0.ctypes.data, t.size, t.ctypes.data, None, 5e-8, 1e-10, 2,
+                      0.0, 1000, info.ctypes.data, msg, 512, out.ctypes.data, code.ctypes.data,
+                      note, 512, None)
+print(rc, msg.value.decode())
+"""
+
+
+def test_a_run_with_nowhere_for_its_states_is_refused_not_written_through():
+    # a caller's mistake in the library's own API (every pdbfs path gives X or
+    # keeps the run): an error code and its reason, never a crash
+    import subprocess
+    import sys
+    run = subprocess.run([sys.executable, "-c", NOWHERE], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:]
+    rc, _, reason = run.stdout.strip().partition(" ")
+    assert rc == "1" and "a buffer is missing" in reason

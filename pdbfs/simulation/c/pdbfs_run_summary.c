@@ -27,6 +27,7 @@
 
 #define API __attribute__((visibility("default")))
 #define NSUM 7                 /* pdbfs_summary.c's entries */
+#define RC_BAD_INPUT 1
 #define RC_SETUP 2
 #define RC_NOT_FINITE 4
 enum { INFO_T, INFO_STEPS, INFO_ROOTS, INFO_RHS, INFO_FLAG, INFO_JAC, INFO_METHOD, INFO_N };
@@ -67,8 +68,8 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     Note err, m;
     const int erk = method == PDBFS_ERK, lazy = erk && keep;
     double *atolv, *x, *x_pk;
-    Kept *K = calloc(1, sizeof(Kept));
-    History *H = K ? &K->H : NULL;
+    Kept *K;
+    History *H;
     long long k, i;
     int rc = 0;
     err.text = msg;
@@ -78,6 +79,15 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     if (keep) *keep = NULL;
     if (err.len) msg[0] = 0;
     if (m.len) note[0] = 0;
+    /* the states go to X unless a lazy run keeps them: without either, nothing
+     * could hold them (a caller's mistake, refused rather than written through) */
+    if (!p || !x0 || !t || nt < 2 || !info || !out || !scode || (!lazy && !X)) {
+        if (err.len) snprintf(msg, err.len, "run_summary: a buffer is missing or the grid "
+                              "has fewer than 2 times");
+        return RC_BAD_INPUT;
+    }
+    K = calloc(1, sizeof(Kept));
+    H = K ? &K->H : NULL;
     for (i = 0; i < NSUM; i++) out[i] = NAN;
     for (i = 0; i < INFO_N; i++) info[i] = 0.0;
     *scode = -1;
