@@ -44,6 +44,28 @@ def test_a_pulse_cut_off_goes_to_summary_py_with_its_warning(rig):
     assert s["complete"] is False and s["pulse_duration"] is None
 
 
+@pytest.mark.parametrize("backend", ["c", "casadi"])
+def test_a_peak_at_a_windows_end_is_read_on_the_windows_last_interval(rig, backend, monkeypatch):
+    # a pulse still rising at t_end: its highest value so far is the last
+    # sample, found on the interpolant of the last interval (trusted), not by
+    # integrating again from the sample before some 25 times per peak
+    from pdbfs.simulation.simulator import Simulator
+    res = rig.simulate(0.002, n_out=201, backend=backend)      # 10 us apart: trusted
+    p = res["oil.pressure"]
+    steps = []
+    monkeypatch.setattr(Simulator, "step", lambda *a, **k: steps.append(1) or pytest.fail("step"))
+    assert res.peak("oil.pressure") == (res.t[-1], p[-1])
+    assert res.peak("oil.pressure", window=(0.0, res.t[100])) == (res.t[100], p[100])
+    assert res.peak("oil.pressure", sign=-1.0, window=(res.t[100], res.t[-1])) == (res.t[100],
+                                                                                    p[100])
+    with pytest.warns(PulseIncompleteWarning):
+        assert res.summary()["complete"] is False
+    assert not steps
+    # the solution agrees: just inside the last interval it is lower
+    monkeypatch.undo()
+    assert res.value_at("oil.pressure", res.t[-1] - 1e-6) < p[-1]
+
+
 def test_the_casadi_backend_keeps_summary_py(rig):
     res = rig.simulate(backend="casadi")
     assert res._fast is None

@@ -93,16 +93,18 @@ class Curves:
                 trusted = bool(jump * h ** 3 / 384 <= limit)
         return c, trusted
 
-    def peak(self, name, k, sign=1.0):
+    def peak(self, name, k, sign=1.0, first=0, last=None):
         """(t, value) of the largest of sign * ``name`` on the intervals next to
-        sample k, or None if either is not trusted."""
+        sample k that lie between samples ``first`` and ``last`` (a window's
+        ends; default the grid's), or None if one of them is not trusted."""
         d = self.data(name)
         if d is None:
             return None
         y = d[0]
+        last = len(self.t) - 1 if last is None else min(last, len(self.t) - 1)
         best = (float(self.t[k]), float(y[k]))
         for i in (k - 1, k):
-            if i < 0 or i >= len(self.t) - 1:
+            if i < max(first, 0) or i >= last:
                 continue
             c, trusted = self.interval(name, i)
             if not trusted:

@@ -173,7 +173,9 @@ class Result:
             k0 = int(np.searchsorted(self.t, window[0]))
             k1 = int(np.searchsorted(self.t, window[1], side="right")) - 1
         k = int(k0 + np.argmax(y[k0:k1 + 1]))
-        fast = self.curves.peak(name, k, sign) if k0 < k < k1 else None
+        # on the interpolant of the window's own intervals (at its ends too: a
+        # pulse still rising at t_end has its highest value so far there)
+        fast = self.curves.peak(name, k, sign, k0, k1) if k0 < k1 else None
         if fast is not None:
             return fast
         from scipy.optimize import minimize_scalar   # the rare case off the interpolant
