@@ -158,3 +158,22 @@ def test_points_refused_by_limits_or_conditions_are_named_among_good_ones():
             "peak_pressure"]
         assert res[i]["peak_pressure"] == single
     assert list(res.frame["point"]) == list(range(len(values)))
+
+
+def test_the_chunk_check_agrees_with_check_value_value_by_value():
+    # within_limits (a chunk at once) and check_value (one value, its message)
+    # hold the same rules: the runner trusts the first and names with the second
+    from pdbfs.modelling import Parameter, check_value, within_limits
+    specs = [Parameter(1.0, "m", "a length", positive=True),
+             Parameter(0.0, "Pa", "a pressure", min=0.0, max=1e9),
+             Parameter(0.5, "1", "a ratio", min=-1.0)]
+    values = np.array([-2.0, -1.0, 0.0, 1e-300, 0.5, 1e9, 2e9, np.inf, -np.inf, np.nan])
+    for spec in specs:
+        expected = []
+        for v in values:
+            try:
+                check_value(v, "x", spec)
+                expected.append(True)
+            except ParameterError:
+                expected.append(False)
+        assert within_limits(values, spec).tolist() == expected

@@ -20,7 +20,8 @@ FMUs or studies.
 from .component import Component, switch_times
 from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
 from .dae import DAE, ParamInfo, VarInfo
-from .symbols import Parameter, State, Variable, check_value, der, eq, time
+from .symbols import Parameter, State, Variable, check_value, der, eq, time, within_limits
 
 __all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
-           "Parameter", "State", "Variable", "check_value", "der", "eq", "switch_times", "time"]
+           "Parameter", "State", "Variable", "check_value", "der", "eq", "switch_times", "time",
+           "within_limits"]

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import casadi as ca
+import numpy as np
 
 from pdbfs.errors import ModelError
 
@@ -61,6 +62,21 @@ def check_value(value, where: str, spec) -> float:
     if spec.max is not None and v > spec.max:
         raise ParameterError(f"{where} = {v:g} {spec.unit}: must be <= {spec.max:g} ({spec.description})")
     return v
+
+
+def within_limits(values, spec):
+    """check_value's rules on an array at once: True where a value would pass
+    (finite, > 0 if ``spec.positive``, within ``spec.min`` and ``spec.max``)."""
+    v = np.asarray(values, dtype=float)
+    ok = np.isfinite(v)
+    with np.errstate(invalid="ignore"):
+        if spec.positive:
+            ok &= v > 0
+        if spec.min is not None:
+            ok &= v >= spec.min
+        if spec.max is not None:
+            ok &= v <= spec.max
+    return ok
 
 
 class Variable:

@@ -18,7 +18,7 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError
-from pdbfs.modelling import check_value, reduced_start
+from pdbfs.modelling import check_value, reduced_start, within_limits
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.initialize import needs_solving
 from pdbfs.simulation.summary import keys_for, summarize
@@ -82,15 +82,7 @@ class Runner:
         # alone below, for the message naming what is wrong
         fine = np.ones(n, dtype=bool)
         for j, info in enumerate(self.infos):
-            col = block[:, j]
-            fine &= np.isfinite(col)
-            with np.errstate(invalid="ignore"):
-                if info.positive:
-                    fine &= col > 0
-                if info.min is not None:
-                    fine &= col >= info.min
-                if info.max is not None:
-                    fine &= col <= info.max
+            fine &= within_limits(block[:, j], info)
         if fine.any():
             fine[fine] = self.sim.dae.conditions_hold(P[fine])
         alone = np.flatnonzero(~fine)

@@ -162,8 +162,6 @@ def _frame(kept):
     """The chunks' columns as one DataFrame in point order: the columns joined
     first, one frame made (a frame per chunk cost a tenth of a fast sweep)."""
     import pandas as pd
-    if not kept:
-        return pd.concat([])          # the error pandas gives for no chunks at all
     cols = {}
     for name in kept[0]:
         parts = [c[name] for c in kept]
