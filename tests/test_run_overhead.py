@@ -158,3 +158,32 @@ def test_the_components_conditions_are_checked_on_every_run():
         rig.simulate(0.001, n_out=3, params={"valve.t_open": 2 * t_close})
     assert "close before it opens" in str(err.value) and "\n" not in str(err.value)
     rig.simulate(0.001, n_out=3)                     # and the defaults still pass
+
+
+@pytest.mark.parametrize("name", ["paper", "paper-hydraulic", "hydraulic-pulse", "drop"])
+def test_new_parameters_take_their_start_and_conditions_from_the_library(name):
+    """A loop over new parameters (calibration by hand, a user's own sweep)
+    takes each run's start values and the components' conditions from the
+    compiled library (pdbfs_batch_start): bitwise the DAE's own CasADi
+    functions, at the defaults and at points around them; and a run whose
+    parameters break a condition is still refused, naming it."""
+    import casadi as ca
+    from pdbfs.models import RIGS
+    rig = RIGS[name]()
+    rig.simulate(0.001, n_out=3)
+    sim = Simulator.of(rig)
+    dae, lib = sim.dae, sim.compiled()
+    assert sim.numeric("start", None) == lib.start
+    conds = ca.Function("c", [dae.p], [ca.vertcat(*[e for e, _ in dae.conditions])]) \
+        if dae.conditions else None
+    rng = np.random.default_rng(3)
+    p0 = sim.param_vector(None)
+    for k in range(6):
+        p = p0 * (rng.uniform(0.5, 2.0, p0.size) if k else 1.0)
+        assert np.array_equal(lib.start(p), dae.function("start")(p).full().ravel())
+        if conds is not None:
+            assert sim.numeric("conditions", None) == lib.conditions
+            assert np.array_equal(lib.conditions(p), conds(p).full().ravel())
+    assert lib.nc == len(dae.conditions)
+    with pytest.raises(ParameterError, match="parameters given"):
+        lib.start(p0[:-1])

@@ -48,13 +48,13 @@ def check_value(value, where: str, spec) -> float:
     """Check ``value`` against ``spec`` (anything with unit, description, min,
     max, positive) and return it as a float."""
     from pdbfs.errors import ParameterError, plain
-    what = f"({spec.description}, {spec.unit})"
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{where} = {plain(value)}: not a number {what}") from None
+        raise ParameterError(f"{where} = {plain(value)}: not a number "
+                             f"({spec.description}, {spec.unit})") from None
     if not math.isfinite(v):
-        raise ParameterError(f"{where} = {v}: must be finite {what}")
+        raise ParameterError(f"{where} = {v}: must be finite ({spec.description}, {spec.unit})")
     if spec.positive and v <= 0:
         raise ParameterError(f"{where} = {v:g} {spec.unit}: must be > 0 ({spec.description})")
     if spec.min is not None and v < spec.min:

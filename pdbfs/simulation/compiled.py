@@ -28,6 +28,7 @@ from pdbfs.native.sundials import SundialsNotFound
 
 from . import compiled_build as build_lib
 from .compiled_build import ABI, ROLES
+from .kept import KeptRun
 
 METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
 MSG_LEN = 1024
@@ -116,6 +117,7 @@ class CompiledODE:
                              f"{len(dae.event_names)} names")
         self.name = dae.name
         self.nx, self.np, self.ne = dae.x.numel(), dae.p.numel(), dae.events.numel()
+        self.nc = len(getattr(dae, "conditions", None) or [])
         self._blocks = threading.local()     # run_summary's buffers, one per thread
         signals = getattr(dae, "signals", {}) or {}
         self.roles = [r for r in ROLES if signals.get(r) in dae.y_names]
@@ -183,6 +185,10 @@ class CompiledODE:
         mo.restype = ctypes.c_int
         mo.argtypes = [vp, vp, d, vp]
         self._modes = mo
+        st = lib.pdbfs_batch_start
+        st.restype = ctypes.c_int
+        st.argtypes = [vp, vp, vp]
+        self._start = st
         rel = lib.pdbfs_run_release
         rel.restype = None
         rel.argtypes = [vp]
@@ -195,16 +201,42 @@ class CompiledODE:
         stiffness.fast_modes' eigenvalues give them; (0, 0) where the Jacobian
         is not finite; None where the eigenvalues did not converge (the caller
         asks LAPACK). x0 and p: float arrays of the rig's sizes."""
-        x0 = np.ascontiguousarray(x0, dtype=float)
-        p = np.ascontiguousarray(p, dtype=float)
-        if x0.size != self.nx or p.size != self.np:
-            raise ParameterError(f"rig {self.name}: {x0.size} start values and {p.size} parameters "
+        if len(x0) != self.nx or len(p) != self.np:
+            raise ParameterError(f"rig {self.name}: {len(x0)} start values and {len(p)} parameters "
                                  f"given, expected {self.nx} and {self.np}")
-        out = np.zeros(2)
-        code = self._modes(p.ctypes.data, x0.ctypes.data, float(t0), out.ctypes.data)
+        b = self._block()           # the arguments where C reads them (an address costs 2 us)
+        b.p[:] = p
+        b.x0[:] = x0
+        code = self._modes(b.addr[0], b.addr[1], float(t0), b.c_addr)
         if code == RC_SETUP:
             raise MemoryError(f"rig {self.name}: no memory for the Jacobian's modes")
-        return None if code < 0 else (float(out[0]), float(out[1]))
+        return None if code < 0 else tuple(b.c[:2].tolist())
+
+    def start(self, p) -> np.ndarray:
+        """The start values of the parameters ``p`` as the compiled drivers
+        take them (pdbfs_start)."""
+        return self._of_p(p, self.nx, 0)
+
+    def conditions(self, p) -> np.ndarray:
+        """The components' conditions at the parameters ``p``, each >= 0
+        where they are consistent (pdbfs_conditions)."""
+        return self._of_p(p, self.nc, 1)
+
+    def _of_p(self, p, n, which):
+        if len(p) != self.np:
+            raise ParameterError(f"rig {self.name}: {len(p)} parameters given, expected {self.np}")
+        b = self._block()
+        b.p[:] = p
+        if n and self._start(b.addr[0], *((b.addr[1], None) if which == 0 else (None, b.c_addr))):
+            raise MemoryError(f"rig {self.name}: no memory for the start values and conditions")
+        return (b.x0 if which == 0 else b.c[:n]).copy()
+
+    def _block(self) -> "_Block":
+        """This thread's _Block (made on its first call)."""
+        b = self._blocks.__dict__.get("block")
+        if b is None:
+            b = self._blocks.block = _Block(self.np, self.nx, self.nc)
+        return b
 
     # -- run ------------------------------------------------------------------------
     def run(self, t, x0, p, rtol, atol, method="adams", max_step=None, max_num_steps=500000):
@@ -266,9 +298,7 @@ class CompiledODE:
                                  f"(float64) and a method of {', '.join(METHOD_CODES)}")
         keep = keep and method == "erk"
         X = None if keep else np.empty((self.nx, t.size))
-        b = self._blocks.__dict__.get("block")
-        if b is None:
-            b = self._blocks.block = _Block(self.np, self.nx)
+        b = self._block()
         b.p[:] = p
         b.x0[:] = x0
         a = b.addr
@@ -337,10 +367,12 @@ class CompiledODE:
 class _Block:
     """One thread's buffer for run_summary's small arguments and answers: p,
     x0, info[INFO_N], the summary values, its code, the two messages and the
-    kept run, with their addresses, made once (an address costs a
+    kept run (and pdbfs_batch_start's conditions), with their addresses, made once (an address costs a
     microsecond; C writes every answer before it returns)."""
 
-    def __init__(self, n_p: int, nx: int):
+    def __init__(self, n_p: int, nx: int, nc: int = 0):
+        self.c = np.zeros(max(nc, 2))      # pdbfs_batch_start's conditions, or the two modes
+        self.c_addr = self.c.ctypes.data
         n_in, n_sum = n_p + nx, len(SUMMARY_KEYS)
         self.buf = buf = np.zeros(n_in + _RS_TAIL)
         self.p, self.x0 = buf[:n_p], buf[n_p:n_in]
@@ -353,41 +385,6 @@ class _Block:
         self.code = raw[:4].view(np.intc)
         self.msg, self.note = raw[8:8 + MSG_LEN], raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN]
         self.handle = buf[-1:].view(np.uint64)
-
-
-class KeptRun:
-    """A run of ``run_summary(keep=True)`` kept in the library's memory
-    (its record of every step) until its states on the grid are made:
-    ``states()`` makes them on its first call (each step's dense output at
-    the grid's times in it, c/pdbfs_run_trajectory.c: the numbers of a run
-    that wrote them as it went), frees the record and answers the same
-    after; garbage collection frees it too."""
-
-    def __init__(self, lib: CompiledODE, handle: int, t: np.ndarray, steps: int):
-        self._lib, self._handle, self._t = lib, handle, t
-        self._made = None
-        self._lock = threading.Lock()
-        #: the record's size, about: per step its stages, state, roles and their rates
-        self.nbytes = 8 * (steps + 1) * (17 * (lib.nx + 1) + 2 * len(lib.roles) + 4)
-
-    def states(self) -> tuple[np.ndarray | None, int, str]:
-        """(X (nx x len(t)), 0) or (None, the driver's code, its message)."""
-        with self._lock:             # two threads reading one Result: made once, freed once
-            if self._made is not None:
-                return self._made
-            t = self._t
-            X = np.empty((self._lib.nx, t.size))
-            msg = ctypes.create_string_buffer(MSG_LEN)
-            code = self._lib._trajectory(self._handle, t.size, t.ctypes.data, X.ctypes.data, msg,
-                                         MSG_LEN)
-            self._lib._release(self._handle)
-            self._made = (None, int(code), msg.value.decode(errors="replace").strip()) if code \
-                else (X, 0, "")
-            return self._made
-
-    def __del__(self):             # never read: the record freed with its Result
-        if self._made is None:
-            self._lib._release(self._handle)
 
 
 def compiled(dae) -> CompiledODE:

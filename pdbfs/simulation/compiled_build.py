@@ -34,15 +34,15 @@ DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_r
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
                                      "pdbfs_run_trajectory.c")) + ERK_DRIVER
 HEADER = "pdbfs_batch_model.h"
-ABI = 7
+ABI = 8
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
 ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
 
 #: the model functions the drivers call (native/codegen.model_functions)
-FUNCTIONS = ("ode", "jac", "events", "events_both", "start", "roles", "roles_dot", "roles_both",
-             "ode_q", "jac_q")
+FUNCTIONS = ("ode", "jac", "events", "events_both", "start", "conditions", "roles", "roles_dot",
+             "roles_both", "ode_q", "jac_q")
 #: those of the integration's inner loop, as straight-line C (native/straight.py)
 STRAIGHT = ("pdbfs_ode", "pdbfs_ode_q", "pdbfs_events", "pdbfs_roles", "pdbfs_roles_dot",
             "pdbfs_roles_both")

@@ -7,6 +7,7 @@ Python; anything given is checked every time."""
 from __future__ import annotations
 
 import difflib
+import math
 
 import casadi as ca
 import numpy as np
@@ -47,8 +48,11 @@ class RunInputs:
 
     def _param_vector(self, params) -> np.ndarray:
         dae = self.dae
-        p = dae.p_default()
-        index = {n: i for i, n in enumerate(dae.p_names)}
+        known = self._cache.get("p_index")
+        if known is None or known[0] is not dae.params:      # a new parameter list: again
+            known = self._cache["p_index"] = (dae.params, dae.p_default(),
+                                              {n: i for i, n in enumerate(dae.p_names)})
+        p, index = known[1].copy(), known[2]
         for name, value in mapping(params, "params").items():
             if name not in index:
                 if name in dae.calculated:
@@ -64,7 +68,7 @@ class RunInputs:
         if conds:                    # the components' physical consistency
             v = self.numeric("conditions", lambda: ca.Function(
                 "conditions", [dae.p], [ca.vertcat(*[e for e, _ in conds])]))(p)
-            if not np.all(v >= 0):
+            if not (v >= 0).all():
                 dae.check_conditions(p)      # (CasADi's verdict, naming what is wrong)
         if params and getattr(dae, "reduced_starts", None):
             # a start of a state index reduction made algebraic is not free: never ignored
@@ -80,7 +84,7 @@ class RunInputs:
                 # loop over new parameters pays for this once per CACHE_MAX / 2 runs
                 self._cache = {k: v for k, v in self._cache.items() if k[0] not in ("x0", "auto")}
             x0 = self.numeric("start", lambda: self.dae.function("start"))(p)
-            known = self._cache[key] = (x0, bool(np.all(np.isfinite(x0))))
+            known = self._cache[key] = (x0, all(map(math.isfinite, x0.tolist())))
         if known[1] and (start is None or (type(start) is dict and not start)):
             return known[0].copy()                       # nothing to set, finite: as it is
         x0 = known[0].copy()
@@ -104,8 +108,15 @@ class RunInputs:
         """The first output of the CasADi Function ``make()`` as a function of
         numpy vectors, cached: for a short Function by vectorize.py's replay of
         its instructions (a quarter of the cost of a CasADi call from Python;
-        a long one costs more that way)."""
-        f = self._cache.get(("numeric", name))
+        a long one costs more that way). Where the rig's compiled library is
+        loaded, the start values and the conditions are its C (a microsecond:
+        a loop over new parameters pays for these at every run)."""
+        lib = self.dae.__dict__.get("_compiled_c")
+        key = ("numeric", name, lib is not None)
+        f = self._cache.get(key)
+        if f is None and lib is not None and (name == "conditions" or
+                                              name == "start" and not self._needs_solving()):
+            f = self._cache[key] = getattr(lib, name)
         if f is None:
             fun = make()
             fast = vectorize(fun) if fun.n_instructions() <= REPLAY_UP_TO else None
@@ -114,7 +125,7 @@ class RunInputs:
                                       for x in a])[0][:, 0].copy()
             else:
                 f = lambda *a: np.array(fun(*a), dtype=float).ravel()   # noqa: E731
-            self._cache[("numeric", name)] = f
+            self._cache[key] = f
         return f
 
     def settings_ok(self, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,

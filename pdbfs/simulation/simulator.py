@@ -78,7 +78,8 @@ class Simulator(RunInputs, OnGrid):
                np.asarray(x0, float).tobytes(), float(span))
         found = self._cache.get(key)
         if found is None:
-            lib = self.compiled() if backend == "c" and self.nx and self.dae.is_ode else None
+            # (backend "c" here: run() has refused a DAE rig already)
+            lib = self.compiled() if backend == "c" and self.nx else None
             found = auto_method(self.dae, p, x0, span, lib)
             if len(self._cache) < self.CACHE_MAX:   # a loop over new parameters: bounded
                 self._cache[key] = found

@@ -93,7 +93,10 @@ def auto_method(dae, p, x0, t_end: float, lib=None) -> tuple[str, str, bool]:
     modes come from the compiled library ``lib`` where given (the FMU's C,
     pdbfs_modes.c: a few microseconds, where CasADi's Jacobian and LAPACK
     took longer than the run), else from fast_modes."""
+    if lib is not None and lib.nx <= DENSE_UP_TO:     # (a library is of an ODE with states)
+        found = lib.modes(x0, p)
+        if found is not None:
+            return decide(*found, t_end)
     if not dae.is_ode or dae.x.numel() == 0:
         return (*choose_method(dae, p, x0, t_end), False)
-    found = lib.modes(x0, p) if lib is not None and dae.x.numel() <= DENSE_UP_TO else None
-    return decide(*(found or rates(fast_modes(dae, p, x0))), t_end)
+    return decide(*rates(fast_modes(dae, p, x0)), t_end)

@@ -34,7 +34,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 7
+#define PDBFS_BATCH_ABI 8
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0
@@ -106,6 +106,27 @@ API int pdbfs_batch_modes(const double *p, const double *x0, double t0, double *
     free(work);
     free(block);
     return rc;
+}
+
+/* For a run with new parameters p, in one call: the start values x0 (NX,
+ * pdbfs_start: the compiled drivers' start) and the components' conditions c
+ * (pdbfs_conditions, each >= 0 where p is consistent).  Either may be NULL.
+ * 0, or RC_SETUP when out of memory. */
+API int pdbfs_batch_start(const double *p, double *x0, double *c) {
+    PdbfsEval ev;
+    void *block = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
+    if (!block) return RC_SETUP;
+    ev.arg[0] = p;
+    if (x0) {
+        ev.res[0] = x0;
+        pdbfs_start(ev.arg, ev.res, ev.iw, ev.w, 0);
+    }
+    if (c) {
+        ev.res[0] = c;
+        pdbfs_conditions(ev.arg, ev.res, ev.iw, ev.w, 0);
+    }
+    free(block);
+    return RC_OK;
 }
 
 /*
