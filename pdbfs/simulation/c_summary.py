@@ -38,13 +38,12 @@ def _layout(dae) -> tuple:
 
 
 def summary_of(dae, fast) -> dict | None:
-    """Result.summary()'s dict from the run's own summary (values, code,
-    note), or None where summary.py must be asked."""
+    """Result.summary()'s dict from the run's own summary (values (a list),
+    code, note), or None where summary.py must be asked."""
     values, code, note = fast
     if code != 0 or note or values[COMPLETE] != 1.0:
         return None
-    v = values.tolist()
-    out = {k: v[i] for k, i in _layout(dae)}
+    out = {k: values[i] for k, i in _layout(dae)}
     for k, x in out.items():
         if x != x:                     # NaN: undefined
             if k != "restitution_coefficient":

@@ -268,8 +268,8 @@ class CompiledODE:
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
                     max_num_steps=500000, checked=False, keep=False, t_addr=None):
         """As ``run`` (``t`` from 0), and the summary of the same integration
-        (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values
-        (len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
+        (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values (a
+        list of len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
         the run failed), note (its warnings or failure), kept). ``checked``: the
         caller (Simulator.run) has checked the arguments already, only their
         types and sizes are checked here (C checks them all again).
@@ -290,9 +290,11 @@ class CompiledODE:
                                      "not valid")
         elif t_addr is None:
             t = np.ascontiguousarray(t, dtype=float)
-        # checked or not: the sizes, what C would read past the end of (C checks the rest again)
-        if x0.size != self.nx or p.size != self.np or t.size < 2 or t[0] != 0.0 or \
-                t.dtype != np.float64 or not t.flags.c_contiguous or method not in METHOD_CODES:
+        # checked or not: the sizes, what C would read past the end of (C checks the rest
+        # again); a grid with its address is the plan's, checked when the plan was made
+        if len(x0) != self.nx or len(p) != self.np or method not in METHOD_CODES or \
+                t_addr is None and (t.size < 2 or t[0] != 0.0 or t.dtype != np.float64
+                                    or not t.flags.c_contiguous):
             raise ParameterError(f"rig {self.name}: run_summary needs {self.nx} start values, "
                                  f"{self.np} parameters, a strictly increasing grid from 0 "
                                  f"(float64) and a method of {', '.join(METHOD_CODES)}")
@@ -314,7 +316,7 @@ class CompiledODE:
                            _text(b.msg), _stats(i[1], i[3], i[5], i[2], i[6], wall))
         handle = int(b.handle[0]) if keep else 0
         kept = KeptRun(self, handle, t, status.steps) if handle else None
-        return X, status, b.out.copy(), int(b.code[0]), _text(b.note, strip=False), kept
+        return X, status, b.out.tolist(), int(b.code[0]), _text(b.note, strip=False), kept
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):
@@ -372,6 +374,7 @@ class _Block:
 
     def __init__(self, n_p: int, nx: int, nc: int = 0):
         self.c = np.zeros(max(nc, 2))      # pdbfs_batch_start's conditions, or the two modes
+        self.calls = {}                    # replay.py's arguments of a plan's call, by its key
         self.c_addr = self.c.ctypes.data
         n_in, n_sum = n_p + nx, len(SUMMARY_KEYS)
         self.buf = buf = np.zeros(n_in + _RS_TAIL)

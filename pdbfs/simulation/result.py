@@ -23,12 +23,12 @@ from .summary import summarize
 
 class Result:
     def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None,
-                 states=None):
+                 states=None, own_stats=False):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
-        #: method, wall_time (s), backend
-        self.stats = dict(stats or {})
+        #: method, wall_time (s), backend (``own_stats``: a dict made for this Result)
+        self.stats = stats if own_stats else dict(stats or {})
         self.t = t
         self._Y = None        # all outputs, computed on first need
         self._rows = {}       # single outputs computed so far

@@ -21,7 +21,7 @@ import numpy as np
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE
 
-from . import c_summary
+from . import c_summary, replay
 from . import compiled as C
 from . import time_events as TE
 from .failures import compiled_failure, walk_failure
@@ -208,9 +208,8 @@ class Simulator(RunInputs, OnGrid):
                 plan = self._cache.get(key)
             except TypeError:         # unhashable (a list where a number belongs): checked below
                 key = plan = None
-            if plan is not None and plan[0] is dae.params:
-                grid, p, x0 = plan[1][0].copy(), plan[2].copy(), plan[3].copy()
-                return self._run(grid, p, x0, x0, *plan[4:], c_grid=plan[1])
+            if plan is not None and plan.params is dae.params:
+                return replay.run(self, plan)
         self.settings_ok(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
                          backend)
         if initial is not None:
@@ -235,12 +234,8 @@ class Simulator(RunInputs, OnGrid):
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
         if key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
-            # the plan's grid, read-only, and its address for the compiled run
-            # (an address costs two microseconds); each Result gets a copy
-            g = grid.copy()
-            g.flags.writeable = False
-            self._cache[key] = (dae.params, (g, g.ctypes.data), p.copy(), x0.copy(), rtol, atol,
-                                method, max_step, max_num_steps, backend)
+            self._cache[key] = replay.make_plan(self, key, grid, p, x0, rtol, atol, method,
+                                                max_step, max_num_steps, backend)
         return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend)
 
     def _run(self, grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
@@ -259,7 +254,7 @@ class Simulator(RunInputs, OnGrid):
         settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                     "max_num_steps": max_num_steps, "backend": backend}
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
-                      states=states)
+                      states=states, own_stats=True)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         if self.dae.x.numel() == 0:
@@ -356,20 +351,25 @@ class Simulator(RunInputs, OnGrid):
             X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
             raise compiled_failure(self.dae.name, grid, st)
-        stats = dict(getattr(st, "stats", None) or {"method": method})
+        stats = st.stats or {"method": method}      # (the run's own dict, made for it)
         stats.pop("wall_time", None)
         self._last_stats = stats
         if kept is not None:
-            # kept while it is smaller than a few grids of states (a long run's
-            # record is not: its states are made now, and it is freed)
-            if kept.nbytes <= 4 * 8 * self.nx * grid.size:
-                return None, fast, lambda: self._kept_states(kept, grid)
-            return self._kept_states(kept, grid), fast, None
+            X, states = self._kept_or_states(kept, grid)
+            return X, fast, states
         # the driver refuses a solution that is not finite (RC_NOT_FINITE), so
         # a sum (a NaN or infinity anywhere makes it one) is all it takes here
         if not np.isfinite(np.add.reduce(X, axis=None)):
             self._check_finite(grid, X)
         return (X, fast, None) if summary else X
+
+    def _kept_or_states(self, kept, grid):
+        """(None, a function making the states when first read) of a kept run
+        while its record is smaller than a few grids of states; else (the
+        states, made now: a long run's record is freed, None)."""
+        if kept.nbytes <= 4 * 8 * self.nx * grid.size:
+            return None, lambda: self._kept_states(kept, grid)
+        return self._kept_states(kept, grid), None
 
     def _kept_states(self, kept, grid):
         """The states of a kept run on its grid (integrate_c), checked as a run's."""
