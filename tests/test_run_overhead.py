@@ -247,3 +247,32 @@ def test_a_replay_that_fails_says_what_the_general_path_says(rig, monkeypatch):
     assert "\n" not in str(err.value)
     monkeypatch.setattr(lib, "_run_summary", real)
     assert rig.simulate().summary() == rig.simulate(t_out=np.linspace(0, 0.02, 2001)).summary()
+
+
+def test_a_plan_made_again_replays_its_own_grid():
+    """A rig whose parameter list is replaced (new defaults) makes a new plan
+    under the same settings; its replays read the new plan's grid, never the
+    old one's (freed with it), and give the new defaults' run."""
+    import dataclasses
+    import gc
+    rig = paper_rig()
+    dae = rig.compile()
+    first = rig.simulate(0.003)
+    rig.simulate(0.003)                                   # a replay of the first plan
+    old = dae.params
+    try:
+        dae.params = [dataclasses.replace(q, value=q.value * 1.1) if q.name == "hammer.v0" else q
+                      for q in old]
+        made = rig.simulate(0.003)                        # the new plan, made
+        gc.collect()                                      # the first plan's grid: gone,
+        junk = [np.linspace(0.0, 0.005, 2001) for _ in range(64)]   # its memory reused
+        again = rig.simulate(0.003)                       # the new plan's replay
+        del junk
+        assert again.params["hammer.v0"] == made.params["hammer.v0"] == \
+            1.1 * first.params["hammer.v0"]
+        assert again.summary() == made.summary() != first.summary()
+        assert np.array_equal(again.t, first.t)
+        assert np.array_equal(again["oil.pressure"], made["oil.pressure"])
+    finally:
+        dae.params = old
+    assert rig.simulate(0.003).summary() == first.summary()

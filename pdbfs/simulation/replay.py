@@ -66,10 +66,15 @@ def run(sim, plan: Plan):
         return _general(sim, plan)
     lib = plan.lib
     b = lib._block()
-    args = b.calls.get(plan.key)
-    if args is None:     # this thread's arguments of the call (its buffer's addresses)
+    # this thread's arguments of the call (its buffer's addresses), by the plan's key
+    # and its grid's address: a plan made again (its rig's parameter list replaced)
+    # has a grid of its own, and the old one may be freed
+    args = b.calls.get((plan.key, plan.t_addr))
+    if args is None:
+        if len(b.calls) > 64:
+            b.calls.clear()
         a = b.addr
-        args = b.calls[plan.key] = (
+        args = b.calls[(plan.key, plan.t_addr)] = (
             a[0], a[1], plan.grid.size, plan.t_addr, None, float(plan.rtol), float(plan.atol),
             METHOD_CODES["erk"], float(plan.max_step or 0.0), int(plan.max_num_steps), a[2], a[3],
             MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7])
