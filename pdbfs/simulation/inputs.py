@@ -134,7 +134,8 @@ class RunInputs:
         their types: 1 and True are not the same setting)."""
         args = (rtol, atol, method, max_step, max_num_steps, backend)
         try:
-            key = tuple((type(a), a) for a in args)
+            key = (type(rtol), rtol, type(atol), atol, type(method), method, type(max_step),
+                   max_step, type(max_num_steps), max_num_steps, type(backend), backend)
             if key in self._checked:
                 return
         except TypeError:        # unhashable (a list where a number belongs): checked below
@@ -161,14 +162,19 @@ class RunInputs:
     def grid(self, t_end, n_out, t_out=None) -> np.ndarray:
         """The output grid (settings.output_grid); the grid of a (t_end, n_out)
         is made and checked once, and copied for each run."""
+        return self.grid_kept(t_end, n_out, t_out)[0]
+
+    def grid_kept(self, t_end, n_out, t_out=None):
+        """(grid(), the kept grid read-only and its address for a compiled run,
+        or None for a grid given as t_out)."""
         if t_out is not None:
-            return output_grid(t_end, n_out, t_out)
+            return output_grid(t_end, n_out, t_out), None
         try:
             key = (type(t_end), t_end, type(n_out), n_out)
-            g = self._grids.get(key)
+            kept = self._grids.get(key)
         except TypeError:
-            return output_grid(t_end, n_out, t_out)
-        if g is None:
+            return output_grid(t_end, n_out, t_out), None
+        if kept is None:
             g = output_grid(t_end, n_out)
             if not (np.all(np.diff(g) > 0) and np.isfinite(g[-1])):   # a t_end under n_out ulps
                 raise ParameterError(f"t_end = {t_end}: too short for {n_out} distinct output "
@@ -176,8 +182,8 @@ class RunInputs:
             if len(self._grids) > 16:       # sweeps over t_end: keep a few
                 self._grids.clear()
             g.flags.writeable = False
-            self._grids[key] = g
-        return g.copy()
+            kept = self._grids[key] = (g, g.ctypes.data)
+        return kept[0].copy(), kept
 
 
 class _Unbounded:

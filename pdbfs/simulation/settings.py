@@ -53,13 +53,13 @@ def mapping(value, name: str, example: str = "'hammer.v0': 3.0") -> dict:
     from collections.abc import Mapping
     if value is None:
         return {}
-    if not isinstance(value, Mapping):
+    if type(value) is not dict and not isinstance(value, Mapping):
         raise ParameterError(f"{name} must be a dict {{name: value}}, e.g. {name}={{{example}}}; "
                              f"got a {type(value).__name__}")
-    bad = [k for k in value if not isinstance(k, str)]
-    if bad:
-        raise ParameterError(f"{name}: the key {bad[0]!r} is not a name (a str such as "
-                             f"{example.split(':')[0]})")
+    for k in value:
+        if not isinstance(k, str):
+            raise ParameterError(f"{name}: the key {k!r} is not a name (a str such as "
+                                 f"{example.split(':')[0]})")
     return dict(value)
 
 

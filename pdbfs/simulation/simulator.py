@@ -224,7 +224,7 @@ class Simulator(RunInputs, OnGrid):
                 per_point = self._cache["bytes/point"] = run_bytes(dae, 1)
             require(per_point * n_points, f"rig {dae.name}: {n_points} output points",
                     "ask for fewer (n_out, --n-out)")
-        grid = self.grid(t_end, n_out, t_out)
+        grid, kept_grid = self.grid_kept(t_end, n_out, t_out)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
         if initial is None and not self._needs_solving():
@@ -236,12 +236,12 @@ class Simulator(RunInputs, OnGrid):
         if key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
             self._cache[key] = replay.make_plan(self, key, grid, p, x0, rtol, atol, method,
                                                 max_step, max_num_steps, backend)
-        return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend)
+        return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
+                         c_grid=kept_grid)
 
     def _run(self, grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
              c_grid=None):
-        """One run on ``grid``; ``c_grid``: (the same times, read-only, their
-        address) for the compiled run, from run()'s plan."""
+        """One run on ``grid``; ``c_grid``: (the same times, read-only, their address)."""
         wall = time.perf_counter()
         fast = states = None
         if backend == "c":
