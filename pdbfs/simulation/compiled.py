@@ -213,29 +213,29 @@ class CompiledODE:
         return None if code < 0 else tuple(b.c[:2].tolist())
 
     def start(self, p) -> np.ndarray:
-        """The start values of the parameters ``p`` as the compiled drivers
-        take them (pdbfs_start)."""
-        return self._of_p(p, self.nx, 0)
+        """The start values of the parameters ``p`` (pdbfs_batch_start)."""
+        b = self._block(p)
+        if self._start(b.addr[0], b.addr[1], None):
+            raise MemoryError(f"rig {self.name}: no memory for the start values")
+        return b.x0.copy()
 
     def conditions(self, p) -> np.ndarray:
-        """The components' conditions at the parameters ``p``, each >= 0
-        where they are consistent (pdbfs_conditions)."""
-        return self._of_p(p, self.nc, 1)
+        """The components' conditions at ``p``, each >= 0 where consistent."""
+        b = self._block(p)
+        if self.nc and self._start(b.addr[0], None, b.c_addr):
+            raise MemoryError(f"rig {self.name}: no memory for the conditions")
+        return b.c[:self.nc].copy()
 
-    def _of_p(self, p, n, which):
-        if len(p) != self.np:
-            raise ParameterError(f"rig {self.name}: {len(p)} parameters given, expected {self.np}")
-        b = self._block()
-        b.p[:] = p
-        if n and self._start(b.addr[0], *((b.addr[1], None) if which == 0 else (None, b.c_addr))):
-            raise MemoryError(f"rig {self.name}: no memory for the start values and conditions")
-        return (b.x0 if which == 0 else b.c[:n]).copy()
-
-    def _block(self) -> "_Block":
-        """This thread's _Block (made on its first call)."""
+    def _block(self, p=None) -> "_Block":
+        """This thread's _Block (made on its first call), holding ``p`` if given."""
         b = self._blocks.__dict__.get("block")
         if b is None:
             b = self._blocks.block = _Block(self.np, self.nx, self.nc)
+        if p is not None:
+            if len(p) != self.np:
+                raise ParameterError(f"rig {self.name}: {len(p)} parameters given, "
+                                     f"expected {self.np}")
+            b.p[:] = p
         return b
 
     # -- run ------------------------------------------------------------------------
@@ -369,8 +369,9 @@ class CompiledODE:
 class _Block:
     """One thread's buffer for run_summary's small arguments and answers: p,
     x0, info[INFO_N], the summary values, its code, the two messages and the
-    kept run (and pdbfs_batch_start's conditions), with their addresses, made once (an address costs a
-    microsecond; C writes every answer before it returns)."""
+    kept run (and the conditions or modes of pdbfs_batch_start and _modes),
+    with their addresses, made once (an address costs a microsecond; C
+    writes every answer before it returns)."""
 
     def __init__(self, n_p: int, nx: int, nc: int = 0):
         self.c = np.zeros(max(nc, 2))      # pdbfs_batch_start's conditions, or the two modes

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import c_summary
-from .compiled import METHOD_CODES, MSG_LEN, POINT_MSG_LEN, _text, solver_name
+from .compiled import METHOD_CODES, MSG_LEN, POINT_MSG_LEN, _stats, _text
 from .kept import KeptRun
 from .result import Result
 
@@ -31,53 +31,45 @@ class Plan:
 
     key: tuple
     params: list            # the DAE's parameter list the plan was made for (identity)
-    grid: np.ndarray        # read-only
-    t_addr: int             # the grid's address (an address costs 2 us)
+    grid: np.ndarray        # the simulator's kept grid: read-only
+    t_addr: int             # its address (an address costs 2 us)
     p: np.ndarray
     x0: np.ndarray
-    rtol: float
-    atol: float
-    method: str
-    max_step: float | None
-    max_num_steps: int
-    backend: str
-    fast: bool = False      # the compiled run and its own summary (run())
-    lib: object | None = None      # with fast: the rig's CompiledODE
-    settings: dict | None = None   # as a Result has them (a copy for each)
+    settings: dict          # rtol, atol, method, max_step, max_num_steps, backend (as in a Result)
+    lib: object | None      # the rig's CompiledODE where run() answers (the compiled run and
+                            # its own summary), else None: the general way
 
 
-def make_plan(sim, key, grid, p, x0, rtol, atol, method, max_step, max_num_steps,
+def make_plan(sim, key, kept_grid, p, x0, rtol, atol, method, max_step, max_num_steps,
               backend) -> Plan:
-    g = grid.copy()
-    g.flags.writeable = False
-    plan = Plan(key, sim.dae.params, g, g.ctypes.data, p.copy(), x0.copy(), rtol, atol, method,
-                max_step, max_num_steps, backend)
-    plan.fast = (backend == "c" and method == "erk" and sim.nx > 0 and g[0] == 0.0
-                 and c_summary.usable(sim.dae, sim.compiled()))
-    plan.lib = sim.compiled() if plan.fast else None
-    plan.settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
-                     "max_num_steps": max_num_steps, "backend": backend}
-    return plan
+    """The plan of a run on ``kept_grid`` (Simulator.grid_kept's (grid, address))."""
+    g, addr = kept_grid
+    fast = (backend == "c" and method == "erk" and sim.nx > 0 and g[0] == 0.0
+            and c_summary.usable(sim.dae, sim.compiled()))
+    settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
+                "max_num_steps": max_num_steps, "backend": backend}
+    return Plan(key, sim.dae.params, g, addr, p.copy(), x0.copy(), settings,
+                sim.compiled() if fast else None)
 
 
 def run(sim, plan: Plan):
     """The plan's run: its Result."""
-    if not plan.fast:
+    lib, s = plan.lib, plan.settings
+    if lib is None:
         return _general(sim, plan)
-    lib = plan.lib
     b = lib._block()
     # this thread's arguments of the call (its buffer's addresses), by the plan's key
     # and its grid's address: a plan made again (its rig's parameter list replaced)
-    # has a grid of its own, and the old one may be freed
+    # may have another grid, and the old one may be freed
     args = b.calls.get((plan.key, plan.t_addr))
     if args is None:
         if len(b.calls) > 64:
             b.calls.clear()
         a = b.addr
         args = b.calls[(plan.key, plan.t_addr)] = (
-            a[0], a[1], plan.grid.size, plan.t_addr, None, float(plan.rtol), float(plan.atol),
-            METHOD_CODES["erk"], float(plan.max_step or 0.0), int(plan.max_num_steps), a[2], a[3],
-            MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7])
+            a[0], a[1], plan.grid.size, plan.t_addr, None, float(s["rtol"]), float(s["atol"]),
+            METHOD_CODES["erk"], float(s["max_step"] or 0.0), int(s["max_num_steps"]), a[2],
+            a[3], MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7])
     b.p[:] = plan.p
     b.x0[:] = plan.x0
     wall = time.perf_counter()
@@ -93,16 +85,14 @@ def run(sim, plan: Plan):
     fast = (b.out.tolist(), int(b.code[0]), _text(b.note, strip=False))
     grid = plan.grid.copy()
     X, states = sim._kept_or_states(kept, grid)
-    stats = {"steps": int(i[1]), "rhs_evals": int(i[3]), "jac_evals": int(i[5]),
-             "root_events": int(i[2]), "method": solver_name(i[6])}
-    sim._last_stats = stats
-    stats = dict(stats, wall_time=wall, backend="c")
-    return Result(sim, grid, plan.p.copy(), X, np.zeros((0, grid.size)), dict(plan.settings),
-                  stats, fast_summary=fast, initial=plan.x0.copy(), states=states, own_stats=True)
+    stats = _stats(i[1], i[3], i[5], i[2], i[6], wall)
+    stats["backend"] = "c"
+    return Result(sim, grid, plan.p.copy(), X, np.zeros((0, grid.size)), dict(s), stats,
+                  fast_summary=fast, initial=plan.x0.copy(), states=states, own_stats=True)
 
 
 def _general(sim, plan: Plan):
-    x0 = plan.x0.copy()
-    return sim._run(plan.grid.copy(), plan.p.copy(), x0, x0, plan.rtol, plan.atol, plan.method,
-                    plan.max_step, plan.max_num_steps, plan.backend,
+    s, x0 = plan.settings, plan.x0.copy()
+    return sim._run(plan.grid.copy(), plan.p.copy(), x0, x0, s["rtol"], s["atol"], s["method"],
+                    s["max_step"], s["max_num_steps"], s["backend"],
                     c_grid=(plan.grid, plan.t_addr))

@@ -234,7 +234,7 @@ class Simulator(RunInputs, OnGrid):
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
         if key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
-            self._cache[key] = replay.make_plan(self, key, grid, p, x0, rtol, atol, method,
+            self._cache[key] = replay.make_plan(self, key, kept_grid, p, x0, rtol, atol, method,
                                                 max_step, max_num_steps, backend)
         return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
                          c_grid=kept_grid)
