@@ -44,8 +44,10 @@ def test_a_default_run_and_its_summary_do_the_rig_s_work_once(rig):
                  "dae.py:p_default", "summary.py:keys_for", "dae.py:function",
                  "summary_run.py:summary_run"):
         assert once not in calls, once
-    # and a run again is a replay of its plan: a few Python frames (replay.py: why)
-    assert len(calls) < 30, calls
+    # and a run again is a replay of its plan, found by the rig itself: a few
+    # Python frames, none of Simulator.run's arguments and checks (replay.py: why)
+    assert "simulator.py:run" not in calls and "rig.py:_output_checks" not in calls
+    assert len(calls) < 20, calls
 
 
 def test_a_run_never_sees_what_an_earlier_one_was_given_or_changed(rig):
@@ -276,3 +278,38 @@ def test_a_plan_made_again_replays_its_own_grid():
     finally:
         dae.params = old
     assert rig.simulate(0.003).summary() == first.summary()
+
+
+def test_threads_replaying_one_plan_each_get_their_own_run(rig):
+    """The replay's arguments are per thread (each its own answer buffer) and
+    the plan's parameters and start are only read: runs in parallel threads
+    are each the run alone."""
+    from concurrent.futures import ThreadPoolExecutor
+    alone = rig.simulate()
+    with ThreadPoolExecutor(4) as pool:
+        runs = list(pool.map(lambda _: rig.simulate(), range(64)))
+    for r in runs:
+        assert r.summary() == alone.summary()
+        assert {k: v for k, v in r.stats.items() if k != "wall_time"} == \
+            {k: v for k, v in alone.stats.items() if k != "wall_time"}
+    assert np.array_equal(runs[-1]["oil.pressure"], alone["oil.pressure"])
+
+
+def test_a_block_unpacks_what_its_views_read(rig):
+    """Block.unpack reads info, the summary's values, its code, the note's
+    first byte and the kept run's handle from the offsets the views use."""
+    lib = Simulator.of(rig).compiled()
+    b = lib._block()
+    b.buf[:] = np.arange(b.buf.size) + 0.5
+    b.code[0] = -7
+    b.note[0] = 65
+    b.handle[0] = 2**63 + 12345
+    a = b.unpack(b.buf)
+    n_info, n_out = b.info.size, b.out.size
+    assert list(a[:n_info]) == b.info.tolist() and list(a[n_info:n_info + n_out]) == b.out.tolist()
+    assert a[n_info + n_out:] == (-7, 65, 2**63 + 12345)
+    addr = b.buf.ctypes.data
+    assert b.addr[2] == addr + 8 * (b.p.size + b.x0.size) == b.info.ctypes.data
+    b.buf[:] = 0.0
+    assert (b.addr[3], b.addr[5], b.addr[6]) == (b.msg.ctypes.data, b.code.ctypes.data,
+                                               b.note.ctypes.data)

@@ -13,6 +13,8 @@ run further and explains.
 """
 from __future__ import annotations
 
+from operator import itemgetter
+
 from .compiled import SUMMARY_KEYS
 from .summary import keys_for
 
@@ -29,11 +31,12 @@ def usable(dae, lib) -> bool:
 
 
 def _layout(dae) -> tuple:
-    """(key, its index in SUMMARY_KEYS) of the rig's summary keys, once per DAE."""
-    layout = dae.__dict__.get("_c_summary_layout")
-    if layout is None:
-        layout = dae.__dict__["_c_summary_layout"] = tuple(
-            (k, SUMMARY_KEYS.index(k)) for k in keys_for(dae))
+    """(the rig's summary keys, a function picking their values from
+    SUMMARY_KEYS' order as a tuple), once per DAE."""
+    keys = tuple(keys_for(dae))
+    at = [SUMMARY_KEYS.index(k) for k in keys]
+    layout = dae.__dict__["_c_summary_layout"] = (keys, lambda v: tuple(v[i] for i in at)) \
+        if len(at) < 2 else (keys, itemgetter(*at))
     return layout
 
 
@@ -43,12 +46,16 @@ def summary_of(dae, fast) -> dict | None:
     values, code, note = fast
     if code != 0 or note or values[COMPLETE] != 1.0:
         return None
-    out = {k: values[i] for k, i in _layout(dae)}
-    for k, x in out.items():
-        if x != x:                     # NaN: undefined
-            if k != "restitution_coefficient":
-                return None            # a figure summary.py would give: ask it
-            out[k] = None
+    keys, pick = dae.__dict__.get("_c_summary_layout") or _layout(dae)
+    picked = pick(values)
+    out = dict(zip(keys, picked))
+    total = sum(picked)
+    if total != total:                 # a NaN among them (undefined): which
+        for k, x in out.items():
+            if x != x:
+                if k != "restitution_coefficient":
+                    return None        # a figure summary.py would give: ask it
+                out[k] = None
     if "complete" in out:
         out["complete"] = True
     return out

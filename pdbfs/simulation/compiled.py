@@ -27,6 +27,7 @@ from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
 from . import compiled_build as build_lib
+from .block import Block
 from .compiled_build import ABI, ROLES
 from .kept import KeptRun
 
@@ -51,9 +52,6 @@ RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
 #: a summary point whose pressure crossings do not alternate (c/pdbfs_summary.c)
 RC_BAD_CROSSINGS = 6
 INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
-#: run_summary's buffer after p and x0: info, the summary values, the summary code (one
-#: double's room) and the messages (MSG_LEN + 2 POINT_MSG_LEN bytes)
-_RS_TAIL = INFO_N + len(SUMMARY_KEYS) + 1 + (MSG_LEN + 2 * POINT_MSG_LEN + 7) // 8 + 1
 NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
 
 
@@ -226,11 +224,12 @@ class CompiledODE:
             raise MemoryError(f"rig {self.name}: no memory for the conditions")
         return b.c[:self.nc].copy()
 
-    def _block(self, p=None) -> "_Block":
-        """This thread's _Block (made on its first call), holding ``p`` if given."""
+    def _block(self, p=None) -> Block:
+        """This thread's Block (made on its first call), holding ``p`` if given."""
         b = self._blocks.__dict__.get("block")
         if b is None:
-            b = self._blocks.block = _Block(self.np, self.nx, self.nc)
+            b = self._blocks.block = Block(self.np, self.nx, self.nc, INFO_N, len(SUMMARY_KEYS),
+                                           MSG_LEN, 2 * POINT_MSG_LEN)
         if p is not None:
             if len(p) != self.np:
                 raise ParameterError(f"rig {self.name}: {len(p)} parameters given, "
@@ -364,31 +363,6 @@ class CompiledODE:
                                 int(bool(above1)), float(t0), float(t1), dur.ctypes.data, msg,
                                 POINT_MSG_LEN * 2)
         return int(ans), float(dur[0]), msg.value.decode(errors="replace")
-
-
-class _Block:
-    """One thread's buffer for run_summary's small arguments and answers: p,
-    x0, info[INFO_N], the summary values, its code, the two messages and the
-    kept run (and the conditions or modes of pdbfs_batch_start and _modes),
-    with their addresses, made once (an address costs a microsecond; C
-    writes every answer before it returns)."""
-
-    def __init__(self, n_p: int, nx: int, nc: int = 0):
-        self.c = np.zeros(max(nc, 2))      # pdbfs_batch_start's conditions, or the two modes
-        self.calls = {}                    # replay.py's arguments of a plan's call, by its key
-        self.c_addr = self.c.ctypes.data
-        n_in, n_sum = n_p + nx, len(SUMMARY_KEYS)
-        self.buf = buf = np.zeros(n_in + _RS_TAIL)
-        self.p, self.x0 = buf[:n_p], buf[n_p:n_in]
-        self.info, self.out = buf[n_in:n_in + INFO_N], buf[n_in + INFO_N:n_in + INFO_N + n_sum]
-        base = buf.ctypes.data
-        at = base + 8 * (n_in + INFO_N + n_sum)          # the code, then the messages
-        self.addr = (base, base + 8 * n_p, base + 8 * n_in, at + 8, base + 8 * (n_in + INFO_N),
-                     at, at + 8 + MSG_LEN, base + 8 * (buf.size - 1))
-        raw = buf.view(np.uint8)[8 * (n_in + INFO_N + n_sum):]
-        self.code = raw[:4].view(np.intc)
-        self.msg, self.note = raw[8:8 + MSG_LEN], raw[8 + MSG_LEN:8 + MSG_LEN + 2 * POINT_MSG_LEN]
-        self.handle = buf[-1:].view(np.uint64)
 
 
 def compiled(dae) -> CompiledODE:

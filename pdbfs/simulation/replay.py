@@ -1,25 +1,28 @@
 """A run with everything of a run before: the rig's own parameters and start,
 the same settings (``Simulator.run``'s plan). Nothing is decided or checked
-again: the compiled call, and its Result.
+again: the compiled call, and its Result. ``rig.simulate()`` with no options
+finds its plan itself (``own``: kept on the DAE by t_end), without
+Simulator.run's arguments and key.
 
 Why a path of its own: Python's share of a run is paid again in full after
 other work. Measured on this project's machine, the first Python after 5 ms
 of other Python ran 2-4x slower than warm (a chain of 120 calls: 15 -> 41
 us), while compiled code lost a tenth; so between other tools a compiled run
 took 0.2 ms of C and up to 0.1 ms of Python. Here the Python is a few
-frames; anything but a run that went well and whose summary the driver gave
-(a failure, a pulse cut off at t_end, ...) goes the general way,
-``Simulator._run``, and is answered (and explained) there.
+frames (C reads the plan's own parameters and start, and its answers come
+back in one unpacking); anything but a run that went well and whose summary
+the driver gave (a failure, a pulse cut off at t_end, ...) goes the general
+way, ``Simulator._run``, and is answered (and explained) there.
 """
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import c_summary
-from .compiled import METHOD_CODES, MSG_LEN, POINT_MSG_LEN, _stats, _text
+from .compiled import INFO_N, METHOD_CODES, MSG_LEN, POINT_MSG_LEN, SUMMARY_KEYS, _stats, _text
 from .kept import KeptRun
 from .result import Result
 
@@ -33,11 +36,22 @@ class Plan:
     params: list            # the DAE's parameter list the plan was made for (identity)
     grid: np.ndarray        # the simulator's kept grid: read-only
     t_addr: int             # its address (an address costs 2 us)
-    p: np.ndarray
-    x0: np.ndarray
+    p: np.ndarray           # never written: C reads it where it is
+    x0: np.ndarray          # the same
     settings: dict          # rtol, atol, method, max_step, max_num_steps, backend (as in a Result)
     lib: object | None      # the rig's CompiledODE where run() answers (the compiled run and
                             # its own summary), else None: the general way
+    #: each thread's call: its Block -> (the arguments, where the summary's values are in
+    #: the Block's unpacked answers); the plan holds every array whose address is there
+    calls: dict = field(default_factory=dict)
+    Z: np.ndarray | None = None     # a Result's algebraic outputs: none (no element: shared)
+
+
+def key(t_end, n_out, rtol, atol, method, max_step, max_num_steps, backend) -> tuple:
+    """The cache key of Simulator.run's plan for these settings (their types
+    too: 1 and 1.0 are not the same request)."""
+    return ("plan", type(t_end), t_end, type(n_out), n_out, type(rtol), rtol, type(atol), atol,
+            method, type(max_step), max_step, type(max_num_steps), max_num_steps, backend)
 
 
 def make_plan(sim, key, kept_grid, p, x0, rtol, atol, method, max_step, max_num_steps,
@@ -48,47 +62,70 @@ def make_plan(sim, key, kept_grid, p, x0, rtol, atol, method, max_step, max_num_
             and c_summary.usable(sim.dae, sim.compiled()))
     settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                 "max_num_steps": max_num_steps, "backend": backend}
-    return Plan(key, sim.dae.params, g, addr, p.copy(), x0.copy(), settings,
-                sim.compiled() if fast else None)
+    p, x0 = p.copy(), x0.copy()
+    p.flags.writeable = x0.flags.writeable = False     # C reads them where they are
+    return Plan(key, sim.dae.params, g, addr, p, x0, settings,
+                sim.compiled() if fast else None, Z=np.zeros((0, g.size)))
+
+
+def own(sim, t_end):
+    """``sim.run(t_end)`` (Rig.simulate() with no options), its plan kept on the
+    DAE by ``t_end`` for the next such call: Rig.simulate replays it without
+    Simulator.run's arguments and checks."""
+    r = sim.run(t_end)
+    d = type(sim).run.__kwdefaults__         # run's defaults: the key run() made
+    plan = sim._cache.get(key(t_end, type(sim).run.__defaults__[1], d["rtol"], d["atol"],
+                              d["method"], d["max_step"], d["max_num_steps"], d["backend"])) \
+        if type(t_end) is float else None
+    if plan is not None:
+        plans = sim.dae.__dict__.setdefault("_own_plans", {})
+        if len(plans) > 16:
+            plans.clear()
+        plans[t_end] = (sim, plan)
+    return r
 
 
 def run(sim, plan: Plan):
     """The plan's run: its Result."""
-    lib, s = plan.lib, plan.settings
+    lib = plan.lib
     if lib is None:
         return _general(sim, plan)
-    b = lib._block()
-    # this thread's arguments of the call (its buffer's addresses), by the plan's key
-    # and its grid's address: a plan made again (its rig's parameter list replaced)
-    # may have another grid, and the old one may be freed
-    args = b.calls.get((plan.key, plan.t_addr))
-    if args is None:
-        if len(b.calls) > 64:
-            b.calls.clear()
-        a = b.addr
-        args = b.calls[(plan.key, plan.t_addr)] = (
-            a[0], a[1], plan.grid.size, plan.t_addr, None, float(s["rtol"]), float(s["atol"]),
-            METHOD_CODES["erk"], float(s["max_step"] or 0.0), int(s["max_num_steps"]), a[2],
-            a[3], MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7])
-    b.p[:] = plan.p
-    b.x0[:] = plan.x0
+    b = lib._blocks.__dict__.get("block") or lib._block()
+    call = plan.calls.get(b)
+    if call is None:
+        call = _call(plan, b)
+    args, i1, i2 = call
     wall = time.perf_counter()
     code = lib._run_summary(*args)
     wall = time.perf_counter() - wall
-    handle = int(b.handle[0])
+    a = b.unpack(b.buf)        # info[0..6], the summary's values, its code, the note's start, handle
+    handle = a[-1]
     if code or not handle:
         if handle:
             lib._release(handle)
         return _general(sim, plan)                    # to say what went wrong
-    i = b.info.tolist()
-    kept = KeptRun(lib, handle, plan.grid, int(i[1]))
-    fast = (b.out.tolist(), int(b.code[0]), _text(b.note, strip=False))
+    kept = KeptRun(lib, handle, plan.grid, int(a[1]))
+    fast = (list(a[i1:i2]), a[i2], _text(b.note, strip=False) if a[i2 + 1] else "")
     grid = plan.grid.copy()
     X, states = sim._kept_or_states(kept, grid)
-    stats = _stats(i[1], i[3], i[5], i[2], i[6], wall)
+    stats = _stats(a[1], a[3], a[5], a[2], a[6], wall)
     stats["backend"] = "c"
-    return Result(sim, grid, plan.p.copy(), X, np.zeros((0, grid.size)), dict(s), stats,
+    return Result(sim, grid, plan.p.copy(), X, plan.Z, dict(plan.settings), stats,
                   fast_summary=fast, initial=plan.x0.copy(), states=states, own_stats=True)
+
+
+def _call(plan: Plan, b) -> tuple:
+    """This thread's arguments of the plan's call (``b``'s addresses)."""
+    if len(plan.calls) > 64:                     # threads come and go: their Blocks with them
+        plan.calls.clear()
+    s, a = plan.settings, b.addr
+    args = (plan.p.ctypes.data, plan.x0.ctypes.data, plan.grid.size, plan.t_addr, None,
+            float(s["rtol"]), float(s["atol"]), METHOD_CODES["erk"], float(s["max_step"] or 0.0),
+            int(s["max_num_steps"]), a[2], a[3], MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2,
+            a[7])
+    i1 = INFO_N
+    call = plan.calls[b] = (args, i1, i1 + len(SUMMARY_KEYS))
+    return call
 
 
 def _general(sim, plan: Plan):

@@ -202,9 +202,8 @@ class Simulator(RunInputs, OnGrid):
             # the rig's own parameters and start: what the checks below decide
             # is kept for the next run with the same settings (the same types)
             try:
-                key = ("plan", type(t_end), t_end, type(n_out), n_out, type(rtol), rtol,
-                       type(atol), atol, method, type(max_step), max_step, type(max_num_steps),
-                       max_num_steps, backend)
+                key = replay.key(t_end, n_out, rtol, atol, method, max_step, max_num_steps,
+                                 backend)
                 plan = self._cache.get(key)
             except TypeError:         # unhashable (a list where a number belongs): checked below
                 key = plan = None
