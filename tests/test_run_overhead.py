@@ -304,7 +304,7 @@ def test_a_block_unpacks_what_its_views_read(rig):
     b.code[0] = -7
     b.note[0] = 65
     b.handle[0] = 2**63 + 12345
-    a = b.unpack(b.buf)
+    a = b.unpack(b.bytes)
     n_info, n_out = b.info.size, b.out.size
     assert list(a[:n_info]) == b.info.tolist() and list(a[n_info:n_info + n_out]) == b.out.tolist()
     assert a[n_info + n_out:] == (-7, 65, 2**63 + 12345)

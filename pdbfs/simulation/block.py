@@ -17,7 +17,7 @@ class Block:
     before it returns.
 
     ``addr``: the addresses of (p, x0, info, msg, values, code, note, handle),
-    in run_summary's order. ``unpack(buf)``: (info..., values..., code, the
+    in run_summary's order. ``unpack(bytes)``: (info..., values..., code, the
     note's first byte, handle) in one call (replay.py: a Python call more is
     a microsecond or two after other work)."""
 
@@ -43,3 +43,6 @@ class Block:
                                f"{8 * (n - 1) - note_at - 1}xQ")
         assert layout.size == buf.nbytes
         self.unpack = layout.unpack_from
+        #: the buffer's bytes for ``unpack`` (a memoryview asks numpy nothing: after other
+        #: work, numpy's first call costs 10-20 us on this project's machine)
+        self.bytes = memoryview(buf).cast("B")

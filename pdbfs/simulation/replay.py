@@ -98,7 +98,7 @@ def run(sim, plan: Plan):
     wall = time.perf_counter()
     code = lib._run_summary(*args)
     wall = time.perf_counter() - wall
-    a = b.unpack(b.buf)        # info[0..6], the summary's values, its code, the note's start, handle
+    a = b.unpack(b.bytes)      # info[0..6], the summary's values, its code, the note's start, handle
     handle = a[-1]
     if code or not handle:
         if handle:
@@ -106,12 +106,13 @@ def run(sim, plan: Plan):
         return _general(sim, plan)                    # to say what went wrong
     kept = KeptRun(lib, handle, plan.grid, int(a[1]))
     fast = (list(a[i1:i2]), a[i2], _text(b.note, strip=False) if a[i2 + 1] else "")
-    grid = plan.grid.copy()
-    X, states = sim._kept_or_states(kept, grid)
+    X, states = sim._kept_or_states(kept, plan.grid)
     stats = _stats(a[1], a[3], a[5], a[2], a[6], wall)
     stats["backend"] = "c"
-    return Result(sim, grid, plan.p.copy(), X, plan.Z, dict(plan.settings), stats,
-                  fast_summary=fast, initial=plan.x0.copy(), states=states, own_stats=True)
+    # no numpy call here: after other work numpy's first costs 10-20 us (module doc); the
+    # Result copies the plan's t and p when they are first read, its start is only read
+    return Result(sim, plan.grid, plan.p, X, plan.Z, dict(plan.settings), stats,
+                  fast_summary=fast, initial=plan.x0, states=states, own_stats=True, shared=True)
 
 
 def _call(plan: Plan, b) -> tuple:

@@ -23,20 +23,22 @@ from .summary import summarize
 
 class Result:
     def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None,
-                 states=None, own_stats=False):
+                 states=None, own_stats=False, shared=False):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
         #: method, wall_time (s), backend (``own_stats``: a dict made for this Result)
         self.stats = stats if own_stats else dict(stats or {})
-        self.t = t
+        if shared:    # a replay's t and p: its plan's, read-only, copied when first read
+            self._shared = (t, p)
+        else:
+            self.t, self.p = t, p
         self._Y = None        # all outputs, computed on first need
         self._rows = {}       # single outputs computed so far
         # the states on the grid; None: ``states()`` makes them when first read
         # (a compiled run's dense output: a summary alone does not need them)
         self._states, self._make_states = X, states
         self._Z = Z
-        self.p = p
         self.settings = settings
         dae = sim.dae
         names = dae.__dict__.get("_result_names")     # the same for every Result of the rig
@@ -58,6 +60,16 @@ class Result:
         return self._states
 
     # made on first use: most runs (sweeps, a summary) never read them
+    @cached_property
+    def t(self) -> np.ndarray:
+        """The output times (s)."""
+        return self._shared[0].copy()
+
+    @cached_property
+    def p(self) -> np.ndarray:
+        """The parameter vector of the run (the DAE's order)."""
+        return self._shared[1].copy()
+
     @cached_property
     def names(self) -> list:
         """Every variable's name, in the DAE's order."""
