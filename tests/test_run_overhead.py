@@ -313,3 +313,65 @@ def test_a_block_unpacks_what_its_views_read(rig):
     b.buf[:] = 0.0
     assert (b.addr[3], b.addr[5], b.addr[6]) == (b.msg.ctypes.data, b.code.ctypes.data,
                                                b.note.ctypes.data)
+
+
+@pytest.mark.parametrize("name, pname", [("paper", "hammer.v0"), ("paper-hydraulic-oil", "contact.k"),
+                                         ("split-piston", "hammer.v0")])
+def test_new_parameters_under_a_plan_are_the_general_run(name, pname):
+    """rig.simulate(params=...) again under the same settings takes the plan
+    of those settings (replay.py) with the new parameters checked, their
+    start and the method chosen for them: the same numbers, settings and
+    statistics as a run with its grid given (never planned)."""
+    import warnings
+    from pdbfs.models import RIGS
+    rig = RIGS[name]()
+    base = next(q.value for q in rig.compile().params if q.name == pname)
+    grid = np.linspace(0.0, 0.02, 2001)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rig.simulate(params={pname: base})                   # the plan of these settings
+        for f in (1.01, 0.97, 1.05):
+            calls = _calls(lambda: rig.simulate(params={pname: base * f}))
+            again = rig.simulate(params={pname: base * f})
+            general = rig.simulate(params={pname: base * f}, t_out=grid)
+            _same_run(again, general)
+            assert again.params[pname] == base * f
+    assert "replay.py:run" in calls and "simulator.py:_run" not in calls
+    assert "inputs.py:run_settings" not in calls and len(calls) < 45, calls
+
+
+def test_new_parameters_that_need_another_method_take_the_general_run():
+    """A plan is for the method its run chose: new parameters that make the
+    rig stiff (a seal a thousand times as viscous) are integrated by the
+    method chosen for them, exactly as a run never planned."""
+    rig = paper_rig()
+    rig.simulate(params={"seal.c": 2.556e4})
+    calls = _calls(lambda: rig.simulate(params={"seal.c": 2.556e7}))
+    assert "simulator.py:_run" in calls and "replay.py:run" not in calls
+    stiff = rig.simulate(params={"seal.c": 2.556e7})
+    general = rig.simulate(params={"seal.c": 2.556e7}, t_out=np.linspace(0.0, 0.02, 2001))
+    assert stiff.settings["method"] == general.settings["method"] != "erk"
+    assert stiff.summary() == general.summary()
+    _same_run(stiff, general)
+
+
+def test_a_failed_replay_with_new_parameters_runs_those_parameters(rig, monkeypatch):
+    """Where the replay's compiled call fails, the general run that explains
+    (or, here, succeeds) is of the new parameters, not the plan's."""
+    from pdbfs.simulation import compiled as C
+    rig.simulate(params={"hammer.v0": 2.5})
+    lib = Simulator.of(rig).compiled()
+    real, failed = lib._run_summary, []
+
+    def fail_once(*a):
+        code = real(*a)
+        if not failed:
+            failed.append(1)
+            return C.RC_NOT_FINITE
+        return code
+    monkeypatch.setattr(lib, "_run_summary", fail_once)
+    res = rig.simulate(params={"hammer.v0": 3.0})
+    assert failed and res.params["hammer.v0"] == 3.0
+    monkeypatch.setattr(lib, "_run_summary", real)
+    assert res.summary() == rig.simulate(params={"hammer.v0": 3.0},
+                                         t_out=np.linspace(0.0, 0.02, 2001)).summary()

@@ -15,8 +15,9 @@ import numpy as np
 from pdbfs.errors import ParameterError
 from pdbfs.modelling import check_value, reduced_start
 
-from .initialize import needs_solving
-from .settings import MAX_NUM_STEPS, check_settings, mapping, output_grid
+from .initialize import check_initial, needs_solving
+from .memory import require, run_bytes
+from .settings import MAX_NUM_STEPS, check_settings, default_rtol, mapping, output_grid
 from .vectorize import vectorize
 
 
@@ -143,6 +144,26 @@ class RunInputs:
         self.check_settings(*args)
         if key is not None and len(self._checked) < 1000:
             self._checked.add(key)
+
+    def run_settings(self, t_end, n_out, t_out, rtol, atol, method, max_step, max_num_steps,
+                     backend, initial):
+        """Simulator.run's settings checked, before any work: (the backend
+        resolved, the output grid, the kept grid (grid_kept))."""
+        self.settings_ok(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
+                         backend)
+        if initial is not None:
+            check_initial(initial, self.dae)
+        backend = self.resolve_backend(backend)
+        if backend == "c" and self.nx:
+            self.compiled()          # a DAE rig is refused before anything else
+        n_points = np.size(t_out) if t_out is not None else n_out
+        if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
+            per_point = self._cache.get("bytes/point")
+            if per_point is None:
+                per_point = self._cache["bytes/point"] = run_bytes(self.dae, 1)
+            require(per_point * n_points, f"rig {self.dae.name}: {n_points} output points",
+                    "ask for fewer (n_out, --n-out)")
+        return (backend, *self.grid_kept(t_end, n_out, t_out))
 
     def _needs_solving(self) -> bool:
         """Whether the rig's declared start must be solved (free states, initial

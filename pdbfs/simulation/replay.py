@@ -47,11 +47,14 @@ class Plan:
     Z: np.ndarray | None = None     # a Result's algebraic outputs: none (no element: shared)
 
 
-def key(t_end, n_out, rtol, atol, method, max_step, max_num_steps, backend) -> tuple:
+def key(t_end, n_out, rtol, atol, method, max_step, max_num_steps, backend,
+        new_params=False) -> tuple:
     """The cache key of Simulator.run's plan for these settings (their types
-    too: 1 and 1.0 are not the same request)."""
+    too: 1 and 1.0 are not the same request), for the rig's own parameters or
+    (``new_params``) for runs that give theirs."""
     return ("plan", type(t_end), t_end, type(n_out), n_out, type(rtol), rtol, type(atol), atol,
-            method, type(max_step), max_step, type(max_num_steps), max_num_steps, backend)
+            method, type(max_step), max_step, type(max_num_steps), max_num_steps, backend,
+            new_params)
 
 
 def make_plan(sim, key, kept_grid, p, x0, rtol, atol, method, max_step, max_num_steps,
@@ -75,7 +78,8 @@ def own(sim, t_end):
     r = sim.run(t_end)
     d = type(sim).run.__kwdefaults__         # run's defaults: the key run() made
     plan = sim._cache.get(key(t_end, type(sim).run.__defaults__[1], d["rtol"], d["atol"],
-                              d["method"], d["max_step"], d["max_num_steps"], d["backend"])) \
+                              d["method"], d["max_step"], d["max_num_steps"], d["backend"],
+                              False)) \
         if type(t_end) is float else None
     if plan is not None:
         plans = sim.dae.__dict__.setdefault("_own_plans", {})
@@ -85,8 +89,9 @@ def own(sim, t_end):
     return r
 
 
-def run(sim, plan: Plan):
-    """The plan's run: its Result."""
+def run(sim, plan: Plan, p=None, x0=None):
+    """The plan's run: its Result; with ``p`` and ``x0`` (new parameters, checked,
+    and their start, Simulator.run), the plan's call with those."""
     lib = plan.lib
     if lib is None:
         return _general(sim, plan)
@@ -94,7 +99,13 @@ def run(sim, plan: Plan):
     call = plan.calls.get(b)
     if call is None:
         call = _call(plan, b)
-    args, i1, i2 = call
+    args, i1, i2, args_b = call
+    if p is None:
+        shared = (plan.p, plan.x0)
+    else:                         # the same call, p and x0 from the thread's Block
+        b.p[:] = p
+        b.x0[:] = x0
+        args, shared = args_b, (p, x0)
     wall = time.perf_counter()
     code = lib._run_summary(*args)
     wall = time.perf_counter() - wall
@@ -103,7 +114,7 @@ def run(sim, plan: Plan):
     if code or not handle:
         if handle:
             lib._release(handle)
-        return _general(sim, plan)                    # to say what went wrong
+        return _general(sim, plan, *shared)           # to say what went wrong
     kept = KeptRun(lib, handle, plan.grid, int(a[1]))
     fast = (list(a[i1:i2]), a[i2], _text(b.note, strip=False) if a[i2 + 1] else "")
     X, states = sim._kept_or_states(kept, plan.grid)
@@ -111,12 +122,14 @@ def run(sim, plan: Plan):
     stats["backend"] = "c"
     # no numpy call here: after other work numpy's first costs 10-20 us (module doc); the
     # Result copies the plan's t and p when they are first read, its start is only read
-    return Result(sim, plan.grid, plan.p, X, plan.Z, dict(plan.settings), stats,
-                  fast_summary=fast, initial=plan.x0, states=states, own_stats=True, shared=True)
+    return Result(sim, plan.grid, shared[0], X, plan.Z, dict(plan.settings), stats,
+                  fast_summary=fast, initial=shared[1], states=states, own_stats=True,
+                  shared=True)
 
 
 def _call(plan: Plan, b) -> tuple:
-    """This thread's arguments of the plan's call (``b``'s addresses)."""
+    """This thread's arguments of the plan's call (``b``'s addresses): with the
+    plan's p and x0, and with the Block's."""
     if len(plan.calls) > 64:                     # threads come and go: their Blocks with them
         plan.calls.clear()
     s, a = plan.settings, b.addr
@@ -125,12 +138,14 @@ def _call(plan: Plan, b) -> tuple:
             int(s["max_num_steps"]), a[2], a[3], MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2,
             a[7])
     i1 = INFO_N
-    call = plan.calls[b] = (args, i1, i1 + len(SUMMARY_KEYS))
+    call = plan.calls[b] = (args, i1, i1 + len(SUMMARY_KEYS), (a[0], a[1]) + args[2:])
     return call
 
 
-def _general(sim, plan: Plan):
-    s, x0 = plan.settings, plan.x0.copy()
-    return sim._run(plan.grid.copy(), plan.p.copy(), x0, x0, s["rtol"], s["atol"], s["method"],
+def _general(sim, plan: Plan, p=None, x0=None):
+    s = plan.settings
+    p = (plan.p if p is None else p).copy()
+    x0 = (plan.x0 if x0 is None else x0).copy()
+    return sim._run(plan.grid.copy(), p, x0, x0, s["rtol"], s["atol"], s["method"],
                     s["max_step"], s["max_num_steps"], s["backend"],
                     c_grid=(plan.grid, plan.t_addr))

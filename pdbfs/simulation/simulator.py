@@ -25,9 +25,8 @@ from . import c_summary, replay
 from . import compiled as C
 from . import time_events as TE
 from .failures import compiled_failure, walk_failure
-from .initialize import check_initial, solve_start
+from .initialize import solve_start
 from .inputs import RunInputs
-from .memory import require, run_bytes
 from .on_grid import OnGrid
 from .result import Result
 from .stats import casadi_stats
@@ -197,33 +196,25 @@ class Simulator(RunInputs, OnGrid):
             rtol=None, atol=1e-10, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
         dae = self.dae
-        key = None
-        if t_out is None and params is None and start is None and initial is None:
-            # the rig's own parameters and start: what the checks below decide
-            # is kept for the next run with the same settings (the same types)
+        key = plan = None
+        if t_out is None and start is None and initial is None:
+            # the rig's start, with its own parameters or new ones: what the checks
+            # below decide is kept for the next run with the same settings (and types)
             try:
                 key = replay.key(t_end, n_out, rtol, atol, method, max_step, max_num_steps,
-                                 backend)
+                                 backend, params is not None)
                 plan = self._cache.get(key)
             except TypeError:         # unhashable (a list where a number belongs): checked below
-                key = plan = None
-            if plan is not None and plan.params is dae.params:
+                key = None
+            if plan is not None and plan.params is not dae.params:
+                plan = None
+            elif plan is not None and params is None:
                 return replay.run(self, plan)
-        self.settings_ok(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
-                         backend)
-        if initial is not None:
-            check_initial(initial, dae)
-        backend = self.resolve_backend(backend)
-        if backend == "c" and self.nx:
-            self.compiled()          # a DAE rig is refused before anything else
-        n_points = np.size(t_out) if t_out is not None else n_out
-        if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
-            per_point = self._cache.get("bytes/point")
-            if per_point is None:
-                per_point = self._cache["bytes/point"] = run_bytes(dae, 1)
-            require(per_point * n_points, f"rig {dae.name}: {n_points} output points",
-                    "ask for fewer (n_out, --n-out)")
-        grid, kept_grid = self.grid_kept(t_end, n_out, t_out)
+        if plan is None:
+            backend, grid, kept_grid = self.run_settings(t_end, n_out, t_out, rtol, atol, method,
+                                                         max_step, max_num_steps, backend, initial)
+        else:             # new parameters with the settings of a plan: checked for it
+            backend, grid, kept_grid = plan.settings["backend"], plan.grid, (plan.grid, plan.t_addr)
         p = self.param_vector(params)
         x0 = self.start_vector(p, start)
         if initial is None and not self._needs_solving():
@@ -232,7 +223,11 @@ class Simulator(RunInputs, OnGrid):
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
-        if key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
+        if plan is not None:
+            if plan.lib is not None and method == plan.settings["method"]:
+                return replay.run(self, plan, p, x0)      # its compiled call, these p and x0
+            grid = grid.copy()
+        elif key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
             self._cache[key] = replay.make_plan(self, key, kept_grid, p, x0, rtol, atol, method,
                                                 max_step, max_num_steps, backend)
         return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
