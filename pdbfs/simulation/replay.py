@@ -2,7 +2,10 @@
 the same settings (``Simulator.run``'s plan). Nothing is decided or checked
 again: the compiled call, and its Result. ``rig.simulate()`` with no options
 finds its plan itself (``own``: kept on the DAE by t_end), without
-Simulator.run's arguments and key.
+Simulator.run's arguments and key. Runs that give new parameters have plans
+of their own settings: Simulator.run checks the parameters and decides their
+start and method, and where that is the plan's method, the plan's call is
+made with them (``run(sim, plan, p, x0)``).
 
 Why a path of its own: Python's share of a run is paid again in full after
 other work. Measured on this project's machine, the first Python after 5 ms
