@@ -29,6 +29,10 @@ from .compiled import INFO_N, METHOD_CODES, MSG_LEN, POINT_MSG_LEN, SUMMARY_KEYS
 from .kept import KeptRun
 from .result import Result
 
+# where Block.unpack's answers have the summary's values and its code
+_VALUES = INFO_N
+_CODE = INFO_N + len(SUMMARY_KEYS)
+
 
 @dataclass(eq=False)
 class Plan:
@@ -44,10 +48,10 @@ class Plan:
     settings: dict          # rtol, atol, method, max_step, max_num_steps, backend (as in a Result)
     lib: object | None      # the rig's CompiledODE where run() answers (the compiled run and
                             # its own summary), else None: the general way
-    #: each thread's call: its Block -> (the arguments, where the summary's values are in
-    #: the Block's unpacked answers); the plan holds every array whose address is there
+    Z: np.ndarray           # a Result's algebraic outputs: none (no element: shared)
+    #: each thread's call: its Block -> (the arguments with the plan's p and x0, with the
+    #: Block's); the plan holds every array whose address is there
     calls: dict = field(default_factory=dict)
-    Z: np.ndarray | None = None     # a Result's algebraic outputs: none (no element: shared)
 
 
 def key(t_end, n_out, rtol, atol, method, max_step, max_num_steps, backend,
@@ -71,7 +75,7 @@ def make_plan(sim, key, kept_grid, p, x0, rtol, atol, method, max_step, max_num_
     p, x0 = p.copy(), x0.copy()
     p.flags.writeable = x0.flags.writeable = False     # C reads them where they are
     return Plan(key, sim.dae.params, g, addr, p, x0, settings,
-                sim.compiled() if fast else None, Z=np.zeros((0, g.size)))
+                sim.compiled() if fast else None, np.zeros((0, g.size)))
 
 
 def own(sim, t_end):
@@ -102,7 +106,7 @@ def run(sim, plan: Plan, p=None, x0=None):
     call = plan.calls.get(b)
     if call is None:
         call = _call(plan, b)
-    args, i1, i2, args_b = call
+    args, args_b = call
     if p is None:
         shared = (plan.p, plan.x0)
     else:                         # the same call, p and x0 from the thread's Block
@@ -119,7 +123,7 @@ def run(sim, plan: Plan, p=None, x0=None):
             lib._release(handle)
         return _general(sim, plan, *shared)           # to say what went wrong
     kept = KeptRun(lib, handle, plan.grid, int(a[1]))
-    fast = (list(a[i1:i2]), a[i2], _text(b.note, strip=False) if a[i2 + 1] else "")
+    fast = (list(a[_VALUES:_CODE]), a[_CODE], _text(b.note, strip=False) if a[_CODE + 1] else "")
     X, states = sim._kept_or_states(kept, plan.grid)
     stats = _stats(a[1], a[3], a[5], a[2], a[6], wall)
     stats["backend"] = "c"
@@ -140,8 +144,7 @@ def _call(plan: Plan, b) -> tuple:
             float(s["rtol"]), float(s["atol"]), METHOD_CODES["erk"], float(s["max_step"] or 0.0),
             int(s["max_num_steps"]), a[2], a[3], MSG_LEN, a[4], a[5], a[6], POINT_MSG_LEN * 2,
             a[7])
-    i1 = INFO_N
-    call = plan.calls[b] = (args, i1, i1 + len(SUMMARY_KEYS), (a[0], a[1]) + args[2:])
+    call = plan.calls[b] = (args, (a[0], a[1]) + args[2:])
     return call
 
 
