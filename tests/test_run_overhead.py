@@ -375,3 +375,18 @@ def test_a_failed_replay_with_new_parameters_runs_those_parameters(rig, monkeypa
     monkeypatch.setattr(lib, "_run_summary", real)
     assert res.summary() == rig.simulate(params={"hammer.v0": 3.0},
                                          t_out=np.linspace(0.0, 0.02, 2001)).summary()
+
+
+def test_a_component_changed_after_runs_is_what_the_next_run_simulates():
+    """Freeing a component's state after the rig has run (and planned its
+    runs again) compiles the rig again: the next run is of the changed rig,
+    here refused for its missing initial equation, never the old run."""
+    from pdbfs.errors import ModelError
+    rig = paper_rig()
+    rig.simulate()
+    rig.simulate()                                  # a replay: the plan kept on the DAE
+    old = rig.compile()
+    rig.hammer.free("s")
+    assert rig.compile() is not old
+    with pytest.raises(ModelError, match="hammer.s"):
+        rig.simulate()

@@ -96,7 +96,7 @@ class Component:
             if slot is None or not slot.decl.is_state:
                 raise ModelError(f"{self.label()}: {n!r} is not a state of it")
             slot.decl.fixed = False
-        object.__setattr__(self, "_compiled", None)
+        self._changed()
 
     def conditions(self) -> list:
         """(expression, text, names): physical consistency of the parameters.
@@ -203,7 +203,16 @@ class Component:
             desc = ", ".join(f"{c.path()} ({type(c).__name__})" for c in connectors)
             raise ConnectError(f"connect(): incompatible connectors: {desc}")
         self._connections.append(tuple(connectors))
-        object.__setattr__(self, "_compiled", None)
+        self._changed()
+
+    def _changed(self):
+        """This component's declaration changed: its compiled DAE, and that of
+        every rig it is part of, are made again when next asked for (a rig
+        that kept its DAE would simulate what it was before)."""
+        comp = self
+        while comp is not None:
+            object.__setattr__(comp, "_compiled", None)
+            comp = comp._parent
 
     def _owns(self, c: Connector) -> bool:
         comp = c.owner
