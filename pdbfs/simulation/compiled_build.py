@@ -28,6 +28,8 @@ from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUN
                                   model_functions, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
+from .summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
+
 C_DIR = Path(__file__).with_name("c")
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
@@ -61,6 +63,15 @@ def roles_of(dae) -> list[str]:
     return [signals[r] for r in ROLES if signals.get(r) in dae.y_names]
 
 
+def follow_lines(dae) -> list[str]:
+    """How the summary driver follows a pulse cut off at t_end (c/pdbfs_summary.c's
+    follow()): summary_run.py's grid and look-ahead, so that both decide alike."""
+    return [f"#define PDBFS_SUMMARY_STEP {summary_step(dae)!r}",
+            f"#define PDBFS_FOLLOW_WINDOW {WINDOW}",
+            f"#define PDBFS_FOLLOW_HORIZONS {float(LOOK_AHEAD)!r}",
+            f"#define PDBFS_FOLLOW_WINDOWS {MAX_WINDOWS_AHEAD}"]
+
+
 def header(dae, work) -> str:
     signals = getattr(dae, "signals", {}) or {}
     present = [r for r in ROLES if signals.get(r) in dae.y_names]
@@ -72,7 +83,7 @@ def header(dae, work) -> str:
         f"#define PDBFS_NX {dae.x.numel()}", f"#define PDBFS_NP {dae.p.numel()}",
         f"#define PDBFS_NE {dae.events.numel()}", f"#define PDBFS_NR {len(present)}", *macros,
         f"#define PDBFS_NTE {dae.time_events.numel()}",   # the first NTE events: t - t_i
-        *sizes_header_lines(work), "#endif", ""])
+        *follow_lines(dae), *sizes_header_lines(work), "#endif", ""])
 
 
 def fingerprint(dae) -> str:
@@ -94,7 +105,7 @@ def fingerprint(dae) -> str:
     for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
                  "\0".join(FUNCTIONS), "\0".join(STRAIGHT),
                  *(Path(m.__file__).read_text() for m in (codegen, straight)),
-                 f"nte {dae.time_events.numel()}", "\0".join(roles),
+                 f"nte {dae.time_events.numel()}", "\0".join(roles), *follow_lines(dae),
                  *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
                  "\0".join(_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")], sd, host)),
                  _archives_stamp(sd)):

@@ -24,7 +24,8 @@
  * The pulse is paired from its crossings by their direction (up, then
  * down); a pulse that begins before t = 0 or has not ended by t_end has no
  * duration (NaN, and a message), crossings that do not alternate fail the
- * point.  Whatever grows with the rig or the run is on the heap: a large
+ * point; one whose highest pressure lies inside the run is followed past
+ * t_end (follow()), as summary.py does, to tell whether that is its peak.  Whatever grows with the rig or the run is on the heap: a large
  * rig's state would fill a worker thread's stack.
  *
  * Thread safe: each call allocates its own memory; ctypes releases the GIL,
@@ -53,6 +54,7 @@ enum { ST_STEPS, ST_RHS, ST_JAC, ST_ROOTS, ST_METHOD, ST_WALL, NSTAT };
 #define RC_NOT_FINITE 4      /* as pdbfs_batch.c */
 #define RC_NO_MEMORY 2
 #define RC_BAD_CROSSINGS 6   /* the pulse's crossings do not alternate or are not resolved */
+#define RC_FOLLOW 7          /* a pulse cut off at t_end could not be followed past it */
 
 #if PDBFS_ROLE_FORCE >= 0
 /* Guo & Batzer's impulse ratio, as summary.py's restitution; NaN where it is
@@ -97,7 +99,7 @@ static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m
 /* the summary of one point into out; 0, or a failure code with its reason in m
  * (also pdbfs_run_summary.c's, on the record of a run over an output grid) */
 int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
-    int i, ended = 1, oom = 0;
+    int i, ended = 1, oom = 0, horizon;
     long last = H->n - 1;
     double t_end = H->t[last];
     Crossings c = {0};
@@ -144,21 +146,76 @@ int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
         }
     }
     if (!ended) pdbfs_note(m, "the contact continues at t_end: the blow has not ended");
+    /* a pulse cut off at t_end: a maximum at the horizon is no maximum (summary.py's) */
+    horizon = out[S_COMPLETE] == 0.0;
     if (PDBFS_ROLE_DISP >= 0) {
         double t;
         oom |= pdbfs_peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
+        if (horizon && t >= t_end * (1 - 1e-9)) out[S_DISP] = NAN;
     }
 #if PDBFS_ROLE_FORCE >= 0
     {
         double t;
         oom |= pdbfs_peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
         if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom, m);
+        if (horizon && out[S_FORCE] > 0 && t >= t_end * (1 - 1e-9)) out[S_FORCE] = NAN;
     }                                                /* no contact: restitution undefined */
 #endif
     if (oom & 1) {
         pdbfs_note(m, "out of memory");
         return RC_NO_MEMORY;
     }
+    return 0;
+}
+
+/*
+ * A pulse cut off at t_end whose highest pressure lies inside the run: is it
+ * its peak?  The run of an explicit method (rk at t_end, the point's roles
+ * in out) is followed past t_end as summary_run.py follows it: on its grid
+ * of PDBFS_SUMMARY_STEP, in windows of PDBFS_FOLLOW_WINDOW samples, until a
+ * window ends outside the pulse (the pressure under 1 % of the highest
+ * pressure yet, no contact) or at its limit.  Where the pressure rises
+ * higher there, the point has no peak (NaN, and a note), as Result.summary()
+ * says.  0, or the integration's failure (the point is then summary.py's).
+ */
+static int follow(History *H, PdbfsErk *rk, PdbfsEval *ev, double t_end, double *out,
+                  long max_steps, double *x, Note *m) {
+#if PDBFS_ROLE_PRESSURE >= 0
+    const double h = PDBFS_SUMMARY_STEP, base = R(H, 0, PDBFS_ROLE_PRESSURE);
+    const double limit = t_end + fmin(PDBFS_FOLLOW_HORIZONS * t_end,
+                                      PDBFS_FOLLOW_WINDOWS * PDBFS_FOLLOW_WINDOW * h);
+    double r[NRX], highest = out[S_PEAK], after = -INFINITY, t_last = t_end;
+    int busy = 1;
+    rk->t_stop = limit;
+    rk->dense_ready = 0;     /* its dense output may be a refinement's (pdbfs_step_dense) */
+    while (busy && t_last < limit) {
+        const long k = (long)floor(t_last / h + 1e-6) + 1;
+        long j;
+        for (j = 0; j < PDBFS_FOLLOW_WINDOW; j++) {
+            int code;
+            t_last = h * (double)(k + j);
+            if (t_last >= limit - 1e-6 * h) t_last = limit;
+            code = pdbfs_erk_advance(rk, t_last, max_steps, x);
+            if (code) return code;
+            pdbfs_eval_txp(ev, pdbfs_roles, t_last, x, r);
+            if (!isfinite(r[PDBFS_ROLE_PRESSURE])) return RC_NOT_FINITE;
+            after = fmax(after, r[PDBFS_ROLE_PRESSURE]);
+            if (t_last == limit) break;
+        }
+        highest = fmax(highest, after);
+        busy = r[PDBFS_ROLE_PRESSURE] >= base + PULSE_LEVEL * (highest - base);
+#if PDBFS_ROLE_FORCE >= 0
+        busy = busy || r[PDBFS_ROLE_FORCE] > 0;
+#endif
+    }
+    if (after > out[S_PEAK]) {
+        pdbfs_note(m, "its highest pressure so far, %.4g Pa, is not its peak: it rises to %.4g Pa "
+                   "after t_end", out[S_PEAK], after);
+        out[S_PEAK] = out[S_TPEAK] = NAN;
+    }
+#else
+    (void)H; (void)rk; (void)ev; (void)t_end; (void)out; (void)max_steps; (void)x; (void)m;
+#endif
     return 0;
 }
 
@@ -275,6 +332,11 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
                      : erk ? "the explicit Runge-Kutta step failed" : "CVODE failed", s.tn);
             if (code && H.bad) code = RC_NOT_FINITE;
             if (!code) code = pdbfs_summarise(&H, out + i * NSUM, x_pk, &m);
+            /* a pulse cut off with its highest pressure inside: its peak or not */
+            if (!code && erk && PDBFS_ROLE_PRESSURE >= 0 && out[i * NSUM + S_COMPLETE] == 0.0
+                && isfinite(out[i * NSUM + S_PEAK])
+                && follow(&H, &rk, &ev, t_end, out + i * NSUM, (long)max_num_steps, xe, &m))
+                code = RC_FOLLOW;
         }
         if (code)   /* a failed point has no values */
             for (k = 0; k < NSUM; k++) out[i * NSUM + k] = NAN;
