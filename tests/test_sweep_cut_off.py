@@ -90,3 +90,21 @@ def test_cvode_methods_and_failed_follows_go_to_result_summary(monkeypatch):
     res = pdbfs.sweep(rig, {"hammer.v0": [3.0, 5.5]}, t_end=0.006, workers=1)
     assert not any(pt.error for pt in res)
     assert_same(res, rig, 0.006)
+
+
+def test_a_maximum_at_t_end_is_no_peak_though_the_next_sample_is_lower(no_python_points):
+    """Cut off 2 us before the peak: the pressure still rises at t_end, and the
+    first sample past it (10 us grid) already lies beyond the peak, lower.
+    Neither Result.summary() nor the driver calls the value at t_end a peak."""
+    rig = paper_rig()
+    full = rig.simulate(0.02)
+    t_pk = full.summary()["time_of_peak"]
+    t_end = t_pk - 2e-6
+    after = 1e-5 * (np.floor(t_end / 1e-5 + 1e-6) + 1)
+    # the premise, on the 20 ms run
+    assert full.value_at("oil.pressure", after) < full.value_at("oil.pressure", t_end)
+    ref = result_summary(rig, t_end, {})
+    assert ref["peak_pressure"] is None and ref["time_of_peak"] is None
+    pt = next(iter(pdbfs.sweep(rig, {"hammer.v0": [full.params["hammer.v0"]]}, t_end=t_end,
+                               workers=1)))
+    assert pt.summary["peak_pressure"] is None and pt.summary["complete"] is False

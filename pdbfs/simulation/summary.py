@@ -77,11 +77,17 @@ def summarize(res, warn: bool = True) -> dict:
     if p:
         t_pk, p_pk = R.peak(p, window=blow)
         pulse = bool(run.pulse)
-        # the highest pressure so far is no peak when the pulse rises higher after t_end
-        at_end = pulse and blow[1] >= R.t[-1] and run.peak_after > p_pk
-        if at_end:
+        # the highest pressure so far is no peak when the pulse rises higher after t_end,
+        # nor when it lies at t_end (still rising there, whatever the first sample past
+        # it shows: the peak can fall between the two)
+        last = blow[1] >= R.t[-1]
+        rising = last and complete is False and t_pk >= R.t[-1] * (1 - 1e-9)
+        at_end = pulse and last and (run.peak_after > p_pk or rising)
+        if at_end and run.peak_after > p_pk:
             cut.append(f"its highest pressure so far, {p_pk:.4g} Pa, is not its peak: it rises "
                        f"to {run.peak_after:.4g} Pa after t_end")
+        elif at_end:
+            cut.append(f"the pressure still rises at t_end ({p_pk:.4g} Pa): its peak is later")
         out["peak_pressure"] = p_pk if pulse and not at_end else None
         out["time_of_peak"] = t_pk if pulse and not at_end else None
         out["pulse_duration"] = time_above(R, p, pulse_level(run.base, p_pk), blow) \
