@@ -81,9 +81,10 @@ def summarize(res, warn: bool = True) -> dict:
         # nor when it lies at t_end (still rising there, whatever the first sample past
         # it shows: the peak can fall between the two)
         last = blow[1] >= R.t[-1]
-        rising = last and complete is False and t_pk >= R.t[-1] * (1 - 1e-9)
-        at_end = pulse and last and (run.peak_after > p_pk or rising)
-        if at_end and run.peak_after > p_pk:
+        higher = run.peak_after > p_pk
+        rising = complete is False and t_pk >= R.t[-1] * (1 - 1e-9)
+        at_end = pulse and last and (higher or rising)
+        if at_end and higher:
             cut.append(f"its highest pressure so far, {p_pk:.4g} Pa, is not its peak: it rises "
                        f"to {run.peak_after:.4g} Pa after t_end")
         elif at_end:

@@ -25,8 +25,9 @@
  * down); a pulse that begins before t = 0 or has not ended by t_end has no
  * duration (NaN, and a message), crossings that do not alternate fail the
  * point; one whose highest pressure lies inside the run is followed past
- * t_end (follow()), as summary.py does, to tell whether that is its peak.  Whatever grows with the rig or the run is on the heap: a large
- * rig's state would fill a worker thread's stack.
+ * t_end (follow()), as summary.py does, to tell whether that is its peak.
+ * Whatever grows with the rig or the run is on the heap: a large rig's
+ * state would fill a worker thread's stack.
  *
  * Thread safe: each call allocates its own memory; ctypes releases the GIL,
  * so threads run calls in parallel.
