@@ -56,10 +56,15 @@ def cmd_modes(args):
     modes = lin.modes()
     if args.json:
         print(json.dumps({"rig": rig.compile().name, "t": lin.t, "point": lin.point,
+                          "kinks": [k.to_dict() for k in lin.kinks],
                           "modes": [m.to_dict() for m in modes]}, allow_nan=False))
         return
     print(f"rig {rig.compile().name}: modes at {args.at}"
           + (f" (t = {lin.t:g} s)" if args.at not in ("start", "steady") else ""))
+    if lin.kinks:
+        print("  one-sided laws exactly at their kink here:")
+        for k in lin.kinks:
+            print(f"    {k}")
     print(f"  {'#':>2} {'omega rad/s':>13} {'f Hz':>11} {'damping':>9}  shape (largest entries)")
     for k, m in enumerate(modes, 1):
         damping = "-" if m.damping is None else f"{m.damping:.4g}"

@@ -79,6 +79,8 @@ def run(F, w, args) -> Outcome:
     w = np.asarray(w, float)
     d = np.maximum(np.abs(w), 1e-8)
     g, J = evaluate(w)
+    if w.size == 0:                            # nothing to solve for
+        return Outcome(w, g, J, d, 0, "converged")
     it = 0
     while True:
         if not (np.all(np.isfinite(g)) and np.all(np.isfinite(J))):

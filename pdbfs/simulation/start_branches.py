@@ -68,6 +68,8 @@ def search(F, E, w0, args) -> Search:
         guesses = []
         if o.solved:
             found.solutions.append(o)
+            if len(found.distinct()) > 1:
+                break                       # more than one: decided
             if o.regular:
                 continue
             if not any(_same(o, r) for r in rested):
@@ -192,7 +194,10 @@ def _pick(names, mask) -> list:
     return [n for n, m in zip(names, mask) if m]
 
 
-def _join(names) -> str:
+def _join(names, most=8) -> str:
+    """Names joined, the first ``most`` of a long list and how many in all."""
+    if len(names) > most:
+        return f"{', '.join(names[:most])}, ... ({len(names)} in all)"
     return ", ".join(names) or "none"
 
 
