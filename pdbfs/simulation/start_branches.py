@@ -160,8 +160,8 @@ def decide(found: Search, eq_names, unknowns, rig, event_names, hint=lambda eqs,
             eqs, xs = [], _pick(unknowns, differ)
             what = f"its equations have more than one solution in {_join(xs)}"
         raise ModelError(
-            f"the start of rig {rig} is not determined: {what} (solutions found with "
-            f"{unknowns[k]} = {a.w[k]:.6g} and {b.w[k]:.6g}{laws}){hint(eqs, xs)}")
+            f"the start of rig {rig} is not determined: {what} (more than one start satisfies "
+            f"them: {unknowns[k]} = {a.w[k]:.6g} and {b.w[k]:.6g} both do{laws}){hint(eqs, xs)}")
     if first.status == "singular":
         eqs, xs = _support(first, eq_names, unknowns)
         U, _ = first.null_spaces()
