@@ -12,8 +12,10 @@ from .common import add_rig_options, parse_sets, rig_by_name
 def add_initial_option(s):
     s.add_argument("--initial", default=None, metavar="steady|STATE,...",
                    help="start at rest: 'steady' (every state, der(x) = 0, solved) or the "
-                   "states to start at rest, comma-separated (default: the start values; "
-                   "the rig's free states solved from its initial equations)")
+                   "states to start at rest, comma-separated; der(x) = 0 fixes what x's rate "
+                   "depends on, so name a body's position with its velocity "
+                   "(breech.s,breech.v) (default: the start values; the rig's free states "
+                   "solved from its initial equations)")
 
 
 def parse_initial(text):

@@ -133,12 +133,12 @@ def rate_dependencies(dae, i) -> list:
             if ca.depends_on(rate, dae.x[j]) or (via_z and ca.depends_on(dae.alg, dae.x[j]))]
 
 
-def rate_hint(dae, eq_names, unfixed, unknowns) -> str:
-    """Why equations ``der(x) = 0`` (a state started at rest) do not fix the
-    unknowns ``unfixed`` (of all the start's ``unknowns``): what each rate
-    depends on, and the states it depends on that start where declared,
-    which could be started at rest too ('' when there are none: no other
-    choice of states would help, the rig itself leaves them free)."""
+def rate_hint(dae, eq_names, unknowns) -> str:
+    """Why equations ``der(x) = 0`` (a state started at rest) among
+    ``eq_names`` do not fix the start's ``unknowns``: what each rate depends
+    on, and the states it depends on that start where declared, which could
+    be started at rest too ('' when there are none: no other choice of
+    states would help, the rig itself leaves them free)."""
     free = set(unknowns)
     notes, add = [], []
     for name in eq_names:

@@ -172,9 +172,10 @@ def decide(found: Search, eq_names, unknowns, rig, event_names, hint=lambda eqs,
                 f"the start of rig {rig} has no solution: {_join(eqs)} stay(s) unsatisfied "
                 f"whatever {_join(xs)} (the initial system is singular there, relative residual "
                 f"{np.max(left):.3g}{laws}){hint(eqs, xs)}")
+        tried = f" ({laws[2:]})" if laws else ""
         raise ModelError(
             f"the start of rig {rig} is not determined: the initial system is singular in "
-            f"{_join(eqs)}, which do(es) not fix {_join(xs)}{laws and ' (' + laws[2:] + ')'}{hint(eqs, xs)}")
+            f"{_join(eqs)}, which do(es) not fix {_join(xs)}{tried}{hint(eqs, xs)}")
     scaled = first.scaled
     raise ModelError(
         f"the start of rig {rig} has no solution Newton could find: "
