@@ -27,7 +27,7 @@ from .least_squares import solve
 from .objectives import CurveProblem, FeatureProblem
 from .signal_model import DT, SignalModel, signal_of
 from .arguments import check_fit_arguments
-from .traces import as_trace, check_time_origin
+from .traces import as_trace, check_horizon, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
 
 #: relative miss of a feature target below which it counts as reached
@@ -130,6 +130,7 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
             out.limit = _limit(unknowns, fit, feats, goals, prob)
     else:
         trace = as_trace(target, "target")
+        check_horizon(t_end, trace, "target curve")
         check_time_origin(trace, getattr(rig, "default_t_end", 0.02))
         horizon = max(float(trace.t[-1]), t_end or 0.0)
         model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
