@@ -47,17 +47,20 @@ from .paper import PAPER_SIGNALS, PaperRig
 DROP_SIGNALS = {**PAPER_SIGNALS, "impact_indentation": "contact.d"}
 
 
+#: gravity, a parameter of both rigs (declared in each: h comes first in the drop rig's list)
+GRAVITY = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration on every body",
+                    min=0.0, tunable=False)
+
+
 class _GravityRig(PaperRig):
-    """The paper's rig with the weight of every body; the piston and the
-    breech start at rest in static equilibrium (``stack()``)."""
+    """The paper's rig with the weight of every body (a subclass declares
+    ``g = GRAVITY``); the piston and the breech start at rest in static
+    equilibrium (``stack()``)."""
 
     summary_signals = DROP_SIGNALS
     #: what ``pdbfs simulate --rig drop`` runs unless told otherwise: three blows
     default_t_end = 1.5
     default_n_out = 30001
-
-    g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration on every body",
-                  min=0.0, tunable=False)
 
     def declare(self):
         super().declare()   # the paper's rig ...
@@ -96,6 +99,7 @@ class DropRig(_GravityRig):
 
     h = Parameter(0.38, "m", "Drop height: the distance the hammer falls from its release "
                   "(at rest) to the contact", positive=True, tunable=False)
+    g = GRAVITY
 
     def declare(self):
         super().declare()
@@ -115,6 +119,8 @@ class DropRestRig(_GravityRig):
     name = "pdbfs_drop_rest"
     page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.m",),
                      "map_x": ("hammer.m", 1000.0, 5000.0), "map_y": ("oil.k", 1e8, 1e9)}
+
+    g = GRAVITY
 
     def declare(self):
         super().declare()
