@@ -221,3 +221,13 @@ def test_a_sweep_on_disk_is_reported_without_reading_it_whole(tmp_path):
     assert head.splitlines()[1:4] == whole.table(limit=None).splitlines()[1:4]
     assert "4 more points" in head
     assert saved_points(out) == 7
+
+
+def test_a_sobol_sample_off_a_power_of_two_is_said_once_when_made():
+    from pdbfs.studies import Sample
+    with pytest.warns(UserWarning, match="sobol:300: .* power of 2, e.g. 256 or 512"):
+        s = Sample("sobol", 300, RANGES)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                    # not again for each block
+        s.block(0, 100), s.block(100, 300)
+        Sample("sobol", 256, RANGES).block(0, 256)

@@ -136,8 +136,9 @@ class Sample(PointSet):
                 raise ParameterError(f"sample sobol:{self.n}: a Sobol' sequence has at most "
                                      f"2**30 = {SOBOL_MAX} points; ask for fewer, or use mc:N")
             if self.n & (self.n - 1):
+                low = 1 << (self.n.bit_length() - 1)
                 warnings.warn(f"sample sobol:{self.n}: the balance properties of Sobol' points "
-                              f"need N to be a power of 2, e.g. {1 << self.n.bit_length()}",
+                              f"need N to be a power of 2, e.g. {low} or {2 * low}",
                               PdbfsWarning, stacklevel=2)
         elif kind == "lhs":      # stratified as a whole: drawn now, once (forked workers share it)
             require(LHS_BYTES * self.n * d, f"sample lhs:{self.n} over {d} parameter(s)",
