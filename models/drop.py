@@ -40,6 +40,7 @@ import casadi as ca
 
 from pdbfs.components import Gravity
 from pdbfs.components.laws import STANDARD_GRAVITY
+from pdbfs.errors import ParameterError
 from pdbfs.modelling import Parameter, der
 
 from .paper import PAPER_SIGNALS, PaperRig
@@ -100,6 +101,12 @@ class DropRig(_GravityRig):
     h = Parameter(0.38, "m", "Drop height: the distance the hammer falls from its release "
                   "(at rest) to the contact", positive=True, tunable=False)
     g = GRAVITY
+
+    def __init__(self, law=None, **params):
+        if "rest" in params:
+            raise ParameterError("DropRig: the hammer resting on the piston is its own rig, "
+                                 "DropRestRig (drop_rig(rest=True)), which has no drop height")
+        super().__init__(law=law, **params)
 
     def declare(self):
         super().declare()

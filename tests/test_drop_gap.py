@@ -128,6 +128,9 @@ def test_drop_rest_offers_no_drop_height_and_no_start_speed(tmp_path):
     assert not (tmp_path / "o").exists()
     # the drop rig keeps both: its hammer may be thrown (v0) from h
     assert {"h", "hammer.v0"} <= set(drop_rig().compile().p_names)
+    from pdbfs.models import DropRig
+    with pytest.raises(ParameterError, match="DropRestRig"):
+        DropRig(rest=True)
 
 
 def test_a_design_map_with_no_pulse_anywhere_is_refused(tmp_path):
