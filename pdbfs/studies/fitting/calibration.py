@@ -93,7 +93,7 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
                 rig's value); ``starts`` - 1 more begin on a Latin hypercube
     params      {name: value} held fixed (not free)
     t_end       simulated horizon (default: the trace's last time, plus the
-                shift's range)
+                shift's range); one that ends before the trace is refused
     progress    a function called with the number of simulations run so far
     """
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,

@@ -95,7 +95,8 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     ``free`` may name a drop height ``X.h`` for a rig whose hammer has an
     impact speed ``X.v0``. Bounds default to a factor 10 either side of the
     rig's values. More ``starts`` (Latin hypercube) are tried for features
-    when the first does not reach them. ``progress``: a function called with
+    when the first does not reach them. ``t_end``: the simulated horizon (for
+    a curve at least its last time). ``progress``: a function called with
     the number of simulations run so far."""
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
                                         starts=starts, t_end=t_end, seed=seed, signal=signal)
