@@ -19,17 +19,23 @@ from hardening import Hardening
 TIGHT = dict(rtol=1e-10, atol=1e-12)
 
 
-def statics(rig):
+def statics(rig, params=None):
     """The stack resting under gravity, by hand: each contact, oil column and
-    mount carries the weight above it (linear oil and mount, Hertz contact)."""
+    mount carries the weight above it (linear oil and mount, Hertz contact).
+    Positions are positive down. The mount (breech to frame) is unstretched
+    at breech.s = frame.s0 - mount.s_rel0 (its stretch is frame.s0 - breech.s
+    - s_rel0) and compressed by the weight; the contact's indentation is
+    hammer.s - piston.s - gap, so the hammer sinks by (m g / k)^(1/n) below
+    piston.s + gap."""
     P = {p.name: p.value for p in rig.compile().params}
+    P.update(params or {})
     g = P["g"]
     mh, mp, mb = P["hammer.m"], P["piston.m"], P["breech.m"]
-    breech = (mh + mp + mb) * g / P["mount.k"] + P["mount.s_rel0"] + P["frame.s0"]
+    breech = P["frame.s0"] - P["mount.s_rel0"] + (mh + mp + mb) * g / P["mount.k"]
     piston = breech + (mh + mp) * g / P["oil.k"]
     sink = (mh * g / P["contact.k"]) ** (1.0 / P["contact.n"])
     return {"breech.s": breech, "piston.s": piston,
-            "hammer.s": piston - P["contact.gap"] + sink}
+            "hammer.s": piston + P["contact.gap"] + sink}
 
 
 def test_hammer_resting_on_the_piston_starts_where_statics_puts_it():
