@@ -124,7 +124,7 @@ def test_a_held_table_jumps_at_its_breakpoints(backend):
     dae = rig.compile()
     assert list(dae.time_event_times(dae.p_default())) == TIMES
     t = res.t
-    assert np.array_equal(res["src.y"], held(t, TIMES, VALUES))     # at 0.1, 0.3, 0.7: the new value
+    assert np.array_equal(res["src.y"], held(t, TIMES, VALUES))     # at 0.1, 0.3, 0.7: new values
     # the integral: the levels times the intervals, to the solver's tolerance
     # (the step ending at a switch sees the new value in its last evaluation)
     steps = np.diff(np.concatenate([[0.0], TIMES, [1.0]]))

@@ -50,15 +50,16 @@ class SecondOrder(SISO):
     def declare(self):
         super().declare()
         self.y_start = self.signal_parameter(0.0, "Output at the start", tunable=False)
-        self.yd_start = Parameter(0.0, f"({self._unit})/s", "Rate of the output at the start",
-                                  tunable=False)
+        rate = per_second(self._unit)
+        self.yd_start = Parameter(0.0, rate, "Rate of the output at the start", tunable=False)
         self.x = State(self._unit, "Output of the lag", start=self.y_start)
-        self.xd = State(f"({self._unit})/s", "Rate of the output", start=self.yd_start)
+        self.xd = State(rate, "Rate of the output", start=self.yd_start)
 
     def equations(self):
         w = self.w
         return [eq(der(self.x), self.xd),
-                eq(der(self.xd), w * w * (self.k * self.u.value - self.x) - 2.0 * self.D * w * self.xd),
+                eq(der(self.xd), w * w * (self.k * self.u.value - self.x)
+                   - 2.0 * self.D * w * self.xd),
                 eq(self.y.value, self.x)]
 
 
@@ -80,3 +81,10 @@ class Derivative(SISO):
     def equations(self):
         return [eq(self.T * der(self.x), self.u.value - self.x),
                 eq(self.y.value, self.k * (self.u.value - self.x) / self.T)]
+
+
+def per_second(unit: str) -> str:
+    """The unit of a rate of a signal in ``unit``: "1/s", "N/s", "(m/s)/s"."""
+    if unit == "1":
+        return "1/s"
+    return f"{unit}/s" if unit.isalnum() else f"({unit})/s"

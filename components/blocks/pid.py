@@ -90,7 +90,8 @@ class PID(SISO):
         u, y = self.u.value, self.y.value
         eqs = []
         if self._limited:
-            eqs += [eq(self.v, self.unlimited()), eq(y, ca.fmin(ca.fmax(self.v, self.yMin), self.yMax))]
+            eqs += [eq(self.v, self.unlimited()),
+                    eq(y, ca.fmin(ca.fmax(self.v, self.yMin), self.yMax))]
         else:
             eqs.append(eq(y, self.unlimited()))
         if "I" in self._kind:
