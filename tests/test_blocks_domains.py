@@ -98,6 +98,21 @@ def test_an_input_drives_the_rig_at_its_start_value(backend):
     assert np.max(np.abs(res["pos.y"] - msd_step(res.t, 8.0, 0.0))) < 1e-7 * (8.0 / K)
 
 
+def test_the_rig_linearized_in_its_input_is_the_mass_spring_damper():
+    """B and D with respect to the Input (today its start parameter): the
+    force enters der(v) as 1/m; the transfer function to the position is
+    1/(m s^2 + c s + k)."""
+    lin = Pushed(B.Input("N")).linearize(inputs=["src.start"], outputs=["pos.y"])
+    order = [lin.states.index("body.s"), lin.states.index("body.v")]
+    A = lin.A[np.ix_(order, order)]
+    assert np.allclose(A, [[0.0, 1.0], [-K / M, -C / M]], rtol=1e-12, atol=0)
+    assert np.allclose(lin.B[order, 0], [0.0, 1.0 / M], rtol=1e-12, atol=0)
+    assert np.allclose(lin.C[0, order], [1.0, 0.0]) and lin.D[0, 0] == 0.0
+    s = 2j * math.pi * 3.0
+    G = (lin.C[:, order] @ np.linalg.solve(s * np.eye(2) - A, lin.B[order]))[0, 0]
+    assert G == pytest.approx(1.0 / (M * s * s + C * s + K), rel=1e-12)
+
+
 class PositionLoop(pdbfs.Rig):
     """A damped mass held at a setpoint by a P controller on its measured
     position: m x'' + c x' = kp*(r - x), the spring-damper's step response

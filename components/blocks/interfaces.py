@@ -67,6 +67,6 @@ class MISO(SO):
             setattr(self, f"u{i}", SignalInput(self._unit, f"Input signal {i}"))
         super().declare()
 
-    def inputs(self) -> list:
+    def input_values(self) -> list:
         """The input signals' values, u1 first."""
         return [getattr(self, f"u{i}").value for i in range(1, self._n + 1)]

@@ -31,17 +31,17 @@ class Add(MISO):
 
     def equations(self):
         weights = [getattr(self, f"k{i}") for i in range(1, self._n + 1)]
-        return [eq(self.y.value, sum(k * u for k, u in zip(weights, self.inputs())))]
+        return [eq(self.y.value, sum(k * u for k, u in zip(weights, self.input_values())))]
 
 
 class Product(MISO):
     """The product of the ``n`` inputs (2 by default): ``y = u1*u2 (*...*un)``."""
 
     def equations(self):
-        y = self.inputs()[0]
-        for u in self.inputs()[1:]:
-            y = y * u
-        return [eq(self.y.value, y)]
+        first, *rest = self.input_values()
+        for u in rest:
+            first = first * u
+        return [eq(self.y.value, first)]
 
 
 class PartialBounds(SISO):
