@@ -6,6 +6,11 @@ declaring parameters, variables and equations on shared partial bases.
                     seal, the oil column, sources, sensors, chains and bars, a cam
     hydraulic/      pdbfs.components.hydraulic: volumes, pistons, orifices,
                     valves, sources, accumulators, sensors
+    blocks/         pdbfs.components.blocks: signals and blocks (inputs of the
+                    rig, sources, tables, math, linear dynamics, PID); the
+                    translational SignalForce and SignalPosition (here) and the
+                    hydraulic CommandedValve and SignalPressure join them to
+                    the physical domains
     laws.py         the paper's formulas as plain functions (Hertz stiffness,
                     damping laws, impact velocity)
     functions.py    powers with finite derivatives everywhere, for the force laws
@@ -19,7 +24,8 @@ from .translational import (BarResolutionWarning, Cam, Damper, ElasticBar, Fixed
                             ImpactContact, Mass, MassChain, OilColumn, PartialCompliant,
                             PartialCompliantWithVelocity, PartialCompression, PartialOneFlange,
                             PartialTwoFlanges, Position, PositionSensor, PressureSensor,
-                            SealFriction, SpeedSensor, Spring, check_bar_resolution)
+                            SealFriction, SignalForce, SignalPosition, SpeedSensor, Spring,
+                            check_bar_resolution)
 
 __all__ = ["Cam", "MassChain", "HertzContact", "HuntCrossleyDamper", "ImpactContact", "SealFriction",
            "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",
@@ -27,5 +33,5 @@ __all__ = ["Cam", "MassChain", "HertzContact", "HuntCrossleyDamper", "ImpactCont
            "damping_hunt_crossley", "damping_lankarani_nikravesh", "hertz_stiffness",
            "impact_velocity", "Fixed", "Mass", "OilColumn",
            "ForceSensor", "PositionSensor", "PressureSensor", "SpeedSensor", "Force",
-           "Gravity", "Position", "Damper", "Spring", "ElasticBar", "BarResolutionWarning",
-           "check_bar_resolution"]
+           "Gravity", "Position", "SignalForce", "SignalPosition", "Damper", "Spring", "ElasticBar",
+           "BarResolutionWarning", "check_bar_resolution"]

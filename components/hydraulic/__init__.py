@@ -9,10 +9,12 @@ ModelingToolkitStandardLibrary's hydraulics.
     volume.py       Volume: compressibility, cavitation, swept walls
     piston.py       Piston (flange + port), Cylinder (a piston over its chamber)
     resistances.py  Orifice (turbulent), LaminarLeak
-    valves.py       CheckValve, ReliefValve, TimedValve, PulseValve
-    sources.py      Tank, PressureSource, FlowSource
+    valves.py       CheckValve, ReliefValve, TimedValve, PulseValve, and
+                    CommandedValve (its opening a signal input)
+    sources.py      Tank, PressureSource, FlowSource, and SignalPressure (a
+                    pressure given by a signal input)
     accumulator.py  Accumulator (gas-charged, polytropic)
-    sensors.py      PressureSensor, FlowSensor
+    sensors.py      PressureSensor, FlowSensor (each also as the signal output y)
 
 An unconnected port is closed (zero flow), allowed only on components where
 that means something (Volume, Cylinder, Accumulator, sources and tanks);
@@ -27,12 +29,14 @@ from .laws import (ATMOSPHERE, bulk_modulus_air, bulk_modulus_constant, bulk_mod
 from .piston import Cylinder, Piston
 from .resistances import LaminarLeak, Orifice, PartialOrifice
 from .sensors import FlowSensor, PressureSensor
-from .sources import FlowSource, PartialSource, PressureSource, Tank
-from .valves import CheckValve, PartialPressureValve, PulseValve, ReliefValve, TimedValve
+from .sources import FlowSource, PartialSource, PressureSource, SignalPressure, Tank
+from .valves import (CheckValve, CommandedValve, PartialPressureValve, PulseValve, ReliefValve,
+                     TimedValve)
 from .volume import BULK_MODULUS_LAWS, Volume
 
 __all__ = ["Accumulator", "PartialOnePort", "PartialTwoPort", "ATMOSPHERE", "bulk_modulus_air",
            "bulk_modulus_constant", "bulk_modulus_linear", "regularised_root", "smooth_ramp",
            "smooth_step", "Cylinder", "Piston", "LaminarLeak", "Orifice", "PartialOrifice",
-           "FlowSensor", "PressureSensor", "FlowSource", "PartialSource", "PressureSource", "Tank", "CheckValve",
-           "PartialPressureValve", "PulseValve", "ReliefValve", "TimedValve", "BULK_MODULUS_LAWS", "Volume"]
+           "FlowSensor", "PressureSensor", "FlowSource", "PartialSource", "PressureSource",
+           "SignalPressure", "Tank", "CheckValve", "CommandedValve", "PartialPressureValve", "PulseValve",
+           "ReliefValve", "TimedValve", "BULK_MODULUS_LAWS", "Volume"]

@@ -13,7 +13,9 @@ class PartialOrifice(PartialTwoPort):
     (``dp/(dp^2 + dp_t^2)^(1/4)``: slope ``1/sqrt(dp_t)`` at dp = 0 instead
     of infinite; relative error below ``(dp_t/dp)^2/4``, 2.5e-5 of the flow
     at ``|dp| = 100*dp_t``) and ``x`` the opening a subclass gives
-    (``opening()``, 1 by default)."""
+    (``opening()``, 1 by default; ``open_fraction()`` where a subclass
+    uses the name ``opening`` for something else, as CommandedValve's
+    signal input)."""
 
     Cd = Parameter(0.7, "1", "Discharge coefficient", positive=True, max=1.0)
     A = Parameter(1e-5, "m2", "Flow area (fully open)", positive=True)
@@ -24,9 +26,13 @@ class PartialOrifice(PartialTwoPort):
     def opening(self):
         return 1.0
 
+    def open_fraction(self):
+        """The opening ``x`` the flow law uses (``opening()``)."""
+        return self.opening()
+
     def equations(self):
         return super().equations() + [
-            eq(self.q, self.opening() * self.Cd * self.A * ca.sqrt(2.0 / self.rho)
+            eq(self.q, self.open_fraction() * self.Cd * self.A * ca.sqrt(2.0 / self.rho)
                * regularised_root(self.dp, self.dp_t))]
 
 

@@ -1,5 +1,6 @@
-"""Boundary conditions: a tank, prescribed pressure and prescribed flow."""
-from pdbfs.modelling import Parameter, Variable, eq, switch_times, time
+"""Boundary conditions: a tank, prescribed pressure (a parameter, a function
+of time or a signal) and prescribed flow."""
+from pdbfs.modelling import Parameter, SignalInput, Variable, eq, switch_times, time
 
 from .interfaces import PartialOnePort
 from .laws import ATMOSPHERE
@@ -56,3 +57,19 @@ class FlowSource(PartialSource):
 
     def equations(self):
         return [eq(self.port.q, -self.prescribed(self.Q)), eq(self.p, self.port.p)]
+
+
+class SignalPressure(PartialOnePort):
+    """A pressure at ``port`` given by the signal input ``u`` (Pa,
+    absolute), as PressureSource prescribes its own; ``q_out`` is the flow
+    it delivers."""
+
+    closable = True
+
+    def declare(self):
+        super().declare()
+        self.u = SignalInput("Pa", "Pressure to impose (absolute)")
+        self.q_out = Variable("m3/s", "Flow delivered into the circuit", output=True)
+
+    def equations(self):
+        return [eq(self.port.p, self.u.value), eq(self.q_out, -self.port.q)]

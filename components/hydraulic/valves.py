@@ -1,6 +1,9 @@
 """Valves: turbulent orifices whose opening follows the pressure
-difference (relief and check valves) or time (a fast switching valve)."""
-from pdbfs.modelling import Parameter, time
+difference (relief and check valves), time (a fast switching valve) or a
+signal (a commanded valve)."""
+import casadi as ca
+
+from pdbfs.modelling import Parameter, SignalInput, time
 
 from .laws import smooth_step
 from .resistances import PartialOrifice
@@ -71,3 +74,22 @@ class PulseValve(TimedValve):
         return super().time_events() + [
             (self.t_close, "closing", "the valve starts closing (time = t_close)"),
             (self.t_close + self.T_close, "closed", "the valve is closed (time = t_close + T_close)")]
+
+
+class CommandedValve(PartialOrifice):
+    """A valve opened by the signal input ``opening`` (1: 0 closed, 1
+    fully open, the flow area then ``A``): an orifice of area
+    ``opening*A``. A command outside 0..1 is clamped there (a valve does not
+    open beyond its stops), each stop an event."""
+
+    def declare(self):
+        super().declare()
+        self.opening = SignalInput("1", "Commanded opening, 0 closed to 1 fully open")
+
+    def open_fraction(self):
+        return ca.fmin(ca.fmax(self.opening.value, 0.0), 1.0)
+
+    def events(self):
+        x = self.opening.value
+        return [(x, "closed", "the command reaches or leaves the closed stop (opening = 0)"),
+                (x - 1.0, "open", "the command reaches or leaves the open stop (opening = 1)")]

@@ -6,7 +6,8 @@ Mechanics.Translational): flanges carry a position (across) and a force
     mass.py        Mass, Fixed          springs.py   Spring, Damper
     contact.py     Hertz contact and hysteresis damping (the paper's eq. 1-6)
     friction.py    the loading piston's seal      oil.py   the oil column (compression only)
-    sources.py     Force, Position, Gravity       sensors.py   position, speed, force, pressure
+    sources.py     Force, Position, Gravity, and SignalForce, SignalPosition (driven by a signal)
+    sensors.py     position, speed, force, pressure (each also as the signal output y)
     chain.py       masses joined by springs; bar.py: an elastic bar built from it
     constraints.py ideal kinematic constraints (a cam)
 
@@ -22,7 +23,7 @@ from .interfaces import (PartialCompliant, PartialCompliantWithVelocity, Partial
 from .mass import Fixed, Mass
 from .oil import OilColumn
 from .sensors import ForceSensor, PositionSensor, PressureSensor, SpeedSensor
-from .sources import Force, Gravity, Position
+from .sources import Force, Gravity, Position, SignalForce, SignalPosition
 from .springs import Damper, Spring
 
 __all__ = ["BarResolutionWarning", "ElasticBar", "check_bar_resolution", "MassChain", "Cam",
@@ -30,4 +31,4 @@ __all__ = ["BarResolutionWarning", "ElasticBar", "check_bar_resolution", "MassCh
            "PartialCompliant", "PartialCompliantWithVelocity", "PartialCompression",
            "PartialOneFlange", "PartialTwoFlanges", "Fixed", "Mass", "OilColumn", "ForceSensor",
            "PositionSensor", "PressureSensor", "SpeedSensor", "Force", "Gravity", "Position",
-           "Damper", "Spring"]
+           "SignalForce", "SignalPosition", "Damper", "Spring"]

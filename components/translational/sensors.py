@@ -1,5 +1,7 @@
 """Ideal sensors: they take no force (position, speed) or pass it through
-(force, pressure), and give their reading as a SignalOutput."""
+(force, pressure), and give their reading as a SignalOutput: under its own
+name (``s``, ``v``, ``f``, ``p``) and as ``y``, the output every block
+reads."""
 from pdbfs.modelling import Parameter, SignalOutput, der, eq
 
 from .interfaces import PartialOneFlange, PartialTwoFlanges
@@ -11,9 +13,11 @@ class PositionSensor(PartialOneFlange):
     def declare(self):
         super().declare()
         self.s = SignalOutput("m", "Measured position")
+        self.y = SignalOutput("m", "Measured position (the same as s)")
 
     def equations(self):
-        return [eq(self.flange.f, 0.0), eq(self.s.value, self.flange.s)]
+        return [eq(self.flange.f, 0.0), eq(self.s.value, self.flange.s),
+                eq(self.y.value, self.s.value)]
 
 
 class SpeedSensor(PartialOneFlange):
@@ -22,34 +26,53 @@ class SpeedSensor(PartialOneFlange):
     def declare(self):
         super().declare()
         self.v = SignalOutput("m/s", "Measured velocity")
+        self.y = SignalOutput("m/s", "Measured velocity (the same as v)")
 
     def equations(self):
-        return [eq(self.flange.f, 0.0), eq(self.v.value, der(self.flange.s))]
+        return [eq(self.flange.f, 0.0), eq(self.v.value, der(self.flange.s)),
+                eq(self.y.value, self.v.value)]
 
 
 class ForceSensor(PartialTwoFlanges):
     """Force transmitted between flange_a and flange_b, output ``f`` (N,
-    positive in tension, as ``flange_b.f`` in Modelica)."""
+    positive in tension, as ``flange_b.f`` in Modelica), also as ``y``."""
 
     def declare(self):
         super().declare()
         self.f = SignalOutput("N", "Measured force (positive in tension)")
+        self.y = SignalOutput(*self.reading_unit())
+
+    def reading_unit(self):
+        """(unit, description) of the output ``y``."""
+        return "N", "Measured force, positive in tension (the same as f)"
+
+    def reading(self):
+        """What the output ``y`` gives."""
+        return self.f.value
 
     def equations(self):
         return [eq(self.flange_a.s, self.flange_b.s),
                 eq(self.flange_a.f + self.flange_b.f, 0.0),
-                eq(self.f.value, self.flange_b.f)]
+                eq(self.f.value, self.flange_b.f),
+                eq(self.y.value, self.reading())]
 
 
 class PressureSensor(ForceSensor):
     """Like ForceSensor, as a pressure on an area: output ``p`` (Pa,
-    positive in compression, ``p = -f/A``)."""
+    positive in compression, ``p = -f/A``), also as ``y`` (the force is
+    still ``f``)."""
 
     A = Parameter(2.270e-2, "m2", "Area the force acts on", positive=True, tunable=False)
 
     def declare(self):
         super().declare()
         self.p = SignalOutput("Pa", "Measured pressure (positive in compression)")
+
+    def reading_unit(self):
+        return "Pa", "Measured pressure, positive in compression (the same as p)"
+
+    def reading(self):
+        return self.p.value
 
     def equations(self):
         return super().equations() + [eq(self.p.value * self.A, -self.f.value)]

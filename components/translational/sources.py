@@ -1,4 +1,6 @@
-from pdbfs.modelling import Parameter, Variable, eq, switch_times, time
+"""Sources: prescribed forces and positions (parameters, functions of time,
+or signals), and gravity."""
+from pdbfs.modelling import Parameter, SignalInput, Variable, eq, switch_times, time
 
 from .interfaces import PartialOneFlange
 from ..laws import STANDARD_GRAVITY
@@ -61,3 +63,33 @@ class Position(PartialOneFlange):
     def equations(self):
         value = self.s0 if self._function is None else self._function(time)
         return [eq(self.flange.s, value)]
+
+
+class SignalForce(PartialOneFlange):
+    """A force given by the signal input ``u`` (N), pushing the attached body
+    in +x (down) as Force does; ``force`` is the force applied."""
+
+    def declare(self):
+        super().declare()
+        self.u = SignalInput("N", "Force to apply, positive down")
+        self.force = Variable("N", "Applied force, positive down", output=True)
+
+    def equations(self):
+        return [eq(self.force, self.u.value), eq(self.flange.f, -self.force)]
+
+
+class SignalPosition(PartialOneFlange):
+    """The position of the attached flange given by the signal input ``u``
+    (m, positive down), as Position prescribes it. A body driven by it has
+    no motion of its own left; its velocity and acceleration are the
+    signal's derivatives, which the compiler forms by differentiating the
+    signal's equations: the signal must be differentiable (a state of a
+    block, such as a FirstOrder's or SecondOrder's output, or a smooth
+    source: a Sine, not a Step)."""
+
+    def declare(self):
+        super().declare()
+        self.u = SignalInput("m", "Position to impose, positive down")
+
+    def equations(self):
+        return [eq(self.flange.s, self.u.value)]

@@ -1,0 +1,72 @@
+"""Partial bases of the blocks (after Modelica.Blocks.Interfaces): a block
+with one output ``y`` (SO), one input ``u`` and one output ``y`` (SISO),
+several inputs ``u1 .. un`` and one output ``y`` (MISO).
+
+A block's ``unit`` (a constructor argument, "1" by default) is the unit of
+its signals and of the parameters that carry a signal's value (a step's
+height, a limiter's bounds, a start value). pdbfs does not convert or check
+units along a connection: they are labels for the reader, the results and
+the FMU.
+"""
+from __future__ import annotations
+
+from pdbfs.errors import ParameterError
+from pdbfs.modelling import Component, Parameter, SignalInput, SignalOutput
+
+
+class Block(Component):
+    """Base of every block: a component of signals only, whose signals carry
+    the unit ``unit`` (SI text such as "N", "Pa", "m/s"; "1" for a plain
+    number)."""
+
+    def __init__(self, unit: str = "1", **params):
+        if not isinstance(unit, str) or not unit.strip():
+            raise ParameterError(f"{type(self).__name__}: unit = {unit!r} must be a unit's "
+                                 "text, such as 'N', 'Pa' or '1'")
+        self._unit = unit.strip()
+        super().__init__(**params)
+
+    def signal_parameter(self, default, description: str, **limits) -> Parameter:
+        """A parameter in the unit of the block's signals (declare it in
+        ``declare()``: ``self.offset = self.signal_parameter(0.0, "...")``)."""
+        return Parameter(default, self._unit, description, **limits)
+
+
+class SO(Block):
+    """A block with one output signal ``y``."""
+
+    output_description = "Output signal"
+
+    def declare(self):
+        self.y = SignalOutput(self._unit, self.output_description)
+
+
+class SISO(SO):
+    """A block with one input signal ``u`` and one output signal ``y``."""
+
+    input_description = "Input signal"
+
+    def declare(self):
+        self.u = SignalInput(self._unit, self.input_description)
+        super().declare()
+
+
+class MISO(SO):
+    """A block with ``n`` input signals ``u1 .. un`` (``n`` >= 1, a
+    constructor argument, 2 by default) and one output ``y``."""
+
+    def __init__(self, n: int = 2, unit: str = "1", **params):
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise ParameterError(f"{type(self).__name__}: n = {n!r} must be a whole number of "
+                                 "inputs >= 1")
+        self._n = n
+        super().__init__(unit=unit, **params)
+
+    def declare(self):
+        for i in range(1, self._n + 1):
+            setattr(self, f"u{i}", SignalInput(self._unit, f"Input signal {i}"))
+        super().declare()
+
+    def input_values(self) -> list:
+        """The input signals' values, u1 first."""
+        return [getattr(self, f"u{i}").value for i in range(1, self._n + 1)]
