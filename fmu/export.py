@@ -328,15 +328,27 @@ def _add_sundials_sources(src: Path, own_c: list[str]) -> list[str]:
     return own_c + add_sundials(src, own, sources)
 
 
+#: the date of every file in the FMU (the zip format's earliest): the same
+#: rig exported twice gives the same bytes, whatever the clock says
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+
+
 def _write_zip(path: Path, xml: str, binaries: dict[str, Path], src: Path, docs: dict[str, str]) -> None:
-    """The FMU at ``path``, written whole or not at all."""
+    """The FMU at ``path``, written whole or not at all; every entry with
+    the same date and permissions, so that its bytes depend on its contents
+    only."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with whole(path) as part, zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as z:
-        z.writestr("modelDescription.xml", xml)
+        def put(arc: str, data: str | bytes, mode: int = 0o644) -> None:
+            info = zipfile.ZipInfo(arc, ZIP_DATE)
+            info.compress_type, info.external_attr = zipfile.ZIP_DEFLATED, mode << 16
+            info.create_system = 3    # Unix (the permissions' system) on any host
+            z.writestr(info, data)
+        put("modelDescription.xml", xml)
         for arc, f in binaries.items():
-            z.write(f, arc)
+            put(arc, f.read_bytes(), 0o755)
         for f in sorted(src.rglob("*")):
             if f.is_file():
-                z.write(f, f"sources/{f.relative_to(src).as_posix()}")
+                put(f"sources/{f.relative_to(src).as_posix()}", f.read_bytes())
         for arc, text in docs.items():
-            z.writestr(arc, text)
+            put(arc, text)
