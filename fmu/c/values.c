@@ -65,8 +65,7 @@ int values_check_get(Inst *m, const char *fn, const unsigned vr[], size_t n, int
 #endif
         if (known && !has_start(r)) {
             calculated_name(name, sizeof name, r);
-            return ERR(m, "%s: %s has no start value; it is calculated in Initialization Mode (call "
-                       "fmi3EnterInitializationMode first)", fn, name);
+            return ERR(m, "%s: %s has no start value; it is calculated in Initialization Mode", fn, name);
         }
     }
     return FMU_OK;
