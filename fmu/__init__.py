@@ -16,7 +16,8 @@ validated by fmpy, simulated by any importer.
     derivatives.py  CasADi's forward and reverse AD for the directional and adjoint derivatives
     symbols.py      private names for everything but the FMI functions (pdbfs_names.h)
     documentation.py documentation/index.html
-    rights.py       version, author, license and copyright (the user's; CVODES's kept)
+    rights.py       version, author, license and copyright (default: pdbfs's BSD-3-Clause;
+                    the user's kept before pdbfs's and CVODES's), documentation/licenses/
     export.py       pdbfs_model.h, compile, zip
     c/              the generic C: the life cycle (lifecycle.c) calling down into one
                     wrapper per FMI version (fmi2_*, fmi3_*) over the same model

@@ -6,6 +6,7 @@ from __future__ import annotations
 import html
 from importlib import metadata
 
+from .rights import LICENSE_ENTRY, LICENSE_IN_FMU, PDBFS_LICENSE, PDBFS_LICENSE_IN_FMU
 from .variables import SOLVER_METHODS, FmuModel
 
 
@@ -39,8 +40,9 @@ def _range(v) -> str:
 
 
 def index_html(model: FmuModel, platforms: list[str], sundials_version: str, casadi_version: str,
-               has_sources: bool, fmi_version: int = 2) -> str:
-    """The HTML page of ``model``'s FMU, built for ``platforms``."""
+               has_sources: bool, fmi_version: int = 2, license: str | None = None) -> str:
+    """The HTML page of ``model``'s FMU, built for ``platforms``; ``license``:
+    the model's licence as its user stated it (None: pdbfs's, BSD-3-Clause)."""
     d = model.dae
     e = html.escape
     param_names = set(d.p_names)
@@ -101,6 +103,9 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
           ("<li>sources: <code>sources/</code> builds the binary with a plain C compiler, SUNDIALS' "
            f"CVODE sources included, listed in {_LISTED[fmi_version]}; see <code>sources/README.txt</code></li>") if has_sources else
           "<li>sources: the FMU's own C files only (SUNDIALS' sources were not available)</li>",
-          "<li>licences: SUNDIALS is BSD-3-Clause, <code>documentation/licenses/SUNDIALS-LICENSE</code></li>",
+          f"<li>licences (<code>{LICENSE_ENTRY}</code>): the model "
+          + (f"{e(license)}" if license is not None else f"{PDBFS_LICENSE}, as pdbfs")
+          + f"; pdbfs's C wrapper {PDBFS_LICENSE} (<code>{PDBFS_LICENSE_IN_FMU}</code>); SUNDIALS' CVODES "
+          + "BSD-3-Clause" + (f" (<code>{LICENSE_IN_FMU}</code>)" if has_sources else "") + "</li>",
           "</ul></body></html>", ""]
     return "\n".join(L)

@@ -8,8 +8,8 @@ the same target (pdbfs.native.sundials): one build path for all of them.
     x86_64-linux    linux64          <id>.so        x86_64-linux-gnu
     aarch64-linux   aarch64-linux    <id>.so        aarch64-linux-gnu
     x86_64-windows  win64            <id>.dll       x86_64-windows-gnu
-    x86_64-darwin   darwin64         <id>.dylib     x86_64-macos
-    aarch64-darwin  darwin64         <id>.dylib     aarch64-macos
+    x86_64-darwin   darwin64         <id>.dylib     x86_64-macos.10.7
+    aarch64-darwin  darwin64         <id>.dylib     aarch64-macos.11.0
 
 FMI 3.0 puts each in ``binaries/<platform>``. FMI 2.0 knows only
 ``darwin64`` for a Mac (FMPy reads it on Intel and Apple-silicon Macs
@@ -17,6 +17,10 @@ alike): with both Mac platforms it holds one universal binary of the two
 (:func:`universal_macho`). FMI 2.0 has no name for Linux on arm64: the
 binary goes to ``aarch64-linux``, the FMI 3.0 name. ``linux64`` and
 ``win64`` are accepted as aliases, ``all`` means every platform.
+
+A Mac binary declares the oldest macOS it is for (``toolchain.MACOS_MIN``),
+and its install name is ``@rpath/<id>.dylib``, not the folder it was built
+in: two exports of one rig give the same bytes.
 """
 from __future__ import annotations
 

@@ -120,7 +120,7 @@ cvode/ sundials/ nvector/ sunmatrix/ sunlinsol/ sunnonlinsol/
 source FMUs (fmpy compile, OpenModelica, Dymola) needs no help. By hand,
 with this folder as the only include directory:
 
-  any:      zig cc -target <x86_64-linux-gnu|aarch64-macos|...> -O2 -shared \\
+  any:      zig cc -target <x86_64-linux-gnu|aarch64-macos.11.0|...> -O2 -shared \\
                 -fPIC -fvisibility=hidden -I. *.c {SRC_DIR}/*.c -o {ident}.<so|dylib|dll>
   Linux:    gcc -O2 -fPIC -shared -fvisibility=hidden -I. *.c {SRC_DIR}/*.c \\
                 -o {ident}.so -lm

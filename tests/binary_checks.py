@@ -6,6 +6,9 @@ import struct
 #: Mach-O CPU types
 CPU_X86_64, CPU_ARM64 = 0x01000007, 0x0100000C
 LC_SYMTAB, LC_LOAD_DYLIB, LC_LOAD_WEAK_DYLIB, LC_REEXPORT_DYLIB = 0x2, 0xC, 0x80000018, 0x8000001F
+#: the library's own name; the oldest macOS (before 10.14's loader: VERSION_MIN_MACOSX)
+LC_ID_DYLIB, LC_VERSION_MIN_MACOSX, LC_BUILD_VERSION = 0xD, 0x24, 0x32
+PLATFORM_MACOS = 1
 
 
 def pe(data: bytes) -> dict:
@@ -53,17 +56,31 @@ def macho_slices(data: bytes) -> list[bytes]:
     return [data]
 
 
+def _version(v: int) -> tuple[int, int, int]:
+    """A Mach-O version word (xxxx.yy.zz in nibbles) as (major, minor, patch)."""
+    return v >> 16, (v >> 8) & 0xFF, v & 0xFF
+
+
 def macho(thin: bytes) -> dict:
     """{'cpu', 'filetype', 'imports' (dylib paths), 'exports' (external
-    defined symbols, without the leading underscore)} of a thin Mach-O."""
+    defined symbols, without the leading underscore), 'ids' (LC_ID_DYLIB
+    names), 'min_macos' (every (major, minor, patch) declared for macOS by
+    LC_BUILD_VERSION or LC_VERSION_MIN_MACOSX), 'build_platforms' (the
+    platform of every LC_BUILD_VERSION)} of a thin Mach-O."""
     magic, cpu, _, filetype, ncmds, _, _, _ = struct.unpack_from("<8I", thin)
     assert magic == 0xFEEDFACF, "not a 64-bit little-endian Mach-O"
-    imports, exports, o = [], [], 32
+    imports, exports, ids, min_macos, platforms, o = [], [], [], [], [], 32
     for _ in range(ncmds):
         cmd, size = struct.unpack_from("<II", thin, o)
-        if cmd in (LC_LOAD_DYLIB, LC_LOAD_WEAK_DYLIB, LC_REEXPORT_DYLIB):
+        if cmd in (LC_LOAD_DYLIB, LC_LOAD_WEAK_DYLIB, LC_REEXPORT_DYLIB, LC_ID_DYLIB):
             name = o + struct.unpack_from("<I", thin, o + 8)[0]
-            imports.append(thin[name:thin.index(b"\0", name)].decode())
+            (ids if cmd == LC_ID_DYLIB else imports).append(thin[name:thin.index(b"\0", name)].decode())
+        elif cmd == LC_VERSION_MIN_MACOSX:
+            min_macos.append(_version(struct.unpack_from("<I", thin, o + 8)[0]))
+        elif cmd == LC_BUILD_VERSION:
+            platform, minos = struct.unpack_from("<II", thin, o + 8)
+            platforms.append(platform)
+            min_macos += [_version(minos)] if platform == PLATFORM_MACOS else []
         elif cmd == LC_SYMTAB:
             symoff, nsyms, stroff, _ = struct.unpack_from("<IIII", thin, o + 8)
             for i in range(nsyms):
@@ -72,4 +89,5 @@ def macho(thin: bytes) -> dict:
                     s = stroff + strx
                     exports.append(thin[s:thin.index(b"\0", s)].decode().removeprefix("_"))
         o += size
-    return {"cpu": cpu, "filetype": filetype, "imports": imports, "exports": exports}
+    return {"cpu": cpu, "filetype": filetype, "imports": imports, "exports": exports, "ids": ids,
+            "min_macos": min_macos, "build_platforms": platforms}

@@ -6,6 +6,7 @@ from __future__ import annotations
 import atexit
 import shutil
 import tempfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -71,11 +72,21 @@ def source_build(fmu: str, dest, cflags=()) -> Path:
     return dest
 
 
+def resealed(ser) -> bytes:
+    """A serialised FMU state whose bytes were changed on purpose, with its
+    checksum made right again (snapshot.c: the Snapshot's bytes, then their
+    CRC-32, least significant byte first), so that what its contents say is
+    checked: a state spoilt by someone who knows the format."""
+    body = bytes(ser[:-4])
+    return body + zlib.crc32(body).to_bytes(4, "little")
+
+
 def corrupted_states(ser: bytes) -> list[tuple[bytes, str]]:
     """Serialised FMU states of the paper rig spoilt one way each, with the
     word the refusal must name: a negative hammer.m, the error mode, a NaN
-    time. The Snapshot's layout (fmu_instance.h): magic, size (unsigned),
-    token[64], mode, type (int), time, p[]."""
+    time (each resealed: the checksum alone would refuse them). The
+    Snapshot's layout (fmu_instance.h): magic, size (unsigned), token[64],
+    mode, type (int), time, p[]."""
     off_mode, off_time = 4 + 4 + 64, 4 + 4 + 64 + 4 + 4
     k = built_model("paper")[0].p_names.index("hammer.m")
     out = []
@@ -84,8 +95,15 @@ def corrupted_states(ser: bytes) -> list[tuple[bytes, str]]:
         bad = bytearray(ser)
         raw = value.tobytes()
         bad[off:off + len(raw)] = raw
-        out.append((bytes(bad), match))
+        out.append((resealed(bad), match))
     return out
+
+
+def untyped(dll, name: str):
+    """The C function ``name`` of ``dll`` returning an int, its arguments
+    passed as given (fmpy declares argument types on its own handle)."""
+    import ctypes
+    return ctypes.CFUNCTYPE(ctypes.c_int)(ctypes.cast(getattr(dll, name), ctypes.c_void_p).value)
 
 
 def reference_pressure(rig, params: dict | None = None, t_end: float = 0.02, n_out: int = 2001,

@@ -250,7 +250,7 @@ def test_a_restored_state_that_breaks_a_condition_is_refused(pulse):
     ser[off:off + 8] = np.float64(5e-3).tobytes()
     a.clear()
     with pytest.raises(FMICallException):
-        a.state("deser", bytes(ser))
+        a.state("deser", T.resealed(ser))
     assert any("close before it opens" in e for e in a.errors()), a.errors()
     a.fmu.freeInstance()
 

@@ -5,8 +5,9 @@ and, run under Wine by a small FMI host built by zig cc for Windows
 binary's peak; the aarch64-linux binary, run under qemu-aarch64 by the same
 host built for Linux on arm64, gives it too; the macOS binaries (not run
 here) are Mach-O for the right CPU exporting the FMI functions and importing
-only the system's library; bad platform requests are one-line errors that
-leave nothing behind."""
+only the system's library, declaring the oldest macOS they can be built for
+and their own name as install name; two exports of one rig are the same
+bytes; bad platform requests are one-line errors that leave nothing behind."""
 import os
 import re
 import shutil
@@ -130,6 +131,40 @@ def test_macos_binaries_are_macho_for_their_cpu_exporting_fmi_only(fmi_version, 
     wanted = {2: {"fmi2Instantiate", "fmi2DoStep", "fmi2GetReal"},
               3: {"fmi3InstantiateCoSimulation", "fmi3DoStep", "fmi3GetFloat64"}}[fmi_version]
     assert wanted <= set(ours) and all(e.startswith(f"fmi{fmi_version}") for e in ours), ours
+
+
+#: the oldest macOS each Mac CPU's binary must declare: Apple silicon's first
+#: (11.0); on Intel the oldest zig 0.17 builds for (10.7)
+OLDEST_MACOS = {B.CPU_X86_64: (10, 7, 0), B.CPU_ARM64: (11, 0, 0)}
+
+
+@pytest.mark.parametrize("fmi_version", [2, 3])
+@pytest.mark.parametrize("name", ["x86_64-darwin", "aarch64-darwin"])
+def test_macos_binaries_declare_the_oldest_macos_and_their_own_name(fmi_version, name):
+    """Read from the load commands: the minimum macOS (zig's default, 15.0,
+    kept every older Mac out) and the install name, the library's own file
+    name under @rpath rather than the temporary folder it was built in."""
+    for thin in B.macho_slices(_read(_fmu(fmi_version), name, fmi_version)):
+        info = B.macho(thin)
+        assert info["min_macos"] == [OLDEST_MACOS[info["cpu"]]], info["min_macos"]
+        assert set(info["build_platforms"]) <= {B.PLATFORM_MACOS}, info["build_platforms"]
+        assert info["ids"] == ["@rpath/pdbfs_paper.dylib"], info["ids"]
+
+
+def test_two_exports_of_one_rig_are_the_same_bytes(tmp_path):
+    """Every platform's binary, and the FMU file as a whole, are the same
+    bytes when the rig is exported again (another temporary build folder,
+    another time of day)."""
+    first = _fmu(2)
+    dae, _ = T.built_model("paper")
+    time.sleep(2.1)     # the zip format's dates count in 2 s
+    again = export_fmu(dae, tmp_path / "again.fmu", platforms="all")
+    with zipfile.ZipFile(first) as a, zipfile.ZipFile(again) as b:
+        assert a.namelist() == b.namelist()
+        differ = [n for n in a.namelist() if a.read(n) != b.read(n)]
+        assert not differ, differ
+        dates = [i.date_time for i in b.infolist()]
+    assert Path(first).read_bytes() == Path(again).read_bytes(), dates[:3]
 
 
 def _host(tmp_path, fmu_path, target, fmi_version, exe):

@@ -93,9 +93,12 @@ fmi2Status fmi2Reset(fmi2Component c) {
 }
 
 /* --------------------------------------------------------- getters/setters */
+/* the state table (FMI 2.0, 4.2.4 and 3.2.3): nothing is read in
+ * Instantiated; Integer, Boolean and String are set in Instantiated,
+ * Initialization Mode, Event Mode and between steps */
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
-    return values_get_real((Inst *)c, "fmi2GetReal", vr, nvr, value);
+    return values_get_real((Inst *)c, "fmi2GetReal", vr, nvr, value, 0);
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
@@ -106,8 +109,8 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     Inst *m = (Inst *)c;
     size_t i;
     long long v;
-    if (fmu_check(m, "fmi2GetInteger", ST_ANY, -1) != fmi2OK) return fmi2Error;
-    if (nvr > 0 && (!vr || !value)) return ERR(m, "fmi2GetInteger: NULL argument");
+    if (values_check_get(m, "fmi2GetInteger", vr, nvr, 0) != fmi2OK) return fmi2Error;
+    if (nvr > 0 && !value) return ERR(m, "fmi2GetInteger: NULL argument");
     for (i = 0; i < nvr; i++) {
         if (values_get_int(m, "fmi2GetInteger", vr[i], &v) != fmi2OK) return fmi2Error;
         value[i] = (fmi2Integer)v;
@@ -118,7 +121,7 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
     Inst *m = (Inst *)c;
     size_t i;
-    if (fmu_check(m, "fmi2SetInteger", ST_ANY, -1) != fmi2OK) return fmi2Error;
+    if (fmu_check(m, "fmi2SetInteger", ST_SET_DISCRETE, -1) != fmi2OK) return fmi2Error;
     if (nvr > 0 && (!vr || !value)) return ERR(m, "fmi2SetInteger: NULL argument");
     for (i = 0; i < nvr; i++)
         if (values_check_int(m, "fmi2SetInteger", vr[i], value[i]) != fmi2OK) return fmi2Error;
@@ -129,7 +132,7 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
     Inst *m = (Inst *)c;
     (void)value;
-    if (fmu_check(m, "fmi2GetBoolean", ST_ANY, -1) != fmi2OK) return fmi2Error;
+    if (values_check_get(m, "fmi2GetBoolean", vr, nvr, 0) != fmi2OK) return fmi2Error;
     if (nvr > 0) return ERR(m, "fmi2GetBoolean: unknown value reference %u", vr ? vr[0] : 0u);
     return fmi2OK;
 }
@@ -137,7 +140,7 @@ fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
     Inst *m = (Inst *)c;
     (void)value;
-    if (fmu_check(m, "fmi2SetBoolean", ST_ANY, -1) != fmi2OK) return fmi2Error;
+    if (fmu_check(m, "fmi2SetBoolean", ST_SET_DISCRETE, -1) != fmi2OK) return fmi2Error;
     if (nvr > 0) return ERR(m, "fmi2SetBoolean: unknown value reference %u", vr ? vr[0] : 0u);
     return fmi2OK;
 }
@@ -145,7 +148,7 @@ fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
     Inst *m = (Inst *)c;
     (void)value;
-    if (fmu_check(m, "fmi2GetString", ST_ANY, -1) != fmi2OK) return fmi2Error;
+    if (values_check_get(m, "fmi2GetString", vr, nvr, 0) != fmi2OK) return fmi2Error;
     if (nvr > 0) return ERR(m, "fmi2GetString: unknown value reference %u", vr ? vr[0] : 0u);
     return fmi2OK;
 }
@@ -153,7 +156,7 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
     Inst *m = (Inst *)c;
     (void)value;
-    if (fmu_check(m, "fmi2SetString", ST_ANY, -1) != fmi2OK) return fmi2Error;
+    if (fmu_check(m, "fmi2SetString", ST_SET_DISCRETE, -1) != fmi2OK) return fmi2Error;
     if (nvr > 0) return ERR(m, "fmi2SetString: unknown value reference %u", vr ? vr[0] : 0u);
     return fmi2OK;
 }

@@ -71,7 +71,9 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference
                                        const fmi2Integer order[], const fmi2Real value[]) {
     Inst *m = (Inst *)c;
     (void)order; (void)value;
-    if (fmu_check(m, "fmi2SetRealInputDerivatives", ST_ANY, fmi2CoSimulation) != fmi2OK) return fmi2Error;
+    if (fmu_check(m, "fmi2SetRealInputDerivatives", ST_INSTANTIATED | ST_INIT | ST_STEPDONE, fmi2CoSimulation) !=
+        fmi2OK)
+        return fmi2Error;
     if (nvr > 0) return ERR(m, "fmi2SetRealInputDerivatives: the model has no inputs (vr %u)", vr ? vr[0] : 0u);
     return fmi2OK;
 }
@@ -80,7 +82,9 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
                                         const fmi2Integer order[], fmi2Real value[]) {
     Inst *m = (Inst *)c;
     (void)vr; (void)order; (void)value;
-    if (fmu_check(m, "fmi2GetRealOutputDerivatives", ST_ANY, fmi2CoSimulation) != fmi2OK) return fmi2Error;
+    if (fmu_check(m, "fmi2GetRealOutputDerivatives", ST_STEPDONE | ST_TERMINATED | ST_ERROR, fmi2CoSimulation) !=
+        fmi2OK)
+        return fmi2Error;
     if (nvr > 0) return ERR(m, "fmi2GetRealOutputDerivatives: not provided (maxOutputDerivativeOrder=0)");
     return fmi2OK;
 }

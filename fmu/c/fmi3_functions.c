@@ -123,9 +123,11 @@ fmi3Status fmi3Reset(fmi3Instance instance) { return fmu_reset((Inst *)instance,
 
 /* --------------------------------------------------------- getters/setters */
 
-/* scalar variables only: one value per value reference */
-static int check_sizes(Inst *m, const char *fn, size_t nvr, size_t nv) {
-    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
+/* scalar variables only: one value per value reference; called in one of the
+ * ``allowed`` modes (reading: any, Instantiated for start values only, as
+ * values_check_get says; setting: FMI 3.0's state tables) */
+static int check_sizes(Inst *m, const char *fn, size_t nvr, size_t nv, int allowed) {
+    if (fmu_check(m, fn, allowed, -1) != FMU_OK) return FMU_ERROR;
     if (nv != nvr) return ERR(m, "%s: nValues = %zu, expected %zu (all variables are scalars)", fn, nv, nvr);
     return FMU_OK;
 }
@@ -133,14 +135,14 @@ static int check_sizes(Inst *m, const char *fn, size_t nvr, size_t nv) {
 fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 values[],
                           size_t nValues) {
     Inst *m = (Inst *)instance;
-    if (check_sizes(m, "fmi3GetFloat64", nvr, nValues) != FMU_OK) return fmi3Error;
-    return values_get_real(m, "fmi3GetFloat64", vr, nvr, values);
+    if (check_sizes(m, "fmi3GetFloat64", nvr, nValues, ST_ANY) != FMU_OK) return fmi3Error;
+    return values_get_real(m, "fmi3GetFloat64", vr, nvr, values, 1);
 }
 
 fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
                           const fmi3Float64 values[], size_t nValues) {
     Inst *m = (Inst *)instance;
-    if (check_sizes(m, "fmi3SetFloat64", nvr, nValues) != FMU_OK) return fmi3Error;
+    if (check_sizes(m, "fmi3SetFloat64", nvr, nValues, ST_SET_REAL) != FMU_OK) return fmi3Error;
     return values_set_real(m, "fmi3SetFloat64", vr, nvr, values);
 }
 
@@ -151,8 +153,9 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
         Inst *m = (Inst *)instance;                                                                       \
         size_t i;                                                                                         \
         long long v;                                                                                      \
-        if (check_sizes(m, "fmi3Get" #SUFFIX, nvr, nValues) != FMU_OK) return fmi3Error;                  \
-        if (nvr > 0 && (!vr || !values)) return ERR(m, "fmi3Get" #SUFFIX ": NULL argument");             \
+        if (check_sizes(m, "fmi3Get" #SUFFIX, nvr, nValues, ST_ANY) != FMU_OK) return fmi3Error;          \
+        if (values_check_get(m, "fmi3Get" #SUFFIX, vr, nvr, 1) != FMU_OK) return fmi3Error;              \
+        if (nvr > 0 && !values) return ERR(m, "fmi3Get" #SUFFIX ": NULL argument");                      \
         for (i = 0; i < nvr; i++) {                                                                       \
             if (vr[i] != (VR)) return ERR(m, "fmi3Get" #SUFFIX ": unknown value reference %u", vr[i]);   \
             if (values_get_int(m, "fmi3Get" #SUFFIX, vr[i], &v) != FMU_OK) return fmi3Error;             \
@@ -164,7 +167,7 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
                                const TYPE values[], size_t nValues) {                                     \
         Inst *m = (Inst *)instance;                                                                       \
         size_t i;                                                                                         \
-        if (check_sizes(m, "fmi3Set" #SUFFIX, nvr, nValues) != FMU_OK) return fmi3Error;                  \
+        if (check_sizes(m, "fmi3Set" #SUFFIX, nvr, nValues, ST_SET_DISCRETE) != FMU_OK) return fmi3Error; \
         if (nvr > 0 && (!vr || !values)) return ERR(m, "fmi3Set" #SUFFIX ": NULL argument");             \
         for (i = 0; i < nvr; i++) {                                                                       \
             if (vr[i] != (VR)) return ERR(m, "fmi3Set" #SUFFIX ": unknown value reference %u", vr[i]);   \
@@ -179,47 +182,47 @@ INT_CALLS(fmi3Int32, Int32, PDBFS_VR_MAXNUMSTEPS)
 INT_CALLS(fmi3Int64, Int64, PDBFS_VR_METHOD)
 
 /* types the model has no variables of: every value reference is unknown */
-#define NO_VARIABLES(SUFFIX, TYPE)                                                                        \
+#define NO_VARIABLES(SUFFIX, TYPE, SET_MODES)                                                             \
     fmi3Status fmi3Get##SUFFIX(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,          \
                                TYPE values[], size_t nValues) {                                           \
         (void)values; (void)nValues;                                                                      \
-        return values_none((Inst *)instance, "fmi3Get" #SUFFIX, vr, nvr);                                 \
+        return values_none((Inst *)instance, "fmi3Get" #SUFFIX, vr, nvr, ST_ANY);                         \
     }                                                                                                     \
     fmi3Status fmi3Set##SUFFIX(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,          \
                                const TYPE values[], size_t nValues) {                                     \
         (void)values; (void)nValues;                                                                      \
-        return values_none((Inst *)instance, "fmi3Set" #SUFFIX, vr, nvr);                                 \
+        return values_none((Inst *)instance, "fmi3Set" #SUFFIX, vr, nvr, SET_MODES);                      \
     }
 
-NO_VARIABLES(Float32, fmi3Float32)
-NO_VARIABLES(Int8, fmi3Int8)
-NO_VARIABLES(UInt8, fmi3UInt8)
-NO_VARIABLES(Int16, fmi3Int16)
-NO_VARIABLES(UInt16, fmi3UInt16)
-NO_VARIABLES(UInt32, fmi3UInt32)
-NO_VARIABLES(UInt64, fmi3UInt64)
-NO_VARIABLES(Boolean, fmi3Boolean)
-NO_VARIABLES(String, fmi3String)
+NO_VARIABLES(Float32, fmi3Float32, ST_SET_REAL)
+NO_VARIABLES(Int8, fmi3Int8, ST_SET_DISCRETE)
+NO_VARIABLES(UInt8, fmi3UInt8, ST_SET_DISCRETE)
+NO_VARIABLES(Int16, fmi3Int16, ST_SET_DISCRETE)
+NO_VARIABLES(UInt16, fmi3UInt16, ST_SET_DISCRETE)
+NO_VARIABLES(UInt32, fmi3UInt32, ST_SET_DISCRETE)
+NO_VARIABLES(UInt64, fmi3UInt64, ST_SET_DISCRETE)
+NO_VARIABLES(Boolean, fmi3Boolean, ST_SET_DISCRETE)
+NO_VARIABLES(String, fmi3String, ST_SET_DISCRETE)
 
 fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, size_t valueSizes[],
                          fmi3Binary values[], size_t nValues) {
     (void)valueSizes; (void)values; (void)nValues;
-    return values_none((Inst *)instance, "fmi3GetBinary", vr, nvr);
+    return values_none((Inst *)instance, "fmi3GetBinary", vr, nvr, ST_ANY);
 }
 
 fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
                          const size_t valueSizes[], const fmi3Binary values[], size_t nValues) {
     (void)valueSizes; (void)values; (void)nValues;
-    return values_none((Inst *)instance, "fmi3SetBinary", vr, nvr);
+    return values_none((Inst *)instance, "fmi3SetBinary", vr, nvr, ST_SET_DISCRETE);
 }
 
 fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Clock values[]) {
     (void)values;
-    return values_none((Inst *)instance, "fmi3GetClock", vr, nvr);
+    return values_none((Inst *)instance, "fmi3GetClock", vr, nvr, ST_ANY);
 }
 
 fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
                         const fmi3Clock values[]) {
     (void)values;
-    return values_none((Inst *)instance, "fmi3SetClock", vr, nvr);
+    return values_none((Inst *)instance, "fmi3SetClock", vr, nvr, ST_ANY);
 }

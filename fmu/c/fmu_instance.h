@@ -81,6 +81,11 @@ typedef enum {
 
 #define ST_ANY (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEPDONE | ST_TERMINATED | ST_ERROR)
 #define ST_RUNNING (ST_EVENT | ST_CONT | ST_STEPDONE)
+/* the FMI state tables' modes for setting a Real (Float64) and a discrete
+ * (Integer, Boolean, String) variable; reading is refused in Instantiated
+ * (FMI 2.0), or allowed there for start values only (FMI 3.0): values.c */
+#define ST_SET_REAL (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEPDONE)
+#define ST_SET_DISCRETE (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_STEPDONE)
 
 #define SNAP_MAGIC 0x70646266u /* "pdbf" */
 
@@ -172,13 +177,15 @@ int model_check_reduced(Inst *m, const char *fn);
 int model_check_finite(Inst *m, const char *fn);
 int fmu_all_finite(const double *v, int n);
 
-/* values.c: variables by value reference (a rejected set changes nothing) */
-int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[]);
+/* values.c: variables by value reference (a rejected set changes nothing);
+ * ``starts``: Instantiated answers the start values (FMI 3.0), else nothing (FMI 2.0) */
+int values_check_get(Inst *m, const char *fn, const unsigned vr[], size_t n, int starts);
+int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[], int starts);
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]);
 int values_get_int(Inst *m, const char *fn, unsigned vr, long long *v);
 int values_check_int(Inst *m, const char *fn, unsigned vr, long long v);
 void values_set_int(Inst *m, unsigned vr, long long v);
-int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n);
+int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n, int allowed);
 
 /* snapshot.c: the FMU state */
 int snapshot_get(Inst *m, const char *fn, void **state);

@@ -2,7 +2,14 @@
  * Snapshot (time, states, parameters, settings); CVODE restarts from a
  * restored state.  A state given back (restored or deserialised) is checked
  * as setting its values would check them: it may come from another process
- * or a corrupted file. */
+ * or a corrupted file.
+ *
+ * Serialised, a state is the Snapshot's bytes followed by their CRC-32 (the
+ * zip and PNG checksum; 4 bytes, least significant first): a corrupted copy
+ * is refused before its contents are looked at, and every change of up to 32
+ * consecutive bits is caught. The Snapshot's token is the FMU's GUID, a hash
+ * of its model and of these C files: a state of another FMU, or of another
+ * layout of the Snapshot, is refused by it. */
 #include <math.h>
 #include <string.h>
 
@@ -57,7 +64,7 @@ int snapshot_get(Inst *m, const char *fn, void **state) {
         return ERR(m, "%s: invalid FMU state", fn);
     }
     model_x(m);
-    *s = m->s;
+    memcpy(s, &m->s, sizeof(Snapshot));   /* padding too: a state serialises bit for bit */
     *state = s;
     return FMU_OK;
 }
@@ -67,7 +74,7 @@ int snapshot_set(Inst *m, const char *fn, const void *state) {
     if (fmu_check(m, fn, ST_ANY & ~ST_ERROR, -1) != FMU_OK) return FMU_ERROR;
     if (!s) return ERR(m, "%s: NULL state", fn);
     if (check_snapshot(m, s, fn) != FMU_OK) return FMU_ERROR;
-    m->s = *s;
+    memcpy(&m->s, s, sizeof(Snapshot));
     m->derived_ok = 0;
     m->need_restart = 1;
     return FMU_OK;
@@ -82,27 +89,55 @@ int snapshot_free(Inst *m, void **state) {
     return FMU_OK;
 }
 
+/* the serialised state: the Snapshot, then the CRC-32 of its bytes */
+#define SERIAL_SIZE (sizeof(Snapshot) + 4)
+
+/* CRC-32 (IEEE 802.3, reflected, as zlib's crc32) of n bytes, bit by bit: a
+ * state is a few hundred bytes */
+static unsigned long crc32_of(const unsigned char *p, size_t n) {
+    unsigned long crc = 0xFFFFFFFFul;
+    size_t i;
+    int k;
+    for (i = 0; i < n; i++) {
+        crc ^= p[i];
+        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320ul & (0ul - (crc & 1ul)));
+    }
+    return crc ^ 0xFFFFFFFFul;
+}
+
 int snapshot_size(Inst *m, const char *fn, const void *state, size_t *size) {
     if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
     if (!state || !size) return ERR(m, "%s: NULL argument", fn);
-    *size = sizeof(Snapshot);
+    *size = SERIAL_SIZE;
     return FMU_OK;
 }
 
 int snapshot_serialize(Inst *m, const char *fn, const void *state, unsigned char *bytes, size_t size) {
     const Snapshot *s = (const Snapshot *)state;
+    unsigned long crc;
+    int k;
     if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
     if (!s || !bytes || s->magic != SNAP_MAGIC) return ERR(m, "%s: invalid argument", fn);
-    if (size < sizeof(Snapshot)) return ERR(m, "%s: buffer too small", fn);
+    if (size < SERIAL_SIZE) return ERR(m, "%s: buffer too small (%zu bytes, %zu needed)", fn, size, SERIAL_SIZE);
     memcpy(bytes, s, sizeof(Snapshot));
+    crc = crc32_of(bytes, sizeof(Snapshot));
+    for (k = 0; k < 4; k++) bytes[sizeof(Snapshot) + k] = (unsigned char)((crc >> (8 * k)) & 0xFFu);
     return FMU_OK;
 }
 
 int snapshot_deserialize(Inst *m, const char *fn, const unsigned char *bytes, size_t size, void **state) {
     Snapshot tmp;
+    unsigned long stored = 0, crc;
+    int k;
     if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
     if (!bytes || !state) return ERR(m, "%s: NULL argument", fn);
-    if (size != sizeof(Snapshot)) return ERR(m, "%s: wrong size %zu", fn, size);
+    if (size != SERIAL_SIZE)
+        return ERR(m, "%s: %zu bytes, but a serialized state of this FMU has %zu", fn, size, SERIAL_SIZE);
+    for (k = 0; k < 4; k++) stored |= (unsigned long)bytes[sizeof(Snapshot) + k] << (8 * k);
+    crc = crc32_of(bytes, sizeof(Snapshot));
+    if (crc != stored)
+        return ERR(m, "%s: the serialized state is corrupted (its CRC-32 is %08lx, its bytes give %08lx); "
+                   "nothing was restored", fn, stored, crc);
     memcpy(&tmp, bytes, sizeof tmp);
     if (check_snapshot(m, &tmp, fn) != FMU_OK) return FMU_ERROR;
     if (!*state) {

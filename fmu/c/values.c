@@ -28,10 +28,53 @@ static int not_finite(Inst *m, const char *fn, unsigned r, double x) {
                x, m->s.time);
 }
 
-int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[]) {
+/* whether modelDescription.xml declares a start value of r: the parameters
+ * and the solver settings (the rest has initial="calculated") */
+static int has_start(unsigned r) {
+    return (r >= PDBFS_VR_P && r < VR_P_END) || r == PDBFS_VR_RTOL || r == PDBFS_VR_MAXSTEP ||
+           r == PDBFS_VR_METHOD || r == PDBFS_VR_MAXNUMSTEPS;
+}
+
+/* a calculated variable's name for a message: "state hammer.s", ... */
+static void calculated_name(char *buf, size_t size, unsigned r) {
+    if (r >= PDBFS_VR_X && r < VR_X_END) snprintf(buf, size, "state %s", PDBFS_X_NAME[r - PDBFS_VR_X]);
+    else if (r >= PDBFS_VR_DX && r < VR_DX_END) snprintf(buf, size, "der(%s)", PDBFS_X_NAME[r - PDBFS_VR_DX]);
+    else if (r >= PDBFS_VR_Y && r < VR_Y_END) snprintf(buf, size, "%s", PDBFS_Y_NAME[r - PDBFS_VR_Y]);
+#ifdef PDBFS_VR_TIME
+    else if (r == PDBFS_VR_TIME) snprintf(buf, size, "time");
+#endif
+    else snprintf(buf, size, "the variable of value reference %u", r);
+}
+
+/* May ``vr`` be read now? The FMI state tables allow no reading in
+ * Instantiated (FMI 2.0), or there only the start values that
+ * modelDescription.xml declares (FMI 3.0, ``starts``): everything else is
+ * calculated in Initialization Mode. An unknown reference is the reader's
+ * error to report. */
+int values_check_get(Inst *m, const char *fn, const unsigned vr[], size_t n, int starts) {
     size_t i;
-    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
-    if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
+    char name[160];
+    if (fmu_check(m, fn, starts ? ST_ANY : ST_ANY & ~ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
+    if (n > 0 && !vr) return ERR(m, "%s: NULL argument", fn);
+    if (m->s.mode != ST_INSTANTIATED) return FMU_OK;
+    for (i = 0; i < n; i++) {
+        unsigned r = vr[i];
+        int known = r < VR_Y_END;
+#ifdef PDBFS_VR_TIME
+        known = known || (r >= PDBFS_VR_TIME && r < PDBFS_VR_E + NE);
+#endif
+        if (known && !has_start(r)) {
+            calculated_name(name, sizeof name, r);
+            return ERR(m, "%s: %s has no start value; it is calculated in Initialization Mode", fn, name);
+        }
+    }
+    return FMU_OK;
+}
+
+int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, double v[], int starts) {
+    size_t i;
+    if (values_check_get(m, fn, vr, n, starts) != FMU_OK) return FMU_ERROR;
+    if (n > 0 && !v) return ERR(m, "%s: NULL argument", fn);
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
         if (r >= PDBFS_VR_P && r < VR_P_END) {
@@ -120,8 +163,7 @@ static int check_tunable_change(Inst *m, const char *fn, const unsigned vr[], si
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
     size_t i;
     int before_init, tunable_ok, changed = 0;
-    if (fmu_check(m, fn, ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEPDONE, -1) != FMU_OK)
-        return FMU_ERROR;
+    if (fmu_check(m, fn, ST_SET_REAL, -1) != FMU_OK) return FMU_ERROR;
     if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
     before_init = (m->s.mode & (ST_INSTANTIATED | ST_INIT)) != 0;
     tunable_ok = before_init || (m->s.mode & (ST_EVENT | ST_STEPDONE)) != 0;
@@ -199,9 +241,9 @@ void values_set_int(Inst *m, unsigned vr, long long v) {
     else m->s.max_num_steps = (int)v;
 }
 
-/* a type the model has no variables of */
-int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n) {
-    if (fmu_check(m, fn, ST_ANY, -1) != FMU_OK) return FMU_ERROR;
+/* a type the model has no variables of, called in one of the ``allowed`` modes */
+int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n, int allowed) {
+    if (fmu_check(m, fn, allowed, -1) != FMU_OK) return FMU_ERROR;
     if (n > 0) return ERR(m, "%s: unknown value reference %u", fn, vr ? vr[0] : 0u);
     return FMU_OK;
 }

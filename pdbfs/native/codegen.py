@@ -259,7 +259,7 @@ def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
     target = target or toolchain.host_target()
     sd = sd or find_sundials(target=target)
     cc = toolchain.compiler(target)
-    before, after = toolchain.shared_flags(target, cc)
+    before, after = toolchain.shared_flags(target, cc, Path(out).name)
     return [*cc, *toolchain.cflags(target), *before, *(cflags or []),
             *[f"-I{d}" for d in include_dirs], f"-I{sd.include_dir}",
             *map(str, sources), "-o", str(out), *sd.link_args(), *after]

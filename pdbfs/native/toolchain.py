@@ -5,8 +5,12 @@ pip is needed to build the compiled backend or an FMU.
 Targets (FMI 3.0 platform tuples) and the ``zig cc -target`` of each::
 
     x86_64-linux    x86_64-linux-gnu      aarch64-linux   aarch64-linux-gnu
-    x86_64-windows  x86_64-windows-gnu    x86_64-darwin   x86_64-macos
-    aarch64-darwin  aarch64-macos
+    x86_64-windows  x86_64-windows-gnu    x86_64-darwin   x86_64-macos.10.7
+    aarch64-darwin  aarch64-macos.11.0
+
+A Mac target names the oldest macOS its binaries are for (:data:`MACOS_MIN`):
+without one zig writes its own default, macOS 15, into the binary, and every
+older Mac refuses to load it.
 
 For the host's own target a user's ``$CC`` (e.g. ``CC=gcc``) is taken
 instead of zig; ``PDBFS_ZIG`` names a zig executable to use.
@@ -24,10 +28,17 @@ from pathlib import Path
 
 from pdbfs.errors import ExportError
 
+#: the oldest macOS each Mac CPU's binaries are built for: Apple-silicon Macs
+#: began with macOS 11; on Intel, 10.7 is the oldest zig 0.17 has the C
+#: library's headers for (10.6 and older: "'math.h' file not found"). Below
+#: 10.14 the version goes into LC_VERSION_MIN_MACOSX instead of LC_BUILD_VERSION.
+MACOS_MIN = {"x86_64-darwin": "10.7", "aarch64-darwin": "11.0"}
+
 #: FMI 3.0 platform tuple -> zig's target triple
 ZIG_TARGETS = {"x86_64-linux": "x86_64-linux-gnu", "aarch64-linux": "aarch64-linux-gnu",
-               "x86_64-windows": "x86_64-windows-gnu", "x86_64-darwin": "x86_64-macos",
-               "aarch64-darwin": "aarch64-macos"}
+               "x86_64-windows": "x86_64-windows-gnu",
+               "x86_64-darwin": f"x86_64-macos.{MACOS_MIN['x86_64-darwin']}",
+               "aarch64-darwin": f"aarch64-macos.{MACOS_MIN['aarch64-darwin']}"}
 
 
 class ToolchainError(ExportError):
@@ -140,16 +151,19 @@ def _x86_64_v3() -> bool:
     return bool(v3)
 
 
-def shared_flags(target: str, cmd: list[str]) -> tuple[list[str], list[str]]:
+def shared_flags(target: str, cmd: list[str], name: str | None = None) -> tuple[list[str], list[str]]:
     """(flags before the sources, flags after the archives) of a shared
     library for ``target`` built with ``cmd``: nothing left undefined, the
-    static CVODE's symbols kept private."""
+    static CVODE's symbols kept private. ``name`` is the library's file
+    name: a Mac library's install name (``LC_ID_DYLIB``) is ``@rpath/name``
+    rather than the path it was built at, so that no build folder is
+    recorded and two builds give the same bytes."""
     # zig keeps debug information unless told to strip (it would triple the size)
     strip = ["-s"] if is_zig(cmd) else []
     if target.endswith("-windows"):
         return ["-shared", *strip], ["-Wl,--no-undefined"] + ([] if is_zig(cmd) else ["-static", "-lm"])
     if target.endswith("-darwin"):
-        return ["-shared", *strip], ["-lm"]
+        return ["-shared", *strip], ["-lm", *([f"-Wl,-install_name,@rpath/{name}"] if name else [])]
     # zig's CVODE is compiled hidden already; another compiler's archive may not be
     extra = [] if is_zig(cmd) else ["-Wl,--exclude-libs,ALL", "-static-libgcc"]
     return ["-shared", *strip], ["-lm", "-Wl,-z,defs", *extra]
