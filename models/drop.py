@@ -53,6 +53,8 @@ class DropRig(PaperRig):
     default_n_out = 30001
     page_defaults = {"calibrate": ("oil.k",), "design": ("h",),
                      "map_x": ("h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
+    #: as PaperRig's, the drop height standing for the impact speed
+    key_parameters = ("h", "oil.k", "seal.c")
 
     h = Parameter(0.38, "m", "Drop height: gap between hammer and piston face at release",
                   positive=True, tunable=False)
@@ -63,6 +65,7 @@ class DropRig(PaperRig):
         self._rest = bool(rest)
         if self._rest:
             self.name = "pdbfs_drop_rest"
+            self.key_parameters = ("hammer.m", "oil.k", "seal.c")     # h is unused at rest
         super().__init__(law=law, **params)
 
     def declare(self):
