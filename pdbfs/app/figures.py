@@ -54,7 +54,7 @@ def pulse_figure(curves: dict, pins=(), overlays=(), title="", labels=None) -> d
     height = (1.0 - gap * (rows - 1)) / rows
     # the legend in rows above the panels, as wide as they are (beside them it
     # took a third of the width at 1280 px); the tool bar upright at the right
-    layout = {"height": 190 * rows + 90, "margin": {"l": 70, "r": 36, "t": 30, "b": 45},
+    layout = {"height": 190 * rows + 110, "margin": {"l": 70, "r": 36, "t": 30, "b": 45},
               "hovermode": "x", "uirevision": "pulse", "modebar": {"orientation": "v"},
               "meta": {"rig": title},
               "legend": {"font": {"size": 11}, "orientation": "h", "x": 0, "xanchor": "left",
@@ -64,7 +64,7 @@ def pulse_figure(curves: dict, pins=(), overlays=(), title="", labels=None) -> d
         axis = "" if k == 0 else str(k + 1)
         top = 1.0 - k * (height + gap)
         layout[f"yaxis{axis}"] = {"domain": [top - height, top], "title": {"text": _scale(unit)[1]},
-                                  "anchor": f"x{axis}", "exponentformat": "power"}
+                                  "anchor": f"x{axis}", "exponentformat": "power", "nticks": 6}
         layout[f"xaxis{axis}"] = {"anchor": f"y{axis}", "matches": "x" if k else None,
                                   "showticklabels": k == rows - 1, "hoverformat": ".5~g",
                                   "title": {"text": "time [ms]"} if k == rows - 1 else None}
