@@ -54,8 +54,9 @@ def pulse_figure(curves: dict, pins=(), overlays=(), title="", labels=None) -> d
     height = (1.0 - gap * (rows - 1)) / rows
     # the legend in rows above the panels, as wide as they are (beside them it
     # took a third of the width at 1280 px); the tool bar upright at the right
-    layout = {"height": 190 * rows + 110, "margin": {"l": 70, "r": 36, "t": 30, "b": 45},
+    layout = {"height": 190 * rows + 100, "margin": {"l": 70, "r": 36, "t": 30, "b": 45},
               "hovermode": "x", "uirevision": "pulse", "modebar": {"orientation": "v"},
+              "showlegend": True,              # also for a rig of one curve: it says what it is
               "meta": {"rig": title},
               "legend": {"font": {"size": 11}, "orientation": "h", "x": 0, "xanchor": "left",
                          "y": 1.0, "yanchor": "bottom"}}

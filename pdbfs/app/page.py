@@ -194,13 +194,12 @@ def run_row(wb: Workbench, settings: dict):
 
 
 RESET = "Every parameter back to the rig's default; the run's t_end and method stay as they are"
-INTRO = ("A drop-hammer test rig as a model: each parameter on the left (the rig's main "
-         "settings first, then each component's, the start positions last) has a field and a "
+INTRO = ("A drop-hammer test rig as a model: each parameter on the left has a field and a "
          "slider; any change runs the rig again and redraws the pressure pulse, the contact "
          "force and the displacements, with the summary beside them. Pin a curve to compare "
          "the next. Below the plot: lay a measured trace over the pulse and calibrate "
          "parameters to it, design for a peak or duration, map two settings, download results. "
-         "Hover over a parameter's name for its description.")
+         "The rig's main settings come first, its start positions last.")
 
 
 def layout(wb: Workbench):
