@@ -114,11 +114,12 @@ def parse_number(name: str, text) -> float:
 #: the last part of the names of start values and position offsets: they
 #: rarely change, and the page lists them last
 START = ("s0", "v0", "p0", "s_rel0")
-#: the page's groups of parameters that are no component's: (key, title)
+#: the page's groups of parameters that are no component's
 KEY, START_GROUP = "key", "start"
 
 
 def is_start(name: str) -> bool:
+    """Whether ``name`` is a start value or position offset (``hammer.s0``)."""
     return name.rsplit(".", 1)[-1] in START
 
 

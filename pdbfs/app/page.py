@@ -45,6 +45,7 @@ def marks(c: Control, lo: float, hi: float) -> dict:
 
 
 def group_title(group: str) -> str:
+    """A sidebar group's title: a component's name, or what the group holds."""
     return GROUPS.get(group, group)
 
 
