@@ -40,6 +40,8 @@ class BarPistonRig(SplitPistonRig):
 
     summary_signals = BAR_SIGNALS
     name_prefix, builder = "pdbfs_bar", "bar_piston_rig"
+    #: the parameters that matter most: PaperRig's and the bar's stiffness
+    key_parameters = ("hammer.v0", "oil.k", "seal.c", "piston.E")
 
     def __init__(self, n: int = 30, law=None, **params):
         super().__init__(n=n, law=law, **params)

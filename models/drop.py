@@ -97,6 +97,8 @@ class DropRig(_GravityRig):
     name = "pdbfs_drop"
     page_defaults = {"calibrate": ("oil.k",), "design": ("h",),
                      "map_x": ("h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
+    #: as PaperRig's, the drop height standing for the impact speed
+    key_parameters = ("h", "oil.k", "seal.c")
 
     h = Parameter(0.38, "m", "Drop height: the distance the hammer falls from its release "
                   "(at rest) to the contact", positive=True, tunable=False)
@@ -126,6 +128,7 @@ class DropRestRig(_GravityRig):
     name = "pdbfs_drop_rest"
     page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.m",),
                      "map_x": ("hammer.m", 1000.0, 5000.0), "map_y": ("oil.k", 1e8, 1e9)}
+    key_parameters = ("hammer.m", "oil.k", "seal.c")     # no drop height at rest
 
     g = GRAVITY
 

@@ -43,12 +43,17 @@ class HydraulicPulseRig(Rig):
     #: valve's and the drain's areas
     page_defaults = {"calibrate": ("chamber.K",), "design": ("valve.A",),
                      "map_x": ("valve.A", 2e-5, 2e-4), "map_y": ("drain.A", 1e-5, 1e-4)}
+    #: the parameters that matter most: the supply's pressure, the areas
+    #: the oil flows in and out through, and the chamber's stiffness
+    key_parameters = ("supply.p0", "valve.A", "drain.A", "chamber.K")
 
     def __init__(self, supply: str = "accumulator", line: bool = False, **params):
         if supply not in SUPPLIES:
             raise ParameterError(f"HydraulicPulseRig: unknown supply {supply!r}; choose one of "
                                  + ", ".join(SUPPLIES))
         self._supply, self._line = supply, bool(line)
+        if supply == "pressure":           # an ideal source: its pressure, not a start value
+            self.key_parameters = ("supply.p",) + self.key_parameters[1:]
         if self._line:
             self.name = "pdbfs_hydraulic_pulse_line"
         super().__init__(**params)

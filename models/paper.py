@@ -25,6 +25,10 @@ class PaperRig(Rig):
     #: ``hammer.h`` is the page's drop height standing for hammer.v0
     page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.h",),
                      "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
+    #: the parameters that matter most, as the paper found: the impact speed
+    #: sets the peak, the seal's friction the duration, the oil's stiffness
+    #: both (the workbench lists them first)
+    key_parameters = ("hammer.v0", "oil.k", "seal.c")
 
     def __init__(self, law=None, **params):
         self._law = law

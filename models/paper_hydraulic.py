@@ -44,6 +44,8 @@ class PaperHydraulicRig(PaperRig):
     summary_signals = PAPER_HYDRAULIC_SIGNALS
     page_defaults = {"calibrate": ("oil.K",), "design": ("hammer.h",),
                      "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.K", 1e9, 1e10)}
+    #: as PaperRig's, the oil's bulk modulus standing for its stiffness
+    key_parameters = ("hammer.v0", "oil.K", "seal.c")
 
     L = Parameter(0.2, "m", "Length of the oil column (its volume is column.A * L; at most "
                   "10 m, longer than any drop-hammer rig's)", positive=True, max=10.0,

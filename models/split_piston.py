@@ -97,6 +97,8 @@ class SplitPistonRig(Rig):
     #: what the workbench page (pdbfs app) offers first, as PaperRig's
     page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.h",),
                      "map_x": ("hammer.h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
+    #: the parameters that matter most: PaperRig's and the piston's stiffness
+    key_parameters = ("hammer.v0", "oil.k", "seal.c", "piston.k_axial")
     #: the rig's name is this prefix and n; who checks n in error messages
     name_prefix, builder = "pdbfs_split", "split_piston_rig"
 

@@ -43,10 +43,10 @@ def test_page_is_whole_with_no_internet_and_shows_the_api_summary(server, browse
     peak, _ = shown_peak(browser)
     api = paper_rig().simulate(0.02, backend="c").summary()
     assert peak == pytest.approx(api["peak_pressure"], rel=1e-9)
-    assert text == f"{api['peak_pressure'] / 1e6:.6g} MPa"
+    assert text == f"{api['peak_pressure'] / 1e6:.5g} MPa"      # to the digits a run carries
     assert wait(browser, "#pulse .main-svg")          # plotly.js came from the server
     shown = browser.find_element(By.ID, "sum-time_of_peak").text
-    assert shown == f"{api['time_of_peak'] * 1e3:.6g} ms"
+    assert shown == f"{api['time_of_peak'] * 1e3:.5g} ms"
     severe = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
     assert not severe, severe
     # every parameter with its unit and description
@@ -65,9 +65,10 @@ def test_drop_height_slider_moves_the_peak_as_simulate_says(server, browser):
     time.sleep(0.5)
     after, _ = shown_peak(browser, text)
     h = float(browser.find_element(By.CSS_SELECTOR, pid("field", "hammer.h")).get_attribute("value"))
-    v0 = float(browser.find_element(By.CSS_SELECTOR, pid("field", "hammer.v0")).get_attribute("value"))
+    v0 = browser.find_element(By.CSS_SELECTOR, pid("field", "hammer.v0")).get_attribute("value")
     assert h == pytest.approx(0.5, abs=0.011)          # 0.38 m and 12 steps of 1 cm
-    assert v0 == pytest.approx(impact_velocity(h), rel=1e-5)
+    assert h == round(h, 2)                            # the slider's value, as its field says
+    assert v0 == f"{impact_velocity(h):.4g}"           # derived: to 4 digits
     assert after == pytest.approx(api_peak(**{"hammer.v0": impact_velocity(h)}), rel=1e-5)
     assert after > 1.1 * before
 
@@ -113,7 +114,7 @@ def test_two_tabs_do_not_share_state(server, browser):
     still, _ = shown_peak(browser)
     assert still == mine == pytest.approx(api_peak(**{"hammer.m": 4000.0}), rel=1e-9)
     assert browser.find_element(By.CSS_SELECTOR, pid("field", "oil.k")).get_attribute("value") \
-        == "2.228e+08"
+        == "2.228e8"
 
 
 def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file, tmp_path):
@@ -125,10 +126,15 @@ def test_upload_a_trace_calibrate_and_apply(server, browser, trace_file, tmp_pat
     shown = wait(browser, "[id='val-oil.k']", lambda e: e.text, timeout=60).text
     value, _, std = shown.partition(" ± ")
     api = pdbfs.calibrate(paper_rig(), str(trace_file), ["oil.k"])
-    assert float(value) == pytest.approx(api.params["oil.k"], rel=1e-5)
+    # the value to the digit its deviation allows, the deviation to 2 digits
+    s = api.std["oil.k"]
+    assert len(std.split("e")[0].replace(".", "").lstrip("0")) <= 2
+    assert float(std) == pytest.approx(s, rel=0.05)
+    # (at most 8 digits: a noise-free trace pins oil.k to 4e-9)
+    assert float(value) == pytest.approx(api.params["oil.k"], abs=s / 10, rel=5e-8)
     assert float(value) == pytest.approx(3e8, rel=1e-4)      # the trace's own oil.k
-    assert float(std) == pytest.approx(api.std["oil.k"], rel=1e-3)
-    assert "RMS residual" in browser.find_element(By.ID, "cal-out").text
+    out = browser.find_element(By.ID, "cal-out").text
+    assert "RMS residual" in out and "oil column stiffness" in out and "N/m" in out
     browser.find_element(By.ID, "pin").click()                # the defaults, to compare
     wait(browser, "#pulse", lambda e: "pin 1" in " ".join(trace_names(browser)))
     _, old = shown_peak(browser)
@@ -156,7 +162,7 @@ def test_design_for_a_peak_and_download_what_it_gives(server, browser):
     browser.find_element(By.ID, "des-run").click()
     shown = wait(browser, "[id='val-hammer.h']", lambda e: e.text, timeout=60).text
     api = pdbfs.design(paper_rig(), {"peak_pressure": 150e6}, free=["hammer.h"])
-    assert float(shown) == pytest.approx(api.params["hammer.h"], rel=1e-5)
+    assert float(shown) == pytest.approx(api.params["hammer.h"], rel=6e-5)   # 5 digits
     _, old = shown_peak(browser)
     wait(browser, "#des-apply", lambda e: e.is_enabled()).click()
     peak, _ = shown_peak(browser, old)
@@ -184,13 +190,13 @@ def test_pin_compare_and_reset(server, browser):
     load(browser, server)
     default, text = shown_peak(browser)
     browser.find_element(By.ID, "pin").click()
-    wait(browser, "#pulse", lambda e: "pin 1 (defaults): oil.pressure" in trace_names(browser))
+    wait(browser, "#pulse", lambda e: "pin 1 (defaults)" in trace_names(browser))
     type_into(browser, "oil.k", "5e8")
     changed, text = shown_peak(browser, text)
     assert changed == pytest.approx(api_peak(**{"oil.k": 5e8}), rel=1e-9)
-    y = browser.execute_script(
+    y = browser.execute_script(         # the pin's pressure: its curve on the first panel
         "const g = document.querySelector('#pulse .js-plotly-plot');"
-        "return g.data.find(t => t.name === 'pin 1 (defaults): oil.pressure').y;")
+        "return g.data.find(t => t.legendgroup === 'pin 1 (defaults)' && t.yaxis === 'y').y;")
     if isinstance(y, dict):              # a typed array as sent: base64 of float32
         y = np.frombuffer(base64.b64decode(y["bdata"]), dtype=np.dtype(y["dtype"]).newbyteorder("<"))
     assert np.max(y) * 1e6 == pytest.approx(default, rel=1e-3)    # on the output grid
@@ -198,7 +204,7 @@ def test_pin_compare_and_reset(server, browser):
     back, _ = shown_peak(browser, text)
     assert back == default
     assert browser.find_element(By.CSS_SELECTOR, pid("field", "oil.k")).get_attribute("value") \
-        == "2.228e+08"
+        == "2.228e8"
 
 
 def test_another_rig_brings_its_own_parameters(server, browser):
@@ -232,6 +238,11 @@ def test_design_map_is_the_api_s(server, browser):
     api = pdbfs.design_map(paper_rig(), ("hammer.h", 0.2, 1.0), ("oil.k", 1e8, 1e9), n=5,
                            backend="c")
     assert np.allclose(np.array(z, float), api.values["peak_pressure"] / 1e6, rtol=1e-9, atol=0)
+    axes = browser.execute_script("const l = document.querySelector('#map .js-plotly-plot').layout;"
+                                  "return [l.xaxis.title.text, l.yaxis.title.text];")
+    assert axes == ["hammer.h: drop height [m]", "oil.k: oil column stiffness [N/m]"]
+    ticks = [e.text for e in browser.find_elements(By.CSS_SELECTOR, "#map .ytick text")]
+    assert ticks and not any(t.endswith(("B", "G", "M")) for t in ticks), ticks
 
 
 def test_fmu_download_carries_the_settings(server, browser):

@@ -123,7 +123,7 @@ def test_rigs_bring_their_own_study_defaults_and_say_they_are_building(server, b
     assert "mount.s_rel0" not in browser.find_element(By.ID, "cal-free").text
     tab(browser, "map")
     d = workbench("hydraulic-pulse").study_defaults()
-    assert browser.find_element(By.ID, "map-y-lo").get_attribute("value") == f"{d['map-y-lo']:.6g}"
+    assert float(browser.find_element(By.ID, "map-y-lo").get_attribute("value")) == d["map-y-lo"]
     assert browser.find_element(By.ID, "t-end").get_attribute("value") == "20"
 
 
@@ -225,3 +225,103 @@ def test_bar_piston_draws_its_parts_when_asked(server, browser):
     from pdbfs.models import RIGS
     api = RIGS["bar-piston"]().simulate(0.02, params={"piston.E": 1.5e11}, backend="c")
     assert peak == pytest.approx(api.summary()["peak_pressure"], rel=1e-9)
+
+
+LAYOUT = """
+const box = e => { const r = e.getBoundingClientRect();
+                   return {left: r.left, right: r.right, top: r.top, bottom: r.bottom}; };
+const side = document.getElementById('controls').parentElement;
+const s = box(side);
+const clip = {left: s.left, right: s.left + side.clientWidth};    // it clips at its scroll bar
+const leaves = root => [...root.querySelectorAll('*')].filter(
+    e => e.children.length === 0 && e.textContent.trim() && e.getClientRects().length);
+const controls = [...document.querySelectorAll('#controls .control')].map(c => ({
+    name: JSON.parse(c.querySelector('input').id).name,
+    field: box(c.querySelector('.field')), label: box(c.querySelector('b')),
+    texts: leaves(c).map(box)}));
+const run = ['pin', 'unpin', 't-end', 'method', 'reset'].map(id => [id, box(document.getElementById(id))]);
+const legend = [...document.querySelectorAll('#pulse .legend')].map(box);
+const panels = [...document.querySelectorAll('#pulse .nsewdrag')].map(box);
+return {inner: window.innerWidth, height: window.innerHeight,
+        scroll: document.documentElement.scrollWidth, client: document.documentElement.clientWidth,
+        side: s, clip: clip, plot: box(document.getElementById('pulse')), panels: panels,
+        summary: box(document.getElementById('summary')), tabs: box(document.getElementById('study-tab')),
+        controls: controls, run: run, legend: legend,
+        legendTexts: [...document.querySelectorAll('#pulse .legendtext')].map(e => e.textContent)};
+"""
+
+
+@pytest.mark.parametrize("width", [1280, 1920])
+def test_the_page_at_common_screen_widths(server, browser, width, tmp_path):
+    """At 1280 and 1920 px: no horizontal scroll bar; the parameters and the
+    plot side by side, both in view; nothing cut off (the sidebar's texts,
+    fields, the run's controls, the summary); the rig's key settings first;
+    the legend in descriptions and units, clear of the panels."""
+    browser.set_window_size(width, 1000)
+    try:
+        load(browser, server)
+        wait(browser, "#pulse .legendtext")
+        time.sleep(0.5)                       # the legend laid out
+        g = browser.execute_script(LAYOUT)
+        shots = os.environ.get("PDBFS_APP_LAYOUT_SHOTS")      # e.g. /tmp/app- (+ width.png)
+        browser.save_screenshot(f"{shots}{width}.png" if shots else str(tmp_path / "page.png"))
+    finally:
+        browser.set_window_size(1400, 1000)
+    assert g["inner"] == width
+    assert g["scroll"] <= g["client"], "a horizontal scroll bar"
+    side, plot = g["side"], g["plot"]
+    assert side["right"] <= plot["left"] and side["top"] < g["height"] and plot["top"] < g["height"]
+    assert side["right"] - side["left"] >= 300 and plot["right"] <= g["client"]
+    assert min(p["right"] - p["left"] for p in g["panels"]) >= (420 if width == 1280 else 900)
+    assert g["summary"]["right"] <= g["client"] and g["summary"]["left"] >= plot["right"] - 1
+    assert g["tabs"]["bottom"] <= g["height"], "the study tabs are below the fold"
+    for c in g["controls"]:
+        assert c["label"]["right"] <= c["field"]["left"], c["name"]
+        for r in [c["field"], *c["texts"]]:
+            assert g["clip"]["left"] - 0.5 <= r["left"] and r["right"] <= g["clip"]["right"] + 0.5, c
+    run = dict(g["run"])
+    for key, r in run.items():
+        assert 0 <= r["left"] and r["right"] <= g["client"], key
+    assert run["reset"]["right"] <= side["right"]         # with the parameters, not the run
+    # the key settings first, in view; the start positions last
+    names = [c["name"] for c in g["controls"]]
+    assert names[:4] == ["hammer.v0", "hammer.h", "oil.k", "seal.c"]
+    assert all(c["field"]["bottom"] <= g["height"] for c in g["controls"][:4])
+    assert set(names[-5:]) <= {"frame.s0", "hammer.s0", "piston.s0", "piston.v0", "breech.s0",
+                               "breech.v0", "mount.s_rel0"}
+    # the legend: descriptions and units, above the first panel
+    assert g["legendTexts"] == ["oil pressure [MPa]", "contact compressive force [kN]",
+                                "hammer position [mm]", "piston position [mm]",
+                                "breech position [mm]"]
+    top = min(p["top"] for p in g["panels"])
+    assert all(r["bottom"] <= top + 1 for r in g["legend"]), (g["legend"], top)
+
+
+def test_reset_sets_the_parameters_back_and_keeps_the_run_settings(server, browser):
+    """Reset parameters: every parameter back to the rig's default; the run
+    length and the method are the run's and stay (the button sits with the
+    parameters, and says which it resets)."""
+    load(browser, server)
+    button = browser.find_element(By.ID, "reset")
+    assert button.text == "Reset parameters" and "t_end" in button.get_attribute("title")
+    f = browser.find_element(By.ID, "t-end")
+    f.send_keys(Keys.CONTROL, "a")
+    f.send_keys("15" + Keys.ENTER)
+    wait(browser, "#status", lambda e: "to 15 ms" in e.text)
+    browser.find_element(By.ID, "method").click()
+    wait(browser, "[role=option]", lambda e: e.text == "bdf").click()
+    wait(browser, "#status", lambda e: "method bdf" in e.text)
+    _, text = shown_peak(browser)
+    type_into(browser, "oil.k", "5e8")
+    _, text = shown_peak(browser, text)
+    type_into(browser, "hammer.h", "0.6")
+    _, text = shown_peak(browser, text)
+    browser.find_element(By.ID, "reset").click()
+    back, _ = shown_peak(browser, text)
+    field = lambda name: browser.find_element(By.CSS_SELECTOR, pid("field", name)).get_attribute(
+        "value")
+    assert (field("oil.k"), field("hammer.v0"), field("hammer.h")) == ("2.228e8", "2.73", "0.38")
+    assert browser.find_element(By.ID, "t-end").get_attribute("value") == "15"
+    assert "method bdf" in status(browser) and "to 15 ms" in status(browser)
+    api = paper_rig().simulate(0.015, backend="c", method="bdf").summary()
+    assert back == pytest.approx(api["peak_pressure"], rel=1e-9)

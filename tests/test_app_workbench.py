@@ -282,3 +282,109 @@ def test_the_page_s_summary_is_its_backend_s_and_near_a_converged_run(wb):
     # the compiled summary's impulses by its own quadrature: 4e-7 (README)
     assert tight["casadi"]["restitution_coefficient"] == pytest.approx(
         tight["c"]["restitution_coefficient"], rel=1e-6)
+
+
+# -- the page reads like the rest: key settings first, descriptions, numbers to their digits ----
+
+def test_every_rig_s_key_parameters_are_its_own():
+    """A declared key parameter the rig does not have would silently drop
+    from the page: each is a parameter of the compiled rig."""
+    from pdbfs.models import RIGS
+    for name, build in RIGS.items():
+        rig = build()
+        keys = getattr(rig, "key_parameters", ())
+        assert keys, name
+        names = set(rig.compile().p_names)
+        assert set(keys) <= names, (name, set(keys) - names)
+
+
+def test_the_page_lists_the_key_settings_first_and_the_start_positions_last():
+    """The paper's rig opens with what the paper found matters (impact speed
+    and its drop height, oil stiffness, seal friction), not frame.s0; each
+    component's settings together; start positions and velocities last."""
+    from pdbfs.models import RIGS
+    assert [c.name for c in workbench("paper").controls][:4] == \
+        ["hammer.v0", "hammer.h", "oil.k", "seal.c"]
+    assert [c.name for c in workbench("drop").controls][:3] == ["h", "oil.k", "seal.c"]
+    assert [c.name for c in workbench("hydraulic-pulse").controls][:4] == \
+        ["supply.p0", "valve.A", "drain.A", "chamber.K"]
+    start = ("s0", "v0", "p0", "s_rel0")
+    for name in ("paper", "drop", "paper-hydraulic", "hydraulic-pulse-line", "split-piston"):
+        wb_ = workbench(name)
+        names = [c.name for c in wb_.controls]
+        keys = [n for n in wb_.rig.key_parameters if n in names]
+        assert names[:len(keys)] == keys or names[:len(keys) + 1] == [keys[0], "hammer.h",
+                                                                        *keys[1:]], name
+        rest = [n for n in names if n not in keys and n != "hammer.h"]
+        starts = [n for n in rest if n.rsplit(".", 1)[-1] in start]
+        assert rest[len(rest) - len(starts):] == starts, (name, rest)
+        owners = [n.split(".", 1)[0] for n in rest[:len(rest) - len(starts)] if "." in n]
+        seen = [o for k, o in enumerate(owners) if k == 0 or owners[k - 1] != o]
+        assert len(seen) == len(set(seen)), (name, owners)     # each component's together
+        assert sorted(names) == sorted(c.name for c in Workbench(name).controls)
+        assert set(names) == set(wb_.dae.p_names) | ({"hammer.h"} if wb_.height else set())
+    groups = [g for g, _ in workbench("paper").shown_groups()]
+    assert groups[0] == "key" and groups[-1] == "start" and "hammer" in groups
+
+
+def test_curves_are_named_by_their_description_and_unit(wb):
+    """The legend says 'contact compressive force [kN]', not 'contact.fc':
+    the words of each variable's declared description, and the unit drawn."""
+    from pdbfs.app.interact import draw
+    dae = paper_rig().compile()
+    desc = {v.name: v.description for v in (*dae.x_info, *dae.z_info, *dae.y_info)}
+    settings = {"rig": "paper", "values": wb.defaults(), "t_end": 0.02, "method": "auto"}
+    fig, summary, _ = draw(settings, [{"label": "pin 1 (defaults)", "values": wb.defaults(),
+                                       "t_end": 0.02, "method": "auto"}], None, None, None)
+    names = [t["name"] for t in fig["data"] if t.get("showlegend", True)]
+    assert names == ["pin 1 (defaults)", "oil pressure [MPa]", "contact compressive force [kN]",
+                     "hammer position [mm]", "piston position [mm]", "breech position [mm]"]
+    for name, shown in (("oil.pressure", "oil pressure"), ("contact.fc", "compressive force"),
+                        ("hammer.s", "position")):
+        assert desc[name].lower().startswith(shown), (name, desc[name])
+    assert not any("." in n.split(" (")[0] for n in names)      # no raw names
+    pins = [t for t in fig["data"] if t.get("legendgroup") == "pin 1 (defaults)"]
+    assert len(pins) == 5 and sum(t.get("showlegend", True) for t in pins) == 1
+    assert "pin 1 (defaults): contact compressive force" in pins[1]["hovertemplate"]
+    # the summary to 5 digits, in MPa and ms
+    api = paper_rig().simulate(0.02, backend=wb.backend).summary()
+    text = str(summary)
+    assert f"{api['peak_pressure'] / 1e6:.5g} MPa" in text
+    assert f"{api['time_of_peak'] * 1e3:.5g} ms" in text
+    assert f"{api['restitution_coefficient']:.5g}'" in text
+    assert f"{api['peak_pressure'] / 1e6:.6g}" not in text
+
+
+def test_numbers_are_written_to_their_digits():
+    from pdbfs.app.numbers import number, quantity, short_description, with_std
+    assert number(drop_height(2.73), 4) == "0.38"             # not 0.379992
+    assert number(2.228e8) == "2.228e8" and number(2948.4) == "2948.4"
+    assert number(8000.0, 3) == "8000" and number(2948.4, 3) == "2950"
+    assert number(8e-5) == "8e-5" and number(1e300) == "1e300" and number(-0.0227) == "-0.0227"
+    rng = np.random.default_rng(1)
+    for x in np.concatenate([10.0 ** rng.uniform(-12, 12, 300), -10.0 ** rng.uniform(-6, 6, 50)]):
+        for d in (3, 4, 5, 6):
+            assert float(number(x, d)) == float(f"{x:.{d}g}"), (x, d)     # what float() reads
+    assert quantity(92117195.11, "Pa") == "92.117 MPa"
+    assert quantity(0.0055661419, "s") == "5.5661 ms"
+    assert quantity(0.92297916, "1") == "0.92298"
+    assert quantity(None, "Pa") == "n/a"
+    # a fitted value to the digit its standard deviation allows
+    assert with_std(3.00012345e8, 1.234e4) == "3.00012e8 ± 1.2e4"     # to 1e3
+    assert with_std(0.61234567, 0.0021) == "0.6123 ± 0.0021"
+    assert with_std(0.6, 2.0) == "0.6 ± 2"
+    assert with_std(None, 1.0) == "undetermined"
+    assert short_description("Compressive force, positive when pushing") == "compressive force"
+    assert short_description("Oil column stiffness (unit N/m^n); the paper's k2") == \
+        "oil column stiffness"
+    assert short_description("RMS of the residual") == "RMS of the residual"
+
+
+def test_a_slider_s_value_is_the_one_its_field_shows(wb):
+    """What is shown is what is simulated: a slider position stands for a
+    value rounded to the slider's resolution, not 2.23872e8."""
+    k = wb.control("oil.k")
+    v = k.slider_value(8.35)
+    assert v == 2.239e8
+    h = wb.control("hammer.h")
+    assert h.slider_value(0.49000000000000005) == 0.49

@@ -3,7 +3,10 @@ Python API, as the command line is a layer over it; no model logic here.
 
     workbench.py   a rig as the page sees it: controls, runs, uploads,
                    downloads, calibration, design, design map (no Dash)
-    controls.py    a parameter as a field and a slider; a field's text read
+    controls.py    a parameter as a field and a slider; the order the page lists
+                   them in (the rig's key parameters first); a field's text read
+    numbers.py     numbers as the page writes them: to their digits, in MPa, kN,
+                   mm and ms, the unit beside
     traces.py      uploaded traces kept on the server by key, capped, decimated
     page.py        the layout; the session's state is kept in the browser tab
     interact.py    quick callbacks: settings, the run and its summary, pins

@@ -1,5 +1,6 @@
 """A parameter as the page offers it (a field and a slider, logarithmic
-for stiffness and damping) and the page's reading of a field's text."""
+for stiffness and damping), the order the page lists them in, and the
+page's reading of a field's text."""
 from __future__ import annotations
 
 import math
@@ -7,6 +8,8 @@ from dataclasses import dataclass
 
 from pdbfs.components.laws import STANDARD_GRAVITY
 from pdbfs.errors import ParameterError
+
+from .numbers import DERIVED_DIGITS, GIVEN_DIGITS, number
 
 #: units whose values span decades: stiffness and damping get a logarithmic slider
 LOG_UNITS = ("N/m", "N.s/m")
@@ -33,6 +36,17 @@ class Control:
 
     def from_slider(self, s: float) -> float:
         return 10.0 ** s if self.log else s
+
+    def slider_value(self, s: float) -> float:
+        """The value a slider position stands for, to the slider's own
+        resolution (a step of a linear slider, 4 digits of a logarithmic
+        one): the field shows it, and it is what is simulated."""
+        v = self.from_slider(s)
+        if not math.isfinite(v):
+            return v
+        if self.log:
+            return float(number(v, DERIVED_DIGITS))
+        return float(number(round(v / self.step) * self.step, GIVEN_DIGITS))
 
     def slider_range(self, value: float | None = None) -> tuple[float, float]:
         """The slider's (min, max), widened to hold ``value`` (up to a million
@@ -95,3 +109,45 @@ def parse_number(name: str, text) -> float:
         return float(str(text).strip())
     except ValueError:
         raise ParameterError(f"{name}: {str(text).strip()!r} is not a number") from None
+
+
+#: the last part of the names of start values and position offsets: they
+#: rarely change, and the page lists them last
+START = ("s0", "v0", "p0", "s_rel0")
+#: the page's groups of parameters that are no component's
+KEY, START_GROUP = "key", "start"
+
+
+def is_start(name: str) -> bool:
+    """Whether ``name`` is a start value or position offset (``hammer.s0``)."""
+    return name.rsplit(".", 1)[-1] in START
+
+
+def page_groups(controls: list, key=()) -> list:
+    """The controls in the order the page lists them, as (group, controls):
+    the rig's ``key`` parameters first (in their order), then the others
+    by component (in the rig's order; rig-level ones under ``""``), then
+    the start values and position offsets. A control that stands for
+    another (a drop height for an impact speed) follows it."""
+    follows = {c.derived: c for c in controls if c.derived}     # impact speed -> drop height
+    stands = {c.name: c.derived for c in controls if c.derived}   # drop height -> impact speed
+    plain = [c for c in controls if not c.derived]
+    names = {c.name for c in plain}
+    key = [stands.get(n, n) for n in key]
+    key = [n for k, n in enumerate(key) if n in names and n not in key[:k]]
+    groups: dict = {KEY: [c for n in key for c in plain if c.name == n]}
+    start = []
+    for c in plain:
+        if c.name in key:
+            continue
+        if is_start(c.name):
+            start.append(c)
+        else:
+            groups.setdefault(c.name.split(".", 1)[0] if "." in c.name else "", []).append(c)
+    groups[START_GROUP] = start
+    out = []
+    for group, cs in groups.items():
+        cs = [x for c in cs for x in ([c, follows[c.name]] if c.name in follows else [c])]
+        if cs:
+            out.append((group, cs))
+    return out

@@ -15,7 +15,9 @@ from pdbfs.errors import PdbfsError
 
 from . import traces
 from .figures import pulse_figure
-from .page import SHOWN, controls, parts_toggle, fmt, free_options, initial_settings, marks, study_defaults
+from .numbers import quantity
+from .page import (controls, field_text, fmt, free_options, initial_settings, marks, parts_toggle,
+                   study_defaults)
 from .workbench import workbench
 
 MAX_PINS = 5
@@ -23,7 +25,9 @@ LABELS = {"peak_pressure": "peak pressure", "time_of_peak": "time of peak",
           "pulse_duration": "pulse duration", "complete": "complete",
           "peak_contact_force": "peak contact force",
           "max_piston_displacement": "max. piston displacement",
-          "restitution_coefficient": "restitution"}
+          "restitution_coefficient": "restitution", "impact_count": "blows",
+          "impact_times": "times of the blows", "impact_peak_pressures": "peaks of the blows",
+          "impact_durations": "durations of the blows"}
 
 
 def _apply(wb, values, changes):
@@ -72,7 +76,7 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
             s = slider_vals[k]
             if s is None or abs(s - c.to_slider(values[name])) < c.step / 2:
                 raise PreventUpdate           # a slider settling on its step: not a change
-            text = fmt(c.from_slider(s))
+            text = field_text(c, c.slider_value(s))
             texts[name] = text
         else:
             text = field_vals[k]
@@ -97,7 +101,10 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
         out_hi.append(hi if moved else no_update)
         out_m.append(marks(c, lo, hi) if moved else no_update)
         field_typed = isinstance(trig, dict) and trig["type"] == "field" and trig["name"] == name
-        out_f.append(texts.get(name, fmt(v)) if moved and not field_typed else no_update)
+        # a value that follows the one edited (an impact speed, its drop height) to 4 digits
+        follows = isinstance(trig, dict) and trig["name"] != name
+        out_f.append(texts.get(name, field_text(c, v, follows)) if moved and not field_typed
+                     else no_update)
         if moved and msgs[k] and not field_typed:
             msgs[k] = None
     settings = {**settings, "values": values}
@@ -107,17 +114,18 @@ def edit_settings(slider_vals, field_vals, _reset, _cal, _des, settings, cal, de
 def _summary_table(rows):
     trs = []
     for key, v, unit in rows:
-        f, shown = SHOWN.get(unit, (1.0, unit if unit != "1" else ""))
         if isinstance(v, bool):
             text = "yes" if v else "no (cut off at the end of the run)"
         elif isinstance(v, (list, tuple)):
-            text = ", ".join(fmt(x * f) for x in v) + f" {shown}"
+            text = ", ".join(quantity(x, unit) for x in v)
         elif v is None or (isinstance(v, float) and not math.isfinite(v)):
             text = "n/a"
         else:
-            text = f"{fmt(v * f)} {shown}".strip()
-        trs.append(html.Tr([html.Td(LABELS.get(key, key)),
-                            html.Td(text, id=f"sum-{key}", **{"data-value": json.dumps(v)})]))
+            text = quantity(v, unit)
+        trs.append(html.Tr([html.Td(LABELS.get(key, key.replace("_", " ")),
+                                    style={"paddingRight": "10px", "verticalAlign": "top"}),
+                            html.Td(text, id=f"sum-{key}", **{"data-value": json.dumps(v)},
+                                    style={"whiteSpace": "nowrap" if len(text) < 24 else "normal"})]))
     return html.Table(html.Tbody(trs), style={"borderCollapse": "collapse"})
 
 
@@ -176,10 +184,11 @@ def draw(settings, pins, trace, cal, des):
     for label, r in (("calibrated fit", cal), ("designed pulse", des)):
         if r and r.get("t") and r.get("fit"):
             overlays.append((label, r["t"], r["fit"], r.get("unit", pressure_unit)))
-    fig = pulse_figure(out["curves"], pinned, overlays, title=f"rig {wb.name}")
+    fig = pulse_figure(out["curves"], pinned, overlays, title=f"rig {wb.name}",
+                       labels={n: wb.curve_label(n) for n in out["curves"] if n != "t"})
     summary = html.Div([html.H4("Summary", style={"margin": "4px 0"}), _summary_table(out["rows"])])
     status = [f"backend {wb.backend}, method {settings.get('method', 'auto')}: {out['n']} points "
-              f"to {fmt(out['t_last'] * 1e3)} ms"]
+              f"to {quantity(out['t_last'], 's')}"]
     status += [html.Div(page_hint(note.split(": ", 1)[-1]), className="note",
                         style={"color": "#8a5a00"})
                for note in out["notes"]]
@@ -226,7 +235,8 @@ def upload(data, settings):
         kept = traces.store(filename, tr.t, tr.y)
     except PdbfsError as err:
         return no_update, str(err), None, None
-    info = f"{kept['name']}: {kept['n']} samples, t = {fmt(kept['t0'])} .. {fmt(kept['t1'])} s"
+    info = (f"{kept['name']}: {kept['n']} samples, t = {quantity(kept['t0'], 's')} .. "
+            f"{quantity(kept['t1'], 's')}")
     return kept, None, info, None
 
 

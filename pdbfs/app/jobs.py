@@ -17,7 +17,7 @@ from pdbfs.simulation import SUMMARY_UNITS
 
 from . import traces
 from .figures import map_figure
-from .page import SHOWN, fmt
+from .numbers import RESULT_DIGITS, quantity, short_description, with_std
 from .workbench import parse_number, workbench
 
 POLL = 400    # ms between the page's looks at a job's progress
@@ -64,20 +64,28 @@ def _error(err):
 
 def shown(v, unit) -> str:
     """A value with its unit, in the unit the page shows (MPa, ms, kN, mm)."""
-    if v is None:
-        return "n/a"
-    f, label = SHOWN.get(unit, (1.0, "" if unit == "1" else unit))
-    return f"{fmt(v * f)} {label}".strip()
+    return quantity(v, unit)
 
 
-def _values_table(values, std=None, units=None, note=None):
+def _values_table(wb, values, std=None, units=None, note=None):
+    """Fitted or designed values: each parameter by name and description,
+    its value to the digits its deviation allows (5 without one) and unit."""
     rows = []
+    cell = {"padding": "1px 10px 1px 0"}
     for name, v in values.items():
         s = (std or {}).get(name)
         unit = (units or {}).get(name, "")
-        text = "undetermined" if v is None else fmt(v) + (f" ± {fmt(s)}" if s is not None else "")
-        rows.append(html.Tr([html.Td(name), html.Td(text, id=f"val-{name}"), html.Td(unit)]))
-    return html.Div([html.Table(html.Tbody(rows)), html.Div(note or "", style={"fontSize": "12px"})])
+        text = "undetermined" if v is None else with_std(v, s, RESULT_DIGITS)
+        try:
+            what = short_description(wb.control(name).description)
+        except ValueError:                 # a value the study implies, not a control
+            what = ""
+        rows.append(html.Tr([html.Td(name, style=cell, title=what),
+                             html.Td(what, style={**cell, "color": "#555", "fontSize": "12px"}),
+                             html.Td(text, id=f"val-{name}", style={**cell, "textAlign": "right"}),
+                             html.Td("" if unit == "1" else unit, style=cell)]))
+    return html.Div([html.Table(html.Tbody(rows), style={"borderCollapse": "collapse"}),
+                     html.Div(note or "", style={"fontSize": "12px"})])
 
 
 def calibrate(set_progress, _n, settings, trace, free):
@@ -92,11 +100,11 @@ def calibrate(set_progress, _n, settings, trace, free):
                             lambda report: wb.calibrate(settings["values"], ty, free, report))
     except (PdbfsError, RuntimeError) as err:
         return None, _error(err), True
-    note = f"RMS residual {fmt(out['rms_residual'])} {out['unit']}"
+    note = f"RMS residual {quantity(out['rms_residual'], out['unit'])}"
     if out["undetermined"]:
         note += "; not determined by the trace: " + "; ".join(f"{k} ({v})" for k, v in
                                                               out["undetermined"].items())
-    return out, _values_table(out["params"], out["std"], out["units"], note), False
+    return out, _values_table(wb, out["params"], out["std"], out["units"], note), False
 
 
 def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free):
@@ -125,7 +133,7 @@ def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free)
     note = ("reached" if out["reachable"] else f"not reachable: {out['limit']}") + \
         (f"; features: {feats}" if feats else "") + \
         (f"; RMS error {shown(out['rms_error'], out['unit'])}" if out["rms_error"] is not None else "")
-    return out, _values_table(out["params"], None, {**wb.units, **out["units"]}, note), False
+    return out, _values_table(wb, out["params"], None, {**wb.units, **out["units"]}, note), False
 
 
 def design_map(set_progress, _n, settings, x, xlo, xhi, y, ylo, yhi, n):
@@ -142,6 +150,7 @@ def design_map(set_progress, _n, settings, x, xlo, xhi, y, ylo, yhi, n):
     except (PdbfsError, RuntimeError) as err:
         return no_update, {"display": "none"}, str(err)
     note = f"{m['failed']} points failed" if m["failed"] else None
+    m.update(x_label=wb.label(x), y_label=wb.label(y))
     return map_figure(m), {"display": "block"}, note
 
 

@@ -8,6 +8,8 @@ from dash import dcc, html
 
 from pdbfs.models import RIGS
 
+from .controls import KEY, START_GROUP
+from .numbers import DERIVED_DIGITS, GIVEN_DIGITS, MARK_DIGITS, number
 from .traces import MAX_UPLOAD
 from .workbench import METHODS, Control, Workbench
 
@@ -20,16 +22,31 @@ HEARTBEAT = 2000     # ms between the page's looks at whether the server is ther
 BOX = {"border": "1px solid #ddd", "borderRadius": "6px", "padding": "8px", "margin": "6px 0"}
 
 
-#: how the page shows SI units: (factor, label)
-SHOWN = {"Pa": (1e-6, "MPa"), "s": (1e3, "ms"), "N": (1e-3, "kN"), "m": (1e3, "mm")}
+#: the titles of the sidebar's groups that are no component's
+GROUPS = {KEY: "Main settings", "": "Rig", START_GROUP: "Start positions, velocities, pressures"}
+GROUP_STYLE = {"fontSize": "12px", "fontWeight": "bold", "color": "#444", "textTransform": "uppercase",
+               "letterSpacing": "0.04em", "margin": "10px 0 0", "padding": "2px 0",
+               "borderBottom": "2px solid #ccc"}
 
 
 def fmt(v) -> str:
-    return f"{v:.6g}"
+    """A setting as given (a default, a range's end): up to 6 digits."""
+    return number(v, GIVEN_DIGITS)
+
+
+def field_text(c: Control, value: float, derived: bool = False) -> str:
+    """A field's text: a setting as given to 6 digits; one derived from
+    another (a drop height and its impact speed) to 4."""
+    return number(value, DERIVED_DIGITS if derived or c.derived else GIVEN_DIGITS)
 
 
 def marks(c: Control, lo: float, hi: float) -> dict:
-    return {lo: fmt(c.from_slider(lo)), hi: fmt(c.from_slider(hi))}
+    return {lo: number(c.from_slider(lo), MARK_DIGITS), hi: number(c.from_slider(hi), MARK_DIGITS)}
+
+
+def group_title(group: str) -> str:
+    """A sidebar group's title: a component's name, or what the group holds."""
+    return GROUPS.get(group, group)
 
 
 def control_row(c: Control, value: float):
@@ -37,10 +54,12 @@ def control_row(c: Control, value: float):
     label = f"{c.name} [{c.unit}]" + (" (log)" if c.log else "")
     return html.Div([
         html.Div([html.B(label, title=c.description),
-                  dcc.Input(id={"type": "field", "name": c.name}, type="text", value=fmt(value),
-                            debounce=True, style=FIELD, className="field")],
+                  dcc.Input(id={"type": "field", "name": c.name}, type="text",
+                            value=field_text(c, value), debounce=True, style=FIELD,
+                            className="field")],
                  style={"display": "flex", "justifyContent": "space-between", "gap": "6px"}),
-        html.Div(c.description, style={"fontSize": "11px", "color": "#555"}),
+        html.Div(c.description, style={"fontSize": "11px", "color": "#555", "marginBottom": "4px"},
+                 className="description"),
         # side padding: the end marks are centred on the ends and would be clipped
         html.Div(dcc.Slider(id={"type": "slider", "name": c.name}, min=lo, max=hi, step=c.step,
                             value=c.to_slider(value), marks=marks(c, lo, hi), updatemode="drag",
@@ -51,7 +70,12 @@ def control_row(c: Control, value: float):
 
 
 def controls(wb: Workbench, values: dict, parts: bool = False):
-    return [control_row(c, values[c.name]) for c in wb.shown(parts)]
+    """The sidebar's controls in the rig's groups, each under its title."""
+    out = []
+    for group, cs in wb.shown_groups(parts):
+        out.append(html.Div(group_title(group), className="group", style=GROUP_STYLE))
+        out += [control_row(c, values[c.name]) for c in cs]
+    return out
 
 
 def parts_toggle(wb: Workbench):
@@ -68,7 +92,9 @@ def initial_settings(wb: Workbench) -> dict:
 
 
 def free_options(wb: Workbench):
-    return [{"label": c.name, "value": c.name} for c in wb.controls]
+    """The parameters a study may free, named and described, with the unit."""
+    return [{"label": wb.label(c.name) + (f" [{c.unit}]" if c.unit != "1" else ""),
+             "value": c.name, "title": c.description} for c in wb.controls]
 
 
 def study_defaults(wb: Workbench) -> dict:
@@ -110,9 +136,9 @@ def studies_panels(wb: Workbench):
         dcc.RadioItems(id="des-mode", value="features", inline=True,
                        options=[{"label": "target features", "value": "features"},
                                 {"label": "the uploaded curve", "value": "curve"}]),
-        _labelled("peak (MPa)", dcc.Input(id="des-peak", type="text", value="150", style=FIELD)),
-        _labelled("duration (ms)", dcc.Input(id="des-duration", type="text", value="", style=FIELD)),
-        _labelled("time of peak (ms)", dcc.Input(id="des-tpeak", type="text", value="", style=FIELD)),
+        _labelled("peak pressure [MPa]", dcc.Input(id="des-peak", type="text", value="150", style=FIELD)),
+        _labelled("pulse duration [ms]", dcc.Input(id="des-duration", type="text", value="", style=FIELD)),
+        _labelled("time of peak [ms]", dcc.Input(id="des-tpeak", type="text", value="", style=FIELD)),
         _labelled("free", dcc.Dropdown(id="des-free", options=opts, multi=True,
                                        value=picks["des-free"],
                                        style={"minWidth": "18em"})),
@@ -159,22 +185,22 @@ def run_row(wb: Workbench, settings: dict):
     """The run's length and the integrator's method, and the status line."""
     return html.Div([
         _button("pin", "Pin this curve"), _button("unpin", "Clear pins"),
-        _button("reset", "Reset to defaults"),
-        _labelled(" t_end (ms)", dcc.Input(id="t-end", type="text", value=fmt(settings["t_end"] * 1e3),
-                                           debounce=True, style=FIELD)),
+        _labelled("t_end [ms]", dcc.Input(id="t-end", type="text", value=fmt(settings["t_end"] * 1e3),
+                                          debounce=True, style=FIELD)),
         _labelled("method", dcc.Dropdown(id="method", options=list(METHODS), value=settings["method"],
                                          clearable=False, style={"minWidth": "6em"})),
         html.Span(id="run-msg", style=MSG, className="msg"),
         html.Div(id="status", style={"fontSize": "12px", "minHeight": "1.2em"}),
-    ], style={"display": "flex", "flexWrap": "wrap", "alignItems": "center"})
+    ], style={"display": "flex", "flexWrap": "wrap", "alignItems": "center", "columnGap": "10px"})
 
 
+RESET = "Every parameter back to the rig's default; the run's t_end and method stay as they are"
 INTRO = ("A drop-hammer test rig as a model: each parameter on the left has a field and a "
          "slider; any change runs the rig again and redraws the pressure pulse, the contact "
          "force and the displacements, with the summary beside them. Pin a curve to compare "
          "the next. Below the plot: lay a measured trace over the pulse and calibrate "
          "parameters to it, design for a peak or duration, map two settings, download results. "
-         "Hover over a parameter's name for its description.")
+         "The rig's main settings come first, its start positions last.")
 
 
 def layout(wb: Workbench):
@@ -194,7 +220,11 @@ def layout(wb: Workbench):
                     style={"display": "none", "position": "fixed", "top": "0", "left": "0",
                            "right": "0", "zIndex": "1000", "padding": "8px",
                            "background": "#b00020", "color": "white", "fontWeight": "bold"})
-    left = html.Div([dcc.Checklist(id="parts", **parts_toggle(wb)),
+    top = html.Div([html.B("Parameters", style={"fontSize": "15px"}),
+                    _button("reset", "Reset parameters", title=RESET)],
+                   style={"display": "flex", "justifyContent": "space-between",
+                          "alignItems": "center"})
+    left = html.Div([top, dcc.Checklist(id="parts", **parts_toggle(wb)),
                      html.Div(id="controls", children=controls(wb, settings["values"]))],
                     style={"width": "360px", "flex": "0 0 360px", "overflowY": "auto",
                            "maxHeight": "calc(100vh - 80px)", "paddingRight": "8px",

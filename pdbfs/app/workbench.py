@@ -20,7 +20,9 @@ from pdbfs.models import RIGS
 from pdbfs.simulation import SUMMARY_UNITS, Simulator
 
 from . import traces
-from .controls import LOG_UNITS, Control, control_of, drop_height, linear_range, parse_number
+from .controls import (LOG_UNITS, Control, control_of, drop_height, linear_range, page_groups,
+                       parse_number)
+from .numbers import short_description
 
 __all__ = ["Workbench", "workbench", "Control", "LOG_UNITS", "METHODS", "drop_height",
            "parse_number", "control_of"]
@@ -51,8 +53,13 @@ class Workbench:
         self.units = {p.name: p.unit for p in self.dae.params}
         self.height = self._height_control()
         if self.height:
-            self.controls.insert(self.index(self.height.derived) + 1, self.height)
+            self.controls.append(self.height)
             self.units[self.height.name] = "m"
+        # the page's order: the rig's key parameters, the rest by component, starts last
+        self.groups = page_groups(self.controls, self.key_parameters())
+        self.controls = [c for _, cs in self.groups for c in cs]
+        self.descriptions = {v.name: v.description for v in
+                             (*self.dae.x_info, *self.dae.z_info, *self.dae.y_info)}
         self.parts = self._parts()
         self._lock = threading.Lock()     # one run of this rig at a time (CasADi's buffers)
         self._outcomes: dict = {}
@@ -83,6 +90,34 @@ class Workbench:
         except PdbfsError as err:
             return "casadi", f"CasADi (no compiled backend: {err})"
         return "c", "compiled C (explicit Runge-Kutta or CVODE, as method auto picks)"
+
+    def key_parameters(self) -> list:
+        """The parameters the rig declares matter most (``key_parameters``),
+        else those its page defaults design and calibrate."""
+        decl = getattr(self.rig, "key_parameters", None)
+        if decl is None:
+            pages = dict(getattr(self.rig, "page_defaults", None) or {})
+            decl = (*pages.get("design", ()), *pages.get("calibrate", ()))
+        return list(decl)
+
+    def shown_groups(self, parts: bool = False) -> list:
+        """The page's groups (page_groups) of the controls it draws."""
+        hidden = set() if parts else set(self.parts)
+        out = [(g, [c for c in cs if c.name not in hidden]) for g, cs in self.groups]
+        return [(g, cs) for g, cs in out if cs]
+
+    def label(self, name: str) -> str:
+        """A parameter as the page names it: ``oil.k: oil column stiffness``."""
+        return f"{name}: {short_description(self.control(name).description)}"
+
+    def curve_label(self, name: str) -> str:
+        """A variable by its description: ``contact.fc`` -> ``contact compressive
+        force``, ``oil.pressure`` -> ``oil pressure`` (its component named
+        unless the description does)."""
+        text = short_description(self.descriptions.get(name, "")) if name in self.descriptions \
+            else name
+        owner = name.rsplit(".", 1)[0] if "." in name else ""
+        return text if not owner or owner.lower() in text.lower() else f"{owner} {text}"
 
     def shown(self, parts: bool = False) -> list:
         """The controls the page draws: without the parameters of repeated
