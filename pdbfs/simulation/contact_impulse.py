@@ -13,13 +13,10 @@ integration from the output point before it, as Result.value_at does.
 """
 from __future__ import annotations
 
-import casadi as ca
 import numpy as np
 
-from pdbfs.errors import SolverError
-
 from . import time_events as TE
-from .failures import compiled_failure
+from .hermite import TRUST
 
 
 def on_grid(sim, grid, x0, p, s: dict, force: str):
@@ -29,13 +26,9 @@ def on_grid(sim, grid, x0, p, s: dict, force: str):
     ``force`` from grid[0], a row like ``grid``."""
     grid = np.asarray(grid, float)
     if s.get("backend") == "c" and _compiled_force(sim, force):
-        lib = sim.compiled()
-        X, st = lib.run(grid, np.append(np.asarray(x0, float), 0.0), p, s["rtol"], s["atol"],
-                        s["method"], s["max_step"], s["max_num_steps"])
-        if not st.ok:
-            raise compiled_failure(sim.dae.name, grid, st)
-        if not np.all(np.isfinite(X)):
-            sim._check_finite(grid, X)
+        # the library integrates the impulse as the state after the rig's (compiled.run)
+        X = sim.integrate_c(grid, np.append(np.asarray(x0, float), 0.0), p, s["rtol"], s["atol"],
+                            s["method"], s["max_step"], s["max_num_steps"])
         return X[:-1], np.zeros((0, grid.size)), X[-1]
     return _casadi(sim, grid, x0, p, s, force)
 
@@ -47,33 +40,65 @@ def at(sim, x, p, t0, t, s: dict, force: str) -> float:
     return float(on_grid(sim, [t0, t], x, p, s, force)[2][-1])
 
 
+def force_role(dae) -> str | None:
+    """The output playing the rig's contact force role, or None."""
+    force = (getattr(dae, "signals", {}) or {}).get("contact_force")
+    return force if force in dae.y_names else None
+
+
+def impulse_at(R, Q, force: str, t: float) -> float:
+    """The impulse at ``t`` of ``force`` on the solution of the Result ``R``,
+    whose impulse on R.t is ``Q``: from the output point at or before t, on
+    the force's Hermite cubic where that is trusted (hermite.py) and its
+    integral over the whole interval is the solver's (else a blow lies
+    between the two points), else by a short integration from there."""
+    k = min(max(int(np.searchsorted(R.t, t, side="right")) - 1, 0), len(R.t) - 1)
+    if t <= R.t[k] or k == len(R.t) - 1:
+        return float(Q[k])
+    got = R.curves.interval(force, k) if R.curves.data(force) is not None else None
+    if got is not None and got[1]:
+        h = R.t[k + 1] - R.t[k]
+        part = lambda s: h * s * (got[0][0] + s * (got[0][1] / 2 + s * (got[0][2] / 3   # noqa: E731
+                                                                      + s * got[0][3] / 4)))
+        scale = R.curves.data(force)[2] * h
+        if abs(part(1.0) - (Q[k + 1] - Q[k])) <= TRUST * scale:
+            return float(Q[k] + part((t - R.t[k]) / h))
+    return float(Q[k]) + at(R._sim, R._X[:, k], R.p, R.t[k], t, R.settings, force)
+
+
 def _compiled_force(sim, force) -> bool:
     """Whether the compiled library integrates this force's impulse (its contact force role)."""
-    lib = sim.compiled()
-    return bool(lib.nq) and (getattr(sim.dae, "signals", {}) or {}).get("contact_force") == force
+    return bool(sim.compiled().nq) and force_role(sim.dae) == force
 
 
 def _casadi(sim, grid, x0, p, s, force):
     """From time event to time event (as time_events.pieces), each piece on
-    the time-scaled integrator of its grid with the force as a quadrature."""
+    the time-scaled integrator of its grid (that of Simulator.integrate_shifted,
+    the force its quadrature: the same steps and states)."""
     dae = sim.dae
     nx, nz = dae.x.numel(), dae.z.numel()
     X, Z, Q = np.zeros((nx, grid.size)), np.zeros((nz, grid.size)), np.zeros(grid.size)
-    edges = np.concatenate([[grid[0]], _switches(dae, p, grid), [grid[-1]]])
+    switches = _switches(dae, p, grid)
+    edges = np.concatenate([[grid[0]], switches, [grid[-1]]])
     x, total = np.asarray(x0, float), 0.0
     X[:, 0] = x
     for i, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         sub = np.concatenate([[a], grid[(grid > a) & (grid < b)], [b]])
         span = b - a
         z0, xdot0 = (sim.z_guess(p), None) if dae.is_ode else sim.consistent_start(a, x, p)
-        F = _integrator(sim, s, force, (sub - a) / span, span,
-                        None if xdot0 is None else span * xdot0)
+        F = sim.integrator((sub - a) / span, s["rtol"], s["atol"], s["method"], s["max_step"],
+                           scaled=True, max_num_steps=s["max_num_steps"],
+                           xdot0=None if xdot0 is None else span * xdot0,
+                           keep=not switches.size, quad=force)
         try:
             r = F(x0=x, p=np.concatenate([p, [a, span]]), z0=z0)
-        except RuntimeError as err:
-            first = str(err).splitlines()[0] if str(err) else "the integrator failed"
-            raise SolverError(f"rig {dae.name}: the run with the impulse of {force} failed "
-                              f"between t = {a:.6g} s and {b:.6g} s: {first}") from None
+        except RuntimeError as err:      # as Simulator._shifted: Ctrl-C, or where it failed
+            if "KeyboardInterrupt" in str(err):
+                raise KeyboardInterrupt from None
+            raise sim._failure(sub, x, p, s["rtol"], s["atol"], s["method"], s["max_step"], err,
+                               s["max_num_steps"]) from None
+        if r.get("xf") is None:
+            raise KeyboardInterrupt
         Xs = r["xf"].full()
         Zs = r["zf"].full().reshape(nz, sub.size)
         Qs = total + r["qf"].full().reshape(-1)
@@ -98,36 +123,3 @@ def _switches(dae, p, grid) -> np.ndarray:
     near = np.where(np.abs(grid[k] - b) <= np.abs(grid[k - 1] - b), grid[k], grid[k - 1])
     b = np.unique(np.where(np.abs(near - b) <= tol, near, b))
     return b[(b > grid[0]) & (b < grid[-1])]
-
-
-def _integrator(sim, s, force, tau, span, xdot0):
-    """The integrator over [t0, t0 + h] on the output points ``tau`` in
-    [0, 1] (parameters p, t0, h), the force as its quadrature, with the
-    options of Simulator.integrator; kept per settings and tau, except an
-    IDAS one with its start's der(x) (made per call). A ``max_step`` (s) is
-    one of tau for this ``span``: the integrator is then this span's."""
-    step = None if s["max_step"] is None else s["max_step"] / span
-    key = ("impulse", force, np.asarray(tau, float).tobytes(), s["rtol"], s["atol"], s["method"],
-           step, s["max_num_steps"])
-    F = sim._cache.get(key)
-    if F is not None and xdot0 is None:
-        return F
-    dae = sim.dae
-    t0, h, t = ca.SX.sym("t0"), ca.SX.sym("h"), ca.SX.sym("tau")
-    subs = lambda e: ca.substitute(e, dae.t, t0 + h * t)   # noqa: E731
-    f = dae.y[dae.y_names.index(force)]
-    spec = {"x": dae.x, "z": dae.z, "p": ca.vertcat(dae.p, t0, h), "t": t,
-            "ode": h * subs(dae.ode), "alg": subs(dae.alg), "quad": h * subs(f)}
-    opts = {"abstol": s["atol"], "reltol": s["rtol"], "max_num_steps": int(s["max_num_steps"]),
-            "disable_internal_warnings": True, "show_eval_warnings": False}
-    if step is not None:
-        opts["max_step_size"] = step
-    if dae.is_ode:
-        opts["linear_multistep_method"] = s["method"]
-    if xdot0 is not None:
-        opts["init_xdot"] = [float(v) for v in xdot0]
-    F = ca.integrator("impulse", "cvodes" if dae.is_ode else "idas", spec, float(tau[0]),
-                      [float(v) for v in tau], opts)
-    if xdot0 is None and len(sim._cache) < sim.CACHE_MAX:
-        sim._cache[key] = F
-    return F

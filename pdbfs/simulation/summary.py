@@ -213,11 +213,7 @@ def _ratio(R, force, impulse, a, t_split, b) -> float | None:
     [a, t_split], on the solution."""
     Q = impulse() if impulse is not None else \
         contact_impulse.on_grid(R._sim, R.t, R._X[:, 0], R.p, R.settings, force)[2]
-
-    def at(t):                  # from the output point at or before t
-        k = min(max(int(np.searchsorted(R.t, t, side="right")) - 1, 0), len(R.t) - 1)
-        return Q[k] + contact_impulse.at(R._sim, R._X[:, k], R.p, R.t[k], t, R.settings, force)
-    q_a, q_split, q_b = at(a), at(t_split), at(b)
+    q_a, q_split, q_b = (contact_impulse.impulse_at(R, Q, force, t) for t in (a, t_split, b))
     before, after = q_split - q_a, q_b - q_split
     if not (np.isfinite(before) and np.isfinite(after)) or before <= 0:
         return None

@@ -108,7 +108,7 @@ def summary_run(res) -> SummaryRun:
             X, Z = res._X, res._Z                                 # the caller's own run
             # every role's row, rate and the events in one pass: the summary reads them all
             res.prefetch([n for n in roles.values() if isinstance(n, str)])
-            Q = None          # its impulse: integrated again if the restitution asks
+            Q = res._impulse  # its impulse (None: integrated again if the restitution asks)
         else:
             X, Z, Q = _integrate(sim, grid, x, res.p, s, f_name)
         first = 0 if not ts else 1
