@@ -10,7 +10,7 @@ import warnings
 
 import pytest
 
-from paper_equations import restitution_reference
+from paper_equations import blow_reference
 from pdbfs.models import RIGS, paper_rig
 from pdbfs.simulation import Simulator, contact_impulse
 from pdbfs.simulation.summary import summarize
@@ -49,7 +49,8 @@ def _e(rig, over, **kw):
 
 @pytest.mark.parametrize("over,duration", BLOWS, ids=[f"{d:.3g}s" for _, d in BLOWS])
 def test_the_restitution_of_blows_from_a_microsecond_to_milliseconds(rig, over, duration):
-    ref, first, _ = restitution_reference(**over)
+    got = blow_reference(**over)
+    ref, first = got["restitution"], got["first_contact"]
     assert first == pytest.approx(duration, rel=0.01)       # the blow is as long as named
     c, casadi = _e(rig, over, backend="c"), _e(rig, over, backend="casadi")
     assert c == pytest.approx(ref, abs=DEFAULTS) and casadi == pytest.approx(ref, abs=DEFAULTS)
@@ -62,7 +63,7 @@ def test_the_restitution_of_blows_from_a_microsecond_to_milliseconds(rig, over, 
 
 @pytest.mark.parametrize("over", [dict(m1=0.01, v0=0.5, n=1.0), dict(m1=0.01, v0=0.5)])
 def test_the_restitution_converges_with_the_tolerance(rig, over):
-    ref = restitution_reference(**over)[0]
+    ref = blow_reference(**over)["restitution"]
     for backend in ("c", "casadi"):
         assert _e(rig, over, backend=backend, rtol=1e-11) == pytest.approx(ref, abs=3e-7), backend
 
@@ -74,7 +75,7 @@ def test_the_compiled_drivers_restitution_is_the_python_summarys(rig):
     res = rig.simulate(params={NAMES[k]: v for k, v in over.items()}, backend="c")
     fast = res.summary()["restitution_coefficient"]
     slow = summarize(res)["restitution_coefficient"]
-    ref = restitution_reference(**over)[0]
+    ref = blow_reference(**over)["restitution"]
     assert fast == pytest.approx(ref, abs=DEFAULTS) and slow == pytest.approx(ref, abs=DEFAULTS)
 
 

@@ -33,8 +33,8 @@ from .result import Result
 from .stats import casadi_stats
 from .stiffness import auto_method
 
-from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
-                       output_grid)
+from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_atol,  # noqa: F401
+                       default_rtol, output_grid)
 
 
 class Simulator(RunInputs, OnGrid):
@@ -195,7 +195,7 @@ class Simulator(RunInputs, OnGrid):
 
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
-            rtol=None, atol=1e-10, method="auto", max_step=None,
+            rtol=None, atol=None, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
         dae = self.dae
         key = plan = None
@@ -225,6 +225,7 @@ class Simulator(RunInputs, OnGrid):
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
+        atol = default_atol(rtol, atol)
         if plan is not None:
             if plan.lib is not None and method == plan.settings["method"]:
                 return replay.run(self, plan, p, x0)      # its compiled call, these p and x0
@@ -261,15 +262,14 @@ class Simulator(RunInputs, OnGrid):
             return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(grid[0], x0, p)
-        force = force_role(self.dae)
         F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
-                            xdot0=xdot0, quad=force)
+                            xdot0=xdot0, quad=force_role(self.dae))
         nz = self.dae.z.numel()
         try:
             r = _call(F, x0=x0, p=p, z0=z0)
             X = r["xf"].full()
             Z = r["zf"].full().reshape(nz, X.shape[1])
-            self._last_impulse = r["qf"].full().ravel() if force else None
+            self._last_impulse = r["qf"].full().ravel() if r["qf"].numel() else None
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
                                 max_num_steps) from None
