@@ -19,7 +19,7 @@ SIMULATE = {
     "params": [[("hammer.v0", 3.0)], "hammer.v0", 3, {3: 1.0}],
     "start": [[("hammer.s", 0.0)], "x", 3],
     "rtol": ["1e-6", [1e-6], True],          # None: the method's default (1e-8; erk 1e-9)
-    "atol": ["1e-8", None, False],
+    "atol": ["1e-8", [1e-8], False],          # None: 1e-10, or 1e-2 rtol below rtol 1e-8
     "method": [3, None, ["bdf"]],
     "max_step": ["1e-4", [1e-4], True],
     "max_num_steps": ["100", 10.5, None],

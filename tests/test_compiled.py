@@ -116,12 +116,13 @@ def test_the_library_checks_its_input(rig):
     assert st.code == batch.RC_BAD_INPUT and "strictly increasing" in st.message
     X, st = c.run([0.0, 0.01], x0, p, -1.0, 1e-10)
     assert st.code == batch.RC_BAD_INPUT and "rtol" in st.message
-    # wrong sizes straight into C: refused, nothing written
+    # wrong sizes straight into C (one state more is the contact force's impulse,
+    # compiled.run's): refused, nothing written
     info = np.zeros(batch.INFO_N)
     msg = ctypes.create_string_buffer(256)
     t = np.array([0.0, 0.01])
     out = np.zeros(2 * c.nx)
-    code = c._run(c.nx + 1, c.np, p.ctypes.data, x0.ctypes.data, 2, t.ctypes.data,
+    code = c._run(c.nx + c.nq + 1, c.np, p.ctypes.data, x0.ctypes.data, 2, t.ctypes.data,
                   out.ctypes.data, 1e-8, 1e-10, 0, 0.0, 100, info.ctypes.data, msg, 256)
     assert code == batch.RC_BAD_INPUT and b"sizes" in msg.value and not out.any()
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from pdbfs.models import paper_rig
-from pdbfs.simulation import Simulator
+from pdbfs.simulation import Simulator, contact_impulse
 from pdbfs.simulation.hermite import _one_root
 from pdbfs.simulation.impulse import integral
 
@@ -47,6 +47,8 @@ def test_a_casadi_summary_on_the_runs_own_grid_integrates_nothing(rig, monkeypat
     real = sim.rows_rates_events
     monkeypatch.setattr(sim, "integrate_shifted", lambda *a, **k: pytest.fail("integrated again"))
     monkeypatch.setattr(sim, "step", lambda *a, **k: pytest.fail("stepped again"))
+    # the restitution's impulses: carried by the run itself (its quadrature)
+    monkeypatch.setattr(contact_impulse, "on_grid", lambda *a, **k: pytest.fail("impulse again"))
     monkeypatch.setattr(sim, "rows_rates_events", lambda *a: passes.append(1) or real(*a))
     monkeypatch.setattr(sim, "outputs", lambda *a, **k: pytest.fail("a row computed alone"))
     monkeypatch.setattr(sim, "rates_on", lambda *a, **k: pytest.fail("a rate computed alone"))

@@ -31,6 +31,9 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
     if rtol:
         s.add_argument("--rtol", type=float, default=None,
                        help="relative tolerance (default 1e-8; 5e-8 for the explicit method)")
+        s.add_argument("--atol", type=float, default=None,
+                       help="absolute tolerance, in each state's unit (default 1e-10, and "
+                       "1e-2 x rtol below rtol 1e-8: a tighter rtol converges on small signals)")
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
                        help="integration method: CVODE's adams or bdf, or erk (explicit "

@@ -16,7 +16,8 @@ def cmd_simulate(args):
     t_end, n_out = horizon(args, rig)
     initial = parse_initial(args.initial)
     res = rig.simulate(t_end, n_out=n_out, params=params, initial=initial,
-                       rtol=args.rtol, method=args.method, backend=args.backend)
+                       rtol=args.rtol, atol=args.atol, method=args.method,
+                       backend=args.backend)
     summary = res.summary()
     out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "results.csv")

@@ -96,7 +96,7 @@ def cmd_sweep(args):
     client = connect(args.dask) if args.dask else None
     try:
         res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
-                    params=fixed, rtol=args.rtol, method=args.method,
+                    params=fixed, rtol=args.rtol, atol=args.atol, method=args.method,
                     backend=args.backend, workers=args.workers, client=client,
                     out=None if plot else out, format=None if plot else args.format,
                     chunk_size=args.chunk, overwrite=args.overwrite and not plot,

@@ -18,7 +18,9 @@
     summary.py     what a test engineer reads off a pulse (peak pressure,
                    duration, restitution, complete or not, each blow)
     summary_run.py the summary's own solution: a fixed grid, until the pulse is over
-    impulse.py     impulses and Guo & Batzer's restitution (the one implementation)
+    impulse.py     impulses and Guo & Batzer's restitution of sampled forces
+    contact_impulse.py  a contact force's impulse integrated by the solver
+                   (a quadrature on the solution: the summary's restitution)
     stats.py       solver statistics under one set of names
     initialize.py  the start solved before integration: free states, initial
                    equations, initial="steady" (Newton, exact Jacobian)

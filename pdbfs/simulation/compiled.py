@@ -121,6 +121,8 @@ class CompiledODE:
         self._blocks = threading.local()     # run_summary's buffers, one per thread
         signals = getattr(dae, "signals", {}) or {}
         self.roles = [r for r in ROLES if signals.get(r) in dae.y_names]
+        #: 1 where the rig has a contact force: ``run`` then also integrates its impulse
+        self.nq = 1 if "contact_force" in self.roles else 0
         #: the summary keys the summary driver gives for this rig
         self.summary_keys = [k for k in SUMMARY_KEYS if KEY_ROLES[k] in self.roles]
         try:
@@ -242,21 +244,24 @@ class CompiledODE:
     # -- run ------------------------------------------------------------------------
     def run(self, t, x0, p, rtol, atol, method="adams", max_step=None, max_num_steps=500000):
         """States on the grid ``t`` (shape (nx, len(t))) and a RunStatus.
-        The arguments are checked again in C: bad ones give code RC_BAD_INPUT."""
+        With ``nx + nq`` start values (a rig with a contact force), the last
+        is the force's impulse (N s), integrated with the states and given
+        as the last row. The arguments are checked again in C: bad ones give
+        code RC_BAD_INPUT."""
         t = np.ascontiguousarray(t, dtype=float).ravel()
         x0 = np.ascontiguousarray(x0, dtype=float).ravel()
         p = np.ascontiguousarray(p, dtype=float).ravel()
-        if x0.size != self.nx or p.size != self.np:
+        if x0.size not in (self.nx, self.nx + self.nq) or p.size != self.np:
             raise ParameterError(f"rig {self.name}: {x0.size} start values and {p.size} parameters "
                                  f"given, expected {self.nx} and {self.np}")
         if method not in METHOD_CODES:
             raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
         nt = t.size
-        X = np.empty((self.nx, nt))
+        X = np.empty((x0.size, nt))
         info = np.zeros(INFO_N)
         msg = ctypes.create_string_buffer(MSG_LEN)
         wall = time.perf_counter()
-        code = self._run(self.nx, self.np, p.ctypes.data, x0.ctypes.data, nt, t.ctypes.data,
+        code = self._run(x0.size, self.np, p.ctypes.data, x0.ctypes.data, nt, t.ctypes.data,
                          X.ctypes.data, float(rtol), float(atol), METHOD_CODES[method],
                          float(max_step or 0.0), int(max_num_steps), info.ctypes.data, msg, MSG_LEN)
         wall = time.perf_counter() - wall

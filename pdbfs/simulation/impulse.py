@@ -2,9 +2,11 @@
 estimate (paper eq. 8): the impulse after a split instant divided by the
 impulse before it, for a body initially at rest.
 
-The one implementation in Python: the summary, the paper's figures and the
-tests use it (closed forms per interval: scipy's splines cost 0.1 ms a call); the C summary driver (c/pdbfs_summary.c) integrates the same
-impulses as an extra state and is tested against it.
+For force histories given as samples (the paper's figures, the tests, the
+Hermite curves of a Result): closed forms per interval (scipy's splines cost
+0.1 ms a call). The summary's restitution does not sample: its impulses are
+integrated by the solver (contact_impulse.py), as the C summary driver's
+(c/pdbfs_summary.c), so that a blow shorter than the output step counts.
 """
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ from .simulator import Simulator
 
 
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
-             start=None, rtol: float | None = None, atol: float = 1e-10, method: str = "auto",
+             start=None, rtol: float | None = None, atol: float | None = None, method: str = "auto",
              max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
              backend: str = "auto", initial=None):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
@@ -23,7 +23,10 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               The start used is ``Result.initial``.
     rtol/atol relative and absolute tolerances of the integrator (rtol
               None: 1e-8, and 5e-8 for the explicit method, whose peak
-              pressure is then within 1e-7 of a tight reference)
+              pressure is then within 1e-7 of a tight reference; atol, in
+              each state's unit, None: 1e-10, and 1e-2 * rtol below rtol
+              1e-8, so that a tighter rtol converges however small the
+              signals)
     method    'auto' (the default: Adams unless a fast mode decays without
               oscillating, see stiffness.py; in the compiled backend the
               explicit Runge-Kutta method instead of Adams), 'adams'

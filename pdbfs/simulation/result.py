@@ -23,9 +23,10 @@ from .summary import summarize
 
 class Result:
     def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None,
-                 states=None, own_stats=False, shared=False):
+                 states=None, own_stats=False, shared=False, impulse=None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
+        self._impulse = impulse     # the contact force's impulse on t, if integrated (summary)
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
         #: method, wall_time (s), backend (``own_stats``: a dict made for this Result)
         self.stats = stats if own_stats else dict(stats or {})

@@ -7,7 +7,8 @@ import numbers
 import numpy as np
 
 from pdbfs.errors import ParameterError, plain
-from pdbfs.native.tolerances import RTOL_MAX, RTOL_MIN, check_rtol  # noqa: F401
+from pdbfs.native.tolerances import (ATOL_DEFAULT, RTOL_MAX, RTOL_MIN, check_rtol,  # noqa: F401
+                                     default_atol)
 
 #: "erk": the explicit Runge-Kutta method of order 8 (compiled backend only)
 METHODS = ("auto", "adams", "bdf", "erk")
@@ -75,9 +76,11 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
                              "only: use backend='c' or 'auto', or method 'adams'/'bdf'")
     if rtol is not None:                 # None: the method's default (default_rtol)
         check_rtol(real(rtol, "rtol"))   # the one rule of every path, the FMU's included
-    atol = real(atol, "atol")
-    if not (np.isfinite(atol) and atol > 0):
-        raise ParameterError(f"atol = {atol}: must be a positive number")
+    if atol is not None:                 # None: default_atol of the run's rtol
+        atol = real(atol, "atol")
+        if not (np.isfinite(atol) and atol > 0):
+            raise ParameterError(f"atol = {atol}: must be a positive number (the absolute "
+                                 "tolerance, in each state's unit)")
     if max_step is not None and not (np.isfinite(real(max_step, "max_step")) and max_step > 0):
         raise ParameterError(f"max_step = {max_step}: must be a positive number")
     if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \

@@ -24,6 +24,7 @@ from pdbfs.modelling import DAE
 from . import c_summary, replay
 from . import compiled as C
 from . import time_events as TE
+from .contact_impulse import force_role
 from .failures import compiled_failure, walk_failure
 from .initialize import solve_start
 from .inputs import RunInputs
@@ -32,8 +33,8 @@ from .result import Result
 from .stats import casadi_stats
 from .stiffness import auto_method
 
-from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
-                       output_grid)
+from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_atol,  # noqa: F401
+                       default_rtol, output_grid)
 
 
 class Simulator(RunInputs, OnGrid):
@@ -109,15 +110,16 @@ class Simulator(RunInputs, OnGrid):
         return chosen
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
-                   max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True):
+                   max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True, quad=None):
         """A casadi integrator for these settings (cached). ``xdot0`` (DAE
         rigs) is IDAS's guess of der(x) at the start, which its consistent
-        initialisation needs; such integrators are built per call."""
+        initialisation needs; such integrators are built per call. ``quad``: an
+        output integrated as a quadrature (the same steps and states)."""
         self.check_settings(rtol, atol, method, max_step, max_num_steps)
         if method == "auto":
             raise ParameterError("method='auto' is resolved by the caller (resolve_method)")
         key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled,
-               max_num_steps)
+               max_num_steps, quad)
         if xdot0 is not None or key not in self._cache:
             dae = self.dae
             opts = {"abstol": atol, "reltol": rtol, "max_num_steps": int(max_num_steps),
@@ -129,12 +131,12 @@ class Simulator(RunInputs, OnGrid):
             if xdot0 is not None:
                 opts["init_xdot"] = [float(v) for v in xdot0]
             spec = {"x": dae.x, "z": dae.z, "p": dae.p, "t": dae.t, "ode": dae.ode,
-                    "alg": dae.alg}
+                    "alg": dae.alg, "quad": dae.y[dae.y_names.index(quad)] if quad else []}
             if scaled:   # tau in [0, 1] covers [t0, t0 + h]: one object for any interval
                 t0, h, tau = ca.SX.sym("t0"), ca.SX.sym("h"), ca.SX.sym("tau")
                 subs = lambda e: ca.substitute(e, dae.t, t0 + h * tau)
                 spec = {"x": dae.x, "z": dae.z, "p": ca.vertcat(dae.p, t0, h), "t": tau,
-                        "ode": h * subs(dae.ode), "alg": subs(dae.alg)}
+                        "ode": h * subs(dae.ode), "alg": subs(dae.alg), "quad": h * subs(ca.SX(spec["quad"]))}
             plugin = "cvodes" if dae.is_ode else "idas"
             # the output grid includes t0: its z is then the consistent one
             F = ca.integrator("sim", plugin, spec, float(grid[0]), list(grid), opts)
@@ -193,7 +195,7 @@ class Simulator(RunInputs, OnGrid):
 
     # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
-            rtol=None, atol=1e-10, method="auto", max_step=None,
+            rtol=None, atol=None, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
         dae = self.dae
         key = plan = None
@@ -223,6 +225,7 @@ class Simulator(RunInputs, OnGrid):
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         rtol = default_rtol(method, rtol)
+        atol = default_atol(rtol, atol)
         if plan is not None:
             if plan.lib is not None and method == plan.settings["method"]:
                 return replay.run(self, plan, p, x0)      # its compiled call, these p and x0
@@ -248,9 +251,11 @@ class Simulator(RunInputs, OnGrid):
         settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                     "max_num_steps": max_num_steps, "backend": backend}
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
-                      states=states, own_stats=True)
+                      states=states, own_stats=True,
+                      impulse=None if backend == "c" else self._last_impulse)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
+        self._last_impulse = None      # the contact force's impulse on grid, for the summary
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
         if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
@@ -258,12 +263,13 @@ class Simulator(RunInputs, OnGrid):
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(grid[0], x0, p)
         F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
-                            xdot0=xdot0)
+                            xdot0=xdot0, quad=force_role(self.dae))
         nz = self.dae.z.numel()
         try:
             r = _call(F, x0=x0, p=p, z0=z0)
             X = r["xf"].full()
             Z = r["zf"].full().reshape(nz, X.shape[1])
+            self._last_impulse = r["qf"].full().ravel() if r["qf"].numel() else None
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
                                 max_num_steps) from None

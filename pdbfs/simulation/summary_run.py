@@ -11,7 +11,9 @@ changes no reported figure. A pulse still running at the horizon is
 followed on (at most ``LOOK_AHEAD`` further) to say which horizon would
 have held it. Peaks and crossings are then located on this solution
 (Result.peak / crossings: Hermite interpolation where it is trusted, root
-finding on the solution elsewhere).
+finding on the solution elsewhere). Rigs with a contact force also carry
+its impulse along this solution (contact_impulse.py): the restitution's
+impulses count a blow shorter than the grid's step whole.
 
 When the caller's grid is this grid's first window (the default 2001 points
 over 20 ms), its solution is reused: the default summary costs no
@@ -23,6 +25,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from .contact_impulse import on_grid
 
 #: spacing of the summary's grid, s (a rig may set ``summary_step``)
 SUMMARY_STEP = 1e-5
@@ -63,6 +67,9 @@ class SummaryRun:
     base: float = 0.0           # the start (static) pressure the pulse rises from
     pulse: bool | None = None   # the pressure rose above it inside the horizon (None: no pressure)
     peak_after: float = -np.inf  # the highest pressure on the run followed past the horizon
+    #: the contact force's impulse on trajectory.t (N s, from t = 0): a function
+    #: (integrated when first asked where the caller's run is reused), or None
+    impulse: object = None
 
 
 def summary_step(dae) -> float:
@@ -83,7 +90,7 @@ def summary_run(res) -> SummaryRun:
     rows = [dae.y_names.index(n) for n in watch]
     limit = t_end + min(LOOK_AHEAD * t_end, MAX_WINDOWS_AHEAD * WINDOW * h)
 
-    ts, Xs, Zs = [], [], []
+    ts, Xs, Zs, Qs = [], [], [], []
     x, t_last = res._X[:, 0], 0.0
     p_peak, t_done, t_busy = -np.inf, None, 0.0   # t_busy: last sample inside the pulse
     base, p_peak_in = None, -np.inf               # the start pressure; the peak inside the horizon
@@ -101,12 +108,14 @@ def summary_run(res) -> SummaryRun:
             X, Z = res._X, res._Z                                 # the caller's own run
             # every role's row, rate and the events in one pass: the summary reads them all
             res.prefetch([n for n in roles.values() if isinstance(n, str)])
+            Q = res._impulse  # its impulse (None: integrated again if the restitution asks)
         else:
-            X, Z = _integrate(sim, grid, x, res.p, s)
+            X, Z, Q = _integrate(sim, grid, x, res.p, s, f_name)
         first = 0 if not ts else 1
         ts.append(grid[first:])
         Xs.append(X[:, first:])
         Zs.append(Z[:, first:])
+        Qs.append(None if Q is None else Q[first:])
         t_last, x = float(grid[-1]), X[:, -1]
         if watch:
             if own:
@@ -143,24 +152,42 @@ def summary_run(res) -> SummaryRun:
             break
     if len(ts) == 1 and own and ts[0][-1] <= t_end:
         traj = res          # the caller's run is the summary's solution: its rows serve both
+        inside = np.ones(res.t.size, dtype=bool)
     else:
         t_all, X_all, Z_all = np.concatenate(ts), np.hstack(Xs), np.hstack(Zs)
         inside = t_all <= t_end
         traj = Result(sim, t_all[inside], res.p, X_all[:, inside], Z_all[:, inside], dict(s))
+    impulse = (lambda: _impulse_rows(res, f_name, Qs)[inside]) if f_name else None
     pulse = has_pulse(base, p_peak_in) if p_name else None
     complete = (t_done is not None and t_done <= t_end and bool(pulse) if p_name else
                 t_done is not None and t_done <= t_end) if watch else None
     return SummaryRun(traj, t_end, complete, t_done, t_last,
                       t_last if listed_until is not None and t_last < t_end else None,
-                      base=base if base is not None else 0.0, pulse=pulse, peak_after=p_after)
+                      base=base if base is not None else 0.0, pulse=pulse, peak_after=p_after,
+                      impulse=impulse)
 
 
-def _integrate(sim, grid, x, p, s):
-    """States on ``grid`` from x at grid[0], with the run's settings (one
-    CasADi integrator, built once, serves every full window)."""
+def _impulse_rows(res, force, Qs) -> np.ndarray:
+    """The impulse from t = 0 over the windows (each window's from its start;
+    None: the caller's run, integrated again on its grid with the impulse)."""
+    rows, total = [], 0.0
+    for Q in Qs:
+        if Q is None:
+            Q = on_grid(res._sim, res.t, res._X[:, 0], res.p, res.settings, force)[2]
+        rows.append(total + Q)
+        total = float(rows[-1][-1])
+    return np.concatenate(rows)
+
+
+def _integrate(sim, grid, x, p, s, force=None):
+    """States, algebraics and, for a ``force``, its impulse (else None) on
+    ``grid`` from x at grid[0], with the run's settings (one CasADi
+    integrator, built once, serves every full window)."""
+    if force:
+        return on_grid(sim, grid, x, p, s, force)
     if s.get("backend") == "c":
         X = sim.integrate_c(grid, x, p, s["rtol"], s["atol"], s["method"], s["max_step"],
                             s["max_num_steps"])
-        return X, np.zeros((0, grid.size))
+        return X, np.zeros((0, grid.size)), None
     return sim.integrate_shifted(grid, x, p, s["rtol"], s["atol"], s["method"], s["max_step"],
-                                 s["max_num_steps"])
+                                 s["max_num_steps"]) + (None,)

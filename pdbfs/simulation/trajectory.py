@@ -16,13 +16,14 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from .initialize import refuse_solved_start
+from .settings import default_atol
 from .simulator import MAX_NUM_STEPS, Simulator
 from .time_events import breakpoints
 
 
 def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,
                         t_out=None, inputs=None, params=None, rtol: float = 1e-8,
-                        atol: float = 1e-10, method: str = "auto",
+                        atol: float | None = None, method: str = "auto",
                         max_step: float | None = None) -> ca.Function:
     """casadi.Function ``p -> y``: ``outputs`` (dotted names) on the output
     grid, one row each, as functions of the parameters named in ``inputs``
@@ -53,7 +54,8 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     x0 = dae.function("start")(p)
     method = sim.resolve_method(method, p0, dae.function("start")(p0).full().ravel(),
                                 grid[-1] - grid[0])
-    X, Z = symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs)
+    X, Z = symbolic_states(sim, grid, x0, p, p0, rtol, default_atol(rtol, atol), method,
+                           max_step, inputs)
     n = len(grid)
     rows = ca.vertcat(*[dae.y[index[name]] for name in outputs])
     out = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [rows]).map(n)

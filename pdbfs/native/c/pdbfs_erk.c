@@ -61,15 +61,17 @@ void pdbfs_erk_free(PdbfsErk *s) {
     s->y = NULL;
 }
 
-/* RMS of v / (atol + rtol |y|) */
+/* RMS of v / (atol + rtol |y|) over the states the error test sees (not
+ * the quadratures: a run with one takes the steps of the run without) */
 static double wnorm(const PdbfsErk *s, const double *v, const double *y) {
+    const int m = s->nx - s->nq;
     double sum = 0.0;
     int i;
-    for (i = 0; i < s->nx; i++) {
+    for (i = 0; i < m; i++) {
         double w = v[i] / (s->atol[i] + s->rtol * fabs(y[i]));
         sum += w * w;
     }
-    return sqrt(sum / s->nx);
+    return sqrt(sum / m);
 }
 
 /* Hairer's first step: an Euler step's change of f predicts the scale */

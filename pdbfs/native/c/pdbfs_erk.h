@@ -104,8 +104,9 @@ void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out);
 void pdbfs_erk_free(PdbfsErk *s);
 
 /* pdbfs_batch_run (pdbfs_batch.c) with the explicit Runge-Kutta method, its
- * arguments checked there (pdbfs_batch_erk.c) */
-int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const double *t,
+ * arguments checked there (pdbfs_batch_erk.c); nx states (the rig's, or one
+ * more: the contact force's impulse) */
+int pdbfs_batch_run_erk(int nx, const double *p, const double *x0, long long nt, const double *t,
                         double *X, double rtol, double atol, double max_step,
                         long long max_num_steps, double *info, char *msg, long long msglen);
 

@@ -36,8 +36,8 @@ ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
     for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
     if (erk_rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
     /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
-     * free: acc3 may be it); the RMS over all n states (a quadrature's term
-     * is zero: its absolute tolerance is huge) */
+     * free: acc3 may be it); the RMS over the m states the error test sees
+     * (a quadrature changes no step: a run with one is the run without) */
     erk_combine(m, n, NSTAGE + 1, RK_E5, k, acc);
     erk_combine(m, n, NSTAGE + 1, RK_E3, k, acc3);
     for (i = 0; i < m; i++) {
@@ -47,7 +47,7 @@ ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
         e3 += a3 * a3;
     }
     if (e5 == 0.0 && e3 == 0.0) return 0.0;
-    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * n);
+    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * m);
 }
 
 double pdbfs_erk_attempt(PdbfsErk *s, double h) {

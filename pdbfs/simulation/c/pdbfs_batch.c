@@ -10,7 +10,10 @@
  *                        pdbfs_events
  * The integration itself (CVODE through the non-smooth points, dense output)
  * is native/c/pdbfs_cvode.c, shared with the FMU; CVODE's stop time is the
- * last output time.
+ * last output time.  With one state more than the rig has (a rig with a
+ * contact force role), the last is the contact force's impulse, integrated
+ * with the states (pdbfs_ode_q, left out of the error test): the summary's
+ * impulses on the solution, whatever the output grid (summary.py).
  *
  * Thread safe and reentrant: every call allocates its own CVODE memory and
  * CasADi work arrays.  Never aborts: every failure is a return code, the time
@@ -30,11 +33,12 @@
 #define NX PDBFS_NX
 #define NP PDBFS_NP
 #define NE PDBFS_NE
+#define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's impulse (pdbfs_ode_q) */
 
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 8
+#define PDBFS_BATCH_ABI 9
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0
@@ -133,7 +137,9 @@ API int pdbfs_batch_start(const double *p, double *x0, double *c) {
  * Integrate from (t[0], x0) and write the state at every t[k] into
  * X[i * nt + k] (state-major: row i is state i over the grid).
  *
- *   nx, np        must equal the compiled sizes
+ *   nx, np        must equal the compiled sizes (nx one more with a contact
+ *                 force: its impulse is the last state, x0's last entry its
+ *                 start value)
  *   t             nt >= 2 finite, strictly increasing times
  *   rtol, atol    positive; atol applies to every state
  *   method        solver code: 0 Adams, 1 BDF, | nls << 4 (0 auto, 1 fixed
@@ -171,7 +177,7 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         return RC_BAD_INPUT;
     }
     info[INFO_T] = nt > 0 ? t[0] : 0.0;
-    if (nx != NX || np != NP) {
+    if ((nx != NX && !(NQ && nx == NX + NQ)) || np != NP) {
         setmsg(&c, "sizes: %lld states and %lld parameters given, the library has %d and %d", nx, np, NX, NP);
         return RC_BAD_INPUT;
     }
@@ -202,26 +208,26 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
                "or 2 (explicit Runge-Kutta)", method);
         return RC_BAD_INPUT;
     }
-    if (!all_finite(x0, NX) || !all_finite(p, NP)) {
+    if (!all_finite(x0, (long)nx) || !all_finite(p, NP)) {
         setmsg(&c, "start values or parameters are not finite");
         return RC_BAD_INPUT;
     }
 
     if (method == PDBFS_ERK)
-        return pdbfs_batch_run_erk(p, x0, nt, t, X, rtol, atol, max_step, max_num_steps, info,
-                                   msg, msglen);
+        return pdbfs_batch_run_erk((int)nx, p, x0, nt, t, X, rtol, atol, max_step, max_num_steps,
+                                   info, msg, msglen);
     work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
-    atolv = malloc(sizeof(double) * 2 * (NX + 1));
+    atolv = malloc(sizeof(double) * 2 * (NX + NQ + 1));
     if (!work || !atolv) {
         free(work);
         free(atolv);
         setmsg(&c, "out of memory");
         return RC_SETUP;
     }
-    x = atolv + NX + 1;
+    x = atolv + NX + NQ + 1;
     ev.p = p;
 
-    for (i = 0; i < NX; i++) atolv[i] = atol;
+    for (i = 0; i < nx; i++) atolv[i] = i < NX ? atol : 1e300;   /* the impulse: no error test */
     set.method = PDBFS_CODE_METHOD(method);
     set.nls = PDBFS_CODE_NLS(method);
     set.linsol = PDBFS_CODE_LINSOL(method);
@@ -229,10 +235,15 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
     set.atol = atolv;
     set.max_step = max_step;
     set.t_stop = t[nt - 1];
-    pdbfs_cvode_init(&s, NX, NE, &ev, keep_error, &c);
+    pdbfs_cvode_init(&s, (int)nx, NE, &ev, keep_error, &c);
     s.nte = PDBFS_NTE;   /* CVODE stops at each switch time */
+    if (nx > NX) {       /* with the impulse */
+        s.ode = pdbfs_ode_q;
+        s.jac = pdbfs_jac_q;
+        s.jac_sp = pdbfs_jac_q_sparsity_out(0);
+    }
     treached = t[0];
-    for (i = 0; i < NX; i++) X[i * nt] = x0[i];
+    for (i = 0; i < nx; i++) X[i * nt] = x0[i];
     flag = pdbfs_cvode_start(&s, &set, t[0], x0);
     if (flag) {
         if (c.msglen && !msg[0]) setmsg(&c, "CVODE setup failed (flag %d)", flag);
@@ -249,12 +260,12 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
             rc = flag;
             break;
         }
-        if (!all_finite(x, NX)) {
+        if (!all_finite(x, (long)nx)) {
             setmsg(&c, "the solution is NaN or infinite at t = %.17g", t[k]);
             rc = RC_NOT_FINITE;
             break;
         }
-        for (i = 0; i < NX; i++) X[i * nt + k] = x[i];
+        for (i = 0; i < nx; i++) X[i * nt + k] = x[i];
         treached = t[k];
     }
 

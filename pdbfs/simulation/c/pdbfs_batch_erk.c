@@ -2,7 +2,8 @@
  * pdbfs_batch_run with the explicit Runge-Kutta method (pdbfs_erk.c): one
  * whole simulation over an output grid, the states at the output times from
  * the dense output.  The arguments were checked by pdbfs_batch_run; codes
- * and info[] as there (no CVODE flag, no Jacobian).
+ * and info[] as there (no CVODE flag, no Jacobian).  nx: the rig's states,
+ * or one more: the contact force's impulse, a quadrature (pdbfs_batch.c).
  */
 #include <math.h>
 #include <stdio.h>
@@ -16,7 +17,7 @@
 #define RC_NOT_FINITE 4
 enum { INFO_T, INFO_STEPS, INFO_ROOTS, INFO_RHS, INFO_FLAG, INFO_JAC, INFO_METHOD };
 
-int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const double *t,
+int pdbfs_batch_run_erk(int nx, const double *p, const double *x0, long long nt, const double *t,
                         double *X, double rtol, double atol, double max_step,
                         long long max_num_steps, double *info, char *msg, long long msglen) {
     PdbfsEval ev;
@@ -26,26 +27,30 @@ int pdbfs_batch_run_erk(const double *p, const double *x0, long long nt, const d
     void *work = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
     long long i;
     int rc = 0;
-    atolv = malloc(sizeof(double) * 2 * (PDBFS_NX + 1));
-    if (!work || !atolv || pdbfs_erk_init(&s, PDBFS_NX, PDBFS_NE, &ev)) {
+    atolv = malloc(sizeof(double) * 2 * (nx + 1));
+    if (!work || !atolv || pdbfs_erk_init(&s, nx, PDBFS_NE, &ev)) {
         free(work);
         free(atolv);
         if (msg && msglen > 0) snprintf(msg, (size_t)msglen, "out of memory");
         return RC_SETUP;
     }
     ev.p = p;
-    for (i = 0; i < PDBFS_NX; i++) atolv[i] = atol;
+    if (nx > PDBFS_NX) {       /* the impulse: a quadrature, out of the error test */
+        s.ode = pdbfs_ode_q;
+        s.nq = nx - PDBFS_NX;
+    }
+    for (i = 0; i < nx; i++) atolv[i] = i < PDBFS_NX ? atol : 1e300;
     memset(&set, 0, sizeof set);
     set.rtol = rtol;
     set.atol = atolv;
     set.max_step = max_step;
     set.t_stop = t[nt - 1];
-    for (i = 0; i < PDBFS_NX; i++) X[i * nt] = x0[i];
+    for (i = 0; i < nx; i++) X[i * nt] = x0[i];
     info[INFO_T] = t[0];
     rc = pdbfs_erk_start(&s, &set, t[0], x0) ? RC_NOT_FINITE : 0;
     if (!rc) {
         long reached = 1;
-        int flag = pdbfs_erk_grid(&s, (long)nt, t, PDBFS_NX, X, (long)nt, (long)max_num_steps,
+        int flag = pdbfs_erk_grid(&s, (long)nt, t, nx, X, (long)nt, (long)max_num_steps,
                                   &reached);
         info[INFO_T] = t[reached - 1];
         if (flag) {

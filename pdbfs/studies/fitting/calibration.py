@@ -81,7 +81,7 @@ class Calibration:
 
 def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bounds=None,
               start=None, params=None, starts: int = 3, seed: int = 0, rtol: float = 1e-8,
-              atol: float = 1e-10, dt: float = DT, progress=None) -> Calibration:
+              atol: float | None = None, dt: float = DT, progress=None) -> Calibration:
     """Fit the parameters ``free`` of ``rig`` so that its ``signal`` (default:
     the rig's pressure) matches ``trace`` (a CSV path, a Trace or (t, y)).
 

@@ -88,7 +88,7 @@ class Design:
 
 def design(rig, target, *, free, bounds=None, start=None, params=None, signal=None,
            t_end=None, starts: int = 1, seed: int = 0, rtol: float = 1e-8,
-           atol: float = 1e-10, dt: float = DT, progress=None) -> Design:
+           atol: float | None = None, dt: float = DT, progress=None) -> Design:
     """Settings of ``free`` that make ``rig``'s ``signal`` (default: its
     pressure) match ``target``: a curve (CSV path, Trace, (t, y)) or a dict of
     features {peak_pressure (Pa), pulse_duration (s), time_of_peak (s)}.

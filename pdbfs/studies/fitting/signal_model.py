@@ -23,6 +23,7 @@ from scipy.interpolate import CubicHermiteSpline
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.initialize import refuse_solved_start
+from pdbfs.simulation.settings import default_atol
 from pdbfs.simulation.trajectory import symbolic_states
 
 #: spacing of the fine grid, s
@@ -112,7 +113,7 @@ class SignalModel:
     ``targets`` (values in SI units); the others keep the values of ``p0``."""
 
     def __init__(self, sim: Simulator, signal: str, targets: list[str], t_end: float, p0,
-                 *, dt: float = DT, rtol: float = 1e-8, atol: float = 1e-10,
+                 *, dt: float = DT, rtol: float = 1e-8, atol: float | None = None,
                  fine_until: float | None = None, coarse: int = MAX_COARSE, progress=None):
         dae = sim.dae
         if not dae.is_ode:
@@ -135,8 +136,8 @@ class SignalModel:
         # an orifice), whose sensitivities would cost Adams 50x the time
         refuse_solved_start(dae, "calibration and design")
         method = sim.resolve_method("auto", self.p0, sim.start_vector(self.p0), t_end)
-        X, Z = symbolic_states(sim, self.grid, dae.function("start")(p), p, self.p0, rtol, atol,
-                               method, None, targets)
+        X, Z = symbolic_states(sim, self.grid, dae.function("start")(p), p, self.p0, rtol,
+                               default_atol(rtol, atol), method, None, targets)
         rows = ca.Function("rows", [dae.t, dae.x, dae.z, dae.p], [ca.vertcat(y, ydot)]).map(n)
         Y = rows(ca.DM(self.grid.reshape(1, -1)), X, Z, ca.repmat(p, 1, n))
         self._f = ca.Function("signal", [u], [Y])

@@ -30,7 +30,7 @@ from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Result, Simulator
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.settings import mapping
-from pdbfs.simulation.settings import default_rtol
+from pdbfs.simulation.settings import default_atol, default_rtol
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
@@ -54,7 +54,7 @@ def points_of(values: dict, grid: bool = True) -> list[dict]:
 
 def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
-          rtol: float | None = None, atol: float = 1e-10, method: str = "auto",
+          rtol: float | None = None, atol: float | None = None, method: str = "auto",
           max_step: float | None = None, backend: str = "auto", workers: int | None = None,
           progress=None, client=None, out=None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
@@ -108,6 +108,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     # "auto": one method for the whole sweep, judged at the fixed point
     method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end), backend)
     rtol = default_rtol(method, rtol)
+    atol = default_atol(rtol, atol)
     if trajectories and (client is not None or out is not None):
         raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
     settings = Settings(float(t_end), int(n_out), float(rtol), float(atol), method, max_step,
