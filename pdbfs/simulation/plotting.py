@@ -18,6 +18,9 @@ def plot_result(res, names=None, path=None, title=None):
                   and res.units.get(n) == "m" and n in res._sim.dae.x_names]
         if not names:
             names = res._sim.dae.x_names
+    else:
+        from .settings import name_list
+        names = name_list(names, "names", distinct=False)
     by_unit = {}
     for n in names:
         by_unit.setdefault(res.units[n], []).append(n)

@@ -18,6 +18,7 @@ from pdbfs.files import whole
 from .c_summary import summary_of
 from .hermite import Curves
 from .initialize import InitialState
+from .settings import name_list
 from .summary import summarize
 
 
@@ -219,13 +220,13 @@ class Result:
 
     # -- export -------------------------------------------------------------------
     def as_dict(self, names=None) -> dict:
-        names = self.names if names is None else names
+        names = self.names if names is None else name_list(names, "names", distinct=False)
         return {"time": self.t, **{n: self[n] for n in names}}
 
     def to_csv(self, path, names=None):
         """Write time and the variables (all by default) as CSV, SI units in
         the header (``name [unit]``)."""
-        names = self.names if names is None else list(names)
+        names = self.names if names is None else name_list(names, "names", distinct=False)
         if len(names) > 8:
             self._all()
         data = np.vstack([self.t] + [self[n] for n in names]).T

@@ -19,7 +19,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain
 from pdbfs.simulation.memory import require, table_bytes
-from pdbfs.simulation.settings import mapping, real
+from pdbfs.simulation.settings import mapping, name_list, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -129,6 +129,26 @@ class Sensitivity:
         return fig
 
 
+def _outputs(rig, outputs) -> list:
+    """``outputs`` as a list of the rig's summary keys (one key may be a str)."""
+    from pdbfs.simulation import Simulator
+    from pdbfs.simulation.summary import keys_for
+    outputs = name_list(outputs, "outputs", "'peak_pressure'")
+    if isinstance(rig, str):
+        from pdbfs.models import RIGS
+        if rig not in RIGS:
+            return outputs           # sweep() names the unknown rig
+        rig = RIGS[rig]()
+    keys = keys_for(Simulator.of(rig).dae)
+    unknown = [o for o in outputs if o not in keys]
+    if unknown or not outputs:
+        raise ParameterError(f"sensitivity: rig {Simulator.of(rig).dae.name} has no summary "
+                             f"value {unknown[0]!r}; it has {', '.join(keys)}" if unknown else
+                             "sensitivity: outputs is empty; name a summary value, e.g. "
+                             "'peak_pressure'")
+    return outputs
+
+
 def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=None,
                 backend: str = "auto", client=None, seed: int = 0, t_end: float = 0.02,
                 workers=None, progress=None, out=None, overwrite: bool = False) -> Sensitivity:
@@ -150,6 +170,7 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
                              f"e.g. {1 << int(np.ceil(np.log2(n)))}")
     ranges = {k: _check_range(k, v) for k, v in ranges.items()}
     names = list(ranges)
+    outputs = _outputs(rig, outputs)     # before the sweep: a misspelt key wastes none of it
     require(table_bytes(n * (len(names) + 2), 3 * len(names) + 12),
             f"sensitivity: {n * (len(names) + 2)} points", "ask for a smaller N (--n)")
     problem = {"num_vars": len(names), "names": names, "bounds": [[0.0, 1.0]] * len(names)}
