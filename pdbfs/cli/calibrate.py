@@ -7,6 +7,7 @@ from pathlib import Path
 from pdbfs.files import write_text
 
 from .common import parse_sets, prepare_out, rig_by_name
+from .progress import Progress
 
 
 def free_list(text):
@@ -27,9 +28,11 @@ def cmd_calibrate(args):
     from pdbfs.studies import calibrate
     rig = rig_by_name(args.rig)
     prepare_out(args.out)                  # before the fit: no work lost on a bad --out
-    cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
-                    fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
-                    params=parse_sets(args.set), starts=args.starts, seed=args.seed)
+    with Progress("calibrating", "simulations") as progress:
+        cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
+                        fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
+                        params=parse_sets(args.set), starts=args.starts, seed=args.seed,
+                        progress=progress)
     wrote = write_outputs(args.out, "calibration", cal) if args.out else []
     if args.json:
         print(json.dumps(cal.to_dict()))
