@@ -27,14 +27,40 @@ def run(*args, cwd, timeout=600):
     return proc.returncode, out, err
 
 
-def peak_rss(*args, cwd):
-    """As run(), with the child's peak resident memory (os.wait4: this child's own)."""
+def on_terminal(*args, cwd, timeout=900):
+    """`pdbfs ARGS` with stderr on a terminal (a pty), as a user runs it: (return
+    code, stdout, the lines stderr showed as it went (each rewrite of the line
+    one entry), peak resident memory in bytes (os.wait4: this child's own))."""
+    import pty
+    import threading
+    master, slave = pty.openpty()
     proc = subprocess.Popen([sys.executable, "-m", "pdbfs.cli", *args], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    out, err = proc.stdout.read(), proc.stderr.read()
+                            stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    chunks = []
+
+    def drain():
+        while True:
+            try:
+                data = os.read(master, 65536)
+            except OSError:              # EIO: the child closed the terminal
+                return
+            if not data:
+                return
+            chunks.append(data)
+    reader = threading.Thread(target=drain, daemon=True)
+    reader.start()
+    timer = threading.Timer(timeout, proc.kill)
+    timer.start()
+    out = proc.stdout.read()
     _, status, usage = os.wait4(proc.pid, 0)
+    timer.cancel()
+    reader.join(10)
+    os.close(master)
     proc.returncode = os.waitstatus_to_exitcode(status)
-    return proc.returncode, out, err, usage.ru_maxrss * 1024
+    shown = b"".join(chunks).decode().replace("\033[K", "").replace("\r\n", "\n")
+    lines = [ln for part in shown.split("\n") for ln in part.split("\r") if ln]
+    return proc.returncode, out, lines, usage.ru_maxrss * 1024
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="ru_maxrss in kB as Linux has it")
@@ -42,12 +68,12 @@ def test_many_output_points_are_written_in_bounded_memory_with_progress(tmp_path
     """400 000 points held 2 GB while results.csv was formatted (5.4 GB at a
     million, 3.3 GB and growing at ten million), with no word for minutes."""
     n = 400_000
-    code, out, err, rss = peak_rss("simulate", "--n-out", str(n), "--out", "o", cwd=tmp_path)
-    assert code == 0, err
+    code, out, lines, rss = on_terminal("simulate", "--n-out", str(n), "--out", "o",
+                                        cwd=tmp_path)
+    assert code == 0, lines
     assert rss < 700e6, f"peak memory {rss / 1e6:.0f} MB"
-    lines = [ln for ln in err.splitlines() if ln]
     assert lines and all(re.fullmatch(r"pdbfs: writing o/results\.csv: \d+ of 400000 rows "
-                                      r"\(\d+ %\).* so far", ln) for ln in lines), err
+                                      r"\(\d+ %\).* so far", ln) for ln in lines), lines
     csv = tmp_path / "o" / "results.csv"
     with open(csv) as fh:
         header = fh.readline().rstrip("\r\n").split(",")
@@ -84,24 +110,34 @@ def test_a_results_csv_larger_than_the_disk_is_refused_before_the_run(tmp_path, 
     assert not (tmp_path / "o").exists()
 
 
-def test_progress_says_nothing_at_first_then_a_line_at_a_time():
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_progress_says_nothing_at_first_then_rewrites_its_line_and_clears_it():
     from pdbfs.cli.progress import AFTER, EVERY, Progress
     now = [0.0]
-    buf = io.StringIO()
-    p = Progress("calibrating", "simulations", stream=buf, clock=lambda: now[0])
-    for k in range(1, 200):
-        now[0] = 0.1 * k
-        p(k)
-    lines = buf.getvalue().splitlines()
-    # from AFTER s on, one line every EVERY s of the 19.9 s
-    assert len(lines) == 1 + int((19.9 - AFTER) // EVERY)
-    assert lines[0] == f"pdbfs: calibrating: {int(AFTER / 0.1)} simulations, 2 s so far"
-    buf = io.StringIO()
-    with Progress("writing x.csv", "rows", stream=buf, clock=lambda: now[0]) as p:
-        now[0] += 30.0
-        p(250, 1000)
-    assert buf.getvalue() == "pdbfs: writing x.csv: 250 of 1000 rows (25 %), about 90 s to go, " \
-                             "30 s so far\n"
+    buf = Terminal()
+    with Progress("calibrating", "simulations", stream=buf, clock=lambda: now[0]) as p:
+        for k in range(1, 161):
+            now[0] = 0.125 * k             # (exact binary fractions)
+            p(k)
+    shown = buf.getvalue().split("\r")[1:]
+    # from AFTER s on, the line once every EVERY s of the 20 s; then cleared
+    assert len(shown) == 1 + int((20.0 - AFTER) // EVERY) + 1 and shown[-1] == "\033[K"
+    assert shown[0] == f"pdbfs: calibrating: {round(AFTER / 0.125)} simulations, 2 s so far\033[K"
+    buf = Terminal()
+    p = Progress("writing x.csv", "rows", stream=buf, clock=lambda: now[0])
+    now[0] += 30.0
+    p(250, 1000)
+    assert buf.getvalue() == "\rpdbfs: writing x.csv: 250 of 1000 rows (25 %), about 90 s to " \
+                             "go, 30 s so far\033[K"
+    buf = io.StringIO()                   # no terminal: no word
+    p = Progress("writing x.csv", "rows", stream=buf, clock=lambda: now[0])
+    now[0] += 30.0
+    p(250, 1000)
+    assert buf.getvalue() == ""
 
 
 def test_a_peak_after_the_pulse_has_ended_is_refused_at_once(tmp_path):
@@ -141,10 +177,12 @@ def test_a_long_calibration_tells_how_far_it_got(tmp_path):
     d[:, 0] *= 0.2 / d[-1, 0]
     np.savetxt(tmp_path / "stretched.csv", d, delimiter=",", header="time_s,pressure_Pa",
                comments="")
-    code, out, err = run("calibrate", "--trace", "stretched.csv", "--free", "oil.k",
-                         cwd=tmp_path, timeout=900)
-    assert code == 0, err
-    lines = [ln for ln in err.splitlines() if ln]
+    code, out, lines, _ = on_terminal("calibrate", "--trace", "stretched.csv", "--free",
+                                      "oil.k", cwd=tmp_path)
+    assert code == 0, lines
     assert lines and all(re.fullmatch(r"pdbfs: calibrating: \d+ simulations, \d+ (s|min) so far",
-                                      ln) for ln in lines), err
+                                      ln) for ln in lines), lines
     assert "oil.k" in out and "RMS residual" in out
+    # where stderr is no terminal (a log, a pipe), nothing but the result and warnings
+    code, out, err = run("design", "--peak", "1.2e8", "--free", "oil.k", cwd=tmp_path)
+    assert code == 0 and "designing" not in err, err

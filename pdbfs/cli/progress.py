@@ -1,7 +1,8 @@
-"""Progress of a long step of a command, on stderr: nothing for work that
-ends within AFTER seconds; then what is done so far, rewritten in place on a
-terminal (and cleared at the end), or a line every EVERY seconds elsewhere
-(a log, a pipe), so that no command works for minutes without a word."""
+"""Progress of a long step of a command, on stderr where it is a terminal
+(as a sweep's bar): nothing for work that ends within AFTER seconds; then
+what is done so far, rewritten in place every EVERY seconds and cleared at
+the end, so that no command works for minutes without a word and what is
+left on the screen is the command's own output (or its one-line error)."""
 from __future__ import annotations
 
 import sys
@@ -9,14 +10,15 @@ import time
 
 #: seconds of work before the first word
 AFTER = 2.0
-#: seconds between two lines where stderr is no terminal (on one, 0.5 s)
-EVERY = 10.0
+#: seconds between two updates of the line
+EVERY = 0.5
 
 
 class Progress:
     """A callable ``progress(done, total=None)`` for ``label`` ("writing
     results.csv", "calibrating"); ``unit`` names what is counted. Use it as a
-    context manager: leaving the block clears the terminal's line."""
+    context manager: leaving the block clears the line. Silent where
+    ``stream`` (stderr) is no terminal."""
 
     def __init__(self, label: str, unit: str = "", stream=None, clock=time.monotonic):
         self.label, self.unit = label, unit
@@ -32,8 +34,8 @@ class Progress:
     def __call__(self, done, total=None):
         now = self.clock()
         elapsed = now - self.t0
-        if elapsed < AFTER or (self.last is not None
-                               and now - self.last < (0.5 if self.tty else EVERY)):
+        if not self.tty or elapsed < AFTER or (self.last is not None
+                                               and now - self.last < EVERY):
             return
         self.last = now
         unit = f" {self.unit}" if self.unit else ""
@@ -44,7 +46,7 @@ class Progress:
         else:
             text = f"{done}{unit}"
         text = f"pdbfs: {self.label}: {text}, {_duration(elapsed)} so far"
-        self.stream.write(f"\r{text}\033[K" if self.tty else text + "\n")
+        self.stream.write(f"\r{text}\033[K")
         self.stream.flush()
 
     def __enter__(self):
