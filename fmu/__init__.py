@@ -28,7 +28,7 @@ validated by fmpy, simulated by any importer.
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.
 """
-from .export import check_fmi_version, export_fmu
+from .export import check_fmi_version, check_fmu_name, export_fmu
 from .rights import check_rights
 
-__all__ = ["check_fmi_version", "check_rights", "export_fmu"]
+__all__ = ["check_fmi_version", "check_fmu_name", "check_rights", "export_fmu"]

@@ -296,10 +296,20 @@ def _describer(model: FmuModel, fmi_version: int, source_files: list[str]):
     return (lambda guid: model_description(model, guid, source_files)), ()
 
 
+def check_fmu_name(path) -> None:
+    """Refuse a file name that does not end in ``.fmu``: the FMI standard
+    names an FMU so, and tools look for it by that extension."""
+    path = Path(path)
+    if path.suffix.lower() != ".fmu":
+        raise ExportError(f"{path}: an FMU's file name ends in .fmu (the FMI standard's "
+                          f"extension); name it e.g. {path.with_suffix('.fmu').name}")
+
+
 def _check_target(path: Path) -> None:
     """Refuse, before any work, an FMU path that cannot be written."""
     if path.is_dir():
         raise ExportError(f"{path} is a folder: give the FMU's file name (e.g. {path / 'pdbfs.fmu'})")
+    check_fmu_name(path)
     probe = path.with_name(path.name + ".part")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -4,7 +4,7 @@ command line accepts (``--rig NAME``) to functions that build them.
 May import: pdbfs.errors, pdbfs.modelling, pdbfs.components and pdbfs.rig.
 """
 from .bar_piston import BAR_SIGNALS, BarPistonRig, bar_piston_rig
-from .drop import DROP_SIGNALS, DropRig, drop_rig
+from .drop import DROP_SIGNALS, DropRestRig, DropRig, drop_rig
 from .hydraulic_pulse import PULSE_SIGNALS, HydraulicPulseRig, hydraulic_pulse_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
 from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_hydraulic_rig
@@ -57,7 +57,7 @@ RIGS = {
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
-           "SplitSeal", "SplitPistonRig", "split_piston_rig", "DropRig", "drop_rig",
+           "SplitSeal", "SplitPistonRig", "split_piston_rig", "DropRig", "DropRestRig", "drop_rig",
            "DROP_SIGNALS", "BarPistonRig", "bar_piston_rig", "BAR_SIGNALS", "PaperHydraulicRig",
            "paper_hydraulic_rig", "PAPER_HYDRAULIC_SIGNALS", "HydraulicPulseRig",
            "hydraulic_pulse_rig", "PULSE_SIGNALS"]

@@ -10,8 +10,12 @@ again (PHYSICS.md: "a rig variant with gravity and a drop height").
 
 Gravity acts on every body. The piston and the breech start in static
 equilibrium under their weights (the oil column carries the piston, the mount
-carries piston and breech), so nothing moves before the hammer arrives at
-``t = sqrt(2 h / g)`` with ``v = sqrt(2 g h)`` (paper §4.1.1).
+carries piston and breech, wherever the frame and the mount's unstretched
+length put them), so nothing moves before the hammer arrives at
+``t = sqrt(2 h / g)`` with ``v = sqrt(2 g h)`` (paper §4.1.1). ``h`` is the
+distance the hammer falls before the contact closes: with a clearance
+``contact.gap`` (the contact closes when the hammer passes the piston by
+``gap``) the hammer starts at ``s_piston + gap - h``.
 
 The default ``h = 0.38 m`` gives Table 1's 2.73 m/s (the paper's test
 section quotes h = 0.254 m, which would give 2.23 m/s; the two do not agree).
@@ -23,11 +27,12 @@ bodies). With ``law=`` the contact's ``v_impact`` is bound to
 Every blow is reported by the summary: ``impact_count``, ``impact_times``,
 ``impact_peak_pressures`` (the summary role ``impact_indentation``).
 
-``DropRig(rest=True)`` (``--rig drop-rest``): the hammer rests on the
-piston instead, and the whole stack starts in static equilibrium under
-gravity, solved at initialization (every state free, ``der(x) = 0`` as the
-rig's initial equations; the contact carries the hammer's weight with the
-indentation ``(m g / k)^(1/n)``); ``h`` is then unused.
+``DropRestRig`` (``drop_rig(rest=True)``, ``--rig drop-rest``): the hammer
+rests on the piston instead, and the whole stack starts in static
+equilibrium under gravity, solved at initialization (every state free,
+``der(x) = 0`` as the rig's initial equations; the contact carries the
+hammer's weight with the indentation ``(m g / k)^(1/n)``). It has no drop
+height, and its bodies' start velocities are 0 (solved, not set).
 """
 from __future__ import annotations
 
@@ -35,6 +40,7 @@ import casadi as ca
 
 from pdbfs.components import Gravity
 from pdbfs.components.laws import STANDARD_GRAVITY
+from pdbfs.errors import ParameterError
 from pdbfs.modelling import Parameter, der
 
 from .paper import PAPER_SIGNALS, PaperRig
@@ -42,28 +48,20 @@ from .paper import PAPER_SIGNALS, PaperRig
 DROP_SIGNALS = {**PAPER_SIGNALS, "impact_indentation": "contact.d"}
 
 
-class DropRig(PaperRig):
-    """PDBFS with gravity, the hammer dropped from height ``h``; Table 1
-    values otherwise. Simulate it over about a second to see the blows."""
+#: gravity, a parameter of both rigs (declared in each: h comes first in the drop rig's list)
+GRAVITY = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration on every body",
+                    min=0.0, tunable=False)
 
-    name = "pdbfs_drop"
+
+class _GravityRig(PaperRig):
+    """The paper's rig with the weight of every body (a subclass declares
+    ``g = GRAVITY``); the piston and the breech start at rest in static
+    equilibrium (``stack()``)."""
+
     summary_signals = DROP_SIGNALS
     #: what ``pdbfs simulate --rig drop`` runs unless told otherwise: three blows
     default_t_end = 1.5
     default_n_out = 30001
-    page_defaults = {"calibrate": ("oil.k",), "design": ("h",),
-                     "map_x": ("h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
-
-    h = Parameter(0.38, "m", "Drop height: gap between hammer and piston face at release",
-                  positive=True, tunable=False)
-    g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration on every body",
-                  min=0.0, tunable=False)
-
-    def __init__(self, law=None, rest: bool = False, **params):
-        self._rest = bool(rest)
-        if self._rest:
-            self.name = "pdbfs_drop_rest"
-        super().__init__(law=law, **params)
 
     def declare(self):
         super().declare()   # the paper's rig ...
@@ -75,34 +73,84 @@ class DropRig(PaperRig):
         self.connect(self.hammer_weight.flange, self.hammer.flange_a)
         self.connect(self.piston_weight.flange, self.piston.flange_a)
         self.connect(self.breech_weight.flange, self.breech.flange_a)
-        # static equilibrium before the blow (linear oil and mount assumed
-        # for the start values; with exponents n != 1 use the n-th root)
-        w2 = self.piston.m * g
-        w23 = (self.piston.m + self.breech.m) * g
-        s3 = (w23 / self.mount.k) ** (1.0 / self.mount.n)
+
+    def stack(self, load):
+        """The positions (m) of the breech and the piston in static
+        equilibrium with ``load`` (N, an expression) on the piston besides
+        the weights: the mount compressed by everything above it from its
+        unstretched position ``frame.s0 - mount.s_rel0``, the oil column by
+        what the piston carries (n-th roots for exponents n != 1)."""
+        g = self.g
+        w2 = self.piston.m * g + load
+        w23 = w2 + self.breech.m * g
+        s3 = self.frame.s0 - self.mount.s_rel0 + (w23 / self.mount.k) ** (1.0 / self.mount.n)
         s2 = s3 + (w2 / self.oil.k) ** (1.0 / self.oil.n)
         self.breech.bind("s0", s3)
         self.piston.bind("s0", s2)
-        # the hammer is released at rest, h above the piston face
+        return s3, s2
+
+
+class DropRig(_GravityRig):
+    """PDBFS with gravity, the hammer dropped from height ``h``; Table 1
+    values otherwise. Simulate it over about a second to see the blows."""
+
+    name = "pdbfs_drop"
+    page_defaults = {"calibrate": ("oil.k",), "design": ("h",),
+                     "map_x": ("h", 0.1, 1.5), "map_y": ("oil.k", 1e8, 1e9)}
+
+    h = Parameter(0.38, "m", "Drop height: the distance the hammer falls from its release "
+                  "(at rest) to the contact", positive=True, tunable=False)
+    g = GRAVITY
+
+    def __init__(self, law=None, **params):
+        if "rest" in params:
+            raise ParameterError("DropRig: the hammer resting on the piston is its own rig, "
+                                 "DropRestRig (drop_rig(rest=True)), which has no drop height")
+        super().__init__(law=law, **params)
+
+    def declare(self):
+        super().declare()
+        _, s2 = self.stack(0.0)
+        # released at rest: the contact closes at hammer.s = piston.s + gap,
+        # a fall of h from here
         self.hammer.bind("v0", 0.0)
-        self.hammer.bind("s0", s2 - self.h - self.contact.gap)
-        if self._rest:   # resting on it: a guess in contact, the start is solved
-            sink = (self.hammer.m * g / self.contact.k) ** (1.0 / self.contact.n)
-            self.hammer.bind("s0", s2 - self.contact.gap + sink)
-            for body in (self.hammer, self.piston, self.breech):
-                body.free("s", "v")
+        self.hammer.bind("s0", s2 + self.contact.gap - self.h)
         if self._law is not None:
-            self.contact.bind("v_impact", ca.sqrt(2.0 * g * self.h))
+            self.contact.bind("v_impact", ca.sqrt(2.0 * self.g * self.h))
+
+
+class DropRestRig(_GravityRig):
+    """The drop rig with the hammer resting on the piston: the whole stack
+    starts in static equilibrium under gravity, solved at initialization."""
+
+    name = "pdbfs_drop_rest"
+    page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.m",),
+                     "map_x": ("hammer.m", 1000.0, 5000.0), "map_y": ("oil.k", 1e8, 1e9)}
+
+    g = GRAVITY
+
+    def declare(self):
+        super().declare()
+        g = self.g
+        # the guess is the equilibrium of these laws: the contact indented by
+        # the hammer's weight, the piston and the mount carrying it too
+        _, s2 = self.stack(self.hammer.m * g)
+        sink = (self.hammer.m * g / self.contact.k) ** (1.0 / self.contact.n)
+        self.hammer.bind("s0", s2 + self.contact.gap + sink)
+        for body in (self.hammer, self.piston, self.breech):
+            body.free("s", "v")
+            # at rest, solved (der(s) = v = 0): not a setting (0 * g is the number 0,
+            # computed, so that setting it is refused rather than ignored)
+            body.bind("v0", 0.0 * g)
 
     def initial_equations(self):
-        if not self._rest:
-            return []
         return [der(x) for body in (self.hammer, self.piston, self.breech)
                 for x in (body.s, body.v)]
 
 
-def drop_rig(**kw) -> DropRig:
+def drop_rig(rest: bool = False, **kw) -> DropRig | DropRestRig:
     """The rig with gravity, hammer dropped from ``h`` (parameter, default
     0.38 m = 2.73 m/s at impact). ``law=`` as in paper_rig; ``rest=True``:
-    the hammer rests on the piston, the start solved at equilibrium."""
-    return DropRig(**kw)
+    the hammer rests on the piston, the start solved at equilibrium
+    (DropRestRig, no ``h``)."""
+    return DropRestRig(**kw) if rest else DropRig(**kw)

@@ -79,11 +79,12 @@ class Rig(Component):
         from pathlib import Path
 
         from pdbfs.errors import ExportError
-        from pdbfs.fmu import check_fmi_version, check_rights, export_fmu
+        from pdbfs.fmu import check_fmi_version, check_fmu_name, check_rights, export_fmu
         check_fmi_version(kwargs.get("fmi_version", 2))   # before the rig is compiled
         check_rights(**{k: kwargs.get(k) for k in ("author", "license", "copyright")})
         if Path(path).is_dir():
             raise ExportError(f"{path}: is a folder; name the FMU file to write")
+        check_fmu_name(path)
         dae = self.compile()
         t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)

@@ -226,7 +226,12 @@ def test_cli_modes(tmp_path):
     assert [m["omega"] for m in data["modes"]] == pytest.approx(want, rel=1e-8)
     r = cli("modes", "--rig", "paper", "--at", "0.004", cwd=tmp_path)
     assert r.returncode == 0 and "omega rad/s" in r.stdout and "hammer.v" in r.stdout
-    r = cli("modes", "--rig", "drop", "--at", "steady", cwd=tmp_path)
+    # the drop rig at rest: the hammer lies on the piston, as in drop-rest
+    r = cli("modes", "--rig", "drop", "--at", "steady", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert [m["omega"] for m in json.loads(r.stdout)["modes"]] == pytest.approx(want, rel=1e-8)
+    # the paper rig has no gravity: at rest the hammer may lie anywhere above the piston
+    r = cli("modes", "--rig", "paper", "--at", "steady", cwd=tmp_path)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "hammer.s" in r.stderr
     r = cli("modes", "--rig", "paper", "--at", "soon", cwd=tmp_path)
     assert r.returncode == 2 and "--at" in r.stderr

@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from pdbfs.errors import ParameterError
 from pdbfs.files import write_text
 
 from .common import parse_sets, prepare_out, rig_by_name
@@ -26,12 +27,15 @@ def write_outputs(out, stem, result):
 
 def cmd_calibrate(args):
     from pdbfs.studies import calibrate
+    if args.seed is not None and args.starts == 1:
+        raise ParameterError(f"--seed {args.seed}: only the extra starts of --starts 2 or more "
+                             "are drawn at random; the one start is the rig's values")
     rig = rig_by_name(args.rig)
     prepare_out(args.out)                  # before the fit: no work lost on a bad --out
     with Progress("calibrating", "simulations") as progress:
         cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
                         fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
-                        params=parse_sets(args.set), starts=args.starts, seed=args.seed,
+                        params=parse_sets(args.set), starts=args.starts, seed=args.seed or 0,
                         progress=progress)
     wrote = write_outputs(args.out, "calibration", cal) if args.out else []
     if args.json:
@@ -59,10 +63,10 @@ def add_parsers(sub):
     s.add_argument("--set", action="append", metavar="NAME=VALUE",
                    help="hold a parameter at VALUE (repeatable)")
     s.add_argument("--t-end", type=float, default=None,
-                   help="simulated horizon, s (default: the trace's length)")
+                   help="simulated horizon, s: the trace's length (the default) or more")
     s.add_argument("--starts", type=int, default=3,
                    help="starts of the optimiser: the rig's values, then a Latin hypercube (default 3)")
-    s.add_argument("--seed", type=int, default=0, help="seed of the extra starts")
+    s.add_argument("--seed", type=int, default=None, help="seed of the extra starts (default 0)")
     s.add_argument("--out", default=None,
                    help="folder for calibration.png (trace, fit, residuals), .csv and .json")
     s.add_argument("--json", action="store_true", help="print the result as one JSON object")

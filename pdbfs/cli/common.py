@@ -106,16 +106,37 @@ def rig_by_name(name):
 
 
 def parse_sets(items):
-    out = {}
+    """{name: value} from --set NAME=VALUE items; a name given twice is
+    refused (the last would win without a word)."""
+    pairs = []
     for item in items or []:
         name, sep, value = item.partition("=")
-        if not sep or not name:
+        if not sep or not name.strip():
             raise ParameterError(f"--set {item!r}: expected NAME=VALUE, e.g. hammer.v0=4.23")
         try:
-            out[name.strip()] = float(value)
+            pairs.append((name.strip(), float(value)))
         except ValueError:
             raise ParameterError(f"--set {item!r}: {value!r} is not a number") from None
+    return unique(pairs, "--set")
+
+
+def unique(pairs, option) -> dict:
+    """A dict of (name, value) pairs, refusing a name given twice."""
+    out = {}
+    for name, value in pairs:
+        if name in out:
+            raise ParameterError(f"{option} {name} given twice ({_shown(out[name])} and "
+                                 f"{_shown(value)}); give it once")
+        out[name] = value
     return out
+
+
+def _shown(value) -> str:
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, tuple):
+        return ":".join(_shown(v) for v in value)
+    return str(value)
 
 
 def print_summary(summary):

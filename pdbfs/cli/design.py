@@ -52,9 +52,11 @@ def cmd_design_map(args):
     if args.json:
         print(json.dumps({"x": {m.x_name: m.x.tolist()}, "y": {m.y_name: m.y.tolist()},
                           **{k: [[None if v != v else v for v in row] for row in a.tolist()]
-                             for k, a in m.values.items()}, "failed": m.failed}))
+                             for k, a in m.values.items()}, "failed": m.failed,
+                          "no_pulse": m.no_pulse}))
     else:
-        print(f"rig {m.rig}: {m.x.size} x {m.y.size} points, {m.failed} failed")
+        blank = f", {m.no_pulse} without a complete pulse (blank)" if m.no_pulse else ""
+        print(f"rig {m.rig}: {m.x.size} x {m.y.size} points, {m.failed} failed{blank}")
         print(f"wrote {out / 'design_map.png'} and {out / 'design_map.csv'}")
 
 

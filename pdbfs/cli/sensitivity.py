@@ -4,7 +4,7 @@ from __future__ import annotations
 import json
 
 from .common import (add_output_options, add_rig_options, add_run_options, parse_sets,
-                     prepare_out, rig_by_name)
+                     prepare_out, rig_by_name, unique)
 
 
 def cmd_sensitivity(args):
@@ -13,7 +13,7 @@ def cmd_sensitivity(args):
     from pdbfs.studies.sweeps.sampling import parse_range
     rig = rig_by_name(args.rig)
     out = prepare_out(args.out)
-    ranges = dict(parse_range(r) for r in args.range or [])
+    ranges = unique((parse_range(r) for r in args.range or []), "--range")
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()]
     client = connect(args.dask) if args.dask else None
     try:

@@ -6,7 +6,7 @@ import json
 from pdbfs.errors import ParameterError
 
 from .common import (add_output_options, add_rig_options, add_run_options, horizon,
-                     prepare_out, rig_by_name)
+                     prepare_out, rig_by_name, unique)
 
 
 def parse_sweep_sets(items, required=True):
@@ -51,6 +51,12 @@ def points_from_args(args):
     or --zip; a single value holds a parameter), or --sample KIND:N over
     --range / --dist (--set NAME=VALUE then holds parameters)."""
     from pdbfs.studies.sweeps.sampling import Grid, Sample, parse_dist, parse_range, parse_sample
+    if args.sample and args.zip:
+        raise ParameterError("--zip pairs the --set lists point by point; a --sample has no "
+                             "lists to pair (leave --zip out)")
+    if args.seed is not None and not args.sample:
+        raise ParameterError(f"--seed {args.seed}: only a --sample (lhs:N, sobol:N, mc:N) is "
+                             "drawn at random; a --set grid has no seed")
     if args.sample:
         fixed = {}
         for name, vals in (parse_sweep_sets(args.set, required=False)).items():
@@ -59,9 +65,9 @@ def points_from_args(args):
                                      "one value; sample it with --range or --dist instead")
             fixed[name] = vals[0]
         kind, n = parse_sample(args.sample)
-        ranges = dict(parse_range(r) for r in args.range or [])
-        dists = dict(parse_dist(d) for d in args.dist or [])
-        return Sample(kind, n, ranges, dists, seed=args.seed), fixed
+        ranges = unique((parse_range(r) for r in args.range or []), "--range")
+        dists = unique((parse_dist(d) for d in args.dist or []), "--dist")
+        return Sample(kind, n, ranges, dists, seed=args.seed or 0), fixed
     if args.range or args.dist:
         raise ParameterError("--range and --dist need --sample (lhs:N, sobol:N or mc:N)")
     return Grid(parse_sweep_sets(args.set), zip=args.zip), {}
@@ -73,9 +79,16 @@ def cmd_sweep(args):
     rig = rig_by_name(args.rig)
     points, fixed = points_from_args(args)
     t_end, n_out = horizon(args, rig)
+    if args.dask and args.workers is not None:
+        raise ParameterError(f"--workers {args.workers}: with --dask the cluster's workers run "
+                             "the sweep (start them with as many threads as wanted)")
     # a small grid keeps its trajectories for the overlay plot, in memory; the rest
     # streams its chunks to --out (and resumes)
     plot = not args.no_plot and not args.sample and points.n <= PLOT_MAX_POINTS and not args.dask
+    if plot and args.format is not None:
+        raise ParameterError(f"--format {args.format}: this sweep of {points.n} points runs in "
+                             "memory for its plot and writes no chunk files (its table is "
+                             "sweep.csv); add --no-plot to write chunk files")
     out = prepare_out(args.out)
     if plot:
         from pdbfs.studies.sweeps.store import refuse_other_sweep
@@ -85,8 +98,9 @@ def cmd_sweep(args):
         res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
                     params=fixed, rtol=args.rtol, method=args.method,
                     backend=args.backend, workers=args.workers, client=client,
-                    out=None if plot else out, format=args.format, chunk_size=args.chunk,
-                    overwrite=args.overwrite, progress=None if not args.quiet else False)
+                    out=None if plot else out, format=None if plot else args.format,
+                    chunk_size=args.chunk, overwrite=args.overwrite and not plot,
+                    progress=None if not args.quiet else False)
     except KeyboardInterrupt:
         raise KeyboardInterrupt(interrupted(out, plot, points.n)) from None
     finally:
@@ -145,7 +159,7 @@ def add_parsers(sub):
     s.add_argument("--dist", action="append", metavar="NAME=normal:MEAN:SD",
                    help="a Monte Carlo parameter's distribution: normal:MEAN:SD, "
                    "uniform:LO:HI or lognormal:MEDIAN:SIGMA (with --sample mc:N)")
-    s.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
+    s.add_argument("--seed", type=int, default=None, help="seed of the sample (default 0)")
     add_run_options(s)
     s.add_argument("--workers", type=int, default=None,
                    help="threads or processes on this machine (default: one per core)")
@@ -154,7 +168,7 @@ def add_parsers(sub):
                    "for a LocalCluster here")
     add_output_options(s, what="manifest and chunk files of the sweep (rerun the same "
                        "command to resume), sweep.csv, sweep.png")
-    s.add_argument("--format", default="parquet", choices=["parquet", "csv"],
+    s.add_argument("--format", default=None, choices=["parquet", "csv"],
                    help="format of the chunk files (default: parquet)")
     s.add_argument("--chunk", type=int, default=None, help="points per chunk (default: automatic)")
     s.add_argument("--overwrite", action="store_true",

@@ -11,6 +11,8 @@ business (pdbfs.simulation.initialize) and the FMU's (pdbfs.native.initial).
 """
 from __future__ import annotations
 
+import re
+
 import casadi as ca
 
 from pdbfs.errors import ModelError, ParameterError
@@ -99,16 +101,64 @@ def start_residual(dae, free, eqs):
     """(w, xg, G): the unknowns w = [free states; z], a symbol xg for the
     values of every state (the fixed ones are taken from it) and the
     residuals G(w, t, xg, p) = [eqs; algebraic equations]."""
+    G = ca.vertcat(*eqs, dae.alg) if (eqs or dae.z.numel()) else ca.SX(0, 1)
+    return on_unknowns(dae, free, G)
+
+
+def on_unknowns(dae, free, expr):
+    """(w, xg, expr'): an expression of (t, x, z, p) written in the unknowns
+    w = [free states; z] of the start and the symbol xg of every state's
+    value (the fixed states are taken from it), as ``start_residual`` does
+    for the residuals (and the start search for the event indicators)."""
     wx = ca.SX.sym("wx", len(free))
     w = ca.vertcat(wx, dae.z)
     xg = ca.SX.sym("xg", dae.x.numel())
     xs = ca.vertsplit(xg, 1) if dae.x.numel() else []
     for k, i in enumerate(free):
         xs[i] = wx[k]
-    G = ca.vertcat(*eqs, dae.alg) if (eqs or dae.z.numel()) else ca.SX(0, 1)
     if xs:
-        G = ca.substitute(G, dae.x, ca.vertcat(*xs))
-    return w, xg, G
+        expr = ca.substitute(expr, dae.x, ca.vertcat(*xs))
+    return w, xg, expr
+
+
+_RATE = re.compile(r"der\((.+)\) = 0")
+
+
+def rate_dependencies(dae, i) -> list:
+    """The states the rate der(x_i) depends on (structurally; through the
+    algebraic variables, on every state the algebraic equations use)."""
+    rate = dae.ode[i]
+    via_z = dae.z.numel() > 0 and ca.depends_on(rate, dae.z)
+    return [n for j, n in enumerate(dae.x_names)
+            if ca.depends_on(rate, dae.x[j]) or (via_z and ca.depends_on(dae.alg, dae.x[j]))]
+
+
+def rate_hint(dae, eq_names, unknowns) -> str:
+    """Why equations ``der(x) = 0`` (a state started at rest) among
+    ``eq_names`` do not fix the start's ``unknowns``: what each rate depends
+    on, and the states it depends on that start where declared, which could
+    be started at rest too ('' when there are none: no other choice of
+    states would help, the rig itself leaves them free)."""
+    free = set(unknowns)
+    notes, add = [], []
+    for name in eq_names:
+        m = _RATE.fullmatch(name)
+        if m is None or m.group(1) not in dae.x_names:
+            continue
+        x = m.group(1)
+        deps = rate_dependencies(dae, dae.x_names.index(x))
+        fixed = [n for n in deps if n not in free]
+        if not fixed:
+            continue            # it depends on unknowns only: no other choice would help
+        body = x.rsplit(".", 1)[0]
+        add += [n for n in fixed if n.rsplit(".", 1)[0] == body] or fixed
+        notes.append(f"the rate of {x} depends on {', '.join(deps) or 'no state'}"
+                     + ("" if x in deps else f", not on {x}"))
+    if not add:
+        return ""
+    add = list(dict.fromkeys(add))
+    return (f" ({'; '.join(notes)}: a state started at rest is fixed by the rates that depend "
+            f"on it; start {', '.join(add)} at rest too, or every state: 'steady')")
 
 
 def start_pattern(dae):

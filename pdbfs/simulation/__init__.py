@@ -22,8 +22,12 @@
     stats.py       solver statistics under one set of names
     initialize.py  the start solved before integration: free states, initial
                    equations, initial="steady" (Newton, exact Jacobian)
+    newton.py      one damped Newton run on the start system, where it stopped and why
+    start_branches.py  the start across one-sided laws: guesses past their kinks
+                   where Newton stops at a singular Jacobian; one solution or a refusal
     linearize.py   A, B, C, D at an operating point (algebraic variables
                    eliminated), modes: omega, frequency, damping, shape
+    kinks.py       one-sided laws exactly at their kink at that point: the side linearized
     settings.py    tolerances, method, output grid and argument types, checked first
     inputs.py      parameters, start values, grid and settings of a run as vectors,
                    checked; what depends on the rig alone made once

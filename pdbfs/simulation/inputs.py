@@ -57,6 +57,10 @@ class RunInputs:
         for name, value in mapping(params, "params").items():
             if name not in index:
                 if name in dae.calculated:
+                    expr, info = dae.calculated[name]
+                    if expr.is_constant():       # a number the rig fixes, e.g. a start at rest
+                        raise ParameterError(f"{name} is fixed by rig {dae.name} at "
+                                             f"{float(expr):g} {info.unit} and cannot be set")
                     raise ParameterError(f"{name} is computed from other parameters "
                                          "and cannot be set; set those instead")
                 close = difflib.get_close_matches(name, dae.p_names, n=3)

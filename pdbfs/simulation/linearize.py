@@ -10,6 +10,9 @@ operating point is the start (``at="start"``), the state at rest
 (``"steady"``, solved as in initialize.py) or the state of a run at a time
 (``at=0.004``). Modes are A's eigenvalues: omega = |lambda| (rad/s),
 damping ratio -Re(lambda)/|lambda|, shape the eigenvector by state name.
+A one-sided law exactly at its kink there (the paper rig's oil column at
+its start) is linearized on one side: ``Linearization.kinks`` names it and
+the side (kinks.py).
 """
 from __future__ import annotations
 
@@ -20,6 +23,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 
+from .kinks import kinks_at
 from .settings import name_list
 
 
@@ -37,6 +41,17 @@ class Linearization:
     t: float = 0.0
     point: dict = field(default_factory=dict)     # the operating point, state -> value
     units: dict = field(default_factory=dict)     # state -> unit
+    #: the one-sided laws (contacts, oil columns) exactly at their kink at the
+    #: point, each with the side it is linearized on (kinks.Kink)
+    kinks: list = field(default_factory=list)
+
+    def __str__(self) -> str:
+        lines = [f"Linearization of {len(self.states)} states at t = {self.t:g} s"
+                 f" ({len(self.inputs)} inputs, {len(self.outputs)} outputs)"]
+        if self.kinks:
+            lines.append("one-sided laws exactly at their kink here:")
+            lines += [f"  {k}" for k in self.kinks]
+        return "\n".join(lines)
 
     def to_control(self):
         """A python-control StateSpace (optional dependency: pip install control);
@@ -91,7 +106,7 @@ def modes_of(A, states, units=None) -> list:
         if lk.imag < -tiny:          # one row per complex pair
             continue
         omega = float(abs(lk))
-        damping = None if omega <= tiny else float(-lk.real / omega)
+        damping = None if omega <= tiny else float(-lk.real / omega) + 0.0   # never -0
         # a zero eigenvalue (a body free to drift) is defective: its vector is
         # only good to about sqrt(eps), so units below 1e-4 of it are noise
         out.append(Mode(omega, omega / (2 * np.pi), damping,
@@ -166,7 +181,8 @@ def linearize(model, at="start", inputs=None, outputs=None, params=None, start=N
                                  f"t = {t:g} s (a power law at zero?)")
     units = {v.name: v.unit for v in dae.x_info}
     return Linearization(A, B, C, D, dae.x_names, inputs, outputs, float(t),
-                         dict(zip(dae.x_names, np.asarray(x, float).tolist())), units)
+                         dict(zip(dae.x_names, np.asarray(x, float).tolist())), units,
+                         kinks_at(sim, t, np.asarray(x, float), z, p))
 
 
 def operating_point(sim, at, p, start, initial, rtol, atol):

@@ -129,26 +129,6 @@ class Sensitivity:
         return fig
 
 
-def _outputs(rig, outputs) -> list:
-    """``outputs`` as a list of the rig's summary keys (one key may be a str)."""
-    from pdbfs.simulation import Simulator
-    from pdbfs.simulation.summary import keys_for
-    outputs = name_list(outputs, "outputs", "'peak_pressure'")
-    if isinstance(rig, str):
-        from pdbfs.models import RIGS
-        if rig not in RIGS:
-            return outputs           # sweep() names the unknown rig
-        rig = RIGS[rig]()
-    keys = keys_for(Simulator.of(rig).dae)
-    unknown = [o for o in outputs if o not in keys]
-    if unknown or not outputs:
-        raise ParameterError(f"sensitivity: rig {Simulator.of(rig).dae.name} has no summary "
-                             f"value {unknown[0]!r}; it has {', '.join(keys)}" if unknown else
-                             "sensitivity: outputs is empty; name a summary value, e.g. "
-                             "'peak_pressure'")
-    return outputs
-
-
 def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=None,
                 backend: str = "auto", client=None, seed: int = 0, t_end: float = 0.02,
                 workers=None, progress=None, out=None, overwrite: bool = False) -> Sensitivity:
@@ -170,7 +150,7 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
                              f"e.g. {1 << int(np.ceil(np.log2(n)))}")
     ranges = {k: _check_range(k, v) for k, v in ranges.items()}
     names = list(ranges)
-    outputs = _outputs(rig, outputs)     # before the sweep: a misspelt key wastes none of it
+    rig, outputs = _check_outputs(rig, outputs)
     require(table_bytes(n * (len(names) + 2), 3 * len(names) + 12),
             f"sensitivity: {n * (len(names) + 2)} points", "ask for a smaller N (--n)")
     problem = {"num_vars": len(names), "names": names, "bounds": [[0.0, 1.0]] * len(names)}
@@ -182,10 +162,6 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
     res = sweep(rig, pts, t_end=t_end, n_out=int(round(t_end / 1e-5)) + 1, params=params,
                 backend=backend, client=client, workers=workers, progress=progress, out=out,
                 overwrite=overwrite)
-    unknown = [o for o in outputs if o not in res.keys]
-    if unknown:
-        raise ParameterError(f"sensitivity: rig {res.rig} has no summary value {unknown[0]!r}; "
-                             f"it has {', '.join(res.keys)}")
     Y = {o: np.array(res.values(o), dtype=float) for o in outputs}
     errors = np.array(res.frame["error"].to_numpy(), dtype=object)
     # pulses outlasting the horizon: followed (run again over FOLLOW horizons) until they end
@@ -223,3 +199,28 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
     if result.problems():
         warnings.warn(result.warning(), SampleTooSmallWarning, stacklevel=2)
     return result
+
+
+def _check_outputs(rig, outputs):
+    """(the rig, the outputs as a list), before any run: each output a
+    summary value of the rig, named once."""
+    from pdbfs.simulation import Simulator
+    from pdbfs.simulation.summary import keys_for
+    if isinstance(rig, str):
+        from pdbfs.models import RIGS
+        if rig not in RIGS:
+            raise ParameterError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
+        rig = RIGS[rig]()
+    outputs = name_list(outputs, "outputs", "'peak_pressure'", distinct=False)  # (named twice: below)
+    if not outputs:
+        raise ParameterError("sensitivity: no outputs; name at least one summary value, e.g. "
+                             "peak_pressure")
+    dae = Simulator.of(rig).dae
+    keys = keys_for(dae)
+    for o in outputs:
+        if outputs.count(o) > 1:
+            raise ParameterError(f"sensitivity: output {o!r} is named twice")
+        if o not in keys:
+            raise ParameterError(f"sensitivity: rig {dae.name} has no summary value {o!r}; "
+                                 f"it has {', '.join(keys)}")
+    return rig, outputs

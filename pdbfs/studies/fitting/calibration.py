@@ -23,7 +23,7 @@ from .least_squares import distinct_optima, optimum_of_each_start, solve, statis
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
 from .signal_model import DT, SignalModel, pulse_end, signal_of
 from .arguments import check_fit_arguments
-from .traces import as_trace, check_time_origin
+from .traces import as_trace, check_horizon, check_time_origin
 from .free_parameters import CALIBRATION_RANGE, parse_bounds, rig_unknowns
 
 
@@ -93,7 +93,7 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
                 rig's value); ``starts`` - 1 more begin on a Latin hypercube
     params      {name: value} held fixed (not free)
     t_end       simulated horizon (default: the trace's last time, plus the
-                shift's range)
+                shift's range); one that ends before the trace is refused
     progress    a function called with the number of simulations run so far
     """
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
@@ -102,6 +102,7 @@ def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bo
     dae = sim.dae
     signal = signal_of(dae, signal)
     trace = as_trace(trace, signal=signal)
+    check_horizon(t_end, trace)
     bounds = parse_bounds(bounds)
     own = {k: bounds.pop(k) for k in (SHIFT, OFFSET) if k in bounds}
     unknowns, p0 = rig_unknowns(sim, free, bounds=bounds, start=start, fixed=params,

@@ -27,7 +27,7 @@ from .least_squares import solve
 from .objectives import CurveProblem, FeatureProblem
 from .signal_model import DT, SignalModel, signal_of
 from .arguments import check_fit_arguments
-from .traces import as_trace, check_time_origin
+from .traces import as_trace, check_horizon, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
 
 #: relative miss of a feature target below which it counts as reached
@@ -95,7 +95,8 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     ``free`` may name a drop height ``X.h`` for a rig whose hammer has an
     impact speed ``X.v0``. Bounds default to a factor 10 either side of the
     rig's values. More ``starts`` (Latin hypercube) are tried for features
-    when the first does not reach them. ``progress``: a function called with
+    when the first does not reach them. ``t_end``: the simulated horizon (for
+    a curve at least its last time). ``progress``: a function called with
     the number of simulations run so far."""
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
                                         starts=starts, t_end=t_end, seed=seed, signal=signal)
@@ -131,6 +132,7 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
             out.limit = _limit(unknowns, fit, feats, goals, prob)
     else:
         trace = as_trace(target, "target")
+        check_horizon(t_end, trace, "target curve")
         check_time_origin(trace, getattr(rig, "default_t_end", 0.02))
         horizon = max(float(trace.t[-1]), t_end or 0.0)
         model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,

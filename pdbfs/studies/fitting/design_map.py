@@ -13,7 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdbfs.components.laws import impact_velocity
-from pdbfs.errors import ParameterError, plain
+import warnings
+
+from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, plain
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.memory import require, table_bytes
 from pdbfs.simulation.settings import mapping, real
@@ -34,9 +36,10 @@ class DesignMap:
     x: np.ndarray                  # axis values (as asked: a drop height stays a height)
     y: np.ndarray
     values: dict                   # feature -> (len(y), len(x)) array, NaN where a point failed
-    failed: int
+    failed: int                    # points whose run failed
     x_unit: str = ""
     y_unit: str = ""
+    no_pulse: int = 0              # points that ran but gave no complete pulse (left blank)
 
     def plot(self, path=None):
         import matplotlib
@@ -135,4 +138,35 @@ def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=
                 t_end=t_end, n_out=int(round(t_end / 1e-5)) + 1, params=params, backend=backend,
                 progress=progress)
     values = {k: res.values(k).reshape(len(yv), len(xv)) for k in MAPPED}
-    return DesignMap(sim.dae.name, xn, yn, xv, yv, values, len(res.failed), *axis_units)
+    failed, no_pulse = _blanks(res, sim.dae.name, len(xv), len(yv), t_end)
+    return DesignMap(sim.dae.name, xn, yn, xv, yv, values, failed, *axis_units,
+                     no_pulse=no_pulse)
+
+
+def _blanks(res, rig, nx, ny, t_end):
+    """(failed, no_pulse): the points left blank on the map. A map blank
+    everywhere is refused (it maps nothing); some blank points are warned of."""
+    blank = np.zeros(len(res), bool)
+    for k in MAPPED:
+        blank |= ~np.isfinite(res.values(k))
+    errors = res.frame["error"].to_numpy() if len(res) else np.array([])
+    failed = errors != ""
+    quiet = blank & ~failed                   # ran, but no pulse (or none that ended)
+    where = lambda i: plain({n: float(res.values(n)[i]) for n in res.names})  # noqa: E731
+    why = []
+    if failed.any():
+        i = int(np.flatnonzero(failed)[0])
+        why.append(f"{int(failed.sum())} of {len(res)} points failed, first at {where(i)}: "
+                   f"{errors[i]}")
+    if quiet.any():
+        i = int(np.flatnonzero(quiet)[0])
+        why.append(f"{int(quiet.sum())} of {len(res)} points gave no complete pulse in "
+                   f"[0, {t_end:g}] s, first at {where(i)}")
+    if blank.all():
+        raise PdbfsError(f"design map of rig {rig}: no point of the {nx} x {ny} grid gives a "
+                         f"pulse to map ({'; '.join(why)}); choose settings that strike, or a "
+                         "longer t_end")
+    if quiet.any():
+        warnings.warn(f"design map of rig {rig}: {why[-1]}; left blank on the map",
+                      PdbfsWarning, stacklevel=3)
+    return int(failed.sum()), int(quiet.sum())

@@ -87,9 +87,12 @@ def parse_bounds(items) -> dict:
         try:
             if not (sep and sep2 and name.strip()):
                 raise ValueError
-            out[name.strip()] = (float(lo), float(hi))
+            pair = (float(lo), float(hi))
         except ValueError:
             raise ParameterError(f"--bounds {item!r}: expected NAME=LO:HI, e.g. oil.k=1e8:1e9") from None
+        if name.strip() in out:          # the last would win without a word
+            raise ParameterError(f"--bounds {name.strip()} given twice; give it once")
+        out[name.strip()] = pair
     return out
 
 

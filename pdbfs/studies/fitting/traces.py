@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pdbfs.errors import DataError
+from pdbfs.errors import DataError, ParameterError
 
 #: fewer samples than this cannot carry a pulse, whatever is fitted
 MIN_POINTS = 10
@@ -198,3 +198,14 @@ def as_trace(data, what: str = "trace", signal: str | None = None) -> Trace:
         raise DataError(f"{what}: give a CSV path, a Trace or a pair (t, y), "
                         f"not {type(data).__name__}") from None
     return check_trace(t, y, what)
+
+
+def check_horizon(t_end, trace, what="trace"):
+    """Refuse a horizon that ends before the curve to match: the model is
+    compared with every sample, so it is simulated to the last one at least
+    (a t_end below it would be overruled without a word)."""
+    if t_end is not None and t_end < float(trace.t[-1]):
+        last = float(trace.t[-1])
+        raise ParameterError(f"t_end = {t_end:g} s ends before the last sample of {trace.source} "
+                             f"({last:g} s), which is matched sample by sample; leave t_end out, "
+                             f"give at least {last:g} s, or cut the {what}")

@@ -66,7 +66,7 @@ class SweepResult:
         names = list(spec["points"].get("values") or spec["points"].get("ranges", {})) + \
             list(spec["points"].get("dists", {}))
         res = cls(spec.get("rig", "?"), names, [], store=store)
-        cols = list(res.frame.columns)
+        cols = list(store.head(1).columns)         # not the whole table: its columns
         res.names = [c for c in cols if c in names] or names
         res.keys = [c for c in cols if c not in ("point", "error") and c not in res.names]
         return res
@@ -147,6 +147,8 @@ class SweepResult:
 
     @property
     def n_failed(self) -> int:
+        if self._frame is None and self.store is not None:    # not read whole for a count
+            return self.store.failures()
         return int((self.frame["error"] != "").sum()) if len(self) else 0
 
     def rows(self) -> list[dict]:
@@ -215,8 +217,11 @@ class SweepResult:
         keys = [k for k in self.keys if k not in ("impact_times",)]
         head = self.names + [f"{k} [{UNITS.get(k, '')}]" for k in keys]
         lines = ["  ".join(f"{h:>14}" for h in head)]
-        pts = self.points if limit is None or len(self) <= limit else \
-            self._make_points(self.frame.head(limit))
+        if limit is None or len(self) <= limit:
+            pts = self.points
+        else:                    # a sweep on disk: its first chunks only
+            pts = self._make_points(self.frame.head(limit) if self._frame is not None or
+                                    self.store is None else self.store.head(limit))
         for p in pts:
             cells = [_fmt(p.params[n]) for n in self.names]
             if p.ok:

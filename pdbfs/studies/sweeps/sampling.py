@@ -5,20 +5,31 @@ A point set is a number of points over named parameters that hands out
 blocks of rows (``block(i0, i1)``, an array of i1 - i0 x len(names)) and a
 ``spec`` that identifies it (the sweep's manifest hashes it to recognise a
 sweep it is asked to resume). Nothing holds one Python object per point:
-a million-point grid is indexed, not listed.
+a million-point grid is indexed, not listed. Sobol' and Monte Carlo samples
+are drawn block by block (the same points as drawn whole), so their size is
+bounded by time, not memory; a Latin hypercube is stratified as a whole and
+is drawn whole, refused up front if it cannot fit.
 """
 from __future__ import annotations
 
 import math
+import threading
+import warnings
 
 import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
-from pdbfs.errors import ParameterError, plain
+from pdbfs.errors import ParameterError, PdbfsWarning, plain
+from pdbfs.simulation.memory import require
 
 SAMPLERS = ("lhs", "sobol", "mc")
 DISTRIBUTIONS = {"normal": 2, "uniform": 2, "lognormal": 2}   # name -> number of arguments
+#: bytes per point and parameter while scipy draws a Latin hypercube: the
+#: jitter, the permutations, two temporaries and the result kept
+LHS_BYTES = 40.0
+#: the most points of scipy's Sobol' sequence (30 bits)
+SOBOL_MAX = 2 ** 30
 
 
 class PointSet:
@@ -118,22 +129,54 @@ class Sample(PointSet):
         if not self.names:
             raise ParameterError("sampling needs at least one --range NAME=LO:HI"
                                  + (" or --dist" if kind == "mc" else ""))
-        self._u = None
+        d = len(self.names)
+        self._u, self._sobol, self._lock = None, None, threading.Lock()
+        if kind == "sobol":
+            if self.n > SOBOL_MAX:
+                raise ParameterError(f"sample sobol:{self.n}: a Sobol' sequence has at most "
+                                     f"2**30 = {SOBOL_MAX} points; ask for fewer, or use mc:N")
+            if self.n & (self.n - 1):
+                low = 1 << (self.n.bit_length() - 1)
+                warnings.warn(f"sample sobol:{self.n}: the balance properties of Sobol' points "
+                              f"need N to be a power of 2, e.g. {low} or {2 * low}",
+                              PdbfsWarning, stacklevel=2)
+        elif kind == "lhs":      # stratified as a whole: drawn now, once (forked workers share it)
+            require(LHS_BYTES * self.n * d, f"sample lhs:{self.n} over {d} parameter(s)",
+                    "a Latin hypercube is drawn whole; ask for fewer points, or use sobol:N or "
+                    "mc:N (drawn in blocks)")
+            self._u = qmc.LatinHypercube(d=d, seed=self.seed).random(self.n)
 
-    def _unit(self) -> np.ndarray:
-        """n x d points in the unit cube (the whole set: LHS is stratified as a whole)."""
-        if self._u is None:
-            d = len(self.names)
-            if self.kind == "lhs":
-                self._u = qmc.LatinHypercube(d=d, seed=self.seed).random(self.n)
-            elif self.kind == "sobol":
-                self._u = qmc.Sobol(d=d, scramble=True, seed=self.seed).random(self.n)
-            else:
-                self._u = np.random.default_rng(self.seed).random((self.n, d))
-        return self._u
+    def _unit(self, i0, i1) -> np.ndarray:
+        """Rows i0..i1 of the n x d points in the unit cube: the Latin
+        hypercube's, or the Sobol' sequence and the random stream skipped
+        ahead to i0 (the same rows as drawn whole)."""
+        d = len(self.names)
+        if self.kind == "lhs":
+            return self._u[i0:i1]
+        if self.kind == "sobol":
+            with self._lock:
+                # scipy skips ahead point by point: blocks asked in order (as a
+                # sweep asks them) go on from the last one, at no cost
+                engine = self._sobol
+                if engine is None or engine.num_generated > i0:
+                    engine = self._sobol = qmc.Sobol(d=d, scramble=True, seed=self.seed)
+                if i0 > engine.num_generated:
+                    engine.fast_forward(i0 - engine.num_generated)
+                with warnings.catch_warnings():     # said once for the whole sample, above
+                    warnings.filterwarnings("ignore", message=".*balance properties")
+                    return engine.random(i1 - i0)
+        stream = np.random.PCG64(self.seed)     # as np.random.default_rng(seed)
+        stream.advance(i0 * d)                  # one 64-bit draw per number
+        return np.random.Generator(stream).random((i1 - i0, d))
+
+    def __getstate__(self):          # the engine and its lock stay here
+        return {**self.__dict__, "_sobol": None, "_lock": None}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state, _lock=threading.Lock())
 
     def block(self, i0, i1):
-        u = self._unit()[i0:i1]
+        u = self._unit(i0, i1)
         cols = []
         for j, name in enumerate(self.names):
             if name in self.ranges:

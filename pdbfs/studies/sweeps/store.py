@@ -116,6 +116,50 @@ class Store:
                 import pandas as pd
                 pd.DataFrame(columns).to_csv(part, index=False)
 
+    def _files(self) -> list[Path]:
+        return [p for p in self.chunk_files() if p.suffix == f".{self.fmt}"]
+
+    def _read_one(self, path, columns=None):
+        import pandas as pd
+        if self.fmt == "parquet":
+            return pd.read_parquet(path, columns=columns)
+        return pd.read_csv(path, keep_default_na=True, dtype={"error": str}, usecols=columns)
+
+    def failures(self) -> int:
+        """How many saved points failed, read a chunk at a time (the error column only)."""
+        n = 0
+        for p in self._files():
+            err = self._read_one(p, ["error"])["error"]
+            n += int((err.notna() & (err.astype(str) != "")).sum())
+        return n
+
+    def rows(self) -> int:
+        """How many points are saved, without reading them whole."""
+        n = 0
+        for p in self._files():
+            if self.fmt == "parquet":
+                import pyarrow.parquet as pq
+                n += pq.ParquetFile(p).metadata.num_rows
+            else:
+                n += len(self._read_one(p, ["point"]))
+        return n
+
+    def head(self, k: int):
+        """The first ``k`` saved points (in point order), from the first chunks only."""
+        import pandas as pd
+        parts, got = [], 0
+        for p in self._files():           # chunk c holds the points from c * chunk_size on
+            if got >= k:
+                break
+            parts.append(self._read_one(p))
+            got += len(parts[-1])
+        if not parts:
+            return pd.DataFrame()
+        df = pd.concat(parts, ignore_index=True)
+        if "error" in df:
+            df["error"] = df["error"].fillna("")
+        return df.sort_values("point", kind="stable").head(k).reset_index(drop=True)
+
     def read(self):
         """Every chunk as one pandas DataFrame, in point order."""
         import pandas as pd
@@ -136,8 +180,7 @@ def saved_points(path) -> int:
         store = Store.open(path)
     except ParameterError:
         return 0
-    df = store.read()
-    return int(len(df))
+    return store.rows()
 
 
 def refuse_other_sweep(path, overwrite: bool = False):

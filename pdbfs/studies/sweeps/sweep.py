@@ -41,6 +41,8 @@ from .store import Store, chunk_columns
 PARALLEL_MIN_POINTS = 8
 #: a progress bar appears once a sweep has run this long, s
 PROGRESS_AFTER = 2.0
+#: the most chunks a sweep is cut into by default (a billion points: 10,000 per chunk)
+MAX_CHUNKS = 100_000
 
 
 def points_of(values: dict, grid: bool = True) -> list[dict]:
@@ -54,7 +56,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
           rtol: float | None = None, atol: float = 1e-10, method: str = "auto",
           max_step: float | None = None, backend: str = "auto", workers: int | None = None,
-          progress=None, client=None, out=None, format: str = "parquet",
+          progress=None, client=None, out=None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
@@ -68,7 +70,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     workers       threads or processes on this machine (None: automatic)
     client        a dask.distributed.Client: one task per chunk on its cluster
     out           a folder: chunks are written there as they finish (``format``
-                  parquet or csv) and a rerun of the same sweep resumes; a folder
+                  parquet, the default, or csv) and a rerun of the same sweep resumes; a folder
                   holding another sweep is refused unless ``overwrite``
     progress      a progress bar on stderr (None: once the sweep takes a while), or a
                   function called with (points done, points in all) after each chunk
@@ -77,6 +79,13 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     parameters and the reason; the others still run. An unknown parameter
     name fails the whole sweep at once.
     """
+    if out is None and (format is not None or overwrite):
+        raise ParameterError("sweep: " + ("format=" if format is not None else "overwrite=")
+                             + " is about the chunk files in out=; without out= the sweep is "
+                             "held in memory and writes none")
+    if client is not None and workers is not None:
+        raise ParameterError(f"sweep: workers = {plain(workers)} is for this machine; with "
+                             "client= the cluster's workers run the sweep")
     if isinstance(rig, str):
         from pdbfs.models import RIGS
         if rig not in RIGS:
@@ -114,7 +123,8 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     workers = _workers(workers, n)
     if chunk_size is None:
         per = 512 if runner.fast is not None else 32
-        chunk_size = max(1, min(per, math.ceil(n / (4 * workers))))
+        # at most MAX_CHUNKS chunks (files, and their list here) for any size
+        chunk_size = max(1, min(per, math.ceil(n / (4 * workers))), math.ceil(n / MAX_CHUNKS))
     elif not (isinstance(chunk_size, int) and chunk_size >= 1):
         raise ParameterError(f"sweep: chunk_size = {plain(chunk_size)} must be a whole number >= 1")
     chunks = [(c, c * chunk_size, min(n, (c + 1) * chunk_size)) for c in range(math.ceil(n / chunk_size))]
@@ -122,7 +132,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     if out is not None:
         spec = {"rig": sim.dae.name, "dae": _dae_key(sim), "points": points.spec, "fixed": fixed,
                 "settings": settings.__dict__}
-        store = Store(out, spec, n, chunk_size, format, overwrite)
+        store = Store(out, spec, n, chunk_size, format or "parquet", overwrite)
         done = store.done()
         chunks = [c for c in chunks if c[0] not in done]
 
