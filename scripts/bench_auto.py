@@ -6,15 +6,17 @@ several piece counts N, and runs where the choice matters (long runs, a
 fast mode that decays without oscillating, a stiff mount).
 
 For every case and method: the CPU time of ``rig.simulate(...).summary()``
-(median of interleaved rounds) and its error against a tight reference (the
-explicit method at rtol 1e-13): the relative error of the peak pressure (or,
-with no pulse, of the peak contact force; with neither, the largest error of a
-state on the output grid over that state's largest magnitude).
+(the least of interleaved rounds: other work on the machine only adds to it)
+and its error against a tight reference (the explicit method at rtol 1e-13):
+the relative error of the peak pressure (or, with no pulse, of the peak
+contact force; with neither, the largest error of a state on the output grid
+over that state's largest magnitude, at least 1e-6).
 
 At equal accuracy: for each method, the loosest rtol of a ladder from which on
 (every tighter rtol too) it is at least as accurate as auto's run, and that
-run's time. auto must be within FACTOR (1.3) of the best of them, and within
-the 1e-7 its defaults promise; the script exits with status 1 otherwise.
+run's time (for the method auto chose: auto's own run). auto must be within
+FACTOR (1.3) of the best of them, and its peak within the 1e-7 its defaults
+promise; the script exits with status 1 otherwise.
 
     python scripts/bench_auto.py [--rounds 5] [--quick] [--case NAME ...]
 """
@@ -77,7 +79,8 @@ class Case:
             self.rig = build()
             ref = self.run("erk", 1e-13, atol=1e-15)
         self.ref_x, self.ref_peak = np.asarray(ref._X), _peak(ref)
-        self.scale = np.abs(self.ref_x).max(axis=1) + 1e-30
+        # (a state that stays near zero is judged in absolute terms, to 1e-6)
+        self.scale = np.maximum(np.abs(self.ref_x).max(axis=1), 1e-6)
 
     def run(self, method, rtol=None, atol=1e-10):
         return self.rig.simulate(self.t_end, n_out=N_OUT, params=self.params, method=method,
@@ -112,32 +115,33 @@ def measure(case: Case, rounds: int = 5) -> dict:
             errs = [case.error(case.run(m, r)) for r in LADDER]
             ok = [r for i, r in enumerate(LADDER) if all(e <= target for e in errs[i:])]
             equal[m] = ok[0] if ok else None
-        if chosen in METHODS:
-            equal[chosen] = max(equal[chosen] or 0.0, auto_rtol)   # auto's own run counts
+        if chosen in METHODS:           # the method auto chose: its own run, at auto's accuracy
+            equal[chosen] = auto_rtol
         runs = {"auto": ("auto", None)} | {m: (m, None) for m in METHODS}
         runs |= {f"{m}@": (m, r) for m, r in equal.items() if r is not None}
         times = {k: [] for k in runs}
-        for k, (m, r) in runs.items():          # warm: plans, libraries
-            case.timed(m, r)
+        once = sum(case.timed(m, r) for m, r in runs.values())     # (warm: plans, libraries)
         keys = list(runs)
+        rounds = max(rounds, min(50, int(0.3 / max(once, 1e-6))))  # short runs: more rounds
         for i in range(rounds):                 # interleaved, each round in another order
             for k in keys[i % len(keys):] + keys[:i % len(keys)]:
                 times[k].append(case.timed(*runs[k]))
-    med = {k: float(np.median(v)) for k, v in times.items()}
+    med = {k: float(np.min(v)) for k, v in times.items()}    # the least: the machine's load aside
     at_equal = {m: med[f"{m}@"] for m, r in equal.items() if r is not None}
     best = min(at_equal, key=at_equal.get)
-    return {"chosen": chosen, "accuracy": target, "default": default, "equal_rtol": equal,
+    return {"chosen": chosen, "accuracy": target, "peak": bool(case.ref_peak), "default": default,
+            "equal_rtol": equal,
             "time": med, "at_equal": at_equal, "best": best,
             "ratio": med["auto"] / at_equal[best]}
 
 
 def verdict(r: dict) -> str:
-    """'' when auto is within FACTOR of the best at equal accuracy and within
-    the promise; else why not."""
+    """'' when auto is within FACTOR of the best at equal accuracy and its
+    peak within the promise; else why not."""
     bad = []
     if r["ratio"] > FACTOR:
         bad.append(f"auto ({r['chosen']}) {r['ratio']:.2f}x the best ({r['best']})")
-    if not r["accuracy"] <= PROMISE:
+    if r["peak"] and not r["accuracy"] <= PROMISE:
         bad.append(f"auto's error {r['accuracy']:.1e} > {PROMISE:g}")
     return "; ".join(bad)
 
@@ -168,7 +172,7 @@ def main(argv=None) -> int:
         print(row + (f"  <- {why}" if why else ""), flush=True)
         if why:
             failed.append(f"{label}: {why}")
-    print(f"\nms: CPU time of simulate + summary, median of {args.rounds} interleaved rounds; "
+    print(f"\nms: CPU time of simulate + summary, the least of {args.rounds} or more interleaved rounds; "
           "err: the peak's relative error (with no peak: the largest state error on the grid "
           "over the state's largest magnitude), against the explicit method at rtol 1e-13; "
           "at auto's accuracy: each method at the loosest rtol of "

@@ -24,10 +24,11 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     rtol/atol relative and absolute tolerances of the integrator (rtol
               None: 1e-8, and 5e-8 for the explicit method, whose peak
               pressure is then within 1e-7 of a tight reference)
-    method    'auto' (the default: Adams unless a fast mode decays without
-              oscillating, see stiffness.py; in the compiled backend the
-              explicit Runge-Kutta method instead of Adams), 'adams'
-              (non-stiff), 'bdf' (stiff) or 'erk' (explicit Runge-Kutta of
+    method    'auto' (the default: the cheapest method for the run by an
+              estimate of its steps, from the rig's modes at the start, and
+              of a step's cost, see stiffness.py: in the compiled backend of
+              'erk', 'adams' and 'bdf', through CasADi of the last two),
+              'adams' (non-stiff), 'bdf' (stiff) or 'erk' (explicit Runge-Kutta of
               order 8 with event location, compiled backend only); rigs with
               algebraic variables always use IDAS (BDF)
     max_step  largest internal step, s (None: no limit)
