@@ -3,11 +3,16 @@ from __future__ import annotations
 
 import json
 
+from pdbfs.errors import require_extra
+
 from .common import (add_output_options, add_rig_options, add_run_options, parse_sets,
                      prepare_out, rig_by_name)
 
 
 def cmd_sensitivity(args):
+    require_extra("sensitivity", "pdbfs sensitivity")
+    if args.dask:
+        require_extra("dask", "--dask")
     from pdbfs.studies import sensitivity
     from pdbfs.studies.sweeps.cluster import close, connect
     from pdbfs.studies.sweeps.sampling import parse_range

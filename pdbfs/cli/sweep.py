@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, require_extra
 
 from .common import (add_output_options, add_rig_options, add_run_options, horizon,
                      prepare_out, rig_by_name)
@@ -70,6 +70,7 @@ def points_from_args(args):
 def cmd_sweep(args):
     from pdbfs.studies import sweep
     from pdbfs.studies.sweeps.cluster import close, connect
+    check_extras(args)
     rig = rig_by_name(args.rig)
     points, fixed = points_from_args(args)
     t_end, n_out = horizon(args, rig)
@@ -121,6 +122,14 @@ def cmd_sweep(args):
     return 1 if failed and args.strict else 0
 
 
+def check_extras(args):
+    """--dask and --format parquet without their extras: refused before any work."""
+    if args.dask:
+        require_extra("dask", "--dask")
+    if args.format == "parquet":
+        require_extra("parquet", "--format parquet")
+
+
 def interrupted(out, in_memory, n) -> str:
     """What a Ctrl-C leaves: the points saved in --out, and how to go on."""
     if in_memory:
@@ -154,8 +163,9 @@ def add_parsers(sub):
                    "for a LocalCluster here")
     add_output_options(s, what="manifest and chunk files of the sweep (rerun the same "
                        "command to resume), sweep.csv, sweep.png")
-    s.add_argument("--format", default="parquet", choices=["parquet", "csv"],
-                   help="format of the chunk files (default: parquet)")
+    s.add_argument("--format", default=None, choices=["parquet", "csv"],
+                   help="format of the chunk files (default: parquet where pyarrow, the extra "
+                   "pdbfs[parquet], is installed, else csv)")
     s.add_argument("--chunk", type=int, default=None, help="points per chunk (default: automatic)")
     s.add_argument("--overwrite", action="store_true",
                    help="replace another sweep found in --out instead of refusing")

@@ -155,7 +155,7 @@ class RunInputs:
             check_initial(initial, self.dae)
         backend = self.resolve_backend(backend)
         if backend == "c" and self.nx:
-            self.compiled()          # a DAE rig is refused before anything else
+            self.compiled(method)    # a DAE rig is refused before anything else
         n_points = np.size(t_out) if t_out is not None else n_out
         if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
             per_point = self._cache.get("bytes/point")

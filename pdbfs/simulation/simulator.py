@@ -319,9 +319,10 @@ class Simulator(RunInputs, OnGrid):
                               f"t = {grid[k]:.6g} s; check parameter values (a stiffness or "
                               "exponent far out of range?)")
 
-    def compiled(self):
-        """The DAE compiled to a shared library (compiled.py), built once."""
-        return C.compiled(self.dae)
+    def compiled(self, method: str | None = None):
+        """The DAE compiled to a shared library (compiled.py), built once; one
+        with CVODE when ``method`` needs it."""
+        return C.compiled(self.dae, cvode=method in C.CVODE_METHODS)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False, c_grid=None):
@@ -334,7 +335,7 @@ class Simulator(RunInputs, OnGrid):
         if self.nx == 0:
             X = self.prescribed(grid, p)[0]
             return (X, None, None) if summary else X
-        lib, fast, kept = self.compiled(), None, None
+        lib, fast, kept = self.compiled(method), None, None
         if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
             t, t_addr = c_grid or (grid, None)
             X, st, values, code, note, kept = lib.run_summary(

@@ -26,7 +26,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, plain
+from pdbfs.errors import ParameterError, missing_extra, plain, require_extra
 from pdbfs.simulation import Result, Simulator
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.settings import mapping
@@ -54,7 +54,7 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
           rtol: float | None = None, atol: float = 1e-10, method: str = "auto",
           max_step: float | None = None, backend: str = "auto", workers: int | None = None,
-          progress=None, client=None, out=None, format: str = "parquet",
+          progress=None, client=None, out=None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
@@ -68,8 +68,10 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     workers       threads or processes on this machine (None: automatic)
     client        a dask.distributed.Client: one task per chunk on its cluster
     out           a folder: chunks are written there as they finish (``format``
-                  parquet or csv) and a rerun of the same sweep resumes; a folder
-                  holding another sweep is refused unless ``overwrite``
+                  "parquet" or "csv"; None: Parquet where pyarrow, the extra
+                  pdbfs[parquet], is installed, else CSV) and a rerun of the same
+                  sweep resumes; a folder holding another sweep is refused unless
+                  ``overwrite``
     progress      a progress bar on stderr (None: once the sweep takes a while), or a
                   function called with (points done, points in all) after each chunk
 
@@ -77,6 +79,10 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     parameters and the reason; the others still run. An unknown parameter
     name fails the whole sweep at once.
     """
+    if format is None:
+        format = "csv" if missing_extra("parquet") else "parquet"
+    elif format == "parquet" and out is not None:
+        require_extra("parquet", "sweep files in Parquet (format='parquet', --format parquet)")
     if isinstance(rig, str):
         from pdbfs.models import RIGS
         if rig not in RIGS:
