@@ -76,8 +76,9 @@ def cmd_sweep(args):
     t_end, n_out = horizon(args, rig)
     # a small grid keeps its trajectories for the overlay plot, in memory; the rest
     # streams its chunks to --out (and resumes)
-    plot = not args.no_plot and not args.sample and points.n <= PLOT_MAX_POINTS and not args.dask
     out = prepare_out(args.out)
+    plot = out is not None and not args.no_plot and not args.sample and \
+        points.n <= PLOT_MAX_POINTS and not args.dask
     if plot:
         from pdbfs.studies.sweeps.store import refuse_other_sweep
         refuse_other_sweep(out, args.overwrite)
@@ -86,16 +87,18 @@ def cmd_sweep(args):
         res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
                     params=fixed, rtol=args.rtol, method=args.method,
                     backend=args.backend, workers=args.workers, client=client,
-                    out=None if plot else out, format=args.format, chunk_size=args.chunk,
+                    out=None if plot or out is None else out, format=args.format,
+                    chunk_size=args.chunk,
                     overwrite=args.overwrite, progress=None if not args.quiet else False)
     except KeyboardInterrupt:
         raise KeyboardInterrupt(interrupted(out, plot, points.n)) from None
     finally:
         if client is not None:
             close(client)
-    out.mkdir(parents=True, exist_ok=True)
     wrote = [out] if res.store is not None else []
-    if len(res) <= CSV_MAX_POINTS:
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    if out is not None and len(res) <= CSV_MAX_POINTS:
         res.to_csv(out / "sweep.csv")
         wrote.append(out / "sweep.csv")
     if plot and res.ok:
@@ -118,7 +121,8 @@ def cmd_sweep(args):
               f"{res.elapsed:.2f} s on {res.where} ({res.computed / max(res.elapsed, 1e-9):.0f} "
               "points/s)" + (f", {resumed} found done in {args.out}" if resumed else ""))
         print(res.table())
-        print("wrote " + ", ".join(str(w) for w in wrote))
+        if wrote:
+            print("wrote " + ", ".join(str(w) for w in wrote))
     return 1 if failed and args.strict else 0
 
 
@@ -132,8 +136,9 @@ def check_extras(args):
 
 def interrupted(out, in_memory, n) -> str:
     """What a Ctrl-C leaves: the points saved in --out, and how to go on."""
-    if in_memory:
-        return f"the sweep of {n} points kept nothing (small sweeps run in memory)"
+    if in_memory or out is None:
+        return (f"the sweep of {n} points kept nothing (it ran in memory: "
+                + ("small sweeps do" if out is not None else "no --out") + ")")
     from pdbfs.studies.sweeps.store import saved_points
     done = saved_points(out)
     return (f"{done} of {n} points are saved in {out}; the same command resumes "
@@ -162,7 +167,8 @@ def add_parsers(sub):
                    help="run on the Dask scheduler at ADDRESS (tcp://HOST:8786), or 'local' "
                    "for a LocalCluster here")
     add_output_options(s, what="manifest and chunk files of the sweep (rerun the same "
-                       "command to resume), sweep.csv, sweep.png")
+                       "command to resume), sweep.csv, sweep.png; without it the sweep runs in "
+                       "memory and prints its table")
     s.add_argument("--format", default=None, choices=["parquet", "csv"],
                    help="format of the chunk files (default: parquet where pyarrow, the extra "
                    "pdbfs[parquet], is installed, else csv)")
