@@ -304,9 +304,10 @@ def fetch(project: str, filename: str, sha256: str, deadline: float | None = Non
         return box["ok"]
     if "err" in box:
         err = box["err"]
-        if isinstance(err, FetchError):
-            raise err
-        raise FetchError(f"{where[0]}: {_reason(err)}") from None
+        text = str(err) if isinstance(err, FetchError) else f"{where[0]}: {_reason(err)}"
+        if time.monotonic() >= end - 0.5:          # ended by the deadline: say so
+            text = f"gave up after {limit:g} s: {text}"
+        raise FetchError(text) from None
     done = "; ".join(tried)
     raise FetchError(f"no answer within {limit:g} s from {where[0] or 'the index'}"
                      + (f" (before: {done})" if done else ""))
