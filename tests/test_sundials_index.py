@@ -267,3 +267,35 @@ def test_the_explicit_method_and_casadi_need_no_cvode(offline, tmp_path):
     assert not (cache / f"sundials-{S.VERSION}").exists()
     assert not (cache / f"cvode-{S.VERSION}").exists()
     assert list(tmp_path.glob("*")) == [Path(offline["XDG_CACHE_HOME"])]  # --out not given
+
+
+def test_prepare_offline_then_carry_the_cache_to_a_machine_without_network(sdist, offline,
+                                                                          tmp_path):
+    """`pdbfs prepare-offline` fetches the sources through pip's index and
+    compiles CVODE, saying each step with its share; the cache it names,
+    copied to a machine whose index is unreachable, runs CVODE's methods."""
+    import shutil
+    index = Index(sdist, json_api=False)
+    try:
+        env = {**offline, "PIP_INDEX_URL": index.url}
+        r, _ = cli(["prepare-offline", "--platforms", "x86_64-linux", "--out", "carry"], env,
+                   tmp_path, timeout=600)
+    finally:
+        index.close()
+    assert r.returncode == 0, r.stderr
+    steps = [line for line in r.stderr.splitlines() if line.startswith("pdbfs: [")]
+    assert steps[0].startswith("pdbfs: [1/2]") and any("[2/2] CVODE for x86_64-linux" in s
+                                                      for s in steps), r.stderr
+    n = len(S.SUNDIALS_C)
+    assert any(f"[{n}/{n}] compiled" in s and "x86_64-linux" in s for s in steps), r.stderr
+    cache = Path(offline["XDG_CACHE_HOME"]) / "pdbfs"
+    assert str(cache) in r.stdout and "PDBFS_SUNDIALS_SDIST" in r.stdout
+    assert (tmp_path / "carry" / S.SDIST).read_bytes() == sdist
+    # the air-gapped machine: the cache copied there, no index reachable
+    there = tmp_path / "there"
+    shutil.copytree(cache, there / "pdbfs")
+    env = {**offline, "XDG_CACHE_HOME": str(there), "PIP_INDEX_URL": DEAD + "/simple"}
+    r, _ = cli(["simulate", "--method", "bdf", "--backend", "c", "--t-end", "0.012", "--json"],
+               env, tmp_path)
+    assert r.returncode == 0 and "fetching" not in r.stderr, r.stderr
+    assert json.loads(r.stdout)["stats"]["method"].startswith("bdf")
