@@ -195,3 +195,57 @@ def test_the_core_dependencies_hold_no_extra():
         {"app", "dask", "parquet", "sensitivity"}
     assert meta["license"] == "BSD-3-Clause" and meta["license-files"] == ["LICENSE"]
     assert "BSD 3-Clause" in (ROOT / "LICENSE").read_text()
+
+
+# -- reprs --------------------------------------------------------------------------------
+def test_a_rig_shows_its_name_size_and_components():
+    from pdbfs.models import RIGS
+    rig = RIGS["paper"]()
+    dae = rig.compile()
+    text = repr(rig)
+    assert text.startswith("<PaperRig 'pdbfs_paper'") and "object at 0x" not in text
+    assert f"{dae.x.numel()} states" in text and f"{len(dae.params)} parameters" in text
+    assert "hammer (Mass)" in text and "oil (OilColumn)" in text
+    assert "<table>" in rig._repr_html_()
+
+
+def test_a_result_shows_its_run_and_the_summary_it_has():
+    from pdbfs.models import RIGS
+    from pdbfs.simulation.reprs import number
+    rig = RIGS["paper"]()
+    res = rig.simulate(0.02, backend="c", method="erk")
+    text = repr(res)
+    s = res.summary()
+    assert "rig pdbfs_paper" in text and "0 .. 0.02 s, 2001 points" in text
+    assert "pulse complete" in text and number(s["peak_pressure"], "Pa") in text
+    slow = rig.simulate(0.02, backend="casadi")
+    text = repr(slow)                       # a repr integrates nothing
+    assert "not computed yet" in text and "_summary" not in slow.__dict__
+    cut = rig.simulate(0.003, backend="casadi", n_out=301)
+    with pytest.warns(pdbfs.PulseIncompleteWarning):
+        cut.summary()
+    assert "pulse incomplete" in repr(cut)
+    assert "<table>" in res._repr_html_()
+
+
+def test_studies_show_what_they_found_in_a_line(tmp_path):
+    from pdbfs.models import RIGS
+    rig = RIGS["paper"]()
+    sw = pdbfs.sweep(rig, {"hammer.v0": [2.0, 3.0]}, progress=False, t_end=0.012)
+    assert repr(sw).startswith("<SweepResult of rig pdbfs_paper: points 2, 0 failed")
+    d = pdbfs.design(rig, {"peak_pressure": 150e6}, free=["hammer.v0"])
+    text = repr(d)
+    assert text.startswith("<Design of rig pdbfs_paper") and "targets reached" in text
+    assert f"hammer.v0 {d.params['hammer.v0']:.6g} m/s" in text
+    for shown in (repr(sw), text):
+        assert "array(" not in shown and "\n" not in shown and len(shown) < 500
+
+
+def test_a_calibration_shows_its_fit_in_a_line():
+    from pdbfs.models import RIGS
+    c = pdbfs.calibrate(RIGS["paper"](), pdbfs.example_data("kistler_synthetic.csv"),
+                        ["hammer.v0"], starts=1)
+    text = repr(c)
+    assert text.startswith("<Calibration of rig pdbfs_paper: fitted hammer.v0 ")
+    assert f"{c.params['hammer.v0']:.6g} m/s +- {c.std['hammer.v0']:.6g} m/s" in text
+    assert "array(" not in text and "\n" not in text and len(text) < 500

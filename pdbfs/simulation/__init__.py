@@ -33,6 +33,7 @@
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows
     plotting.py    matplotlib plots of a Result
+    reprs.py       one readable line and an HTML table for Result, Rig and the studies
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, SUNDIALS). Never the component library, the studies, the FMU
