@@ -6,7 +6,6 @@ from __future__ import annotations
 import shutil
 import sys
 
-from pdbfs.errors import ExportError
 from pdbfs.files import whole
 
 from .common import prepare_out
@@ -17,42 +16,27 @@ def _size(folder) -> float:
 
 
 def cmd_prepare_offline(args):
-    from pdbfs.fmu.platforms import resolve_platforms
-    from pdbfs.native import sundials as S
-    targets = [] if args.platforms == "none" else resolve_platforms(args.platforms)
+    from pdbfs.fmu.platforms import prepare_offline
     out = prepare_out(args.out) if args.out else None
-    steps = 1 + len(targets)
 
-    def say(k, text):
-        print(f"pdbfs: [{k}/{steps}] {text}", file=sys.stderr, flush=True)
-    try:
-        say(1, f"SUNDIALS {S.VERSION}'s sources ({S.SDIST})")
-        src = S.find_sundials_sources()
-        for k, target in enumerate(targets, 2):
-            say(k, f"CVODE for {target}")
-            S.find_sundials(target=target)
-    except S.SundialsNotFound as err:
-        raise ExportError(str(err)) from None
-    cache = S.cache_root()
-    sdist = S.sdist_path()
+    def say(k, n, text):
+        print(f"pdbfs: [{k}/{n}] {text}", file=sys.stderr, flush=True)
+    done = prepare_offline(args.platforms, say)
+    cache, sdist = done["cache"], done["sdist"]
     print(f"pdbfs's cache {cache} is ready for offline work ({_size(cache):.0f} MB): "
-          f"{src.origin}; CVODE built for {', '.join(targets) or 'no platform'}")
-    if out is not None and sdist.is_file():
+          f"{done['sources']}; CVODE built for {', '.join(done['platforms']) or 'no platform'}")
+    if out is not None and sdist is not None:
         out.mkdir(parents=True, exist_ok=True)
-        with whole(out / S.SDIST) as part:
+        with whole(out / sdist.name) as part:
             shutil.copyfile(sdist, part)
-        sdist = out / S.SDIST
+        sdist = out / sdist.name
         print(f"wrote {sdist}")
     print("To work on a machine without network, either")
     print(f"  copy the folder {cache} to pdbfs's cache folder there (the same path under the "
           "user's home on Linux: $XDG_CACHE_HOME/pdbfs, default ~/.cache/pdbfs; print it with "
           "python -c \"import pdbfs.files as f; print(f.cache_folder())\"), or")
-    if sdist.is_file():
-        print(f"  copy {sdist} there and set PDBFS_SUNDIALS_SDIST to its path "
-              "(CVODE is then compiled there, once per platform).")
-    else:
-        print("  copy the sdist (PDBFS_SUNDIALS_SDIST named it) there and set PDBFS_SUNDIALS_SDIST "
-              "to its path (CVODE is then compiled there, once per platform).")
+    print(f"  copy {sdist or 'the sdist PDBFS_SUNDIALS_SDIST named'} there and set "
+          "PDBFS_SUNDIALS_SDIST to its path (CVODE is then compiled there, once per platform).")
     return 0
 
 
