@@ -78,6 +78,10 @@ def sundials_for(cvode: bool | None) -> Sundials | None:
         return None
 
 
+#: ``sd`` of build() and fingerprint() when not given: the CVODE at hand, if any
+AT_HAND = "at hand"
+
+
 def _cvode_files(sd) -> tuple[Path, ...]:
     return CVODE_DRIVER if sd is not None else NO_CVODE
 
@@ -111,7 +115,7 @@ def header(dae, work) -> str:
         *follow_lines(dae), *sizes_header_lines(work), "#endif", ""])
 
 
-def fingerprint(dae, sd: Sundials | None) -> str:
+def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     """A cheap key of the library of ``dae``, known before any code generation:
     the DAE's expressions (serialised), the functions generated and how
     (codegen.py, straight.py), the drivers' text, the compiler command and the
@@ -124,6 +128,7 @@ def fingerprint(dae, sd: Sundials | None) -> str:
     outs = [ca.densify(e) for e in (dae.ode, dae.events, dae.x0, ca.vertcat(*pick(roles)),
                                     ca.vertcat(*pick([force] if force in dae.y_names else [])))]
     f = ca.Function("fingerprint", [dae.t, dae.x, dae.z, dae.p], outs)
+    sd = sundials_for(None) if sd is AT_HAND else sd
     host = toolchain.host_target()
     h = hashlib.sha256()
     for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
@@ -138,11 +143,12 @@ def fingerprint(dae, sd: Sundials | None) -> str:
     return h.hexdigest()[:32]
 
 
-def build(dae, sd: Sundials | None) -> Path:
+def build(dae, sd: Sundials | None | str = AT_HAND) -> Path:
     """The library of ``dae`` linked with the CVODE ``sd`` (None: the explicit
     method's, without SUNDIALS): from the disk cache (found by its fingerprint
     without code generation, else by the hash of the generated C), or
     compiled into it."""
+    sd = sundials_for(None) if sd is AT_HAND else sd
     fast = cache_dir() / f"fp-{fingerprint(dae, sd)}.so"
     if fast.is_file():
         return fast
