@@ -7,6 +7,7 @@
                    generated C + c/pdbfs_batch.c + CVODE or native/c/pdbfs_erk.c
                    (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes;
                    a run's states on the grid made when first read (c/pdbfs_run_*.c)
+                   (without CVODE at hand: the explicit method alone, c/pdbfs_cvode_none.c)
     block.py       one thread's buffer of the compiled calls' small arguments and answers
     kept.py        a compiled run kept in the library until its states are read
     replay.py      a run again with everything of the run before: its plan,
