@@ -249,3 +249,14 @@ def test_a_calibration_shows_its_fit_in_a_line():
     assert text.startswith("<Calibration of rig pdbfs_paper: fitted hammer.v0 ")
     assert f"{c.params['hammer.v0']:.6g} m/s +- {c.std['hammer.v0']:.6g} m/s" in text
     assert "array(" not in text and "\n" not in text and len(text) < 500
+
+
+def test_an_export_for_several_platforms_says_each_as_it_ends(tmp_path, capfd):
+    """The first export for every platform runs for minutes: each platform's
+    binary is said on stderr with its share of the whole as it is built."""
+    from pdbfs.models import RIGS
+    RIGS["paper"]().export_fmu(tmp_path / "p.fmu", platforms="x86_64-linux,aarch64-linux")
+    err = capfd.readouterr().err.splitlines()
+    said = [line for line in err if "built the FMU's binary for" in line]
+    assert [s.split("]")[0] for s in said] == ["pdbfs: [1/2", "pdbfs: [2/2"], err
+    assert {s.rsplit(" ", 1)[1] for s in said} == {"x86_64-linux", "aarch64-linux"}, err
