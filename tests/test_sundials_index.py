@@ -299,3 +299,18 @@ def test_prepare_offline_then_carry_the_cache_to_a_machine_without_network(sdist
                env, tmp_path)
     assert r.returncode == 0 and "fetching" not in r.stderr, r.stderr
     assert json.loads(r.stdout)["stats"]["method"].startswith("bdf")
+
+
+def test_auto_falls_back_to_casadi_for_cvode_methods_without_the_sources(offline, tmp_path):
+    """backend "auto" means the compiled backend where it can be had, else
+    CasADi: a CVODE method whose sources are out of reach runs on CasADi,
+    with one warning line; backend "c" asked for says so and stops."""
+    env = {**offline, "PIP_INDEX_URL": DEAD + "/simple"}
+    r, took = cli(["simulate", "--method", "bdf", "--json"], env, tmp_path)
+    assert r.returncode == 0, r.stderr
+    warned = [line for line in r.stderr.splitlines() if line.startswith("pdbfs: warning")]
+    assert len(warned) == 1 and "simulating with CasADi" in warned[0], r.stderr
+    got = json.loads(r.stdout)
+    assert got["stats"]["backend"] == "casadi" and got["stats"]["method"].startswith("bdf")
+    ref, _ = cli(["simulate", "--method", "bdf", "--backend", "casadi", "--json"], {}, tmp_path)
+    assert got["peak_pressure"] == json.loads(ref.stdout)["peak_pressure"]

@@ -8,6 +8,7 @@
                    (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes;
                    a run's states on the grid made when first read (c/pdbfs_run_*.c)
                    (without CVODE at hand: the explicit method alone, c/pdbfs_cvode_none.c)
+    backends.py    "auto" and a CVODE method without CVODE at hand: CasADi, with a warning
     block.py       one thread's buffer of the compiled calls' small arguments and answers
     kept.py        a compiled run kept in the library until its states are read
     replay.py      a run again with everything of the run before: its plan,

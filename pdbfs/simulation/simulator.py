@@ -23,6 +23,7 @@ from pdbfs.modelling import DAE
 
 from . import c_summary, replay
 from . import compiled as C
+from .backends import backend_for_method
 from . import time_events as TE
 from .failures import compiled_failure, walk_failure
 from .initialize import solve_start
@@ -197,6 +198,7 @@ class Simulator(RunInputs, OnGrid):
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
         dae = self.dae
         key = plan = None
+        asked = backend
         if t_out is None and start is None and initial is None:
             # the rig's start, with its own parameters or new ones: what the checks
             # below decide is kept for the next run with the same settings (and types)
@@ -222,6 +224,8 @@ class Simulator(RunInputs, OnGrid):
         else:
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
+        if plan is None:
+            backend = backend_for_method(self, asked, backend, method)
         rtol = default_rtol(method, rtol)
         if plan is not None:
             if plan.lib is not None and method == plan.settings["method"]:

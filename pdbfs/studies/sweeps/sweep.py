@@ -28,6 +28,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, missing_extra, plain, require_extra
 from pdbfs.simulation import Result, Simulator
+from pdbfs.simulation.backends import backend_for_method
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.settings import mapping
 from pdbfs.simulation.settings import default_rtol
@@ -100,10 +101,11 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     p_fixed = sim.param_vector(fixed)
     sim.grid(t_end, n_out)
     sim.check_settings(default_rtol(method, rtol), atol, method, max_step, backend=backend)
-    backend = sim.resolve_backend(backend)
+    asked, backend = backend, sim.resolve_backend(backend)
     x_fixed = sim.start_vector(p_fixed, start)
     # "auto": one method for the whole sweep, judged at the fixed point
     method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end), backend)
+    backend = backend_for_method(sim, asked, backend, method)
     rtol = default_rtol(method, rtol)
     if trajectories and (client is not None or out is not None):
         raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
