@@ -25,8 +25,10 @@ COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, a
 
 #: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
 DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "
-               "calibration, design) and export them as FMUs. Files are written only where "
-               "--out (or -o) says. `pdbfs COMMAND --help` shows a command's options.")
+               "calibration, design) and export them as FMUs. Commands print their results and "
+               "write files only where --out (or -o) says; export-fmu and reproduce, whose "
+               "results are files, have a default. `pdbfs COMMAND --help` shows a command's "
+               "options.")
 
 
 def build_parser():
