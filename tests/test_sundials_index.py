@@ -173,6 +173,8 @@ def test_an_extra_index_and_find_links_are_searched(sdist, offline, monkeypatch,
     monkeypatch.setenv("PIP_FIND_LINKS", str(folder))
     data, origin = pipindex.fetch(S.PROJECT, S.SDIST, S.SDIST_SHA256, deadline=10)
     assert data == sdist and origin == str(folder / S.SDIST)
+    monkeypatch.setenv("PIP_FIND_LINKS", folder.as_uri())          # as a file:// address
+    assert pipindex.fetch(S.PROJECT, S.SDIST, S.SDIST_SHA256, deadline=10)[0] == sdist
     monkeypatch.delenv("PIP_FIND_LINKS")
     index = Index(sdist, json_api=True)
     try:

@@ -250,7 +250,9 @@ def _search(project: str, filename: str, sha256: str, settings: PipSettings, dea
     for place, is_index in places:
         where[0] = _shown(place)
         try:
-            local = Path(place) if "://" not in place else None
+            local = Path(place) if "://" not in place else \
+                Path(urllib.request.url2pathname(urllib.parse.urlsplit(place).path)) \
+                if place.startswith("file:") and not is_index else None
             if local is not None and local.is_dir():
                 if (local / filename).is_file():
                     data = (local / filename).read_bytes()
