@@ -18,6 +18,7 @@ import math
 import os
 import re
 import shutil
+import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 import uuid
@@ -263,8 +264,13 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
             # the binary links the platform's CVODE archive: CVODE's names as built there
             return build_binary(name, [src / c for c in own_c], [src], out, what,
                                 [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
+        done = 0
         with ThreadPoolExecutor(max_workers=min(len(plats), os.cpu_count() or 1)) as pool:
             for name, built in zip(plats, pool.map(build, plats)):
+                done += 1
+                if len(plats) > 1:       # minutes the first time: each platform said as it ends
+                    print(f"pdbfs: [{done}/{len(plats)}] built the FMU's binary for {name}",
+                          file=sys.stderr, flush=True)
                 arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
                 slices.setdefault(arc, []).append(built)
         for arc, built in slices.items():   # FMI 2.0's darwin64: one universal binary of both Macs

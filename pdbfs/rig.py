@@ -94,3 +94,24 @@ class Rig(Component):
     def parameters(self):
         """The rig's free parameters (ParamInfo), in the DAE's order."""
         return self.compile().params
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        from pdbfs.errors import PdbfsError
+        parts = [f"{n} ({type(c).__name__})" for n, c in self._children.items()]
+        rows = []
+        try:
+            dae = self.compile()          # from the disk cache for pdbfs's own rigs
+            rows.append(("size", f"{dae.x.numel()} states, {dae.z.numel()} algebraic, "
+                                 f"{len(dae.params)} parameters"))
+        except PdbfsError as err:
+            rows.append(("size", f"does not compile: {str(err).splitlines()[0]}"))
+        rows.append(("components", ", ".join(parts) or "none"))
+        return f"{type(self).__name__} '{self.rig_name()}'", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(v for _, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        from pdbfs.simulation.reprs import table
+        return table(*self._shown())

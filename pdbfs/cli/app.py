@@ -1,8 +1,11 @@
 """pdbfs app: the rig workbench in the browser, served on this machine."""
 from __future__ import annotations
 
+from pdbfs.errors import require_extra
+
 
 def cmd_app(args):
+    require_extra("app", "pdbfs app")
     from pdbfs.app import serve
     serve(args.rig, host=args.host, port=args.port, open_browser=args.open,
           ready=lambda url: print(f"pdbfs workbench of rig {args.rig} at {url} "

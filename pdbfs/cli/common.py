@@ -45,9 +45,9 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
                    f"auto: c where it can be built, else casadi (default {backend})")
 
 
-def add_output_options(s, out="out", what="results", json_help="print the result as JSON"):
-    s.add_argument("--out", default=out, help=f"output folder for the {what}"
-                   + (f" (default: {out})" if out else " (default: none)"))
+def add_output_options(s, out=None, what="results", json_help="print the result as JSON"):
+    s.add_argument("--out", default=out, metavar="DIR", help=f"output folder for the {what}"
+                   + (f" (default: {out})" if out else " (default: none: nothing is written)"))
     s.add_argument("--json", action="store_true", help=json_help)
 
 

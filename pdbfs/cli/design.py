@@ -45,10 +45,11 @@ def cmd_design_map(args):
     m = design_map(rig, args.x, args.y, n=args.n, params=parse_sets(args.set),
                    t_end=args.t_end, backend=args.backend,
                    progress=None if not args.quiet else False)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    m.plot(out / "design_map.png")
-    m.to_csv(out / "design_map.csv")
+    out = Path(args.out) if args.out else None
+    if out is not None:                  # files only where --out says
+        out.mkdir(parents=True, exist_ok=True)
+        m.plot(out / "design_map.png")
+        m.to_csv(out / "design_map.csv")
     if args.json:
         print(json.dumps({"x": {m.x_name: m.x.tolist()}, "y": {m.y_name: m.y.tolist()},
                           **{k: [[None if v != v else v for v in row] for row in a.tolist()]
@@ -57,7 +58,8 @@ def cmd_design_map(args):
     else:
         blank = f", {m.no_pulse} without a complete pulse (blank)" if m.no_pulse else ""
         print(f"rig {m.rig}: {m.x.size} x {m.y.size} points, {m.failed} failed{blank}")
-        print(f"wrote {out / 'design_map.png'} and {out / 'design_map.csv'}")
+        if out is not None:
+            print(f"wrote {out / 'design_map.png'} and {out / 'design_map.csv'}")
 
 
 def add_parsers(sub):
@@ -95,7 +97,8 @@ def add_parsers(sub):
     s.add_argument("--t-end", type=float, default=0.03, help="simulated horizon, s (default 0.03)")
     s.add_argument("--backend", default="auto", choices=["auto", "casadi", "c"],
                    help="as for simulate (default: auto)")
-    s.add_argument("--out", default="out", help="output folder (default: out)")
+    s.add_argument("--out", default=None, metavar="DIR",
+                   help="folder for design_map.png and .csv (default: none: nothing is written)")
     s.add_argument("--json", action="store_true", help="print the map as JSON")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_design_map)

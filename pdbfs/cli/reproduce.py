@@ -17,8 +17,8 @@ def cmd_reproduce(args):
 def add_parsers(sub):
     s = sub.add_parser("reproduce", help="regenerate the paper's Figs. 4-9 and the variant "
                        "rigs' figures as PNGs, with a table of peaks")
-    s.add_argument("--out", default="paper-figures",
-                   help="output folder (default: paper-figures)")
+    s.add_argument("--out", default="paper-figures", metavar="DIR",
+                   help="output folder (default: paper-figures in the current folder)")
     s.add_argument("--figures", default=None,
                    help="comma-separated subset, e.g. fig4,fig6 (default: all)")
     s.add_argument("--quiet", action="store_true", help="no progress bars")

@@ -253,13 +253,18 @@ def sizes_header_lines(work: tuple[int, int, int, int]) -> list[str]:
 
 def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
                     cflags: list[str] | None = None, sd: Sundials | None = None,
-                    target: str | None = None) -> list[str]:
+                    target: str | None = None, cvode: bool = True) -> list[str]:
     """The command line that builds a shared library of ``sources`` for
-    ``target`` (default: the host's) linked with that target's static CVODE."""
+    ``target`` (default: the host's) linked with that target's static CVODE
+    (``sd``, found if not given); with ``cvode`` False, without any SUNDIALS
+    (``-DPDBFS_NO_CVODE``: the explicit method's library)."""
     target = target or toolchain.host_target()
-    sd = sd or find_sundials(target=target)
     cc = toolchain.compiler(target)
     before, after = toolchain.shared_flags(target, cc, Path(out).name)
+    if not cvode:
+        return [*cc, *toolchain.cflags(target), *before, *(cflags or []), "-DPDBFS_NO_CVODE",
+                *[f"-I{d}" for d in include_dirs], *map(str, sources), "-o", str(out), *after]
+    sd = sd or find_sundials(target=target)
     return [*cc, *toolchain.cflags(target), *before, *(cflags or []),
             *[f"-I{d}" for d in include_dirs], f"-I{sd.include_dir}",
             *map(str, sources), "-o", str(out), *sd.link_args(), *after]

@@ -7,6 +7,8 @@
                    generated C + c/pdbfs_batch.c + CVODE or native/c/pdbfs_erk.c
                    (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes;
                    a run's states on the grid made when first read (c/pdbfs_run_*.c)
+                   (without CVODE at hand: the explicit method alone, c/pdbfs_cvode_none.c)
+    backends.py    "auto" and a CVODE method without CVODE at hand: CasADi, with a warning
     block.py       one thread's buffer of the compiled calls' small arguments and answers
     kept.py        a compiled run kept in the library until its states are read
     replay.py      a run again with everything of the run before: its plan,
@@ -39,6 +41,7 @@
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows
     plotting.py    matplotlib plots of a Result
+    reprs.py       one readable line and an HTML table for Result, Rig and the studies
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, SUNDIALS). Never the component library, the studies, the FMU

@@ -11,7 +11,10 @@ without a Python object per point. Both report CVODE's statistics
 (``STAT_KEYS``). The library is built once per rig structure and
 loaded once per DAE: parameters, start values, tolerances and the grid are
 call arguments, so nothing is rebuilt when they change. ctypes releases the
-GIL during a call, so threads run calls in parallel.
+GIL during a call, so threads run calls in parallel. Where CVODE is not
+at hand without the network, the library holds the explicit method alone;
+a run with Adams or BDF gets one with CVODE first (:func:`compiled`), so
+that ``method="erk"`` never needs SUNDIALS' sources.
 """
 from __future__ import annotations
 
@@ -32,6 +35,8 @@ from .compiled_build import ABI, ROLES
 from .kept import KeptRun
 
 METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
+#: the methods that need CVODE in the library
+CVODE_METHODS = ("adams", "bdf")
 MSG_LEN = 1024
 POINT_MSG_LEN = 320
 
@@ -105,7 +110,10 @@ class RunStatus:
 class CompiledODE:
     """The shared library of one ODE rig; ``run`` integrates over a grid."""
 
-    def __init__(self, dae):
+    def __init__(self, dae, cvode: bool | None = None):
+        """``cvode``: True: with CVODE (its sources fetched if need be); None:
+        with CVODE where it is at hand without the network, else the explicit
+        method alone; False: the explicit method alone."""
         if not dae.is_ode:
             raise ParameterError(
                 f"backend='c' integrates ODE rigs only; rig {dae.name} keeps {dae.z.numel()} "
@@ -126,6 +134,9 @@ class CompiledODE:
         #: the summary keys the summary driver gives for this rig
         self.summary_keys = [k for k in SUMMARY_KEYS if KEY_ROLES[k] in self.roles]
         try:
+            self._sd = build_lib.sundials_for(cvode)
+            #: whether the library runs Adams and BDF (CVODE) besides the explicit method
+            self.cvode = self._sd is not None
             self.path = self._build(dae)
             try:
                 self._lib = self._load(self.path)
@@ -139,13 +150,21 @@ class CompiledODE:
         except PdbfsError:
             raise
         except SundialsNotFound as err:
-            raise PdbfsError(f"backend='c' needs SUNDIALS' CVODE: {err}") from err
+            raise PdbfsError(f"backend='c' needs SUNDIALS' CVODE for methods adams and bdf "
+                             f"(method='erk' and backend='casadi' need none): {err}") from err
         except (RuntimeError, OSError) as err:
             raise PdbfsError(f"backend='c' could not build the compiled model of rig {dae.name}: "
                              f"{err}") from err
 
     def _build(self, dae) -> Path:
-        return build_lib.build(dae)
+        return build_lib.build(dae, self._sd)
+
+    def _check_method(self, method):
+        if method not in METHOD_CODES:
+            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
+        if method in CVODE_METHODS and not self.cvode:      # compiled(dae, cvode=True) first
+            raise PdbfsError(f"rig {self.name}: this compiled library was built without CVODE "
+                             f"(the explicit method alone); method {method!r} needs it")
 
     def _load(self, path: Path):
         lib = ctypes.CDLL(str(path))
@@ -255,8 +274,7 @@ class CompiledODE:
         if x0.size not in (self.nx, self.nx + self.nq) or p.size != self.np:
             raise ParameterError(f"rig {self.name}: {x0.size} start values and {p.size} parameters "
                                  f"given, expected {self.nx} and {self.np}")
-        if method not in METHOD_CODES:
-            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
+        self._check_method(method)
         nt = t.size
         X = np.empty((x0.size, nt))
         info = np.zeros(INFO_N)
@@ -305,6 +323,7 @@ class CompiledODE:
             raise ParameterError(f"rig {self.name}: run_summary needs {self.nx} start values, "
                                  f"{self.np} parameters, a strictly increasing grid from 0 "
                                  f"(float64) and a method of {', '.join(METHOD_CODES)}")
+        self._check_method(method)
         keep = keep and method == "erk"
         X = None if keep else np.empty((self.nx, t.size))
         b = self._block()
@@ -339,8 +358,7 @@ class CompiledODE:
         if P.shape[1] != self.np:
             raise ParameterError(f"rig {self.name}: points of {P.shape[1]} parameters given, "
                                  f"expected {self.np}")
-        if method not in METHOD_CODES:
-            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
+        self._check_method(method)
         n = P.shape[0]
         out = np.empty((n, len(SUMMARY_KEYS)))
         codes = np.zeros(n, dtype=np.intc)
@@ -373,10 +391,11 @@ class CompiledODE:
         return int(ans), float(dur[0]), msg.value.decode(errors="replace")
 
 
-def compiled(dae) -> CompiledODE:
+def compiled(dae, cvode: bool = False) -> CompiledODE:
     """The CompiledODE of ``dae``, built (or loaded from the disk cache) once
-    per DAE object."""
+    per DAE object; with ``cvode``, one whose library has CVODE (built anew,
+    once, if the one at hand runs the explicit method alone)."""
     c = dae.__dict__.get("_compiled_c")
-    if c is None:
-        c = dae.__dict__["_compiled_c"] = CompiledODE(dae)
+    if c is None or cvode and not c.cvode:
+        c = dae.__dict__["_compiled_c"] = CompiledODE(dae, cvode=True if cvode else None)
     return c

@@ -157,9 +157,10 @@ class RunInputs:
                          backend)
         if initial is not None:
             check_initial(initial, self.dae)
-        backend = self.resolve_backend(backend)
-        if backend == "c" and self.nx:
-            self.compiled()          # a DAE rig is refused before anything else
+        asked, backend = backend, self.resolve_backend(backend)
+        if backend == "c" and self.nx:   # a DAE rig is refused before anything else (and
+            # backend="c" with a CVODE method without its sources: "auto" falls back later)
+            self.compiled(method if asked == "c" else None)
         n_points = np.size(t_out) if t_out is not None else n_out
         if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
             per_point = self._cache.get("bytes/point")

@@ -18,6 +18,7 @@ from pdbfs.files import whole
 from .c_summary import summary_of
 from .hermite import Curves
 from .initialize import InitialState
+from .reprs import number, table
 from .settings import name_list
 from .summary import summarize
 
@@ -111,6 +112,41 @@ class Result:
     @property
     def rig(self) -> str:
         return self._sim.dae.name
+
+    def _cheap_summary(self) -> dict | None:
+        """The summary if it costs nothing now: computed already, or the
+        compiled run's own; else None (a repr integrates nothing)."""
+        if "_summary" not in self.__dict__ and self._fast is not None:
+            d = summary_of(self._sim.dae, self._fast)
+            if d is not None:
+                self._summary, self._summary_warnings = d, []
+        return self.__dict__.get("_summary")
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        t = self._shared[0] if "t" not in self.__dict__ and hasattr(self, "_shared") else self.t
+        st = self.stats
+        rows = [("time", f"{t[0]:g} .. {t[-1]:g} s, {len(t)} points"),
+                ("solver", f"{st.get('method', '?')} ({st.get('backend', '?')}), "
+                 f"{st.get('steps', '?')} steps")]
+        s = self._cheap_summary()
+        if s is None:
+            rows.append(("summary", "not computed yet: .summary()"))
+        else:
+            from .summary import UNITS as SUMMARY_UNITS
+            if "complete" in s:
+                rows.append(("pulse", "complete" if s["complete"] else
+                             "incomplete (it outlasts the run)"))
+            for key in ("peak_pressure", "time_of_peak", "pulse_duration"):
+                if key in s and not isinstance(s[key], (list, tuple, dict)):
+                    rows.append((key, number(s[key], SUMMARY_UNITS.get(key, ""))))
+        return f"Result of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name == "time":

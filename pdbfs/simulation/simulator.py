@@ -23,6 +23,7 @@ from pdbfs.modelling import DAE
 
 from . import c_summary, replay
 from . import compiled as C
+from .backends import backend_for_method
 from . import time_events as TE
 from .contact_impulse import force_role
 from .failures import compiled_failure, walk_failure
@@ -198,6 +199,7 @@ class Simulator(RunInputs, OnGrid):
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
         dae = self.dae
         key = plan = None
+        asked = backend
         if t_out is None and start is None and initial is None:
             # the rig's start, with its own parameters or new ones: what the checks
             # below decide is kept for the next run with the same settings (and types)
@@ -223,6 +225,8 @@ class Simulator(RunInputs, OnGrid):
         else:
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
+        if plan is None:
+            backend = backend_for_method(self, asked, backend, method)
         rtol = default_rtol(method, rtol)
         atol = default_atol(rtol, atol)
         if plan is not None:
@@ -324,9 +328,10 @@ class Simulator(RunInputs, OnGrid):
                               f"t = {grid[k]:.6g} s; check parameter values (a stiffness or "
                               "exponent far out of range?)")
 
-    def compiled(self):
-        """The DAE compiled to a shared library (compiled.py), built once."""
-        return C.compiled(self.dae)
+    def compiled(self, method: str | None = None):
+        """The DAE compiled to a shared library (compiled.py), built once; one
+        with CVODE when ``method`` needs it."""
+        return C.compiled(self.dae, cvode=method in C.CVODE_METHODS)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False, c_grid=None):
@@ -339,7 +344,7 @@ class Simulator(RunInputs, OnGrid):
         if self.nx == 0:
             X = self.prescribed(grid, p)[0]
             return (X, None, None) if summary else X
-        lib, fast, kept = self.compiled(), None, None
+        lib, fast, kept = self.compiled(method), None, None
         if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
             t, t_addr = c_grid or (grid, None)
             X, st, values, code, note, kept = lib.run_summary(

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain
+from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain, require_extra
 from pdbfs.simulation.memory import require, table_bytes
 from pdbfs.simulation.settings import mapping, name_list, real
 
@@ -135,7 +135,9 @@ def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=Non
     """Sobol' indices of ``outputs`` (summary keys) with respect to the
     parameters in ``ranges`` {name: (lo, hi) or (lo, hi, "log")}: N (D + 2)
     simulations of ``rig`` (N = ``n``, a power of 2), run as one sweep
-    (``backend``, ``client``, ``out`` as for pdbfs.sweep)."""
+    (``backend``, ``client``, ``out`` as for pdbfs.sweep). Needs SALib, the
+    extra pdbfs[sensitivity]."""
+    require_extra("sensitivity", "pdbfs.sensitivity (Sobol' indices)")
     from SALib.analyze import sobol as analyze
     from SALib.sample import sobol as sample
     ranges = mapping(ranges, "ranges", "'hammer.v0': (1.5, 5.5)")

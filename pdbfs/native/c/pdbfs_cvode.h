@@ -20,11 +20,22 @@
 #ifndef PDBFS_CVODE_H
 #define PDBFS_CVODE_H
 
+#ifdef PDBFS_NO_CVODE
+#include <stddef.h>
+/* a compiled library of the explicit method alone (simulation/c/pdbfs_cvode_none.c):
+ * built without SUNDIALS, whose handles are then opaque pointers of the same size */
+typedef void *SUNContext;
+typedef void *N_Vector;
+typedef void *SUNMatrix;
+typedef void *SUNLinearSolver;
+typedef void *SUNNonlinearSolver;
+#else
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nonlinearsolver.h>
+#endif
 
 #include "pdbfs_model_funcs.h"
 

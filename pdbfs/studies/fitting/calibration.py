@@ -18,6 +18,7 @@ import numpy as np
 
 from pdbfs.errors import DataError, ParameterError, PdbfsError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.reprs import number, table
 
 from .least_squares import distinct_optima, optimum_of_each_start, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
@@ -55,6 +56,26 @@ class Calibration:
     @property
     def residuals(self) -> np.ndarray:
         return self.y - self.fit
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        fitted = {k: v for k, v in self.params.items() if v is not None}
+        rows = [("fitted", ", ".join(f"{k} {number(v, self.units.get(k, ''))} +- "
+                                     f"{number(self.std.get(k), self.units.get(k, ''))}"
+                                     for k, v in fitted.items())
+                 or "nothing")]
+        if self.undetermined:
+            rows.append(("undetermined", ", ".join(self.undetermined)))
+        if self.at_bounds:
+            rows.append(("at a bound", ", ".join(self.at_bounds)))
+        rows.append(("residual", f"rms {number(self.rms_residual, self.unit)} of {self.signal}"))
+        return f"Calibration of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def to_dict(self) -> dict:
         """JSON-ready: params, std, rms_residual, correlation, undetermined, ..."""

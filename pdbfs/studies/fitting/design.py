@@ -19,6 +19,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.reprs import number, table, values
 from pdbfs.simulation.settings import real
 
 from .calibration import _rig
@@ -55,6 +56,25 @@ class Design:
     y: np.ndarray = None               # target curve (None in feature mode)
     fit: np.ndarray = None             # the designed pulse at t
     evaluations: int = 0
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        rows = [("settings", values(self.params, self.units) or "none"),
+                ("targets", "reached" if self.reachable else f"not reached: {self.limit}")]
+        if self.targets:
+            rows.append(("features", values({k: self.features.get(k) for k in self.targets},
+                                            UNITS)))
+        elif self.rms_error is not None:
+            rows.append(("curve", f"rms error {number(self.rms_error, self.unit)}"))
+        if self.at_bounds:
+            rows.append(("at a bound", ", ".join(self.at_bounds)))
+        return f"Design of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def to_dict(self) -> dict:
         d = {"rig": self.rig, "signal": self.signal, "params": self.params, "implied": self.implied,

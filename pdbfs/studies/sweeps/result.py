@@ -15,6 +15,7 @@ import numpy as np
 from pdbfs.errors import PdbfsError
 from pdbfs.files import save_figure, whole
 from pdbfs.simulation import SUMMARY_UNITS as UNITS
+from pdbfs.simulation.reprs import table
 
 from .runner import LIST_KEYS
 
@@ -77,6 +78,25 @@ class SweepResult:
         if self._frame is None:
             self._frame = self.store.read()
         return self._frame
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        rows = [("points", f"{len(self)}"
+                 + (f", {self.n_failed} failed" if self._frame is not None or self.store is None
+                    else " (in the folder, not read yet)")),
+                ("swept", ", ".join(self.names) or "none"),
+                ("summary keys", ", ".join(self.keys) or "none")]
+        if self.store is not None:
+            rows.append(("folder", str(self.store.dir)))
+        if self.computed is not None:
+            rows.append(("run", f"{self.computed} computed in {self.elapsed:.3g} s on {self.where}"))
+        return f"SweepResult of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def __len__(self):
         if self._frame is None and self.store is not None:

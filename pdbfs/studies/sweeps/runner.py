@@ -67,7 +67,7 @@ class Runner:
         # the compiled batch starts from the declared starts: not for a solved start
         if settings.backend == "c" and not settings.start and not settings.trajectories \
                 and not needs_solving(dae, None):
-            lib = sim.compiled()
+            lib = sim.compiled(settings.method)
             if set(self.keys) <= set(lib.summary_keys):
                 self.fast = lib
 

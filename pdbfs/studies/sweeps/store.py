@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, require_extra
 from pdbfs.files import whole, write_text
 
 MANIFEST = "manifest.json"
@@ -33,6 +33,8 @@ class Store:
                  overwrite: bool = False):
         if fmt not in FORMATS:
             raise ParameterError(f"unknown sweep file format {fmt!r}; choose {' or '.join(FORMATS)}")
+        if fmt == "parquet":
+            require_extra("parquet", "sweep files in Parquet (format='parquet', --format parquet)")
         self.dir, self.fmt = Path(path), fmt
         self.spec = {**spec, "format": fmt, "chunk_size": int(chunk_size), "n_points": int(n_points)}
         self.hash = spec_hash(self.spec)
@@ -164,6 +166,8 @@ class Store:
         """Every chunk as one pandas DataFrame, in point order."""
         import pandas as pd
         files = [p for p in self.chunk_files() if p.suffix == f".{self.fmt}"]
+        if files and self.fmt == "parquet":
+            require_extra("parquet", f"reading the Parquet files of the sweep in {self.dir}")
         if not files:
             return pd.DataFrame()
         read = pd.read_parquet if self.fmt == "parquet" else \
