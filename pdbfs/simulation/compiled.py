@@ -1,7 +1,4 @@
-"""The compiled simulation backend (``pdbfs.simulate(..., backend="c")`` and
-fast sweeps).
-
-The DAE's model functions are generated as C by CasADi, compiled with
+"""The compiled simulation backend (``backend="c"``, and fast sweeps). The DAE's model functions are generated as C by CasADi, compiled with
 generic drivers and CVODE into one shared library (``compiled_build.py``),
 and called through ctypes: ``run`` integrates one point over a whole output
 grid (``c/pdbfs_batch.c``); ``summaries`` integrates many points and reduces

@@ -1,14 +1,11 @@
 """Simulation with SUNDIALS through casadi.integrator: CVODES for ODE rigs,
 IDAS for rigs that keep algebraic variables; or (``backend="c"``, ODE rigs
-only) with CVODE in a shared library compiled from CasADi-generated C of the
-DAE and a generic driver (``compiled.py``, ``c/pdbfs_batch.c``).
-
-Tolerances, output grid, start values and parameters are arguments of each
-call; the DAE is never rebuilt, and integrators are cached per setting.
-
-Non-smooth points (contact onset and separation, a slack oil column) are
-integrated through with error control (the forces there are continuous);
-tests/test_accuracy.py checks against a tight event-located reference.
+only) the compiled backend (``compiled.py``). Tolerances, output grid, start
+values and parameters are arguments of each call; the DAE is never rebuilt,
+and integrators are cached per setting. Non-smooth points (contact onset and
+separation, a slack oil column) are integrated through with error control
+(the forces there are continuous); tests/test_accuracy.py checks against a
+tight event-located reference.
 """
 from __future__ import annotations
 
@@ -146,8 +143,7 @@ class Simulator(RunInputs, OnGrid):
         return self._cache[key]
 
     def consistent_start(self, t0, x0, p):
-        """(z, der(x)) at the start of a DAE rig: z solved from the algebraic
-        equations by Newton from the declared guesses, der(x) from the ODE."""
+        """(z, der(x)) at a DAE rig's start: z by Newton from the declared guesses."""
         dae = self.dae
         rf = self._cache.get("rootfinder")
         if rf is None:
