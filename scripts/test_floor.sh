@@ -9,14 +9,15 @@ bash scripts/setup.sh >/dev/null          # the optional test tools and the CVOD
 [ -x .venv-floor/bin/python ] || python3 -m venv .venv-floor
 # the core and the extras but [dask] (whose floor of casadi is higher: 3.7.1)
 .venv-floor/bin/python -m pip install --quiet --disable-pip-version-check \
-    -c scripts/floor-constraints.txt -e ".[app,parquet,sensitivity]" pytest
+    -c scripts/floor-constraints.txt -e ".[app,parquet,sensitivity]" pytest pytest-xdist
 .venv-floor/bin/python -m pip uninstall --quiet -y dask distributed 2>/dev/null || true
 floor() {
     .venv-floor/bin/python -c "import importlib; print('floor:', *(f'{m} {importlib.import_module(m)\
 .__version__}' for m in '$*'.split()))"
 }
 floor numpy scipy casadi pandas dash pyarrow SALib
-.venv-floor/bin/python -m pytest -q -p no:cacheprovider "$@" tests/test_paper_rig.py \
+.venv-floor/bin/python -m pytest -q -p no:cacheprovider -n "${PDBFS_TEST_WORKERS:-auto}" \
+    --dist loadfile "$@" tests/test_paper_rig.py \
     tests/test_core.py tests/test_physics.py tests/test_compiled.py tests/test_calibration.py \
     tests/test_sweep.py tests/test_no_silent_errors.py tests/test_extras.py
 # [dask] at its floors, with the casadi it needs
