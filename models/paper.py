@@ -51,9 +51,11 @@ class PaperRig(Rig):
 
     # the oil column between piston and breech: a subclass may build it otherwise
     def declare_oil(self):
+        """Declare the oil column ``oil`` (here an OilColumn: the paper's spring k2)."""
         self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
 
     def connect_oil(self):
+        """Connect ``oil`` between the piston's lower face and the breech."""
         self.connect(self.piston.flange_b, self.oil.flange_a)
         self.connect(self.oil.flange_b, self.breech.flange_a)
 

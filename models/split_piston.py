@@ -135,6 +135,7 @@ class SplitPistonRig(Rig):
 
     @property
     def n(self) -> int:
+        """The number of pieces the piston and seal are split into."""
         return self._n
 
     def force_chain(self, res) -> list:

@@ -73,6 +73,14 @@ def _inherited_doc(cls, name: str):
     return None
 
 
+def _class_doc(cls) -> str:
+    """cls's own docstring; the one a dataclass, a NamedTuple or an Enum is
+    given by Python (its name and fields) is none."""
+    doc = (cls.__doc__ or "").strip()
+    made = doc.startswith(cls.__name__ + "(") and doc.endswith(")") and "\n" not in doc
+    return "" if made or doc == "An enumeration." else doc
+
+
 def undocumented() -> list[str]:
     """The dotted names of the public objects without a docstring."""
     missing = []
@@ -84,7 +92,7 @@ def undocumented() -> list[str]:
                 continue
             if not (inspect.isclass(obj) or inspect.isfunction(obj)):
                 continue
-            if not (obj.__doc__ or "").strip():
+            if not (_class_doc(obj) if inspect.isclass(obj) else (obj.__doc__ or "").strip()):
                 missing.append(f"{mod.__name__}.{name}")
             if inspect.isclass(obj):
                 missing += [f"{mod.__name__}.{name}.{m}" for m in _undocumented_members(obj)]

@@ -124,6 +124,7 @@ class BarResolution(NamedTuple):
 
     @property
     def resolved(self) -> bool:
+        """Whether a wave crosses a segment within one output interval (factor <= 1)."""
         return self.factor <= 1.0
 
 

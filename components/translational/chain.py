@@ -29,6 +29,7 @@ class MassChain(Component):
 
     @property
     def n(self) -> int:
+        """The number of pieces."""
         return self._n
 
     def total_mass(self):

@@ -11,7 +11,10 @@ from ..laws import DAMPING_LAWS
 
 class HertzContact(PartialCompression):
     """Hertz contact ``fc = k*d^n`` for indentation ``d = -s_rel - gap > 0``,
-    zero otherwise. flange_a is the striking (upper) body."""
+    zero otherwise. flange_a is the striking (upper) body.
+
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
+    """
 
     k = Parameter(5.958e10, "N/m^1.5", "Contact stiffness (unit N/m^n)", positive=True)
     n = Parameter(1.5, "1", "Hertz exponent (1.5 for spheres)", min=1.0,
@@ -36,6 +39,8 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     Give ``D`` directly, or ``law=`` one of 'lankarani-nikravesh',
     'hunt-crossley', 'flores' with parameters ``e`` (restitution) and
     ``v_impact``: ``D`` is then computed from them and ``k``.
+
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
     """
 
     D = Parameter(1.595e6, "N.s/m^2.5", "Hysteresis damping factor (unit N.s/m^(n+1))", min=0.0)
@@ -77,7 +82,10 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
 
 class ImpactContact(PartialCompression):
     """Contact = HertzContact + HuntCrossleyDamper in parallel; the combined
-    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper."""
+    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper.
+
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
+    """
 
     k = HertzContact.k
     n = HertzContact.n

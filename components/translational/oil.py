@@ -1,4 +1,4 @@
-
+"""The oil column between the loading piston and the breech, as a compression-only spring."""
 from pdbfs.modelling import Parameter, Variable, eq
 
 from ..functions import positive_power

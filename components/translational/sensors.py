@@ -8,7 +8,10 @@ from .interfaces import PartialOneFlange, PartialTwoFlanges
 
 
 class PositionSensor(PartialOneFlange):
-    """Absolute position of a flange, output ``s`` (m)."""
+    """Absolute position of a flange, output ``s`` (m).
+
+    Connectors: ``flange`` (no force), the signal outputs ``s`` and ``y`` (the same).
+    """
 
     def declare(self):
         super().declare()
@@ -21,7 +24,10 @@ class PositionSensor(PartialOneFlange):
 
 
 class SpeedSensor(PartialOneFlange):
-    """Absolute velocity of a flange, output ``v`` (m/s)."""
+    """Absolute velocity of a flange, output ``v`` (m/s).
+
+    Connectors: ``flange`` (no force), the signal outputs ``v`` and ``y`` (the same).
+    """
 
     def declare(self):
         super().declare()
@@ -60,7 +66,11 @@ class ForceSensor(PartialTwoFlanges):
 class PressureSensor(ForceSensor):
     """Like ForceSensor, as a pressure on an area: output ``p`` (Pa,
     positive in compression, ``p = -f/A``), also as ``y`` (the force is
-    still ``f``)."""
+    still ``f``).
+
+    Connectors: ``flange_a`` and ``flange_b``, the signal outputs ``f``,
+    ``p`` and ``y``.
+    """
 
     A = Parameter(2.270e-2, "m2", "Area the force acts on", positive=True, tunable=False)
 

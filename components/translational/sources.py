@@ -11,7 +11,10 @@ class Force(PartialOneFlange):
     parameter ``F``, or ``function(t)`` returning a CasADi expression of time
     (which may use the component's parameters). ``breakpoints``: the times
     (numbers or parameter expressions) at which ``function`` switches; every
-    integrator stops there, so that no step jumps over a switch."""
+    integrator stops there, so that no step jumps over a switch.
+
+    Connector: ``flange``, on the body pushed.
+    """
 
     F = Parameter(0.0, "N", "Constant force, positive down")
 
@@ -34,7 +37,10 @@ class Force(PartialOneFlange):
 
 class Gravity(PartialOneFlange):
     """Weight ``m*g`` of a body, pushing down (+x). Bind ``m`` to the body's
-    mass: ``Gravity(m=rig.hammer.m)``."""
+    mass: ``Gravity(m=rig.hammer.m)``.
+
+    Connector: ``flange``, on the body.
+    """
 
     m = Parameter(1.0, "kg", "Mass the weight acts on", positive=True, tunable=False)
     g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration", min=0.0,
@@ -67,7 +73,10 @@ class Position(PartialOneFlange):
 
 class SignalForce(PartialOneFlange):
     """A force given by the signal input ``u`` (N), pushing the attached body
-    in +x (down) as Force does; ``force`` is the force applied."""
+    in +x (down) as Force does; ``force`` is the force applied.
+
+    Connectors: ``flange``, on the body pushed, and the signal input ``u``.
+    """
 
     def declare(self):
         super().declare()

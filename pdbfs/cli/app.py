@@ -3,6 +3,7 @@ from __future__ import annotations
 
 
 def cmd_app(args):
+    """pdbfs app: serve the workbench page until Ctrl-C."""
     from pdbfs.app import serve
     serve(args.rig, host=args.host, port=args.port, open_browser=args.open,
           ready=lambda url: print(f"pdbfs workbench of rig {args.rig} at {url} "
@@ -10,6 +11,7 @@ def cmd_app(args):
 
 
 def add_parsers(sub):
+    """Add the ``app`` command to the subparsers ``sub``."""
     s = sub.add_parser("app", help="serve the rig workbench (a page in the browser)")
     s.add_argument("--rig", default="paper", help="rig shown first (default: paper)")
     s.add_argument("--port", type=int, default=8050, help="port (default 8050)")

@@ -28,6 +28,8 @@ class ParamSlot:
 
 
 class VarSlot:
+    """A variable of one component instance: declaration and symbol."""
+
     def __init__(self, decl: Variable, name: str):
         self.decl = decl
         self.name = name
@@ -163,12 +165,14 @@ class Component:
 
     # -- names ----------------------------------------------------------------
     def path(self) -> str:
+        """The dotted path of this component in its rig ("" for the rig itself)."""
         if self._parent is None:
             return ""
         up = self._parent.path()
         return f"{up}.{self._name}" if up else self._name
 
     def label(self) -> str:
+        """The path and class, as messages name a component ("contact (ImpactContact)")."""
         return f"{self.path() or 'the rig'} ({type(self).__name__})"
 
     def walk(self):
@@ -244,6 +248,7 @@ class Component:
         return self._compiled
 
     def rig_name(self) -> str:
+        """The DAE's and the FMU's name: the class attribute ``name``, else the class name."""
         return getattr(self, "name", None) or type(self).__name__
 
 

@@ -42,6 +42,7 @@ class Connector:
         raise NotImplementedError
 
     def path(self) -> str:
+        """The dotted path of this connector in its rig (``piston.flange_a``)."""
         owner = self.owner.path() if self.owner is not None else "?"
         return f"{owner}.{self.name}" if owner else str(self.name)
 

@@ -44,6 +44,11 @@ class VarInfo:
 
 @dataclass
 class DAE:
+    """A rig compiled: one semi-explicit CasADi DAE in SX (see the module
+    docstring for its parts), with the names, units and descriptions of its
+    states, algebraic variables, parameters and outputs. ``rig.compile()``
+    makes it; every back end (simulation, FMU export, the studies) reads it."""
+
     name: str
     t: ca.SX
     x: ca.SX                 # column, states
@@ -144,25 +149,31 @@ class DAE:
     # -- names ---------------------------------------------------------------
     @property
     def x_names(self) -> list[str]:
+        """The states' names, in the DAE's order."""
         return [v.name for v in self.x_info]
 
     @property
     def z_names(self) -> list[str]:
+        """The algebraic variables' names (none for an ODE rig)."""
         return [v.name for v in self.z_info]
 
     @property
     def p_names(self) -> list[str]:
+        """The free parameters' names, in the DAE's order."""
         return [p.name for p in self.params]
 
     @property
     def y_names(self) -> list[str]:
+        """The names of every variable a Result holds (the outputs), in the DAE's order."""
         return [v.name for v in self.y_info]
 
     @property
     def is_ode(self) -> bool:
+        """True when no algebraic variable is left (CVODES, or the compiled backend, can run it)."""
         return self.z.numel() == 0
 
     def p_default(self) -> np.ndarray:
+        """The parameters' default values as a vector (SI units)."""
         return np.array([p.value for p in self.params], dtype=float)
 
     # -- CasADi functions (cheap to build, cached) ----------------------------

@@ -72,6 +72,8 @@ class Linearization:
 
 @dataclass
 class Mode:
+    """One mode of a linearized rig: an eigenvalue of A (one per complex pair)."""
+
     omega: float          # rad/s, |lambda| (the undamped natural frequency of a pair)
     frequency: float      # Hz, omega / (2 pi)
     damping: float | None  # ratio, -Re(lambda)/|lambda|; None for lambda = 0
@@ -79,6 +81,7 @@ class Mode:
     eigenvalue: complex
 
     def to_dict(self) -> dict:
+        """The mode as plain JSON-ready data (the eigenvalue as [re, im])."""
         return {"omega": self.omega, "frequency": self.frequency, "damping": self.damping,
                 "eigenvalue": [self.eigenvalue.real, self.eigenvalue.imag],
                 "shape": dict(self.shape)}
@@ -95,6 +98,7 @@ def modes_frame(modes):
 
 
 def modes_of(A, states, units=None) -> list:
+    """The Modes of the state matrix ``A`` (states named ``states``), slowest first."""
     if A.size == 0:
         return []
     lam, V = np.linalg.eig(A)

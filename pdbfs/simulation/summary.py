@@ -61,6 +61,9 @@ def keys_for(dae) -> list[str]:
 
 
 def summarize(res, warn: bool = True) -> dict:
+    """The summary of the Result ``res`` (KEYS, units in UNITS), located on the
+    summary's own solution; with ``warn``, a PulseIncompleteWarning when the
+    pulse outlasts the run."""
     roles = getattr(res._sim.dae, "signals", {}) or {}
     run = summary_run(res)
     R = run.trajectory
@@ -133,6 +136,7 @@ def summarize(res, warn: bool = True) -> dict:
 
 
 def incomplete_message(res, run, cut=()) -> str:
+    """The warning for a pulse still running at t_end: where it ends, if the run saw it."""
     where = f"rig {res._sim.dae.name}: the pulse is still running at t_end = {run.t_end:.6g} s"
     if cut:
         where += f" ({'; '.join(cut)})"

@@ -54,6 +54,7 @@ class Calibration:
 
     @property
     def residuals(self) -> np.ndarray:
+        """Trace minus fit at the trace's times, in the signal's unit."""
         return self.y - self.fit
 
     def to_dict(self) -> dict:
@@ -65,14 +66,17 @@ class Calibration:
                 "evaluations": self.evaluations}
 
     def report(self) -> str:
+        """The fit as text: each value with its standard deviation, correlations, warnings."""
         from .reports import calibration_text
         return calibration_text(self)
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """Trace, fit and residuals against time; saved to ``path`` if given. Returns the Figure."""
         from .reports import plot_fit
         return plot_fit(self, path)
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
+        """Write time, trace, fit and residual as CSV (units in the header); returns ``path``."""
         from .reports import write_columns
         return write_columns(path, {"time [s]": self.t, f"trace [{self.unit}]": self.y,
                                     f"fit [{self.unit}]": self.fit,

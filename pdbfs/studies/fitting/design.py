@@ -37,6 +37,28 @@ ALIASES = {"peak": "peak_pressure", "duration": "pulse_duration", "peak_time": "
 
 @dataclass
 class Design:
+    """What a design found: the free parameters' values that give the target pulse.
+
+    Attributes
+    ----------
+    params : dict
+        Free name -> designed value (SI units; a drop height in m).
+    implied : dict
+        Rig parameters set through another (``hammer.v0`` from a drop height).
+    reachable : bool
+        Whether the target is met; ``limit`` says why not.
+    targets, features : dict
+        Feature targets asked for and the designed pulse's features.
+    rms_error, worst_deviation, worst_time : float or None
+        For a target curve: its RMS and largest miss (signal's unit) and
+        where the largest is (s).
+    at_bounds : dict
+        Free name -> the bound it ended at.
+    t, y, fit : numpy.ndarray
+        Times (s), the target curve (None for feature targets) and the
+        designed pulse there.
+    """
+
     rig: str
     signal: str
     unit: str
@@ -57,6 +79,7 @@ class Design:
     evaluations: int = 0
 
     def to_dict(self) -> dict:
+        """JSON-ready: params, implied, reachable, targets and features or the curve's errors."""
         d = {"rig": self.rig, "signal": self.signal, "params": self.params, "implied": self.implied,
              "units": self.units, "reachable": self.reachable, "at_bounds": self.at_bounds,
              "evaluations": self.evaluations}
@@ -70,14 +93,17 @@ class Design:
         return d
 
     def report(self) -> str:
+        """The design as text: the values, the features reached, the bounds hit."""
         from .reports import design_text
         return design_text(self)
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """The designed pulse (and the target curve); saved to ``path`` if given. Returns the Figure."""
         from .reports import plot_design
         return plot_design(self, path)
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
+        """Write time, target (if a curve) and designed pulse as CSV; returns ``path``."""
         from .reports import write_columns
         cols = {"time [s]": self.t}
         if self.y is not None:

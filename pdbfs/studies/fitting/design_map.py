@@ -30,6 +30,22 @@ MAPPED = ("peak_pressure", "pulse_duration", "time_of_peak")
 
 @dataclass
 class DesignMap:
+    """Pulse features over a grid of two parameters: what a design can reach.
+
+    Attributes
+    ----------
+    x_name, y_name : str
+        The two parameters (``hammer.h`` is a drop height, m).
+    x, y : numpy.ndarray
+        Their values on the axes, in ``x_unit`` and ``y_unit``.
+    values : dict
+        Feature (peak_pressure in Pa, pulse_duration and time_of_peak in s)
+        -> array of shape (len(y), len(x)); NaN where a point failed or gave
+        no complete pulse.
+    failed, no_pulse : int
+        Points whose run failed, and points without a complete pulse.
+    """
+
     rig: str
     x_name: str
     y_name: str
@@ -41,7 +57,9 @@ class DesignMap:
     y_unit: str = ""
     no_pulse: int = 0              # points that ran but gave no complete pulse (left blank)
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """Peak pressure (colour) and pulse duration (contours) over the two
+        parameters; saved to ``path`` if given. Returns the Figure."""
         import matplotlib
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
@@ -69,7 +87,8 @@ class DesignMap:
             save_figure(fig, path)
         return fig
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
+        """Write one row per grid point (both parameters and each feature); returns ``path``."""
         X, Y = np.meshgrid(self.x, self.y)
         cols = {self.x_name: X.ravel(), self.y_name: Y.ravel()}
         cols.update({k: v.ravel() for k, v in self.values.items()})

@@ -43,6 +43,7 @@ class Trace:
 
     @property
     def span(self) -> float:
+        """The time the trace covers, s."""
         return float(self.t[-1] - self.t[0])
 
 
@@ -55,6 +56,7 @@ def split_header(label) -> tuple[str, str | None]:
 
 
 def to_si(unit, where, column) -> tuple[float, str]:
+    """(factor to SI, SI unit) of a column's ``unit``; an unknown unit is a DataError naming ``where``."""
     if unit is None:
         return 1.0, ""
     if unit not in UNITS:

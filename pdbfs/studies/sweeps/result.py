@@ -34,6 +34,7 @@ class SweepPoint:
 
     @property
     def ok(self) -> bool:
+        """Whether the point ran."""
         return self.error is None
 
     def __getitem__(self, key):
@@ -73,7 +74,8 @@ class SweepResult:
 
     # -- the table --------------------------------------------------------------
     @property
-    def frame(self):
+    def frame(self) -> pd.DataFrame:
+        """The table (pandas), read from the store when first asked for; ``to_pandas()`` copies it."""
         if self._frame is None:
             self._frame = self.store.read()
         return self._frame
@@ -99,11 +101,13 @@ class SweepResult:
         return self.frame[key].to_numpy(dtype=float, na_value=np.nan)
 
     def summary_keys(self) -> list[str]:
+        """The summary keys the table holds."""
         return list(self.keys)
 
     # -- points -------------------------------------------------------------------
     @property
     def points(self) -> list[SweepPoint]:
+        """Every point as a SweepPoint, in input order."""
         if self._points is None:
             self._points = self._make_points(self.frame)
         return self._points
@@ -139,14 +143,17 @@ class SweepResult:
 
     @property
     def ok(self) -> list[SweepPoint]:
+        """The points that ran."""
         return [p for p in self.points if p.ok]
 
     @property
     def failed(self) -> list[SweepPoint]:
+        """The points that failed, each with its error."""
         return [p for p in self.points if not p.ok]
 
     @property
     def n_failed(self) -> int:
+        """How many points failed (counted without reading the whole table)."""
         if self._frame is None and self.store is not None:    # not read whole for a count
             return self.store.failures()
         return int((self.frame["error"] != "").sum()) if len(self) else 0

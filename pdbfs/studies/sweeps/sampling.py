@@ -33,17 +33,22 @@ SOBOL_MAX = 2 ** 30
 
 
 class PointSet:
+    """The points of a sweep: ``n`` rows of values of the parameters ``names``."""
+
     names: list[str]
     n: int
 
     def block(self, i0: int, i1: int) -> np.ndarray:
+        """The points i0 .. i1 - 1 as rows of parameter values (SI units)."""
         raise NotImplementedError
 
     @property
     def spec(self) -> dict:
+        """What defines the points, as JSON-ready data (a resumed sweep checks it)."""
         raise NotImplementedError
 
     def all(self) -> np.ndarray:
+        """Every point, as rows."""
         return self.block(0, self.n)
 
 
