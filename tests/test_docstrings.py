@@ -10,7 +10,7 @@ API's functions carry type hints.
 - Type hints: the functions, and the public methods of the classes, that
   pdbfs, pdbfs.simulation, pdbfs.studies, pdbfs.fmu, pdbfs.components and
   pdbfs.models export in ``__all__`` annotate every parameter and the return
-  (``__init__`` its parameters). An override with the parameters of the
+  (``__init__`` its parameters). An override with the parameters of a
   pdbfs method it overrides (a component's ``declare``, ``equations``) has
   that method's hints. The Simulator, which pdbfs.simulation exports for the
   studies and the workbench rather than for users, is left out.
@@ -163,13 +163,11 @@ def _unhinted(func, cls=None) -> list[str]:
     names = list(inspect.signature(func).parameters)
     for base in (cls.__mro__[1:] if cls is not None and func.__name__ != "__init__" else ()):
         over = _function_of(vars(base).get(func.__name__))
-        if over is None or not base.__module__.startswith("pdbfs"):
-            continue
-        if list(inspect.signature(over).parameters) == names:
+        if over is not None and base.__module__.startswith("pdbfs") \
+                and list(inspect.signature(over).parameters) == names:
             base_missing, base_returns = _hints(over)
             missing = [m for m in missing if m in base_missing]
             returns = returns or base_returns
-        break
     return missing + ([] if returns or func.__name__ == "__init__" else ["return"])
 
 

@@ -1,4 +1,6 @@
 """Impact contact: Hertz elasticity plus Hunt-Crossley hysteresis damping."""
+from __future__ import annotations
+
 import casadi as ca
 
 from pdbfs.errors import ParameterError
@@ -49,7 +51,7 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     n = Parameter(1.5, "1", "Indentation exponent", min=1.0, tunable=False)
     gap = Parameter(0.0, "m", "Clearance, as in HertzContact", tunable=False)
 
-    def __init__(self, law: str | None = None, **params):
+    def __init__(self, law: str | None = None, **params: float | ca.SX):
         if law is not None and law not in DAMPING_LAWS:
             raise ParameterError(f"HuntCrossleyDamper: unknown damping law {law!r}; "
                                  f"choose one of {', '.join(DAMPING_LAWS)}")
@@ -92,7 +94,7 @@ class ImpactContact(PartialCompression):
     gap = HertzContact.gap
     D = HuntCrossleyDamper.D
 
-    def __init__(self, law: str | None = None, **params):
+    def __init__(self, law: str | None = None, **params: float | ca.SX):
         self._law = law
         super().__init__(**params)
 

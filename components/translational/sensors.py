@@ -2,9 +2,16 @@
 (force, pressure), and give their reading as a SignalOutput: under its own
 name (``s``, ``v``, ``f``, ``p``) and as ``y``, the output every block
 reads."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 from pdbfs.modelling import Parameter, SignalOutput, der, eq
 
 from .interfaces import PartialOneFlange, PartialTwoFlanges
+
+if TYPE_CHECKING:
+    import casadi as ca
 
 
 class PositionSensor(PartialOneFlange):
@@ -48,11 +55,11 @@ class ForceSensor(PartialTwoFlanges):
         self.f = SignalOutput("N", "Measured force (positive in tension)")
         self.y = SignalOutput(*self.reading_unit())
 
-    def reading_unit(self):
+    def reading_unit(self) -> tuple[str, str]:
         """(unit, description) of the output ``y``."""
         return "N", "Measured force, positive in tension (the same as f)"
 
-    def reading(self):
+    def reading(self) -> ca.SX:
         """What the output ``y`` gives."""
         return self.f.value
 

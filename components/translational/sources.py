@@ -1,9 +1,17 @@
 """Sources: prescribed forces and positions (parameters, functions of time,
 or signals), and gravity."""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
 from pdbfs.modelling import Parameter, SignalInput, Variable, eq, switch_times, time
 
 from .interfaces import PartialOneFlange
 from ..laws import STANDARD_GRAVITY
+
+if TYPE_CHECKING:
+    import casadi as ca
 
 
 class Force(PartialOneFlange):
@@ -18,7 +26,8 @@ class Force(PartialOneFlange):
 
     F = Parameter(0.0, "N", "Constant force, positive down")
 
-    def __init__(self, function=None, breakpoints=(), **params):
+    def __init__(self, function: Callable[[ca.SX], ca.SX] | None = None,
+                 breakpoints: Sequence | Callable[[], Sequence] = (), **params: float | ca.SX):
         self._function = function
         self._breakpoints = breakpoints
         super().__init__(**params)
@@ -58,7 +67,8 @@ class Position(PartialOneFlange):
 
     s0 = Parameter(0.0, "m", "Constant position, positive down")
 
-    def __init__(self, function=None, breakpoints=(), **params):
+    def __init__(self, function: Callable[[ca.SX], ca.SX] | None = None,
+                 breakpoints: Sequence | Callable[[], Sequence] = (), **params: float | ca.SX):
         self._function = function
         self._breakpoints = breakpoints
         super().__init__(**params)

@@ -1,4 +1,6 @@
 """Springs (linear, power-law, compression-only) and linear dampers."""
+from __future__ import annotations
+
 import casadi as ca
 
 from pdbfs.modelling import Parameter, eq
@@ -18,7 +20,7 @@ class Spring(PartialCompliant):
     n = Parameter(1.0, "1", "Force-law exponent (1: linear)", min=1.0, tunable=False)
     s_rel0 = Parameter(0.0, "m", "Unstretched relative position", tunable=False)
 
-    def __init__(self, compression_only: bool = False, **params):
+    def __init__(self, compression_only: bool = False, **params: float | ca.SX):
         self._compression_only = compression_only
         super().__init__(**params)
 

@@ -37,7 +37,7 @@ class Connector:
     def _make_symbols(self):
         raise NotImplementedError
 
-    def variables(self):
+    def variables(self) -> list[tuple]:
         """(local name, symbol, unit, description, is_flow) of each variable."""
         raise NotImplementedError
 

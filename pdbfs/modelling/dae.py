@@ -94,7 +94,7 @@ class DAE:
                 "conditions", [self.p], [ca.vertcat(*[e for e, _ in conds])])
         return f
 
-    def conditions_hold(self, P) -> np.ndarray:
+    def conditions_hold(self, P: np.ndarray) -> np.ndarray:
         """Per row of ``P`` (points x parameters): whether every condition
         holds, all rows in one call (a sweep's chunk; check_conditions names
         what fails)."""
@@ -105,7 +105,7 @@ class DAE:
         v = np.array(f.map(P.shape[0])(P.T), float).reshape(-1, P.shape[0])
         return np.all(v >= 0, axis=0)
 
-    def check_conditions(self, p) -> None:
+    def check_conditions(self, p: np.ndarray) -> None:
         """Refuse parameters that contradict each other physically (each
         component's conditions()): a ParameterError naming them."""
         f = self._conditions_function()
@@ -128,7 +128,7 @@ class DAE:
             return float("nan")
         return float(ca.Function("v", [self.p], [self.calculated[name][0]])(p))
 
-    def time_event_times(self, p) -> np.ndarray:
+    def time_event_times(self, p: np.ndarray) -> np.ndarray:
         """The time events at parameters p, sorted (non-finite ones left out)."""
         n = self.time_events.numel()
         if not n:

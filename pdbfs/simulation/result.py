@@ -40,65 +40,36 @@ class Result:
     """One simulation of a rig: time and every variable as numpy arrays, SI units.
 
     ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]``
-    is ``res.t``), ``"oil.pressure" in res`` says whether the rig has it.
+    is ``res.t``); ``"oil.pressure" in res`` says whether the rig has it.
     Values between output points, peaks and crossings are located on the
     solution itself (on the Hermite interpolant where it is trusted, else by
     a short integration from the nearest output point), so they do not
-    depend on the output grid. A Result is made by ``simulate`` (or
-    ``Rig.simulate``), not by hand.
+    depend on the output grid. Read it with ``summary()``, ``peak()``,
+    ``crossings()`` and ``value_at()``; export it with ``to_csv()``,
+    ``to_pandas()``, ``as_dict()`` and ``plot()``. Made by ``simulate``.
 
     Attributes
     ----------
     t : numpy.ndarray
         The output times, s.
-    names : list of str
-        Every variable's dotted name, in the DAE's order.
-    units : dict
-        Variable name -> SI unit.
-    descriptions : dict
-        Variable name -> description.
-    params : dict
-        The run's parameter values by name, SI units.
-    p : numpy.ndarray
-        The same values as a vector, in the DAE's order.
+    names, units, descriptions : list and dicts
+        Every variable's dotted name (the DAE's order); unit and description by name.
+    params, p : dict and numpy.ndarray
+        The run's parameter values (SI units) by name, and as a vector in the DAE's order.
     initial : InitialState
         The start the run began from, and what initialization solved.
     rig : str
         The rig's name.
-    settings : dict
-        rtol, atol, method, max_step, max_num_steps and backend as used
-        (defaults resolved, "auto" decided).
-    stats : dict
-        Solver statistics: steps, rhs_evals, jac_evals, root_events, method,
-        wall_time (s), backend.
-
-    Methods
-    -------
-    summary()
-        What a test engineer reads off the pulse: peak pressure, its time,
-        duration, restitution, ..., and whether the pulse ended in the run.
-    peak(name, sign=1.0, window=None)
-        (time, value) of the maximum (or minimum) of a variable.
-    crossings(name, level=0.0)
-        The times at which a variable crosses a level, s.
-    value_at(name, t)
-        A variable at any time t, s.
-    to_csv(path, names=None)
-        Time and variables as CSV, units in the header.
-    to_pandas(names=None)
-        A pandas DataFrame indexed by time.
-    as_dict(names=None)
-        {"time": t, name: values, ...}.
-    plot(names=None, path=None, title=None)
-        A matplotlib Figure, one panel per unit.
+    settings, stats : dict
+        The settings as used (rtol, atol, method, max_step, max_num_steps,
+        backend) and the solver's statistics (steps, rhs_evals, jac_evals,
+        root_events, method, wall_time in s, backend).
     """
 
-    def __init__(self, sim: Simulator, t: np.ndarray, p: np.ndarray, X: np.ndarray | None,
-                 Z: np.ndarray, settings: dict, stats: dict | None = None,
-                 fast_summary: tuple | None = None, initial: InitialState | np.ndarray | None = None,
-                 states: Callable[[], np.ndarray] | None = None, own_stats: bool = False,
-                 shared: bool = False, impulse: np.ndarray | None = None):
-        """Made by the Simulator from a run's arrays (``shared``: t and p read-only, the plan's)."""
+    def __init__(self, sim: Simulator, t: np.ndarray, p: np.ndarray, X: np.ndarray | None, Z: np.ndarray,
+                 settings: dict, stats: dict | None = None, fast_summary: tuple | None = None,
+                 initial: InitialState | np.ndarray | None = None, states: Callable | None = None,
+                 own_stats: bool = False, shared: bool = False, impulse: np.ndarray | None = None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         self._impulse = impulse     # the contact force's impulse on t, if integrated (summary)
