@@ -16,7 +16,9 @@ the side (kinks.py).
 """
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import casadi as ca
 import numpy as np
@@ -25,6 +27,11 @@ from pdbfs.errors import ParameterError
 
 from .kinks import kinks_at
 from .settings import name_list
+
+if TYPE_CHECKING:
+    import control
+
+    from pdbfs.modelling import DAE, Component
 
 
 @dataclass
@@ -53,7 +60,7 @@ class Linearization:
             lines += [f"  {k}" for k in self.kinks]
         return "\n".join(lines)
 
-    def to_control(self):
+    def to_control(self) -> control.StateSpace:
         """A python-control StateSpace (optional dependency: pip install control);
         its signal names have '_' for '.', which python-control refuses."""
         try:
@@ -143,8 +150,11 @@ def _shape(v, states, units, floor=1e-13):
     return out
 
 
-def linearize(model, at="start", inputs=None, outputs=None, params=None, start=None,
-              initial=None, rtol=1e-10, atol=1e-12) -> Linearization:
+def linearize(model: Component | DAE, at: str | float = "start",
+              inputs: str | Sequence[str] | None = None, outputs: str | Sequence[str] | None = None,
+              params: Mapping[str, float] | None = None, start: Mapping[str, float] | None = None,
+              initial: str | Sequence[str] | None = None, rtol: float = 1e-10,
+              atol: float = 1e-12) -> Linearization:
     """State-space matrices of a rig at ``at`` ("start", "steady" or a time
     in s of a run from the start); ``inputs``: parameter names (columns of B
     and D); ``outputs``: variable names (rows of C and D; default the rig's

@@ -13,7 +13,9 @@ logarithm of that parameter.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,6 +25,14 @@ from pdbfs.simulation.settings import mapping, name_list, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
+
+if TYPE_CHECKING:
+    import os
+
+    from distributed import Client
+    from matplotlib.figure import Figure
+
+    from pdbfs.modelling import DAE, Component
 
 OUTPUTS = ("peak_pressure", "time_of_peak", "pulse_duration")
 #: below this base sample the bootstrap intervals mean nothing (N = 1 gives
@@ -151,9 +161,12 @@ class Sensitivity:
         return fig
 
 
-def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=None,
-                backend: str = "auto", client=None, seed: int = 0, t_end: float = 0.02,
-                workers=None, progress=None, out=None, overwrite: bool = False) -> Sensitivity:
+def sensitivity(rig: Component | DAE | str, ranges: Mapping[str, tuple], *, n: int = 4096,
+                outputs: Sequence[str] = OUTPUTS, params: Mapping[str, float] | None = None,
+                backend: str = "auto", client: Client | None = None, seed: int = 0,
+                t_end: float = 0.02, workers: int | None = None,
+                progress: bool | Callable[[int, int], object] | None = None,
+                out: str | os.PathLike | None = None, overwrite: bool = False) -> Sensitivity:
     """Sobol' indices of ``outputs`` (summary keys) with respect to the
     parameters in ``ranges`` {name: (lo, hi) or (lo, hi, "log")}: N (D + 2)
     simulations of ``rig`` (N = ``n``, a power of 2), run as one sweep

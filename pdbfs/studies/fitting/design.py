@@ -13,7 +13,9 @@ returned with what stops it (a bound, or the features moving together).
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -29,6 +31,16 @@ from .signal_model import DT, SignalModel, signal_of
 from .arguments import check_fit_arguments
 from .traces import as_trace, check_horizon, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
+
+if TYPE_CHECKING:
+    import os
+
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+    from pdbfs.modelling import DAE, Component
+
+    from .traces import Trace
 
 #: relative miss of a feature target below which it counts as reached
 REACHED = 1e-4
@@ -112,9 +124,15 @@ class Design:
         return write_columns(path, cols)
 
 
-def design(rig, target, *, free, bounds=None, start=None, params=None, signal=None,
-           t_end=None, starts: int = 1, seed: int = 0, rtol: float = 1e-8,
-           atol: float | None = None, dt: float = DT, progress=None) -> Design:
+def design(rig: Component | DAE | str,
+           target: str | os.PathLike | Trace | tuple[ArrayLike, ArrayLike] | Mapping[str, float], *,
+           free: str | Sequence[str],
+           bounds: Mapping[str, tuple[float, float]] | Sequence[str] | None = None,
+           start: Mapping[str, float] | None = None, params: Mapping[str, float] | None = None,
+           signal: str | None = None, t_end: float | None = None, starts: int = 1, seed: int = 0,
+           rtol: float = 1e-8,
+           atol: float | None = None, dt: float = DT,
+           progress: Callable[[int], object] | None = None) -> Design:
     """Settings of ``free`` that make ``rig``'s ``signal`` (default: its
     pressure) match ``target``: a curve (CSV path, Trace, (t, y)) or a dict of
     features {peak_pressure (Pa), pulse_duration (s), time_of_peak (s)}.

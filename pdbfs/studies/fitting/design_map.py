@@ -8,7 +8,9 @@ pins on the wall to see which settings give which pulse.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,6 +26,13 @@ from .calibration import _rig
 from .free_parameters import height_stands_for
 from .reports import save_figure, write_columns
 from ..sweeps import sweep
+
+if TYPE_CHECKING:
+    import os
+
+    from matplotlib.figure import Figure
+
+    from pdbfs.modelling import DAE, Component
 
 MAPPED = ("peak_pressure", "pulse_duration", "time_of_peak")
 
@@ -124,8 +133,10 @@ def axis(spec, n: int, log=None):
     return name, (np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n))
 
 
-def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=None,
-               backend: str = "auto", progress=None) -> DesignMap:
+def design_map(rig: Component | DAE | str, x: tuple[str, float, float] | str,
+               y: tuple[str, float, float] | str, *, n: int = 21, params: Mapping[str, float] | None = None, t_end: float = 0.03,
+               log: bool | None = None, backend: str = "auto",
+               progress: bool | Callable[[int, int], object] | None = None) -> DesignMap:
     """Peak pressure, pulse duration and time of peak over the grid of
     ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
     for the impact speed X.v0), ``n`` points per axis, all in one sweep."""

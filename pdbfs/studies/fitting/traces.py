@@ -3,6 +3,7 @@ read from a CSV file (units in the header converted to SI, the column chosen
 by name), checked before anything is fitted to them."""
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -65,7 +66,7 @@ def to_si(unit, where, column) -> tuple[float, str]:
     return UNITS[unit]
 
 
-def read_trace(path, what: str = "trace", signal: str | None = None) -> Trace:
+def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None = None) -> Trace:
     """Read a CSV trace: time in the first column, then the signal. The
     delimiter is sniffed (comma, semicolon, tab or spaces). A header is
     optional; where it gives units (``time [ms]``, ``oil.pressure [kPa]``)
