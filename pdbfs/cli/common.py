@@ -37,8 +37,8 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
                        help="integration method: CVODE's adams or bdf, or erk (explicit "
-                       "Runge-Kutta of order 8, compiled backend); auto: erk (compiled) or "
-                       f"Adams unless the rig is stiff, then bdf (default {method})")
+                       "Runge-Kutta of order 8, compiled backend); auto: the cheapest for the "
+                       f"run by an estimate from the rig's modes (default {method})")
     s.add_argument("--backend", default=backend, choices=["auto", "casadi", "c"],
                    help="casadi: SUNDIALS through CasADi; c: the rig's generated C compiled "
                    "with pdbfs's integrators (ODE rigs, built once by zig cc, cached); "

@@ -49,9 +49,10 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
         rtol below rtol 1e-8 (a tighter rtol then converges however small
         the signals).
     method : {"auto", "adams", "bdf", "erk"}
-        "auto": Adams unless a fast mode decays without oscillating (then
-        BDF); in the compiled backend the explicit Runge-Kutta method instead
-        of Adams. "adams" (non-stiff), "bdf" (stiff), "erk" (explicit
+        "auto": the cheapest method for the run, by an estimate of its steps
+        (from the rig's modes at the start) and of a step's cost: of "erk",
+        "adams" and "bdf" in the compiled backend, of the last two through
+        CasADi. "adams" (non-stiff), "bdf" (stiff), "erk" (explicit
         Runge-Kutta of order 8 with event location, compiled backend only).
         Rigs with algebraic variables always use IDAS (BDF).
     max_step : float, optional
