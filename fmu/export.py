@@ -95,7 +95,7 @@ def _fmi_header_dir(fmi_version: int = 2) -> Path:
                       f"fmpy or set PDBFS_FMI{fmi_version}_HEADERS to a directory holding them")
 
 
-def check_fmi_version(fmi_version) -> int:
+def check_fmi_version(fmi_version: int) -> int:
     """``fmi_version`` as 2 or 3, else an ExportError naming it."""
     if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
         raise ExportError(f"FMI version {fmi_version!r}: pdbfs writes FMI 2.0 or 3.0 "
@@ -304,7 +304,7 @@ def _describer(model: FmuModel, fmi_version: int, source_files: list[str]):
     return (lambda guid: model_description(model, guid, source_files)), ()
 
 
-def check_fmu_name(path) -> None:
+def check_fmu_name(path: str | os.PathLike) -> None:
     """Refuse a file name that does not end in ``.fmu``: the FMI standard
     names an FMU so, and tools look for it by that extension."""
     path = Path(path)

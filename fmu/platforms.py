@@ -40,6 +40,8 @@ class PlatformError(ExportError):
 
 @dataclass(frozen=True)
 class Platform:
+    """A platform an FMU's binary is built for, and where FMI 2.0 keeps it."""
+
     name: str            # FMI 3.0 platform tuple
     fmi2_dir: str        # folder under binaries/ in FMI 2.0
     suffix: str          # of the shared library

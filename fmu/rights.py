@@ -70,7 +70,7 @@ def pdbfs_license_text() -> str:
     return _BSD3.format(copyright=PDBFS_COPYRIGHT)
 
 
-def check_rights(**values) -> dict:
+def check_rights(**values: str | None) -> dict:
     """``author``, ``license``, ``copyright`` as given (None: the default), or
     an ExportError naming the one that cannot go into modelDescription.xml."""
     for name, v in values.items():

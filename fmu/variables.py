@@ -169,6 +169,7 @@ class FmuModel:
 
     # -- CasADi functions -----------------------------------------------------
     def functions(self) -> list[ca.Function]:
+        """The CasADi functions the FMU's C code is generated from: the model's and its derivatives'."""
         return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr) + \
             derivative_functions(self.dae, self.y_exposed)
 

@@ -31,7 +31,8 @@ DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensi
                "options.")
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
+    """The ``pdbfs`` argument parser, every command's options included."""
     ap = argparse.ArgumentParser(prog="pdbfs", description=DESCRIPTION)
     from importlib.metadata import PackageNotFoundError, version
     try:
@@ -60,7 +61,8 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"pdbfs: warning: {plain_text(message)}", file=sys.stderr)
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line with ``argv`` (default: sys.argv); returns the exit status."""
     args = build_parser().parse_args(argv)
     warnings.showwarning = _show_warning
     # the page's server stops on Ctrl-C its own way

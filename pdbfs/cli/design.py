@@ -12,6 +12,7 @@ from .progress import Progress
 
 
 def cmd_design(args):
+    """pdbfs design: find the settings for a target pulse, print them, write the files."""
     from pdbfs.studies import design
     rig = rig_by_name(args.rig)
     prepare_out(args.out)
@@ -39,6 +40,7 @@ def cmd_design(args):
 
 
 def cmd_design_map(args):
+    """pdbfs design-map: pulse features over a grid of two parameters."""
     from pdbfs.studies import design_map
     rig = rig_by_name(args.rig)
     prepare_out(args.out)
@@ -63,6 +65,7 @@ def cmd_design_map(args):
 
 
 def add_parsers(sub):
+    """Add the ``design`` and ``design-map`` commands to the subparsers ``sub``."""
     s = sub.add_parser("design", help="find the settings whose pulse matches a target curve "
                        "or target features")
     s.add_argument("--rig", default="paper", help="rig name (default: paper)")

@@ -11,6 +11,7 @@ from .common import (add_output_options, add_rig_options, add_run_options, parse
 
 
 def cmd_sensitivity(args):
+    """pdbfs sensitivity: Sobol' indices of the summary over parameter ranges."""
     require_extra("sensitivity", "pdbfs sensitivity")
     if args.dask:
         require_extra("dask", "--dask")
@@ -44,6 +45,7 @@ def cmd_sensitivity(args):
 
 
 def add_parsers(sub):
+    """Add the ``sensitivity`` command to the subparsers ``sub``."""
     s = sub.add_parser("sensitivity", help="Sobol' indices (SALib) of peak pressure, time of "
                        "peak and pulse duration over parameter ranges")
     add_rig_options(s)

@@ -10,6 +10,7 @@ from .progress import Progress
 
 
 def cmd_simulate(args):
+    """pdbfs simulate: one run of a rig, its summary printed (or JSON), results written."""
     rig = rig_by_name(args.rig)
     params = parse_sets(args.set)
     out = prepare_out(args.out)
@@ -77,6 +78,7 @@ def _title(name, res):
 
 
 def cmd_params(args):
+    """pdbfs params: every parameter of a rig with its value, unit and description."""
     dae = rig_by_name(args.rig).compile()
     if args.json:
         print(json.dumps([p.__dict__ for p in dae.params]))
@@ -89,6 +91,7 @@ def cmd_params(args):
 
 
 def cmd_export_fmu(args):
+    """pdbfs export-fmu: write a rig's FMU."""
     rig = rig_by_name(args.rig)
     check_output_file(args.output)
     version = int(args.fmi_version) if args.fmi_version in ("2", "3") else args.fmi_version  # else refused
@@ -98,6 +101,7 @@ def cmd_export_fmu(args):
 
 
 def add_parsers(sub):
+    """Add the ``simulate``, ``params`` and ``export-fmu`` commands to the subparsers ``sub``."""
     s = sub.add_parser("simulate", help="simulate a rig and print its summary; with --out, "
                        "write results.csv and a plot")
     add_rig_options(s)

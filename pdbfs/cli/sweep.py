@@ -74,6 +74,7 @@ def points_from_args(args):
 
 
 def cmd_sweep(args):
+    """pdbfs sweep: simulate a rig over many parameter values, locally or on Dask."""
     from pdbfs.studies import sweep
     from pdbfs.studies.sweeps.cluster import close, connect
     check_extras(args)
@@ -160,6 +161,7 @@ def interrupted(out, in_memory, n) -> str:
 
 
 def add_parsers(sub):
+    """Add the ``sweep`` command to the subparsers ``sub``."""
     s = sub.add_parser("sweep", help="simulate a rig over a grid or a sample of parameter "
                        "values, locally or on a Dask cluster; summaries to CSV/Parquet")
     add_rig_options(s, set_help="values of a parameter, comma separated or START:STOP:NUM "

@@ -241,6 +241,7 @@ def split(f: ca.Function, size: int = PART_INSTRUCTIONS) -> ca.Function:
 
 
 def work_sizes(funcs: list[ca.Function]) -> tuple[int, int, int, int]:
+    """The largest (arg, res, iw, w) work sizes of ``funcs``: one work area serves them all."""
     return (max(f.sz_arg() for f in funcs), max(f.sz_res() for f in funcs),
             max(f.sz_iw() for f in funcs), max(f.sz_w() for f in funcs))
 
@@ -300,6 +301,8 @@ def _available_memory() -> int | None:
 
 
 def run_compiler(cmd: list[str], what: str) -> None:
+    """Run the compiler command ``cmd``; a failure is an ExportError naming
+    ``what`` was compiled and the compiler's first error."""
     try:
         r = subprocess.run(cmd, capture_output=True, text=True)
     except OSError as err:

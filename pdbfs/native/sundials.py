@@ -72,7 +72,7 @@ _EXTRACT = tuple(sorted({"src/" + c.rsplit("/", 1)[0] + "/" for c in SUNDIALS_C}
 
 
 class SundialsNotFound(RuntimeError):
-    pass
+    """SUNDIALS' sources could not be had (not downloadable, a wrong hash, an unreadable file)."""
 
 
 @dataclass(frozen=True)
@@ -85,14 +85,17 @@ class SundialsSources:
 
     @property
     def src(self) -> Path:
+        """The folder of SUNDIALS' C sources."""
         return self.root / "src"
 
     @property
     def include(self) -> Path:
+        """The folder of the public headers, pdbfs's configuration headers included."""
         return self.root / "include"
 
     @property
     def license(self) -> Path:
+        """SUNDIALS' LICENSE file."""
         return self.root / "LICENSE"
 
 
@@ -106,6 +109,7 @@ class Sundials:
     target: str = ""
 
     def link_args(self) -> list[str]:
+        """The static libraries to put on a link line."""
         return [str(p) for p in self.libraries]
 
 

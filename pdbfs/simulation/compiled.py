@@ -101,6 +101,7 @@ class RunStatus:
 
     @property
     def ok(self) -> bool:
+        """Whether the call succeeded."""
         return self.code == RC_OK
 
 

@@ -60,6 +60,7 @@ BUILDS = 0
 
 
 def cache_dir() -> Path:
+    """The folder of the compiled rigs' shared libraries, in pdbfs's cache."""
     return cache_root() / "compiled"
 
 
@@ -102,6 +103,7 @@ def follow_lines(dae) -> list[str]:
 
 
 def header(dae, work) -> str:
+    """The C header of a rig's library: its sizes, work sizes (``work``) and the summary's roles."""
     signals = getattr(dae, "signals", {}) or {}
     present = [r for r in ROLES if signals.get(r) in dae.y_names]
     macros = [f"#define PDBFS_ROLE_{m} {present.index(r) if r in present else -1}"

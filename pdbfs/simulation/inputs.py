@@ -81,6 +81,7 @@ class RunInputs:
         return p
 
     def start_vector(self, p, start=None) -> np.ndarray:
+        """The start values at parameters ``p``, with ``start`` ({state: value}) put in, checked."""
         key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
         known = self._cache.get(key)
         if known is None:
@@ -180,6 +181,7 @@ class RunInputs:
 
     @property
     def nx(self) -> int:
+        """The number of states."""
         n = self.__dict__.get("_nx")
         if n is None:
             n = self._nx = int(self.dae.x.numel())

@@ -15,6 +15,7 @@ def available() -> float:
 
 
 def plain_bytes(n: float) -> str:
+    """``n`` bytes in kB, MB, GB or TB, three digits."""
     for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
         if n >= size:
             return f"{n / size:.3g} {unit}"

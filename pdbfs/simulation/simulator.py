@@ -30,7 +30,6 @@ from .on_grid import OnGrid
 from .result import Result
 from .stats import casadi_stats
 from .stiffness import auto_method
-
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_atol,  # noqa: F401
                        default_rtol, output_grid)
 
@@ -48,6 +47,7 @@ class Simulator(RunInputs, OnGrid):
 
     @staticmethod
     def of(model) -> "Simulator":
+        """The Simulator of a rig or DAE: one per compiled DAE, made on first use."""
         if not isinstance(model, DAE) and not callable(getattr(model, "compile", None)):
             raise ParameterError(f"rig = {model!r}: give a rig (a Component) or its compiled DAE, "
                                  f"not a {type(model).__name__}")
@@ -58,12 +58,12 @@ class Simulator(RunInputs, OnGrid):
         return sim
 
     def z_guess(self, p) -> np.ndarray:
+        """The algebraic variables' start guesses at parameters ``p`` (empty for an ODE rig)."""
         dae = self.dae
         if dae.is_ode:
             return np.zeros(0)
         return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
 
-    # -- integrators -------------------------------------------------------------
     def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
         """``method``, or for "auto" the one stiffness.auto_method picks
         for this start and time span (cached: repeated runs pay nothing): in
@@ -189,16 +189,15 @@ class Simulator(RunInputs, OnGrid):
         r = _call(F, x0=x, p=np.concatenate([p, [t0, h]]), z0=z0)
         return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
 
-    # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=None, atol=None, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
+        """One run, as simulate(). From the rig's start (its parameters or new ones), what the
+        checks decide is kept as a plan for the next run with the same settings (and types)."""
         dae = self.dae
         key = plan = None
         asked = backend
         if t_out is None and start is None and initial is None:
-            # the rig's start, with its own parameters or new ones: what the checks
-            # below decide is kept for the next run with the same settings (and types)
             try:
                 key = replay.key(t_end, n_out, rtol, atol, method, max_step, max_num_steps,
                                  backend, params is not None)
@@ -254,6 +253,7 @@ class Simulator(RunInputs, OnGrid):
                       impulse=None if backend == "c" else self._last_impulse)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
+        """(X, Z): states and algebraic variables on ``grid`` through CasADi, settings checked."""
         self._last_impulse = None      # the contact force's impulse on grid, for the summary
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)

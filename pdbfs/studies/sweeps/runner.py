@@ -31,6 +31,8 @@ LIST_KEYS = ("impact_times", "impact_peak_pressures", "impact_durations")
 
 @dataclass(frozen=True)
 class Settings:
+    """The settings every point of a sweep runs with (times in s)."""
+
     t_end: float = 0.02
     n_out: int = 2001
     rtol: float = 1e-8
@@ -72,6 +74,7 @@ class Runner:
                 self.fast = lib
 
     def run(self, index, block) -> Chunk:
+        """Evaluate the points ``block`` (rows of parameter values) numbered ``index``."""
         block = np.atleast_2d(np.asarray(block, dtype=float))
         n = block.shape[0]
         P = np.repeat(self.base[None, :], n, axis=0)
@@ -192,6 +195,7 @@ _RUNNERS: dict = {}   # key -> Runner, per worker process: the rig is built once
 
 
 def run_remote(key: str, data: bytes, index, block) -> Chunk:
+    """Runner.run on a Dask worker, its Runner built from ``data`` (payload()) once per process."""
     runner = _RUNNERS.get(key)
     if runner is None:
         with ca.global_unpickle_context():

@@ -25,10 +25,13 @@ FORMATS = ("parquet", "csv")
 
 
 def spec_hash(spec: dict) -> str:
+    """A short hash of a sweep's specification (its manifest)."""
     return hashlib.sha256(json.dumps(spec, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
 class Store:
+    """A sweep's folder: its manifest (what was asked) and the chunks computed so far."""
+
     def __init__(self, path, spec: dict, n_points: int, chunk_size: int, fmt: str = "parquet",
                  overwrite: bool = False):
         if fmt not in FORMATS:
@@ -94,15 +97,18 @@ class Store:
         return self.dir / CHUNKS
 
     def chunk_files(self) -> list[Path]:
+        """The chunk files written so far, in order."""
         if not self.chunk_dir.is_dir():
             return []
         return sorted(p for p in self.chunk_dir.glob("chunk-*.*")
                       if p.suffix in (".parquet", ".csv"))
 
     def path_of(self, chunk_id: int) -> Path:
+        """The file of chunk ``chunk_id``."""
         return self.chunk_dir / f"chunk-{chunk_id:06d}.{self.fmt}"
 
     def done(self) -> set[int]:
+        """The numbers of the chunks written (a resumed sweep skips them)."""
         return {int(p.stem.split("-")[1]) for p in self.chunk_files() if p.suffix == f".{self.fmt}"}
 
     def write(self, chunk_id: int, columns: dict):

@@ -21,8 +21,10 @@ import threading
 import os
 import sys
 import time
+from collections.abc import Callable, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -37,6 +39,12 @@ from .sampling import Grid, PointSet
 from .result import SweepResult
 from .runner import Runner, Settings, payload, run_remote
 from .store import Store, chunk_columns
+
+if TYPE_CHECKING:
+    from distributed import Client
+    from numpy.typing import ArrayLike
+
+    from pdbfs.modelling import DAE, Component
 
 #: below this many points a sweep runs in one process
 PARALLEL_MIN_POINTS = 8
@@ -53,11 +61,13 @@ def points_of(values: dict, grid: bool = True) -> list[dict]:
     return [dict(zip(g.names, row.tolist())) for row in g.all()]
 
 
-def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
+def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet, *,
+          grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
           rtol: float | None = None, atol: float | None = None, method: str = "auto",
           max_step: float | None = None, backend: str = "auto", workers: int | None = None,
-          progress=None, client=None, out=None, format: str | None = None,
+          progress: bool | Callable[[int, int], object] | None = None, client: Client | None = None,
+          out: str | os.PathLike | None = None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
