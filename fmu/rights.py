@@ -37,6 +37,7 @@ _BSD3 = """\
 BSD 3-Clause License
 
 {copyright}
+All rights reserved.
 
 Redistribution and use in source and binary forms, with or without
 modification, are permitted provided that the following conditions are met:
