@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from pdbfs.modelling import Component
-from pdbfs.simulation import Simulator, replay, simulate
+from pdbfs.simulation import Simulator, simulate
+from pdbfs.simulation.run import replay
 
 
 class Rig(Component):
@@ -62,15 +63,15 @@ class Rig(Component):
 
     def linearize(self, at="start", **kwargs):
         """State-space matrices A, B, C, D at ``at`` ("start", "steady" or a
-        time of a run, s); see pdbfs.simulation.linearize."""
-        from pdbfs.simulation.linearize import linearize
+        time of a run, s); see pdbfs.simulation.analysis.linearize."""
+        from pdbfs.simulation.analysis.linearize import linearize
         return linearize(self, at, **kwargs)
 
     def modes(self, at="start", **kwargs):
         """The rig's modes at ``at`` as a pandas DataFrame: omega (rad/s),
         frequency (Hz), damping (ratio; NaN for a zero eigenvalue), shape
         (amplitude by state name), eigenvalue; slowest first."""
-        from pdbfs.simulation.linearize import modes_frame
+        from pdbfs.simulation.analysis.linearize import modes_frame
         return modes_frame(self.linearize(at, **kwargs).modes())
 
     def export_fmu(self, path="pdbfs.fmu", **kwargs):

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from pdbfs.models import RIGS
-from pdbfs.simulation.simulator import Simulator
-from pdbfs.simulation.stiffness import auto_method, fast_modes, rates
+from pdbfs.simulation.run.simulator import Simulator
+from pdbfs.simulation.run.stiffness import auto_method, fast_modes, rates
 
 RIG_NAMES = ["paper", "paper-hydraulic", "hydraulic-pulse", "drop", "split-piston"]
 

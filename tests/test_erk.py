@@ -102,7 +102,7 @@ def test_auto_keeps_adams_for_runs_long_against_the_fastest_mode():
     """the drop rig's 1.5 s are 10,000 rad of its breech mode: the explicit
     method's steps would be limited by stability there, so "auto" takes Adams"""
     from pdbfs.models import drop_rig
-    from pdbfs.simulation.stiffness import ERK_RADIANS, fast_modes
+    from pdbfs.simulation.run.stiffness import ERK_RADIANS, fast_modes
     rig = drop_rig()
     sim = Simulator.of(rig)
     p = sim.param_vector()

@@ -23,7 +23,7 @@ from pdbfs.fmu import export_fmu
 from pdbfs.models import hydraulic_pulse_rig
 from pdbfs.native.codegen import ERK_DRIVER
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.stiffness import fast_modes
+from pdbfs.simulation.run.stiffness import fast_modes
 
 ERK, BDF, ADAMS, AUTO = 3, 1, 2, 0
 GRID = np.linspace(0.0, 0.02, 2001)

@@ -212,7 +212,7 @@ def test_a_run_again_is_the_run_the_general_way(rig, t_end, n_out):
     summary warns on both paths, and a run whose record outweighs its grid
     (the states made at once)."""
     import warnings
-    from pdbfs.simulation import replay
+    from pdbfs.simulation.run import replay
     rig.simulate(t_end, n_out=n_out)
     calls = _calls(lambda: rig.simulate(t_end, n_out=n_out))
     assert "replay.py:run" in calls and "simulator.py:_run" not in calls
@@ -228,14 +228,14 @@ def test_a_run_again_is_the_run_the_general_way(rig, t_end, n_out):
     assert [str(w.message) for w in w_again] == [str(w.message) for w in w_general]
     assert (t_end < 0.01) == bool(w_again) == (not s_again["complete"])
     _same_run(again, general)
-    assert replay.Plan.__module__ == "pdbfs.simulation.replay"
+    assert replay.Plan.__module__ == "pdbfs.simulation.run.replay"
 
 
 def test_a_replay_that_fails_says_what_the_general_path_says(rig, monkeypatch):
     """A planned run whose compiled call fails is not answered by the replay:
     the general path runs it and says why, in one line."""
     from pdbfs.errors import SolverError
-    from pdbfs.simulation import compiled as C
+    from pdbfs.simulation.run import compiled as C
     rig.simulate()
     lib = Simulator.of(rig).compiled()
     real = lib._run_summary
@@ -358,7 +358,7 @@ def test_new_parameters_that_need_another_method_take_the_general_run():
 def test_a_failed_replay_with_new_parameters_runs_those_parameters(rig, monkeypatch):
     """Where the replay's compiled call fails, the general run that explains
     (or, here, succeeds) is of the new parameters, not the plan's."""
-    from pdbfs.simulation import compiled as C
+    from pdbfs.simulation.run import compiled as C
     rig.simulate(params={"hammer.v0": 2.5})
     lib = Simulator.of(rig).compiled()
     real, failed = lib._run_summary, []

@@ -11,8 +11,8 @@ import pdbfs
 from pdbfs.components import Fixed, Mass, Spring
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
-from pdbfs.simulation import compiled as batch
-from pdbfs.simulation.compiled import SUMMARY_KEYS
+from pdbfs.simulation.run import compiled as batch
+from pdbfs.simulation.run.compiled import SUMMARY_KEYS
 
 OK, CUT, BAD = 0, 1, 2
 W = 2 * math.pi * 100.0          # the oscillator's angular frequency (100 Hz)

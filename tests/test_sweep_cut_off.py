@@ -10,7 +10,7 @@ import pytest
 
 import pdbfs
 from pdbfs.models import paper_hydraulic_oil_rig, paper_rig, split_piston_rig
-from pdbfs.simulation import compiled
+from pdbfs.simulation.run import compiled
 from pdbfs.studies.sweeps import runner
 
 KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",

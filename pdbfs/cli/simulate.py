@@ -36,7 +36,7 @@ def cmd_simulate(args):
 
 def _title(name, res):
     """The plot's title: the rig as the command line names it (and as its FMU does)."""
-    from pdbfs.simulation.plotting import _title as describe
+    from pdbfs.simulation.results.plotting import _title as describe
     return describe(res).replace(f"rig {res.rig}", f"rig {name} ({res.rig})", 1)
 
 

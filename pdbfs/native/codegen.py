@@ -1,6 +1,6 @@
 """C code generation and compilation shared by the FMU exporter
 (``pdbfs.fmu``) and the compiled simulation backend
-(``pdbfs.simulation.compiled``).
+(``pdbfs.simulation.run.compiled``).
 
 Conventions (the same for every generated binary):
 

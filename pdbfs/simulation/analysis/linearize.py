@@ -144,7 +144,7 @@ def linearize(model, at="start", inputs=None, outputs=None, params=None, start=N
     in s of a run from the start); ``inputs``: parameter names (columns of B
     and D); ``outputs``: variable names (rows of C and D; default the rig's
     outputs). ``params``, ``start`` and ``initial`` as in simulate()."""
-    from .simulator import Simulator
+    from ..run.simulator import Simulator
     sim = Simulator.of(model)
     dae = sim.dae
     inputs = list(inputs or [])
@@ -184,7 +184,7 @@ def linearize(model, at="start", inputs=None, outputs=None, params=None, start=N
 
 def operating_point(sim, at, p, start, initial, rtol, atol):
     """(x, t) of ``at``."""
-    from .initialize import solve_start
+    from ..setup.initialize import solve_start
     x_guess = sim.start_vector(p, start)
     if isinstance(at, str):
         if at not in ("start", "steady"):

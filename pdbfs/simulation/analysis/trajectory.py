@@ -15,9 +15,9 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError
-from .initialize import refuse_solved_start
-from .simulator import MAX_NUM_STEPS, Simulator
-from .time_events import breakpoints
+from ..setup.initialize import refuse_solved_start
+from ..run.simulator import MAX_NUM_STEPS, Simulator
+from ..setup.time_events import breakpoints
 
 
 def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,

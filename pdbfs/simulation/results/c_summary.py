@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from operator import itemgetter
 
-from .compiled import SUMMARY_KEYS
+from ..run.compiled import SUMMARY_KEYS
 from .summary import keys_for
 
 COMPLETE = SUMMARY_KEYS.index("complete")

@@ -17,7 +17,7 @@ from pdbfs.files import whole
 
 from .c_summary import summary_of
 from .hermite import Curves
-from .initialize import InitialState
+from ..setup.initialize import InitialState
 from .summary import summarize
 
 

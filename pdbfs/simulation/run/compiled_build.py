@@ -28,9 +28,9 @@ from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUN
                                   model_functions, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
-from .summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
+from ..results.summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
 
-C_DIR = Path(__file__).with_name("c")
+C_DIR = Path(__file__).parents[1] / "c"
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",

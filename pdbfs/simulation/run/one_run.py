@@ -2,7 +2,7 @@
 (``Rig.simulate`` and ``pdbfs.simulate``); the work is the Simulator's."""
 from __future__ import annotations
 
-from .settings import MAX_NUM_STEPS
+from ..setup.settings import MAX_NUM_STEPS
 from .simulator import Simulator
 
 

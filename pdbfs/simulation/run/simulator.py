@@ -21,18 +21,19 @@ import numpy as np
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE
 
-from . import c_summary, replay
+from ..results import c_summary
+from . import replay
 from . import compiled as C
-from . import time_events as TE
+from ..setup import time_events as TE
 from .failures import compiled_failure, walk_failure
-from .initialize import solve_start
-from .inputs import RunInputs
-from .on_grid import OnGrid
-from .result import Result
+from ..setup.initialize import solve_start
+from ..setup.inputs import RunInputs
+from ..results.on_grid import OnGrid
+from ..results.result import Result
 from .stats import casadi_stats
 from .stiffness import auto_method
 
-from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
+from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
                        output_grid)
 
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.settings import real
+from pdbfs.simulation.setup.settings import real
 
 from .calibration import _rig
 from .features import FEATURES, UNITS

@@ -21,7 +21,7 @@ from scipy import stats
 from scipy.stats import qmc
 
 from pdbfs.errors import ParameterError, PdbfsWarning, plain
-from pdbfs.simulation.memory import require
+from pdbfs.simulation.setup.memory import require
 
 SAMPLERS = ("lhs", "sobol", "mc")
 DISTRIBUTIONS = {"normal": 2, "uniform": 2, "lognormal": 2}   # name -> number of arguments

@@ -28,9 +28,9 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, plain
 from pdbfs.simulation import Result, Simulator
-from pdbfs.simulation.memory import require, run_bytes, table_bytes
-from pdbfs.simulation.settings import mapping
-from pdbfs.simulation.settings import default_rtol
+from pdbfs.simulation.setup.memory import require, run_bytes, table_bytes
+from pdbfs.simulation.setup.settings import mapping
+from pdbfs.simulation.setup.settings import default_rtol
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
