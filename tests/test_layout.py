@@ -124,7 +124,7 @@ def test_no_file_is_long():
 def test_the_c_drivers_share_one_cvode_loop():
     """The compiled backend and the FMU integrate with the same CVODE driver,
     and neither has a copy of it."""
-    batch = (ROOT / "pdbfs/simulation/c/pdbfs_batch.c").read_text()
-    cosim = (ROOT / "fmu/c/cosimulation.c").read_text()
+    batch = (ROOT / "pdbfs/native/c/library/pdbfs_batch.c").read_text()
+    cosim = (ROOT / "pdbfs/native/c/fmu/cosimulation.c").read_text()
     for text in (batch, cosim):
         assert "pdbfs_cvode_advance(" in text and "CVode(" not in text

@@ -34,14 +34,18 @@ from . import toolchain
 from .initial import solved_start_function
 from .sundials import Sundials, find_sundials
 
-#: the C shared by every generated binary: CVODE through the events
+#: pdbfs's own C, a folder per binary it goes into: shared/ (every binary: the
+#: compiled backend's library and every FMU), library/ (the library only), fmu/
+#: (every FMU only)
 NATIVE_C = Path(__file__).with_name("c")
-CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h",
+SHARED_C, LIBRARY_C, FMU_C = NATIVE_C / "shared", NATIVE_C / "library", NATIVE_C / "fmu"
+#: the C shared by every generated binary: CVODE through the events
+CVODE_DRIVER = (SHARED_C / "pdbfs_cvode.c", SHARED_C / "pdbfs_cvode.h",
                 # ... and the modes at a state, for method "auto"
-                NATIVE_C / "pdbfs_modes.c", NATIVE_C / "pdbfs_modes.h")
+                SHARED_C / "pdbfs_modes.c", SHARED_C / "pdbfs_modes.h")
 #: the explicit Runge-Kutta 8(5,3) with root finding at the kinks (method "erk"),
 #: on the CVODE driver's model interface: one source for both users
-ERK_DRIVER = tuple(NATIVE_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk_screen.c",
+ERK_DRIVER = tuple(SHARED_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk_screen.c",
                                           "pdbfs_erk.h",
                                           "pdbfs_erk_la.h", "pdbfs_erk_table.h"))
 #: generated beside the model: the state count pdbfs_erk_la.h specialises for

@@ -23,14 +23,14 @@ from pathlib import Path
 import casadi as ca
 
 from pdbfs.native import codegen, straight, toolchain
-from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, POW_HELPER,
-                                  check_compiler_memory, compile_command, erk_size_header, generate,
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, LIBRARY_C,
+                                  POW_HELPER, check_compiler_memory, compile_command, erk_size_header, generate,
                                   model_functions, run_compiler, sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
 from ..results.summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
 
-C_DIR = Path(__file__).parents[1] / "c"
+C_DIR = LIBRARY_C
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
