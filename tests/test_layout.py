@@ -128,3 +128,77 @@ def test_the_c_drivers_share_one_cvode_loop():
     cosim = (ROOT / "pdbfs/native/c/fmu/cosimulation.c").read_text()
     for text in (batch, cosim):
         assert "pdbfs_cvode_advance(" in text and "CVode(" not in text
+
+
+def dotted(path: pathlib.Path) -> str:
+    """A module file's name as Python imports it (pdbfs.*)."""
+    pkg = package_of(path)
+    return ".".join(pkg if path.name == "__init__.py" else pkg + [path.stem])
+
+
+MODULE_FILES = {dotted(p): p for p in SOURCES}
+
+
+def module_targets(path: pathlib.Path):
+    """The project's modules that importing ``path`` runs, function-level
+    imports included: the module named, or the modules named in a
+    ``from ... import``, and the package imported from unless it is one of
+    the module's own (already running when the module is)."""
+    me, pkg = dotted(path), package_of(path)
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            yield from (a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = ".".join(pkg[: len(pkg) - node.level + 1] + ([node.module] if node.module else [])) \
+                if node.level else node.module
+            subs = [f"{base}.{a.name}" for a in node.names if f"{base}.{a.name}" in MODULE_FILES]
+            yield from subs
+            if len(subs) < len(node.names) or not (me + ".").startswith(base + "."):
+                yield base
+
+
+def import_graph() -> dict:
+    """module -> the project's modules it imports (module_targets)."""
+    return {m: {t for t in module_targets(p) if t in MODULE_FILES and t != m}
+            for m, p in MODULE_FILES.items()}
+
+
+def cycles(graph: dict) -> list:
+    """The import circles of ``graph``: its strongly connected components of
+    more than one module (Tarjan), each sorted."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            part = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                part.append(w)
+                if w == v:
+                    break
+            if len(part) > 1:
+                found.append(sorted(part))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_module_imports_itself_through_others():
+    """No import circle between the project's modules, function-level imports
+    counted: a circle means neither module can be read (or moved) without the other."""
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]   # the finder
+    assert "pdbfs.native.straight" in import_graph()["pdbfs.native.codegen"]
+    found = cycles(import_graph())
+    assert not found, "import circles: " + "; ".join(" <-> ".join(c) for c in found)

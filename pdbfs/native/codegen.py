@@ -32,6 +32,7 @@ from pdbfs.modelling.initialization import needs_solving
 
 from . import toolchain
 from .initial import solved_start_function
+from .straight import HELPERS, PART_INSTRUCTIONS, straight_c, zeros_needed
 from .sundials import Sundials, find_sundials
 
 #: pdbfs's own C, a folder per binary it goes into: shared/ (every binary: the
@@ -140,7 +141,6 @@ def generate(funcs: list[ca.Function], directory: str | os.PathLike,
     sizes (arg, res, iw, w) a caller must provide. The functions named in
     ``straight`` are written as straight-line C (straight.py) where that
     can be done, the others by CasADi."""
-    from .straight import HELPERS, straight_c, zeros_needed
     own = {}
     for f in funcs:
         if f.name() in straight:
@@ -209,14 +209,9 @@ def fast_pow(c_text: str) -> str:
     return c_text[:at] + POW_HELPER + c_text[at:]
 
 
-#: instructions per generated C function at most (about 35 kB of C): GCC's
-#: optimisation grows faster than linearly with the size of one function
-#: (measured on the split piston, N = 200: one function per output, 17 s
-#: and 520 MB at -O2; in parts of 2,000 instructions, 5.7 s and 295 MB;
-#: N = 1,000: 30 s and 760 MB)
-PART_INSTRUCTIONS = 2000
-#: and output rows at most: each written output is a branch in the C, and
-#: many branches in one function cost GCC as much as many instructions
+#: instructions (straight.PART_INSTRUCTIONS) and output rows per generated C
+#: function at most: each written output is a branch in the C, and many
+#: branches in one function cost GCC as much as many instructions
 PART_ROWS = 256
 
 
