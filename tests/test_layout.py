@@ -202,3 +202,49 @@ def test_no_module_imports_itself_through_others():
     assert "pdbfs.native.straight" in import_graph()["pdbfs.native.codegen"]
     found = cycles(import_graph())
     assert not found, "import circles: " + "; ".join(" <-> ".join(c) for c in found)
+
+
+#: pdbfs.simulation's folders, in their order: each may import the folders
+#: before it (and state.py, the layer's state per rig), never those after it
+SIM = ROOT / "pdbfs/simulation"
+SIM_FOLDERS = ("setup", "results", "run", "analysis")
+
+
+def simulation_part(name: str):
+    """The folder (or root module) of pdbfs.simulation that module ``name``
+    belongs to; "" for the package itself, None outside it."""
+    parts = name.split(".")
+    if parts[:2] != ["pdbfs", "simulation"]:
+        return None
+    return parts[2] if len(parts) > 2 else ""
+
+
+@pytest.mark.parametrize("path", sorted(p for p in SIM.rglob("*.py") if p != SIM / "__init__.py"),
+                         ids=lambda p: p.relative_to(SIM).as_posix())
+def test_the_simulation_folders_import_one_way(path):
+    """setup <- results <- run <- analysis: a result never imports the run that
+    makes it, a run never an analysis of runs."""
+    part = simulation_part(dotted(path))
+    if part == "state":
+        allowed = {part}
+    else:
+        allowed = set(SIM_FOLDERS[:SIM_FOLDERS.index(part)]) | {part, "state"}
+    bad = [t for t in module_targets(path)
+           if simulation_part(t) is not None and simulation_part(t) not in allowed]
+    assert not bad, f"pdbfs.simulation.{part} may import {sorted(allowed)}, but imports {bad}"
+
+
+def test_every_simulation_module_is_in_a_folder_that_lists_it():
+    """A reader finds a run, a result and an analysis by the folder names:
+    no module lies loose at the root, and each folder's
+    docstring names each of its modules and what the folder may import."""
+    loose = sorted(p.name for p in SIM.glob("*.py"))
+    assert loose == ["__init__.py"], loose
+    assert sorted(p.name for p in SIM.iterdir() if p.is_dir() and p.name != "__pycache__") == \
+        sorted(SIM_FOLDERS)
+    for folder in SIM_FOLDERS:
+        doc = ast.get_docstring(ast.parse((SIM / folder / "__init__.py").read_text()))
+        assert doc and "May import" in doc, f"{folder}/__init__.py: say what it holds and may import"
+        missing = [p.name for p in (SIM / folder).glob("*.py")
+                   if p.name != "__init__.py" and p.name not in doc]
+        assert not missing, f"{folder}/__init__.py does not list {missing}"

@@ -15,8 +15,14 @@ from __future__ import annotations
 
 from operator import itemgetter
 
-from ..run.compiled import SUMMARY_KEYS
 from .summary import keys_for
+
+#: what the summary driver computes, in its order (the compiled library's summary,
+#: native/c/library/pdbfs_summary.c); a key is reported when its role exists.
+#: ``complete`` is 1.0 when the pulse ended inside the run (the pressure rose above and fell
+#: back below 1 % of its peak, and the contact force is zero at the end), else 0.0
+SUMMARY_KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
+                "max_piston_displacement", "restitution_coefficient", "complete")
 
 COMPLETE = SUMMARY_KEYS.index("complete")
 

@@ -26,6 +26,7 @@ import numpy as np
 from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
+from ..results.c_summary import SUMMARY_KEYS
 from . import compiled_build as build_lib
 from .block import Block
 from .compiled_build import ABI, ROLES
@@ -35,11 +36,8 @@ METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
 MSG_LEN = 1024
 POINT_MSG_LEN = 320
 
-#: what the summary driver computes, in its order; a key is reported when its role exists.
-#: ``complete`` is 1.0 when the pulse ended inside the run (the pressure rose above and fell
-#: back below 1 % of its peak, and the contact force is zero at the end), else 0.0
-SUMMARY_KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
-                "max_piston_displacement", "restitution_coefficient", "complete")
+#: the role each key of the summary driver needs (SUMMARY_KEYS, in the driver's order:
+#: results/c_summary.py)
 KEY_ROLES = {"peak_pressure": "pressure", "time_of_peak": "pressure", "pulse_duration": "pressure",
              "peak_contact_force": "contact_force", "max_piston_displacement": "piston_displacement",
              "restitution_coefficient": "contact_force", "complete": "pressure"}
