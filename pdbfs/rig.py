@@ -7,8 +7,19 @@ from __future__ import annotations
 import numpy as np
 
 from pdbfs.modelling import Component
-from pdbfs.simulation import Simulator, simulate
-from pdbfs.simulation.run import replay
+from pdbfs.simulation import simulate
+from pdbfs.simulation.run.one_run import simulate_own
+
+
+class _OutputChecks:
+    """What the rig layer keeps of one compiled rig (in ``DAE.companions``):
+    the components' check_output methods, found once; a rig that changes is
+    compiled again, and searched again."""
+
+    __slots__ = ("checks",)
+
+    def __init__(self, checks: list):
+        self.checks = checks
 
 
 class Rig(Component):
@@ -22,16 +33,10 @@ class Rig(Component):
         Components with a ``check_output(dt_out, params)`` method (e.g. an
         ElasticBar, whose segments may be too coarse for the output rate)
         are asked first."""
-        if not kwargs:
-            # the rig's own run again: its plan replayed, nothing asked again (replay.py)
-            dae = self._compiled
-            plans = dae.__dict__.get("_own_plans") if dae is not None else None
-            if plans and type(t_end) is float:
-                own = plans.get(t_end)
-                if own is not None and own[1].params is dae.params:
-                    return replay.run(*own)
-            if not self._output_checks():
-                return replay.own(Simulator.of(self), t_end)
+        dae = self.compile()
+        checks = (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
+        if not kwargs and not checks:
+            return simulate_own(dae, t_end)      # the rig's own run (its plan replayed)
         self._check_output(t_end, kwargs)
         return simulate(self, t_end, **kwargs)
 
@@ -51,15 +56,15 @@ class Rig(Component):
             check(dt, kwargs.get("params"))
 
     def _output_checks(self) -> list:
-        """The components' check_output methods, found once per compiled rig
-        (a rig changed since is compiled again, and searched again)."""
+        """The components' check_output methods, found once per compiled rig."""
         dae = self.compile()
-        checks = dae.__dict__.get("_output_checks")
-        if checks is None:
-            checks = [c for c in (getattr(comp, "check_output", None) for comp in self.walk())
-                      if c is not None]
-            dae.__dict__["_output_checks"] = checks
-        return checks
+        return (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
+
+    def _find_output_checks(self, dae) -> _OutputChecks:
+        """The components' check_output methods, found now and kept with ``dae``."""
+        checks = [c for c in (getattr(comp, "check_output", None) for comp in self.walk())
+                  if c is not None]
+        return dae.companions.setdefault(_OutputChecks, _OutputChecks(checks))
 
     def linearize(self, at="start", **kwargs):
         """State-space matrices A, B, C, D at ``at`` ("start", "steady" or a

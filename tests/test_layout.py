@@ -236,10 +236,10 @@ def test_the_simulation_folders_import_one_way(path):
 
 def test_every_simulation_module_is_in_a_folder_that_lists_it():
     """A reader finds a run, a result and an analysis by the folder names:
-    no module lies loose at the root, and each folder's
+    no module lies loose at the root but state.py, and each folder's
     docstring names each of its modules and what the folder may import."""
     loose = sorted(p.name for p in SIM.glob("*.py"))
-    assert loose == ["__init__.py"], loose
+    assert loose == ["__init__.py", "state.py"], loose
     assert sorted(p.name for p in SIM.iterdir() if p.is_dir() and p.name != "__pycache__") == \
         sorted(SIM_FOLDERS)
     for folder in SIM_FOLDERS:
@@ -248,3 +248,52 @@ def test_every_simulation_module_is_in_a_folder_that_lists_it():
         missing = [p.name for p in (SIM / folder).glob("*.py")
                    if p.name != "__init__.py" and p.name not in doc]
         assert not missing, f"{folder}/__init__.py does not list {missing}"
+
+
+#: the dict methods that write
+DICT_WRITES = {"setdefault", "update", "pop", "popitem", "clear", "__setitem__", "__delitem__"}
+
+
+def writes_into_others(source: str) -> list:
+    """Lines that write into another object's ``__dict__`` (or ``vars()``):
+    any object but the method's own ``self`` (or ``cls``). What a layer
+    keeps of another layer's object it keeps itself (e.g. pdbfs.simulation's
+    RigState, held by the DAE as its companion)."""
+    def others_dict(node) -> bool:
+        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+            owner = node.value
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and \
+                node.func.id == "vars" and len(node.args) == 1:
+            owner = node.args[0]
+        else:
+            return False
+        return not (isinstance(owner, ast.Name) and owner.id in ("self", "cls"))
+
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Delete)):
+            targets = node.targets if isinstance(node, (ast.Assign, ast.Delete)) else [node.target]
+            if any(isinstance(s, ast.Subscript) and others_dict(s.value)
+                   for t in targets for s in ast.walk(t)):
+                bad.append(node.lineno)
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and \
+                node.func.attr in DICT_WRITES and others_dict(node.func.value):
+            bad.append(node.lineno)
+    return sorted(set(bad))
+
+
+def test_the_checker_finds_writes_into_others():
+    src = ("dae.__dict__['_x'] = 1\nsim.dae.__dict__.setdefault('_p', {})\nvars(r).update(s)\n"
+           "del d.__dict__['a']\nx.__dict__['a']['b'] = 2\n"
+           "self.__dict__['_f'] = 1\nself.__dict__.setdefault('_f', {})['g'] = 2\n"
+           "n = dae.__dict__.get('_x')\nk = {a: b for a, b in vars(r).items()}\n")
+    assert writes_into_others(src) == [1, 2, 3, 4, 5]
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_no_module_writes_into_another_objects_dict(path):
+    """Each layer owns its own state: no module stashes its caches in another
+    layer's objects through their __dict__ (the DAE offers ``companion`` and
+    ``cached``, and a Result ``detached`` and ``attach``)."""
+    bad = writes_into_others(path.read_text())
+    assert not bad, f"writes into another object's __dict__ at lines {bad}"

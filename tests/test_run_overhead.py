@@ -46,7 +46,7 @@ def test_a_default_run_and_its_summary_do_the_rig_s_work_once(rig):
         assert once not in calls, once
     # and a run again is a replay of its plan, found by the rig itself: a few
     # Python frames, none of Simulator.run's arguments and checks (replay.py: why)
-    assert "simulator.py:run" not in calls and "rig.py:_output_checks" not in calls
+    assert "simulator.py:run" not in calls and "simulator.py:of" not in calls
     assert len(calls) < 20, calls
 
 
@@ -119,13 +119,41 @@ def test_the_initial_record_of_a_declared_start_is_the_start(rig):
 def test_output_checks_are_found_again_when_the_rig_is_compiled_again():
     r = paper_rig()
     r.simulate(n_out=11)
-    assert r.compile().__dict__["_output_checks"] == []
+    assert r._output_checks() == []
     seen = []
     r.hammer.check_output = lambda dt, params: seen.append(dt)
     object.__setattr__(r, "_compiled", None)     # as connect() and free() leave a changed rig
     r.simulate(0.01, n_out=11)
     r.simulate(0.01, n_out=101)
     assert seen == [pytest.approx(1e-3), pytest.approx(1e-4)]
+
+
+def test_a_changed_rig_starts_afresh_and_its_old_state_goes_with_its_old_dae():
+    """What the simulation layer keeps of a rig (its RigState: the Simulator,
+    the compiled library, the plans of its own runs) and the rig layer's
+    output checks are the compiled DAE's companions: a rig that changes
+    compiles a new DAE, which starts with none, and the old state is freed
+    with the old DAE (nothing outside holds it: no registry keyed by DAEs)."""
+    import gc
+    import weakref
+    from pdbfs.simulation.state import RigState
+    r = paper_rig()
+    first = r.simulate().summary()
+    old = r.compile()
+    state = old.companions[RigState]
+    assert state.simulator is Simulator.of(r) and state.compiled is not None and state.own_plans
+    gone = [weakref.ref(o) for o in (old, state.simulator, state.compiled)]
+    del state
+    r.hammer.check_output = lambda dt, params: None    # a new component method: seen once compiled again
+    r._changed()                                       # as connect() leaves a changed rig
+    again = r.simulate().summary()
+    new = r.compile()
+    assert new is not old and new.companions[RigState].simulator is Simulator.of(r)
+    assert new.companions[RigState].simulator.dae is new and len(r._output_checks()) == 1
+    assert again == first                              # the same rig, the same numbers
+    del old
+    gc.collect()
+    assert [ref() for ref in gone] == [None] * 3
 
 
 @pytest.mark.parametrize("backend", ["c", "casadi"])

@@ -36,23 +36,24 @@ def usable(dae, lib) -> bool:
     return ok
 
 
-def _layout(dae) -> tuple:
+def _layout(sim) -> tuple:
     """(the rig's summary keys, a function picking their values from
-    SUMMARY_KEYS' order as a tuple), once per DAE."""
-    keys = tuple(keys_for(dae))
+    SUMMARY_KEYS' order as a tuple), once per rig (its RigState)."""
+    keys = tuple(keys_for(sim.dae))
     at = [SUMMARY_KEYS.index(k) for k in keys]
-    layout = dae.__dict__["_c_summary_layout"] = (keys, lambda v: tuple(v[i] for i in at)) \
+    layout = sim.state.summary_layout = (keys, lambda v: tuple(v[i] for i in at)) \
         if len(at) < 2 else (keys, itemgetter(*at))
     return layout
 
 
-def summary_of(dae, fast) -> dict | None:
+def summary_of(sim, fast) -> dict | None:
     """Result.summary()'s dict from the run's own summary (values (a list),
-    code, note), or None where summary.py must be asked."""
+    code, note), or None where summary.py must be asked (``sim``: the
+    Simulator of the run)."""
     values, code, note = fast
     if code != 0 or note or values[COMPLETE] != 1.0:
         return None
-    keys, pick = dae.__dict__.get("_c_summary_layout") or _layout(dae)
+    keys, pick = sim.state.summary_layout or _layout(sim)
     picked = pick(values)
     out = dict(zip(keys, picked))
     total = sum(picked)

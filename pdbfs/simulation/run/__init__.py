@@ -1,6 +1,7 @@
 """One run of a rig: the Simulator, its two back ends and the method choice.
 
-    one_run.py     simulate(): one run of a rig, the function users call
+    one_run.py     simulate(): one run of a rig, the function users call;
+                   simulate_own(): the rig's own run, replayed from the second on
     simulator.py   Simulator: CVODES/IDAS through casadi.integrator,
                    integrators cached per setting, clear SolverErrors
     compiled.py    backend="c" (the default where it builds): the DAE's

@@ -27,6 +27,7 @@ from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
 from ..results.c_summary import SUMMARY_KEYS
+from ..state import state_of
 from . import compiled_build as build_lib
 from .block import Block
 from .compiled_build import ABI, ROLES
@@ -367,8 +368,8 @@ class CompiledODE:
 
 def compiled(dae) -> CompiledODE:
     """The CompiledODE of ``dae``, built (or loaded from the disk cache) once
-    per DAE object."""
-    c = dae.__dict__.get("_compiled_c")
-    if c is None:
-        c = dae.__dict__["_compiled_c"] = CompiledODE(dae)
-    return c
+    per DAE object (kept in its RigState)."""
+    state = state_of(dae)
+    if state.compiled is None:
+        state.compiled = CompiledODE(dae)
+    return state.compiled

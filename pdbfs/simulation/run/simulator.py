@@ -30,6 +30,7 @@ from ..setup.initialize import solve_start
 from ..setup.inputs import RunInputs
 from ..results.on_grid import OnGrid
 from ..results.result import Result
+from ..state import state_of
 from .stats import casadi_stats
 from .stiffness import auto_method
 
@@ -42,6 +43,8 @@ class Simulator(RunInputs, OnGrid):
 
     def __init__(self, dae: DAE):
         self.dae = dae
+        #: what is kept of the rig for every run (state.py), shared with every Simulator of the DAE
+        self.state = state_of(dae)
         self._cache = {}
         self._last_stats = {}
         self._checked = set()     # settings that passed check_settings (inputs.py)
@@ -54,10 +57,10 @@ class Simulator(RunInputs, OnGrid):
             raise ParameterError(f"rig = {model!r}: give a rig (a Component) or its compiled DAE, "
                                  f"not a {type(model).__name__}")
         dae = model if isinstance(model, DAE) else model.compile()
-        sim = dae.__dict__.get("_simulator")
-        if sim is None:
-            sim = dae.__dict__["_simulator"] = Simulator(dae)
-        return sim
+        state = state_of(dae)
+        if state.simulator is None:
+            state.simulator = Simulator(dae)
+        return state.simulator
 
     def z_guess(self, p) -> np.ndarray:
         dae = self.dae
@@ -322,7 +325,7 @@ class Simulator(RunInputs, OnGrid):
 
     def compiled(self):
         """The DAE compiled to a shared library (compiled.py), built once."""
-        return C.compiled(self.dae)
+        return self.state.compiled or C.compiled(self.dae)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False, c_grid=None):

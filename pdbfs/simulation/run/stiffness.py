@@ -21,6 +21,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ..state import state_of
+
 # the thresholds (STIFF_STEPS: a fast decaying mode's Adams steps that make BDF
 # the cheaper method; DENSE_UP_TO: above, only the modes of largest modulus;
 # ERK_RADIANS: the longest run, in radians of the fastest mode, given the
@@ -29,12 +31,11 @@ from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS  # noqa
 
 
 def jacobian_function(dae) -> ca.Function:
-    """d(ode)/dx as a sparse CasADi Function of (t, x, p), cached on the DAE."""
-    f = dae.__dict__.get("_jac_x")
-    if f is None:
-        f = ca.Function("jac_x", [dae.t, dae.x, dae.p], [ca.jacobian(dae.ode, dae.x)])
-        dae.__dict__["_jac_x"] = f
-    return f
+    """d(ode)/dx as a sparse CasADi Function of (t, x, p), made once per DAE."""
+    state = state_of(dae)
+    if state.jac_x is None:
+        state.jac_x = ca.Function("jac_x", [dae.t, dae.x, dae.p], [ca.jacobian(dae.ode, dae.x)])
+    return state.jac_x
 
 
 def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:
