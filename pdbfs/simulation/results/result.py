@@ -56,9 +56,12 @@ class Result:
 
     def detached(self) -> dict:
         """This Result without its Simulator (and what it made of it), to be
-        sent to another process; ``Result.attach`` makes it a Result again there."""
+        sent to another process; ``Result.attach`` makes it a Result again there.
+        A compiled run's states are made now (its run is kept in this process's
+        library); the summary is made again where it is asked for."""
+        self._X                 # (made once: kept on this Result)
         return {k: v for k, v in vars(self).items()
-                if k not in ("_sim", "_curves", "_summary_warnings")}
+                if k not in ("_sim", "_curves", "_summary", "_summary_warnings", "_make_states")}
 
     @classmethod
     def attach(cls, sim, state: dict) -> "Result":
