@@ -1,5 +1,5 @@
 """method="auto" in the compiled backend: the modes of a new start by the
-compiled library's C (native/c/pdbfs_modes.c, the FMU's code) rather than
+compiled library's C (native/c/shared/pdbfs_modes.c, the FMU's code) rather than
 CasADi's Jacobian and LAPACK, which took longer than the run itself. The two
 must give the same modes and so the same choice; a loop over new parameters
 must not grow the simulator's cache without end."""

@@ -1,6 +1,6 @@
 """The compiled backend, ``simulate(..., backend="c")``: CVODE in a shared
 library built from the DAE's generated C (pdbfs.simulation.run.compiled,
-pdbfs/simulation/c/pdbfs_batch.c), against the CasADi path."""
+pdbfs/native/c/library/pdbfs_batch.c), against the CasADi path."""
 import ctypes
 import json
 

@@ -1,6 +1,6 @@
 """The explicit Runge-Kutta method inside the FMU's co-simulation
 (solver.method 3; 0, auto, the default, takes it where the rig is not stiff
-over the run): the compiled backend's own C (native/c/pdbfs_erk.c) in the
+over the run): the compiled backend's own C (native/c/shared/pdbfs_erk.c) in the
 binary and in sources/, against a tight event-located reference written by
 hand (paper_equations.py), the compiled backend's explicit run and the FMU's
 CVODE, in FMI 2.0 and 3.0; time events (a valve's switch times), communication
@@ -315,7 +315,7 @@ def test_a_restored_fmu_state_restarts_the_explicit_method(tmp_path):
 # -- one source of truth: the compiled backend's C in sources/ and the binary -
 @pytest.mark.parametrize("fmi_version", [2, 3])
 def test_the_fmu_carries_the_compiled_backends_own_explicit_method(fmi_version):
-    """sources/ holds native/c/pdbfs_erk.* unchanged but for the private-names
+    """sources/ holds native/c/shared/pdbfs_erk.* unchanged but for the private-names
     line on top of the .c, declared for a source build; its functions get the
     FMU's private names."""
     with zipfile.ZipFile(T.built_fmu("paper", fmi_version)) as z:

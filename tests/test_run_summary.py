@@ -1,4 +1,4 @@
-"""The summary of a compiled run from the run itself (c/pdbfs_run_summary.c,
+"""The summary of a compiled run from the run itself (native/c/library/pdbfs_run_summary.c,
 pdbfs/simulation/c_summary.py): the same figures as summary.py on the same
 solution, nothing integrated again, summary.py asked where the run cannot
 say (a pulse cut off at the horizon)."""

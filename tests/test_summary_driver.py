@@ -1,4 +1,4 @@
-"""The compiled summary driver (pdbfs/simulation/c/pdbfs_summary.c): the same
+"""The compiled summary driver (pdbfs/native/c/library/pdbfs_summary.c): the same
 summary as Result.summary(), located on the solution, for many points in one
 call; generic over the rig's roles."""
 import numpy as np

@@ -1,4 +1,5 @@
-"""The pulse in the compiled summary driver (c/pdbfs_summary.c, c/pdbfs_pulse.c):
+"""The pulse in the compiled summary driver (native/c/library/pdbfs_summary.c and
+pdbfs_pulse.c):
 crossings paired by direction with no cap, pulses cut off by t_end reported
 without a duration (``complete`` 0, a message), crossings that do not
 alternate a failed point; solver statistics per point."""

@@ -1,7 +1,7 @@
 """The summary of a compiled run from the run itself: the compiled backend
 integrates the output grid and records every step in one call
-(c/pdbfs_run_summary.c), and the summary driver's reduction of that record
-(c/pdbfs_summary.c: peaks where the slope turns, crossings of the pulse
+(native/c/library/pdbfs_run_summary.c), and the summary driver's reduction of that record
+(native/c/library/pdbfs_summary.c: peaks where the slope turns, crossings of the pulse
 level, CVODE's root finding on the recorded steps) gives Result.summary()
 without integrating again.
 

@@ -4,11 +4,11 @@ fast sweeps).
 The DAE's model functions are generated as C by CasADi, compiled with
 generic drivers and CVODE into one shared library (``compiled_build.py``),
 and called through ctypes: ``run`` integrates one point over a whole output
-grid (``c/pdbfs_batch.c``); ``summaries`` integrates many points and reduces
-each to its summary during the integration (``c/pdbfs_summary.c``, on the
-record of ``c/pdbfs_record.c``, the pulse paired in ``c/pdbfs_pulse.c``),
-without a Python object per point. Both report CVODE's statistics
-(``STAT_KEYS``). The library is built once per rig structure and
+grid (``pdbfs_batch.c``); ``summaries`` integrates many points and reduces
+each to its summary during the integration (``pdbfs_summary.c``, on the
+record of ``pdbfs_record.c``, the pulse paired in ``pdbfs_pulse.c``: the
+library's C in pdbfs/native/c/library/), without a Python object per point.
+Both report CVODE's statistics (``STAT_KEYS``). The library is built once per rig structure and
 loaded once per DAE: parameters, start values, tolerances and the grid are
 call arguments, so nothing is rebuilt when they change. ctypes releases the
 GIL during a call, so threads run calls in parallel.
@@ -46,14 +46,15 @@ KEY_ROLES = {"peak_pressure": "pressure", "time_of_peak": "pressure", "pulse_dur
 #: the solver statistics of one run (RunStatus.stats, summaries(with_stats=True))
 STAT_KEYS = ("steps", "rhs_evals", "jac_evals", "root_events", "method", "wall_time")
 
-# return codes of pdbfs_batch_run (c/pdbfs_batch.c); CVODE failures are its negative flags
+# return codes of pdbfs_batch_run (native/c/library/pdbfs_batch.c); CVODE failures are its
+# negative flags
 RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
-#: a summary point whose pressure crossings do not alternate (c/pdbfs_summary.c)
+#: a summary point whose pressure crossings do not alternate (native/c/library/pdbfs_summary.c)
 RC_BAD_CROSSINGS = 6
 #: summaries(): a pulse cut off at t_end the driver could not follow past it (summary.py's)
 RC_FOLLOW = 7
-INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
-NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
+INFO_N = 7          # pdbfs_batch_run's info[] (native/c/library/pdbfs_batch.c INFO_*)
+NSTAT = 6           # pdbfs_summary_batch's stats columns (native/c/library/pdbfs_summary.c ST_*)
 
 
 def solver_name(code: int) -> str:
@@ -268,14 +269,14 @@ class CompiledODE:
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
                     max_num_steps=500000, checked=False, keep=False, t_addr=None):
         """As ``run`` (``t`` from 0), and the summary of the same integration
-        (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values (a
+        (the summary driver's, native/c/library/pdbfs_summary.c): (X, RunStatus, values (a
         list of len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
         the run failed), note (its warnings or failure), kept). ``checked``: the
         caller (Simulator.run) has checked the arguments already, only their
         types and sizes are checked here (C checks them all again).
         ``keep`` with method "erk": the states on the grid are not computed
         now; X is None and ``kept`` (a KeptRun, None when the run failed) makes
-        them when asked (c/pdbfs_run_trajectory.c); else ``kept`` is None.
+        them when asked (native/c/library/pdbfs_run_trajectory.c); else ``kept`` is None.
         ``t_addr``: the address of ``t``'s data, where the caller has it
         (Simulator.run's plan: a read-only grid)."""
         if not checked:
@@ -353,7 +354,7 @@ class CompiledODE:
         return out, codes, messages
 
     def pulse_pairs(self, times, directions, above0, above1, t0, t1):
-        """The summary driver's pairing of a pulse's crossings (c/pdbfs_pulse.c):
+        """The summary driver's pairing of a pulse's crossings (native/c/library/pdbfs_pulse.c):
         (answer: 0 ok, 1 cut off, 2 crossings that do not alternate; duration,
         NaN unless ok; message)."""
         t = np.ascontiguousarray(times, dtype=float)

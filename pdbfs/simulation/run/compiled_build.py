@@ -1,9 +1,9 @@
 """Building the compiled backend's shared library of a DAE (used by
 compiled.py): CasADi-generated C of the model functions, the generic drivers
-``c/pdbfs_batch.c`` (one run over an output grid) and ``c/pdbfs_summary.c``
-(many points reduced to their summaries, with ``c/pdbfs_record.c`` and
-``c/pdbfs_pulse.c``), the CVODE loop shared with the FMU
-(``native/c/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials,
+of pdbfs/native/c/library/, ``pdbfs_batch.c`` (one run over an output grid)
+and ``pdbfs_summary.c`` (many points reduced to their summaries, with
+``pdbfs_record.c`` and ``pdbfs_pulse.c``), the CVODE loop shared with the
+FMU (``native/c/shared/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials,
 compiled by ``zig cc`` (pdbfs.native.toolchain; ``$CC`` if set).
 
 The library is cached on disk as ``$XDG_CACHE_HOME/pdbfs/compiled/<hash>.so``
@@ -38,7 +38,7 @@ DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_r
 HEADER = "pdbfs_batch_model.h"
 ABI = 8
 
-#: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
+#: the summary roles the summary driver knows, in its order (native/c/library/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
 ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
 
@@ -64,7 +64,7 @@ def roles_of(dae) -> list[str]:
 
 
 def follow_lines(dae) -> list[str]:
-    """How the summary driver follows a pulse cut off at t_end (c/pdbfs_summary.c's
+    """How the summary driver follows a pulse cut off at t_end (native/c/library/pdbfs_summary.c's
     follow()): summary_run.py's grid and look-ahead, so that both decide alike."""
     return [f"#define PDBFS_SUMMARY_STEP {summary_step(dae)!r}",
             f"#define PDBFS_FOLLOW_WINDOW {WINDOW}",

@@ -1,7 +1,7 @@
 """Simulation with SUNDIALS through casadi.integrator: CVODES for ODE rigs,
 IDAS for rigs that keep algebraic variables; or (``backend="c"``, ODE rigs
 only) with CVODE in a shared library compiled from CasADi-generated C of the
-DAE and a generic driver (``compiled.py``, ``c/pdbfs_batch.c``).
+DAE and a generic driver (``compiled.py``, ``native/c/library/pdbfs_batch.c``).
 
 Tolerances, output grid, start values and parameters are arguments of each
 call; the DAE is never rebuilt, and integrators are cached per setting.

@@ -21,8 +21,6 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from ..state import state_of
-
 # the thresholds (STIFF_STEPS: a fast decaying mode's Adams steps that make BDF
 # the cheaper method; DENSE_UP_TO: above, only the modes of largest modulus;
 # ERK_RADIANS: the longest run, in radians of the fastest mode, given the
@@ -32,6 +30,7 @@ from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS  # noqa
 
 def jacobian_function(dae) -> ca.Function:
     """d(ode)/dx as a sparse CasADi Function of (t, x, p), made once per DAE."""
+    from ..state import state_of
     state = state_of(dae)
     if state.jac_x is None:
         state.jac_x = ca.Function("jac_x", [dae.t, dae.x, dae.p], [ca.jacobian(dae.ode, dae.x)])
