@@ -3,7 +3,7 @@ estimate (paper eq. 8): the impulse after a split instant divided by the
 impulse before it, for a body initially at rest.
 
 The one implementation in Python: the summary, the paper's figures and the
-tests use it (closed forms per interval: scipy's splines cost 0.1 ms a call); the C summary driver (native/c/library/pdbfs_summary.c) integrates the same
+tests use it (closed forms per interval: scipy's splines cost 0.1 ms a call); the C summary driver (c/pdbfs_summary.c) integrates the same
 impulses as an extra state and is tested against it.
 """
 from __future__ import annotations
