@@ -15,8 +15,8 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError
-from ..setup.initialize import refuse_solved_start
 from ..run.simulator import MAX_NUM_STEPS, Simulator
+from ..setup.initialize import refuse_solved_start
 from ..setup.time_events import breakpoints
 
 

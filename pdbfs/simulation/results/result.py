@@ -15,9 +15,9 @@ import numpy as np
 from pdbfs.errors import PdbfsError
 from pdbfs.files import whole
 
+from ..setup.initialize import InitialState
 from .c_summary import summary_of
 from .hermite import Curves
-from ..setup.initialize import InitialState
 from .summary import summarize
 
 

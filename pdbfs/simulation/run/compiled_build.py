@@ -24,8 +24,9 @@ import casadi as ca
 
 from pdbfs.native import codegen, straight, toolchain
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, LIBRARY_C,
-                                  POW_HELPER, check_compiler_memory, compile_command, erk_size_header, generate,
-                                  model_functions, run_compiler, sizes_header_lines)
+                                  POW_HELPER, check_compiler_memory, compile_command,
+                                  erk_size_header, generate, model_functions, run_compiler,
+                                  sizes_header_lines)
 from pdbfs.native.sundials import cache_root, find_sundials
 
 from ..results.summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step

@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..results import c_summary
+from ..results.result import Result
 from .compiled import INFO_N, METHOD_CODES, MSG_LEN, POINT_MSG_LEN, SUMMARY_KEYS, _stats, _text
 from .kept import KeptRun
-from ..results.result import Result
 
 # where Block.unpack's answers have the summary's values and its code
 _VALUES = INFO_N

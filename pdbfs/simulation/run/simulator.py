@@ -22,20 +22,20 @@ from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, Sol
 from pdbfs.modelling import DAE
 
 from ..results import c_summary
-from . import replay
-from . import compiled as C
-from ..setup import time_events as TE
-from .failures import compiled_failure, walk_failure
-from ..setup.initialize import solve_start
-from ..setup.inputs import RunInputs
 from ..results.on_grid import OnGrid
 from ..results.result import Result
+from ..setup import time_events as TE
+from ..setup.initialize import solve_start
+from ..setup.inputs import RunInputs
 from ..state import state_of
+from . import compiled as C
+from . import replay
+from .failures import compiled_failure, walk_failure
 from .stats import casadi_stats
 from .stiffness import auto_method
 
-from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_rtol,  # noqa: F401
-                       output_grid)
+from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings,  # noqa: F401
+                              default_rtol, output_grid)
 
 
 class Simulator(RunInputs, OnGrid):
