@@ -33,7 +33,7 @@ class Rig(Component):
         Components with a ``check_output(dt_out, params)`` method (e.g. an
         ElasticBar, whose segments may be too coarse for the output rate)
         are asked first."""
-        dae = self.compile()
+        dae = self._compiled or self.compile()       # (no call once compiled: the replay's path)
         checks = (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
         if not kwargs and not checks:
             return simulate_own(dae, t_end)      # the rig's own run (its plan replayed)
