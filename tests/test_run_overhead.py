@@ -128,34 +128,6 @@ def test_output_checks_are_found_again_when_the_rig_is_compiled_again():
     assert seen == [pytest.approx(1e-3), pytest.approx(1e-4)]
 
 
-def test_a_changed_rig_starts_afresh_and_its_old_state_goes_with_its_old_dae():
-    """What the simulation layer keeps of a rig (its RigState: the Simulator,
-    the compiled library, the plans of its own runs) and the rig layer's
-    output checks are the compiled DAE's companions: a rig that changes
-    compiles a new DAE, which starts with none, and the old state is freed
-    with the old DAE (nothing outside holds it: no registry keyed by DAEs)."""
-    import gc
-    import weakref
-    from pdbfs.simulation.state import RigState
-    r = paper_rig()
-    first = r.simulate().summary()
-    old = r.compile()
-    state = old.companions[RigState]
-    assert state.simulator is Simulator.of(r) and state.compiled is not None and state.own_plans
-    gone = [weakref.ref(o) for o in (old, state.simulator, state.compiled)]
-    del state
-    r.hammer.check_output = lambda dt, params: None    # a new component method: seen once compiled again
-    r._changed()                                       # as connect() leaves a changed rig
-    again = r.simulate().summary()
-    new = r.compile()
-    assert new is not old and new.companions[RigState].simulator is Simulator.of(r)
-    assert new.companions[RigState].simulator.dae is new and len(r._output_checks()) == 1
-    assert again == first                              # the same rig, the same numbers
-    del old
-    gc.collect()
-    assert [ref() for ref in gone] == [None] * 3
-
-
 @pytest.mark.parametrize("backend", ["c", "casadi"])
 def test_a_run_and_its_summary_leave_no_reference_cycle(rig, backend):
     import gc
