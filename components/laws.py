@@ -3,7 +3,7 @@
 References: Hertz stiffness of two spheres (paper eq. 2-3), damping factors
 of Lankarani & Nikravesh (paper eq. 6), Hunt & Crossley, Flores et al.;
 (restitution estimated from a force history after Guo & Batzer, paper eq. 8,
-is post-processing: pdbfs.simulation.impulse).
+is post-processing: pdbfs.simulation.results.impulse).
 """
 from __future__ import annotations
 

@@ -20,12 +20,12 @@ validated by fmpy, simulated by any importer.
     rights.py       version, author, license and copyright (default: pdbfs's BSD-3-Clause;
                     the user's kept before pdbfs's and CVODES's), documentation/licenses/
     export.py       pdbfs_model.h, compile, zip
-    c/              the generic C: the life cycle (lifecycle.c) calling down into one
-                    wrapper per FMI version (fmi2_*, fmi3_*) over the same model
-                    code, co-simulation loop and derivatives (derivatives.c);
-                    stiffness.c: solver.method auto at initialisation
-    (the co-simulation's solvers are pdbfs.native's C, native/c/pdbfs_cvode.c and
-    native/c/pdbfs_erk.c, the compiled backend's own files)
+The FMU's C is pdbfs.native's: native/c/fmu/ holds the generic C of every
+FMU (the life cycle, lifecycle.c, calling down into one wrapper per FMI
+version, fmi2_* and fmi3_*, over the same model code, co-simulation loop and
+derivatives, derivatives.c; stiffness.c: solver.method auto at
+initialisation), native/c/shared/ the solvers it shares with the compiled
+backend (pdbfs_cvode.c, pdbfs_erk.c).
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.

@@ -1,9 +1,9 @@
 """Export a rig's DAE as an FMI 2.0 or 3.0 FMU (Model Exchange + Co-Simulation).
 
 rig -> C code -> FMU: CasADi generates the model's C (``pdbfs.native.codegen``);
-the FMI layer is the generic C in ``fmu/c/`` (FMI plumbing, Model Exchange,
-Co-Simulation on CVODE through ``native/c/pdbfs_cvode.c`` or on the explicit
-Runge-Kutta method of ``native/c/pdbfs_erk.c``); a generated
+the FMI layer is the generic C in ``native/c/fmu/`` (FMI plumbing, Model Exchange,
+Co-Simulation on CVODE through ``native/c/shared/pdbfs_cvode.c`` or on the explicit
+Runge-Kutta method of ``native/c/shared/pdbfs_erk.c``); a generated
 ``pdbfs_model.h`` gives it the sizes, value references and parameter table;
 ``modelDescription.xml`` comes from ``description.py`` (``description3.py``
 for FMI 3.0).  Each platform's binary links a static CVODE (``platforms.py``);
@@ -31,7 +31,7 @@ import casadi as ca
 from pdbfs.errors import ExportError
 from pdbfs.files import whole
 from pdbfs.modelling import DAE
-from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, check_compiler_memory,
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FMU_C, FUNCS, check_compiler_memory,
                                   erk_size_header, generate, sizes_header_lines)
 from pdbfs.native.stiffness import c_defines, ode_instructions
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
@@ -46,7 +46,7 @@ from .sources import LICENSE, SRC_DIR, add_sundials, readme_txt
 from .symbols import make_private
 from .variables import DEFAULT_MAX_NUM_STEPS, RTOL_MAX, RTOL_MIN, FmuModel
 
-C_DIR = Path(__file__).with_name("c")
+C_DIR = FMU_C
 #: the FMI versions pdbfs writes
 FMI_VERSIONS = (2, 3)
 #: the version-neutral C: the model, variables, FMU state, Model Exchange, the co-simulation loop

@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pdbfs.modelling import Component
-from pdbfs.simulation import MAX_NUM_STEPS, Simulator, replay, simulate
+from pdbfs.simulation import MAX_NUM_STEPS, simulate
+from pdbfs.simulation.run.one_run import simulate_own
 
 if TYPE_CHECKING:
     import os
@@ -21,6 +22,17 @@ if TYPE_CHECKING:
 
     from pdbfs.modelling import ParamInfo
     from pdbfs.simulation import Linearization, Result
+
+
+class _OutputChecks:
+    """What the rig layer keeps of one compiled rig (in ``DAE.companions``):
+    the components' check_output methods, found once; a rig that changes is
+    compiled again, and searched again."""
+
+    __slots__ = ("checks",)
+
+    def __init__(self, checks: list):
+        self.checks = checks
 
 
 class Rig(Component):
@@ -88,16 +100,10 @@ class Rig(Component):
                                     ("method", method), ("max_step", max_step),
                                     ("max_num_steps", max_num_steps), ("backend", backend),
                                     ("initial", initial)) if v is not _DEFAULTS[k]}
-        if not kwargs:
-            # the rig's own run again: its plan replayed, nothing asked again (replay.py)
-            dae = self._compiled
-            plans = dae.__dict__.get("_own_plans") if dae is not None else None
-            if plans and type(t_end) is float:
-                own = plans.get(t_end)
-                if own is not None and own[1].params is dae.params:
-                    return replay.run(*own)
-            if not self._output_checks():
-                return replay.own(Simulator.of(self), t_end)
+        dae = self._compiled or self.compile()       # (no call once compiled: the replay's path)
+        checks = (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
+        if not kwargs and not checks:
+            return simulate_own(dae, t_end)      # the rig's own run (its plan replayed)
         self._check_output(t_end, kwargs)
         return simulate(self, t_end, **kwargs)
 
@@ -117,15 +123,15 @@ class Rig(Component):
             check(dt, kwargs.get("params"))
 
     def _output_checks(self) -> list:
-        """The components' check_output methods, found once per compiled rig
-        (a rig changed since is compiled again, and searched again)."""
+        """The components' check_output methods, found once per compiled rig."""
         dae = self.compile()
-        checks = dae.__dict__.get("_output_checks")
-        if checks is None:
-            checks = [c for c in (getattr(comp, "check_output", None) for comp in self.walk())
-                      if c is not None]
-            dae.__dict__["_output_checks"] = checks
-        return checks
+        return (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
+
+    def _find_output_checks(self, dae) -> _OutputChecks:
+        """The components' check_output methods, found now and kept with ``dae``."""
+        checks = [c for c in (getattr(comp, "check_output", None) for comp in self.walk())
+                  if c is not None]
+        return dae.companions.setdefault(_OutputChecks, _OutputChecks(checks))
 
     def linearize(self, at: str | float = "start", inputs: str | Sequence[str] | None = None,
                   outputs: str | Sequence[str] | None = None,
@@ -156,7 +162,7 @@ class Rig(Component):
         """
         kwargs = dict(inputs=inputs, outputs=outputs, params=params, start=start,
                       initial=initial, rtol=rtol, atol=atol)
-        from pdbfs.simulation.linearize import linearize
+        from pdbfs.simulation.analysis.linearize import linearize
         return linearize(self, at, **kwargs)
 
     def modes(self, at: str | float = "start", params: Mapping[str, float] | None = None,
@@ -178,7 +184,7 @@ class Rig(Component):
             eigenvalue (1/s).
         """
         kwargs = dict(params=params, start=start, initial=initial, rtol=rtol, atol=atol)
-        from pdbfs.simulation.linearize import modes_frame
+        from pdbfs.simulation.analysis.linearize import modes_frame
         return modes_frame(self.linearize(at, **kwargs).modes())
 
     def export_fmu(self, path: str | os.PathLike = "pdbfs.fmu", model_identifier: str | None = None,
@@ -268,7 +274,7 @@ class Rig(Component):
         return f"<{title}: " + "; ".join(v for _, v in rows) + ">"
 
     def _repr_html_(self) -> str:
-        from pdbfs.simulation.reprs import table
+        from pdbfs.simulation.results.reprs import table
         return table(*self._shown())
 
 

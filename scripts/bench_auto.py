@@ -31,7 +31,7 @@ import numpy as np
 
 METHODS = ("erk", "adams", "bdf")
 FACTOR = 1.3
-#: the accuracy the defaults promise (pdbfs.simulation.settings): auto's run within
+#: the accuracy the defaults promise (pdbfs.simulation.setup.settings): auto's run within
 PROMISE = 1e-7
 LADDER = (1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10, 3e-11, 1e-11)
 N_OUT = 2001

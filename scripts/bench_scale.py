@@ -35,7 +35,8 @@ from pathlib import Path
 import numpy as np
 
 from pdbfs.models import split_piston_rig
-from pdbfs.simulation import Simulator, compiled_build
+from pdbfs.simulation import Simulator
+from pdbfs.simulation.run import compiled_build
 
 
 def timed(f):

@@ -1,4 +1,4 @@
-"""Write pdbfs/native/c/pdbfs_erk_table.h: the coefficients of Dormand &
+"""Write pdbfs/native/c/shared/pdbfs_erk_table.h: the coefficients of Dormand &
 Prince's 8(5,3) pair with dense output (Hairer, Norsett & Wanner, Solving
 ODEs I, 1993), as numbers; taken from scipy's table of the same method.
 
@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as d
 
-OUT = Path(__file__).resolve().parents[1] / "pdbfs" / "native" / "c" / "pdbfs_erk_table.h"
+OUT = Path(__file__).resolve().parents[1] / "pdbfs" / "native" / "c" / "shared" / "pdbfs_erk_table.h"
 HEAD = """/* Dormand & Prince's explicit Runge-Kutta pair of order 8(5,3) with its
  * 7th-order dense output (E. Hairer, S. P. Norsett, G. Wanner, Solving
  * Ordinary Differential Equations I, 2nd ed., Springer 1993, the DOP853

@@ -59,5 +59,5 @@ def test_the_cost_model_prices_a_long_run_per_second():
 
 def test_adams_newton_threshold_is_the_drivers():
     """The model's Adams uses Newton from the state count the C driver does."""
-    header = (Path(__file__).parents[1] / "pdbfs/native/c/pdbfs_cvode.h").read_text()
+    header = (Path(__file__).parents[1] / "pdbfs/native/c/shared/pdbfs_cvode.h").read_text()
     assert int(re.search(r"#define PDBFS_NEWTON_FROM (\d+)", header).group(1)) == NEWTON_FROM

@@ -1,5 +1,5 @@
 """method="auto" in the compiled backend: the modes of a new start by the
-compiled library's C (native/c/pdbfs_modes.c, the FMU's code) rather than
+compiled library's C (native/c/shared/pdbfs_modes.c, the FMU's code) rather than
 CasADi's Jacobian and LAPACK, which took longer than the run itself. The two
 must give the same modes and so the same choice; a loop over new parameters
 must not grow the simulator's cache without end."""
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from pdbfs.models import RIGS
-from pdbfs.simulation.simulator import Simulator
-from pdbfs.simulation.stiffness import auto_method, fast_modes, rates
+from pdbfs.simulation.run.simulator import Simulator
+from pdbfs.simulation.run.stiffness import auto_method, fast_modes, rates
 
 RIG_NAMES = ["paper", "paper-hydraulic", "hydraulic-pulse", "drop", "split-piston"]
 

@@ -92,7 +92,7 @@ def test_a_results_csv_larger_than_the_disk_is_refused_before_the_run(tmp_path, 
     import shutil
 
     from pdbfs.cli import main
-    from pdbfs.simulation.simulator import Simulator
+    from pdbfs.simulation.run.simulator import Simulator
 
     class Usage:
         total, used, free = 10 ** 9, 10 ** 9 - 10 ** 6, 10 ** 6

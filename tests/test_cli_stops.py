@@ -24,7 +24,7 @@ def test_a_horizon_a_rounding_error_past_a_window_ends(tmp_path):
 
 def test_the_summary_grid_never_has_a_one_point_window():
     from pdbfs.models import RIGS
-    import pdbfs.simulation.summary_run as S
+    import pdbfs.simulation.results.summary_run as S
     seen = []
     orig = S._integrate
 

@@ -1,6 +1,6 @@
 """The compiled backend, ``simulate(..., backend="c")``: CVODE in a shared
-library built from the DAE's generated C (pdbfs.simulation.compiled,
-pdbfs/simulation/c/pdbfs_batch.c), against the CasADi path."""
+library built from the DAE's generated C (pdbfs.simulation.run.compiled,
+pdbfs/native/c/library/pdbfs_batch.c), against the CasADi path."""
 import ctypes
 import json
 
@@ -11,8 +11,8 @@ import pdbfs
 from pdbfs.cli import main
 from pdbfs.components import Force, Mass
 from pdbfs.errors import ParameterError, SolverError
-from pdbfs.simulation import compiled as batch
-from pdbfs.simulation import compiled_build as build
+from pdbfs.simulation.run import compiled as batch
+from pdbfs.simulation.run import compiled_build as build
 from pdbfs.models import paper_rig, split_piston_rig
 from pdbfs.simulation import Simulator
 

@@ -212,7 +212,7 @@ def test_result_exports(tmp_path):
 
 def test_package_functions_stay_callable_after_use():
     """pdbfs.simulate and pdbfs.sweep are functions, whatever was imported."""
-    import pdbfs.simulation.simulator  # noqa: F401
+    import pdbfs.simulation.run.simulator  # noqa: F401
     import pdbfs.studies.sweeps.sweep  # noqa: F401
     paper_rig().simulate(0.001, n_out=3)
     assert callable(pdbfs.simulate) and callable(pdbfs.sweep)

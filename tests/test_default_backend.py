@@ -8,7 +8,7 @@ import pytest
 
 from pdbfs.errors import BackendFallbackWarning
 from pdbfs.models import paper_rig
-from pdbfs.simulation import compiled_build as build
+from pdbfs.simulation.run import compiled_build as build
 from pdbfs.simulation import Simulator
 
 

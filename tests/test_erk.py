@@ -1,5 +1,5 @@
 """The explicit Runge-Kutta method of the compiled backend (method="erk",
-c/pdbfs_erk.c: Dormand & Prince 8(5,3) with dense output, restarted at the
+native/c/shared/pdbfs_erk.c: Dormand & Prince 8(5,3) with dense output, restarted at the
 roots of the rig's event indicators): against a tight event-located
 reference written by hand (paper_equations.py), against CVODE, and chosen
 by method="auto" where the rig is not stiff."""

@@ -1,4 +1,4 @@
-"""The explicit Runge-Kutta method at the rig's kinks (c/pdbfs_erk.c): a
+"""The explicit Runge-Kutta method at the rig's kinks (native/c/shared/pdbfs_erk.c): a
 step that straddles a contact's end is taken again up to the root; where
 that step fails its error test (the force falls as d^1.5, the solution is
 not smooth there) no step is taken and the next ends short of the root,

@@ -1,6 +1,6 @@
 """The explicit Runge-Kutta runs of a sweep and of rig.simulate() make a
 step's dense output only where it is needed (PdbfsErk.lazy,
-c/pdbfs_summary.c, c/pdbfs_run_summary.c): where an indicator nears a
+native/c/library/pdbfs_summary.c, native/c/library/pdbfs_run_summary.c): where an indicator nears a
 root, for the steps the summary refines (made then from the stages the
 record keeps), and for the output grid when the states are read. A sweep
 point's summary is the one-run summary of rig.simulate(), the same numbers."""

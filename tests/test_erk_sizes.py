@@ -1,5 +1,5 @@
 """The explicit method's arithmetic for any number of states
-(c/pdbfs_erk_la.h): inlined for the rig's own counts, its sums kept in
+(native/c/shared/pdbfs_erk_la.h): inlined for the rig's own counts, its sums kept in
 registers up to 16 states and in memory beyond; a rig of 64 states (the
 memory path) agrees with CVODE run tight, as the paper rig (6 states, 7
 with the impulse) does."""

@@ -1,6 +1,6 @@
 """The explicit Runge-Kutta method inside the FMU's co-simulation
 (solver.method 3; 0, auto, the default, takes it where it is the cheapest
-over the run): the compiled backend's own C (native/c/pdbfs_erk.c) in the
+over the run): the compiled backend's own C (native/c/shared/pdbfs_erk.c) in the
 binary and in sources/, against a tight event-located reference written by
 hand (paper_equations.py), the compiled backend's explicit run and the FMU's
 CVODE, in FMI 2.0 and 3.0; time events (a valve's switch times), communication
@@ -23,7 +23,7 @@ from pdbfs.fmu import export_fmu
 from pdbfs.models import hydraulic_pulse_rig
 from pdbfs.native.codegen import ERK_DRIVER
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.stiffness import auto_method, fast_modes
+from pdbfs.simulation.run.stiffness import auto_method, fast_modes
 
 ERK, BDF, ADAMS, AUTO = 3, 1, 2, 0
 GRID = np.linspace(0.0, 0.02, 2001)
@@ -318,7 +318,7 @@ def test_a_restored_fmu_state_restarts_the_explicit_method(tmp_path):
 # -- one source of truth: the compiled backend's C in sources/ and the binary -
 @pytest.mark.parametrize("fmi_version", [2, 3])
 def test_the_fmu_carries_the_compiled_backends_own_explicit_method(fmi_version):
-    """sources/ holds native/c/pdbfs_erk.* unchanged but for the private-names
+    """sources/ holds native/c/shared/pdbfs_erk.* unchanged but for the private-names
     line on top of the .c, declared for a source build; its functions get the
     FMU's private names."""
     with zipfile.ZipFile(T.built_fmu("paper", fmi_version)) as z:

@@ -92,7 +92,7 @@ def test_all_platforms_are_in_the_fmu(fmi_version):
 
 @pytest.mark.parametrize("fmi_version", [2, 3])
 def test_every_binary_holds_the_explicit_method(fmi_version):
-    """The explicit Runge-Kutta method (native/c/pdbfs_erk.c, its messages)
+    """The explicit Runge-Kutta method (native/c/shared/pdbfs_erk.c, its messages)
     and solver.method auto are in every platform's binary; the runs under
     Wine and qemu below take them (auto: the explicit method on this rig)."""
     with zipfile.ZipFile(_fmu(fmi_version)) as z:

@@ -11,9 +11,9 @@ import pytest
 
 from pdbfs.models import paper_rig
 from pdbfs.native import toolchain
-from pdbfs.simulation import compiled as C
-from pdbfs.simulation import compiled_build
-from pdbfs.simulation.simulator import Simulator
+from pdbfs.simulation.run import compiled as C
+from pdbfs.simulation.run import compiled_build
+from pdbfs.simulation.run.simulator import Simulator
 
 FLAGS = toolchain.host_cpu_flags(toolchain.compiler(toolchain.host_target()))
 if not FLAGS:

@@ -15,8 +15,8 @@ from pdbfs.errors import ExportError, ParameterError
 from pdbfs.models import paper_rig, split_piston_rig
 from pdbfs.native import codegen
 from pdbfs.simulation import Simulator
-from pdbfs.simulation import compiled as batch
-from pdbfs.simulation.stiffness import choose_method
+from pdbfs.simulation.run import compiled as batch
+from pdbfs.simulation.run.stiffness import choose_method
 
 ADAMS, BDF = 0, 1
 NEWTON = 2 << 4

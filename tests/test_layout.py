@@ -124,7 +124,176 @@ def test_no_file_is_long():
 def test_the_c_drivers_share_one_cvode_loop():
     """The compiled backend and the FMU integrate with the same CVODE driver,
     and neither has a copy of it."""
-    batch = (ROOT / "pdbfs/simulation/c/pdbfs_batch.c").read_text()
-    cosim = (ROOT / "fmu/c/cosimulation.c").read_text()
+    batch = (ROOT / "pdbfs/native/c/library/pdbfs_batch.c").read_text()
+    cosim = (ROOT / "pdbfs/native/c/fmu/cosimulation.c").read_text()
     for text in (batch, cosim):
         assert "pdbfs_cvode_advance(" in text and "CVode(" not in text
+
+
+def dotted(path: pathlib.Path) -> str:
+    """A module file's name as Python imports it (pdbfs.*)."""
+    pkg = package_of(path)
+    return ".".join(pkg if path.name == "__init__.py" else pkg + [path.stem])
+
+
+MODULE_FILES = {dotted(p): p for p in SOURCES}
+
+
+def module_targets(path: pathlib.Path):
+    """The project's modules that importing ``path`` runs, function-level
+    imports included: the module named, or the modules named in a
+    ``from ... import``, and the package imported from unless it is one of
+    the module's own (already running when the module is)."""
+    me, pkg = dotted(path), package_of(path)
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            yield from (a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = ".".join(pkg[: len(pkg) - node.level + 1] + ([node.module] if node.module else [])) \
+                if node.level else node.module
+            subs = [f"{base}.{a.name}" for a in node.names if f"{base}.{a.name}" in MODULE_FILES]
+            yield from subs
+            if len(subs) < len(node.names) or not (me + ".").startswith(base + "."):
+                yield base
+
+
+def import_graph() -> dict:
+    """module -> the project's modules it imports (module_targets)."""
+    return {m: {t for t in module_targets(p) if t in MODULE_FILES and t != m}
+            for m, p in MODULE_FILES.items()}
+
+
+def cycles(graph: dict) -> list:
+    """The import circles of ``graph``: its strongly connected components of
+    more than one module (Tarjan), each sorted."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            part = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                part.append(w)
+                if w == v:
+                    break
+            if len(part) > 1:
+                found.append(sorted(part))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_module_imports_itself_through_others():
+    """No import circle between the project's modules, function-level imports
+    counted: a circle means neither module can be read (or moved) without the other."""
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]   # the finder
+    assert "pdbfs.native.straight" in import_graph()["pdbfs.native.codegen"]
+    found = cycles(import_graph())
+    assert not found, "import circles: " + "; ".join(" <-> ".join(c) for c in found)
+
+
+#: pdbfs.simulation's folders, in their order: each may import the folders
+#: before it (and state.py, the layer's state per rig), never those after it
+SIM = ROOT / "pdbfs/simulation"
+SIM_FOLDERS = ("setup", "results", "run", "analysis")
+
+
+def simulation_part(name: str):
+    """The folder (or root module) of pdbfs.simulation that module ``name``
+    belongs to; "" for the package itself, None outside it."""
+    parts = name.split(".")
+    if parts[:2] != ["pdbfs", "simulation"]:
+        return None
+    return parts[2] if len(parts) > 2 else ""
+
+
+@pytest.mark.parametrize("path", sorted(p for p in SIM.rglob("*.py") if p != SIM / "__init__.py"),
+                         ids=lambda p: p.relative_to(SIM).as_posix())
+def test_the_simulation_folders_import_one_way(path):
+    """setup <- results <- run <- analysis: a result never imports the run that
+    makes it, a run never an analysis of runs."""
+    part = simulation_part(dotted(path))
+    if part == "state":
+        allowed = {part}
+    else:
+        allowed = set(SIM_FOLDERS[:SIM_FOLDERS.index(part)]) | {part, "state"}
+    bad = [t for t in module_targets(path)
+           if simulation_part(t) is not None and simulation_part(t) not in allowed]
+    assert not bad, f"pdbfs.simulation.{part} may import {sorted(allowed)}, but imports {bad}"
+
+
+def test_every_simulation_module_is_in_a_folder_that_lists_it():
+    """A reader finds a run, a result and an analysis by the folder names:
+    no module lies loose at the root but state.py, and each folder's
+    docstring names each of its modules and what the folder may import."""
+    loose = sorted(p.name for p in SIM.glob("*.py"))
+    assert loose == ["__init__.py", "state.py"], loose
+    assert sorted(p.name for p in SIM.iterdir() if p.is_dir() and p.name != "__pycache__") == \
+        sorted(SIM_FOLDERS)
+    for folder in SIM_FOLDERS:
+        doc = ast.get_docstring(ast.parse((SIM / folder / "__init__.py").read_text()))
+        assert doc and "May import" in doc, f"{folder}/__init__.py: say what it holds and may import"
+        missing = [p.name for p in (SIM / folder).glob("*.py")
+                   if p.name != "__init__.py" and p.name not in doc]
+        assert not missing, f"{folder}/__init__.py does not list {missing}"
+
+
+#: the dict methods that write
+DICT_WRITES = {"setdefault", "update", "pop", "popitem", "clear", "__setitem__", "__delitem__"}
+
+
+def writes_into_others(source: str) -> list:
+    """Lines that write into another object's ``__dict__`` (or ``vars()``):
+    any object but the method's own ``self`` (or ``cls``). What a layer
+    keeps of another layer's object it keeps itself (e.g. pdbfs.simulation's
+    RigState, held by the DAE as its companion)."""
+    def others_dict(node) -> bool:
+        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+            owner = node.value
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and \
+                node.func.id == "vars" and len(node.args) == 1:
+            owner = node.args[0]
+        else:
+            return False
+        return not (isinstance(owner, ast.Name) and owner.id in ("self", "cls"))
+
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Delete)):
+            targets = node.targets if isinstance(node, (ast.Assign, ast.Delete)) else [node.target]
+            if any(isinstance(s, ast.Subscript) and others_dict(s.value)
+                   for t in targets for s in ast.walk(t)):
+                bad.append(node.lineno)
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and \
+                node.func.attr in DICT_WRITES and others_dict(node.func.value):
+            bad.append(node.lineno)
+    return sorted(set(bad))
+
+
+def test_the_checker_finds_writes_into_others():
+    src = ("dae.__dict__['_x'] = 1\nsim.dae.__dict__.setdefault('_p', {})\nvars(r).update(s)\n"
+           "del d.__dict__['a']\nx.__dict__['a']['b'] = 2\n"
+           "self.__dict__['_f'] = 1\nself.__dict__.setdefault('_f', {})['g'] = 2\n"
+           "n = dae.__dict__.get('_x')\nk = {a: b for a, b in vars(r).items()}\n")
+    assert writes_into_others(src) == [1, 2, 3, 4, 5]
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_no_module_writes_into_another_objects_dict(path):
+    """Each layer owns its own state: no module stashes its caches in another
+    layer's objects through their __dict__ (the DAE offers ``companion`` and
+    ``cached``, and a Result ``detached`` and ``attach``)."""
+    bad = writes_into_others(path.read_text())
+    assert not bad, f"writes into another object's __dict__ at lines {bad}"

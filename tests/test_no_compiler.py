@@ -90,6 +90,9 @@ def test_the_wheel_carries_the_c_sources_and_no_sundials(tmp_path):
     wheel = next(tmp_path.glob("pdbfs-*.whl"))
     with zipfile.ZipFile(wheel) as z:
         names = set(z.namelist())
-    assert {"pdbfs/native/c/pdbfs_cvode.c", "pdbfs/simulation/c/pdbfs_batch.c",
-            "pdbfs/fmu/c/cosimulation.c"} <= names
+    # every C file of every binary (a folder per binary) and every module of every subpackage
+    own = {f.relative_to(ROOT).as_posix() for f in (ROOT / "pdbfs").rglob("*")
+           if f.suffix in (".c", ".h", ".py") and "__pycache__" not in f.parts}
+    assert "pdbfs/native/c/library/pdbfs_batch.c" in own and "pdbfs/native/c/fmu/model.c" in own
+    assert own <= names, sorted(own - names)
     assert not any(n.endswith(".sh") or "sundials_src" in n or n.endswith("cvodes.c") for n in names)

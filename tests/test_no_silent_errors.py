@@ -292,7 +292,7 @@ def test_warnings_do_not_leak_from_sweeps():
 def test_a_very_long_run_of_repeated_blows_says_how_far_blows_are_listed(monkeypatch):
     """Memory stays bounded on any horizon: the summary keeps at most
     MAX_POINTS points (3 s here) and says so; what it lists is exact."""
-    import pdbfs.simulation.summary_run as SR
+    import pdbfs.simulation.results.summary_run as SR
     monkeypatch.setattr(SR, "MAX_POINTS", 300_000)
     whole = drop_rig().simulate(1.5, n_out=30001).summary()
     with pytest.warns(pdbfs.PdbfsWarning, match="blows are listed up to t = 3 s of 6 s"):

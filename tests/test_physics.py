@@ -87,7 +87,7 @@ def test_damped_impact_restitution_and_momentum(law):
 def test_restitution_estimate_from_force_history():
     """Guo & Batzer's impulse ratio: 1 for a purely elastic impact; split at
     maximum indentation it equals the velocity restitution of a free impact."""
-    from pdbfs.simulation.impulse import restitution_from_force
+    from pdbfs.simulation.results.impulse import restitution_from_force
     m1, m2, v = 2.0, 3.0, 1.5
     res = TwoBodies(HertzContact(k=1e9), m1, m2, v).simulate(1.2e-3, n_out=4001, **TIGHT)
     assert restitution_from_force(res.t, res["contact.fc"]) == pytest.approx(1.0, abs=1e-3)

@@ -211,7 +211,7 @@ def test_a_rig_shows_its_name_size_and_components():
 
 def test_a_result_shows_its_run_and_the_summary_it_has():
     from pdbfs.models import RIGS
-    from pdbfs.simulation.reprs import number
+    from pdbfs.simulation.results.reprs import number
     rig = RIGS["paper"]()
     res = rig.simulate(0.02, backend="c", method="erk")
     text = repr(res)

@@ -46,7 +46,7 @@ def test_a_default_run_and_its_summary_do_the_rig_s_work_once(rig):
         assert once not in calls, once
     # and a run again is a replay of its plan, found by the rig itself: a few
     # Python frames, none of Simulator.run's arguments and checks (replay.py: why)
-    assert "simulator.py:run" not in calls and "rig.py:_output_checks" not in calls
+    assert "simulator.py:run" not in calls and "simulator.py:of" not in calls
     assert len(calls) < 20, calls
 
 
@@ -119,7 +119,7 @@ def test_the_initial_record_of_a_declared_start_is_the_start(rig):
 def test_output_checks_are_found_again_when_the_rig_is_compiled_again():
     r = paper_rig()
     r.simulate(n_out=11)
-    assert r.compile().__dict__["_output_checks"] == []
+    assert r._output_checks() == []
     seen = []
     r.hammer.check_output = lambda dt, params: seen.append(dt)
     object.__setattr__(r, "_compiled", None)     # as connect() and free() leave a changed rig
@@ -212,7 +212,7 @@ def test_a_run_again_is_the_run_the_general_way(rig, t_end, n_out):
     summary warns on both paths, and a run whose record outweighs its grid
     (the states made at once)."""
     import warnings
-    from pdbfs.simulation import replay
+    from pdbfs.simulation.run import replay
     rig.simulate(t_end, n_out=n_out)
     calls = _calls(lambda: rig.simulate(t_end, n_out=n_out))
     assert "replay.py:run" in calls and "simulator.py:_run" not in calls
@@ -228,14 +228,14 @@ def test_a_run_again_is_the_run_the_general_way(rig, t_end, n_out):
     assert [str(w.message) for w in w_again] == [str(w.message) for w in w_general]
     assert (t_end < 0.01) == bool(w_again) == (not s_again["complete"])
     _same_run(again, general)
-    assert replay.Plan.__module__ == "pdbfs.simulation.replay"
+    assert replay.Plan.__module__ == "pdbfs.simulation.run.replay"
 
 
 def test_a_replay_that_fails_says_what_the_general_path_says(rig, monkeypatch):
     """A planned run whose compiled call fails is not answered by the replay:
     the general path runs it and says why, in one line."""
     from pdbfs.errors import SolverError
-    from pdbfs.simulation import compiled as C
+    from pdbfs.simulation.run import compiled as C
     rig.simulate()
     lib = Simulator.of(rig).compiled()
     real = lib._run_summary
@@ -359,7 +359,7 @@ def test_new_parameters_that_need_another_method_take_the_general_run():
 def test_a_failed_replay_with_new_parameters_runs_those_parameters(rig, monkeypatch):
     """Where the replay's compiled call fails, the general run that explains
     (or, here, succeeds) is of the new parameters, not the plan's."""
-    from pdbfs.simulation import compiled as C
+    from pdbfs.simulation.run import compiled as C
     rig.simulate(params={"hammer.v0": 2.5})
     lib = Simulator.of(rig).compiled()
     real, failed = lib._run_summary, []

@@ -1,4 +1,4 @@
-"""The summary of a compiled run from the run itself (c/pdbfs_run_summary.c,
+"""The summary of a compiled run from the run itself (native/c/library/pdbfs_run_summary.c,
 pdbfs/simulation/c_summary.py): the same figures as summary.py on the same
 solution, nothing integrated again, summary.py asked where the run cannot
 say (a pulse cut off at the horizon)."""
@@ -8,7 +8,7 @@ import pytest
 
 from pdbfs.errors import PulseIncompleteWarning
 from pdbfs.models import paper_rig
-from pdbfs.simulation import result as result_module
+from pdbfs.simulation.results import result as result_module
 from pdbfs.simulation import summarize
 
 
@@ -49,7 +49,7 @@ def test_a_peak_at_a_windows_end_is_read_on_the_windows_last_interval(rig, backe
     # a pulse still rising at t_end: its highest value so far is the last
     # sample, found on the interpolant of the last interval (trusted), not by
     # integrating again from the sample before some 25 times per peak
-    from pdbfs.simulation.simulator import Simulator
+    from pdbfs.simulation.run.simulator import Simulator
     res = rig.simulate(0.002, n_out=201, backend=backend)      # 10 us apart: trusted
     p = res["oil.pressure"]
     steps = []
@@ -76,5 +76,5 @@ def test_the_casadi_backend_keeps_summary_py(rig):
 
 def test_summary_run_does_not_import_result():
     import inspect
-    from pdbfs.simulation import summary_run
+    from pdbfs.simulation.results import summary_run
     assert "from .result" not in inspect.getsource(summary_run)

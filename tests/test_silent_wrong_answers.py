@@ -46,7 +46,7 @@ def test_the_cli_refuses_rtol_1_in_one_line(tmp_path):
 
 def test_the_fmu_declares_the_same_rule():
     from pdbfs.fmu.variables import RTOL_MAX, RTOL_MIN
-    from pdbfs.simulation.settings import RTOL_MAX as S_MAX, RTOL_MIN as S_MIN
+    from pdbfs.simulation.setup.settings import RTOL_MAX as S_MAX, RTOL_MIN as S_MIN
     assert (RTOL_MIN, RTOL_MAX) == (S_MIN, S_MAX)
     paper_rig().simulate(0.002, rtol=RTOL_MAX)     # the edges themselves are allowed
 

@@ -13,7 +13,7 @@ from pdbfs.models import RIGS
 from pdbfs.native import toolchain
 from pdbfs.native.codegen import generate, model_functions
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.compiled_build import STRAIGHT, roles_of
+from pdbfs.simulation.run.compiled_build import STRAIGHT, roles_of
 
 WHICH = ("ode", "events", "roles", "roles_dot", "roles_both", "ode_q")
 

@@ -14,9 +14,10 @@ import numpy as np
 import pytest
 
 from pdbfs.models import paper_rig
-from pdbfs.simulation import Simulator, contact_impulse
-from pdbfs.simulation.hermite import _one_root
-from pdbfs.simulation.impulse import integral
+from pdbfs.simulation import Simulator
+from pdbfs.simulation.results import contact_impulse
+from pdbfs.simulation.results.hermite import _one_root
+from pdbfs.simulation.results.impulse import integral
 
 
 @pytest.fixture(scope="module")
@@ -84,23 +85,28 @@ def test_impulses_are_exact_for_cubics_and_lines():
 
 def test_the_simulation_package_has_no_import_circle():
     here = pathlib.Path(__file__).resolve().parents[1] / "pdbfs" / "simulation"
+    files = {f.relative_to(here).with_suffix("").as_posix().replace("/", "."): f
+             for f in here.rglob("*.py")}
     graph = {}
-    for f in here.glob("*.py"):
-        deps = set()
+    for name, f in files.items():
+        deps, pkg = set(), name.split(".")[:-1]
         for node in ast.walk(ast.parse(f.read_text())):      # function-local imports too
-            if isinstance(node, ast.ImportFrom) and node.level == 1:
-                deps |= {node.module.split(".")[0]} if node.module else \
-                    {a.name for a in node.names}
-        graph[f.stem] = deps
+            if isinstance(node, ast.ImportFrom) and node.level:
+                base = pkg[:len(pkg) - node.level + 1] + (node.module.split(".") if node.module else [])
+                for a in node.names:      # a module of the package, else the module imported from
+                    whole = ".".join(base + [a.name])
+                    deps.add(whole if whole in files else ".".join(base) or "__init__")
+        graph[name] = deps
     order = list(graphlib.TopologicalSorter(graph).static_order())   # CycleError if one
-    assert order.index("summary_run") < order.index("summary") < order.index("result")
+    assert order.index("results.summary_run") < order.index("results.summary") < \
+        order.index("results.result")
 
 
 def test_the_intervals_cubics_and_trust_are_those_of_the_whole_grid(rig):
     """Curves.interval (worked out per interval) against the whole-grid
     computation it replaced: the same coefficients, bit for bit, and the same
     trusted intervals (error estimate from the jumps of the third derivative)."""
-    from pdbfs.simulation.hermite import TRUST, coefficients
+    from pdbfs.simulation.results.hermite import TRUST, coefficients
     res = rig.simulate(backend="casadi")
     curves = res.curves
     for name in ("oil.pressure", "contact.fc", "hammer.v"):

@@ -1,4 +1,4 @@
-"""The compiled summary driver (pdbfs/simulation/c/pdbfs_summary.c): the same
+"""The compiled summary driver (pdbfs/native/c/library/pdbfs_summary.c): the same
 summary as Result.summary(), located on the solution, for many points in one
 call; generic over the rig's roles."""
 import numpy as np
@@ -7,8 +7,8 @@ import pytest
 import pdbfs
 from pdbfs.models import paper_rig, split_piston_rig
 from pdbfs.simulation import Simulator
-from pdbfs.simulation import compiled as batch
-from pdbfs.simulation.compiled import SUMMARY_KEYS
+from pdbfs.simulation.run import compiled as batch
+from pdbfs.simulation.run.compiled import SUMMARY_KEYS
 
 POINTS = [{"hammer.v0": 1.87}, {"hammer.v0": 5.5}, {"seal.c": 2.556e6},
           {"oil.k": 8.228e8, "contact.D": 1.595e9}]

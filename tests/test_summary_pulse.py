@@ -1,4 +1,5 @@
-"""The pulse in the compiled summary driver (c/pdbfs_summary.c, c/pdbfs_pulse.c):
+"""The pulse in the compiled summary driver (native/c/library/pdbfs_summary.c and
+pdbfs_pulse.c):
 crossings paired by direction with no cap, pulses cut off by t_end reported
 without a duration (``complete`` 0, a message), crossings that do not
 alternate a failed point; solver statistics per point."""
@@ -11,8 +12,8 @@ import pdbfs
 from pdbfs.components import Fixed, Mass, Spring
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
-from pdbfs.simulation import compiled as batch
-from pdbfs.simulation.compiled import SUMMARY_KEYS
+from pdbfs.simulation.run import compiled as batch
+from pdbfs.simulation.run.compiled import SUMMARY_KEYS
 
 OK, CUT, BAD = 0, 1, 2
 W = 2 * math.pi * 100.0          # the oscillator's angular frequency (100 Hz)

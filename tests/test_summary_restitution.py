@@ -12,8 +12,9 @@ import pytest
 
 from paper_equations import blow_reference
 from pdbfs.models import RIGS, paper_rig
-from pdbfs.simulation import Simulator, contact_impulse
-from pdbfs.simulation.summary import summarize
+from pdbfs.simulation import Simulator
+from pdbfs.simulation.results import contact_impulse
+from pdbfs.simulation.results.summary import summarize
 
 FIGURE = 1e-5      # every method at rtol 1e-8
 DEFAULTS = 5e-6    # each back end at its defaults (README: back ends agree to 5e-6)

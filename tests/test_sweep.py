@@ -118,6 +118,18 @@ def test_trajectories_are_full_results(rig):
     assert len(fig.axes[0].lines) == 2
 
 
+def test_trajectories_of_compiled_runs_come_back_from_worker_processes(rig):
+    """The default back end's Result makes its states when first read (the
+    run kept in the library); a worker process sends its Results with their
+    states made, and they are the runs' own (they failed to pickle)."""
+    res = pdbfs.sweep(rig, {"hammer.v0": [2.0, 3.0]}, trajectories=True, workers=2,
+                      progress=False)
+    assert res.workers == 2 and res[1].result.settings["backend"] == "c"
+    alone = rig.simulate(params={"hammer.v0": 3.0})
+    assert np.array_equal(res[1].result["oil.pressure"], alone["oil.pressure"])
+    assert res[1].result.summary() == alone.summary()
+
+
 def test_cli_sweep_writes_csv_and_plot(tmp_path, capsys):
     out = tmp_path / "sw"
     code = main(["sweep", "--set", "hammer.v0=1.87,2.73", "--set", "oil.k=2e8:4e8:2",

@@ -1,5 +1,5 @@
 """Sweeps whose pulses are cut off at t_end: the summary driver follows such a
-pulse past t_end itself (c/pdbfs_summary.c, follow()) and answers what
+pulse past t_end itself (native/c/library/pdbfs_summary.c, follow()) and answers what
 Result.summary() answers (summary.py follows it in Python), point by point;
 only CVODE's methods, and a point the driver could not follow, go to
 Result.summary()."""
@@ -10,7 +10,7 @@ import pytest
 
 import pdbfs
 from pdbfs.models import paper_hydraulic_oil_rig, paper_rig, split_piston_rig
-from pdbfs.simulation import compiled
+from pdbfs.simulation.run import compiled
 from pdbfs.studies.sweeps import runner
 
 KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",

@@ -9,7 +9,7 @@ from pdbfs.components.laws import (DAMPING_LAWS, STANDARD_GRAVITY, damping_lanka
 from pdbfs.errors import ParameterError
 from pdbfs.models import RIGS, drop_rig, paper_rig, split_piston_rig
 from pdbfs.simulation import SUMMARY_KEYS as KEYS
-from pdbfs.simulation.summary import keys_for
+from pdbfs.simulation.results.summary import keys_for
 
 
 # ------------------------------------------------------------------ split piston

@@ -2,7 +2,7 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.models import paper_rig
-from pdbfs.simulation.vectorize import vectorize
+from pdbfs.simulation.setup.vectorize import vectorize
 
 
 def test_numpy_replay_matches_casadi_on_every_output():

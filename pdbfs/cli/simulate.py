@@ -53,7 +53,7 @@ def check_room(out, n_rows, dae):
     import shutil
 
     from pdbfs.errors import ParameterError
-    from pdbfs.simulation.memory import plain_bytes, require, run_bytes
+    from pdbfs.simulation.setup.memory import plain_bytes, require, run_bytes
     if not isinstance(n_rows, int) or n_rows < 100_000:
         return                         # small, or refused by simulate() itself
     require(run_bytes(dae, n_rows), f"rig {dae.name}: {n_rows} output points",
@@ -73,7 +73,7 @@ def check_room(out, n_rows, dae):
 
 def _title(name, res):
     """The plot's title: the rig as the command line names it (and as its FMU does)."""
-    from pdbfs.simulation.plotting import _title as describe
+    from pdbfs.simulation.results.plotting import _title as describe
     return describe(res).replace(f"rig {res.rig}", f"rig {name} ({res.rig})", 1)
 
 

@@ -140,11 +140,35 @@ class DAE:
         v = np.array(f(np.asarray(p, float)), dtype=float).ravel()
         return np.sort(v[np.isfinite(v)])
 
+    def cached(self, name: str, make):
+        """The CasADi object ``make()`` made of this DAE under ``name`` (a
+        function, a rootfinder), made on the first request and kept with the
+        DAE's own functions (``function``), never pickled."""
+        cache = self.__dict__.setdefault("_functions", {})
+        f = cache.get(name)
+        if f is None:
+            f = cache.setdefault(name, make())
+        return f
+
+    def __post_init__(self):
+        #: what the layers above keep of this DAE, each under its own class as the
+        #: key (pdbfs.simulation's RigState: its Simulator, compiled library, ...;
+        #: the rig's output checks): made by them when first needed, it lives as
+        #: long as the DAE. A rig that changes compiles a new DAE, which starts
+        #: with none: what was made of the old one goes with it. Never pickled;
+        #: the DAE never looks inside.
+        self.companions = {}
+
     def __getstate__(self):
         """Pickle the model, not its caches (functions, integrators, compiled
         libraries are rebuilt where it is unpickled; needs CasADi's pickle
         context for the symbols)."""
-        return {k: v for k, v in self.__dict__.items() if not k.startswith("_")}
+        return {k: v for k, v in self.__dict__.items()
+                if not k.startswith("_") and k != "companions"}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.companions = {}
 
     # -- names ---------------------------------------------------------------
     @property

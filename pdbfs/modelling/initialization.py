@@ -7,7 +7,7 @@ side of the ODE, aliases their replacements.
 
 ``start_system`` and ``start_residual`` state the start as equations in
 the unknowns w = [free states; z]; solving them is the simulation's
-business (pdbfs.simulation.initialize) and the FMU's (pdbfs.native.initial).
+business (pdbfs.simulation.setup.initialize) and the FMU's (pdbfs.native.initial).
 """
 from __future__ import annotations
 

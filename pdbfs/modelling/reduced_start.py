@@ -35,11 +35,9 @@ def check(dae, p, error=ModelError):
     x0 = np.array(dae.function("start")(p)).ravel()
     z = np.array(ca.Function("z0", [dae.p], [dae.z0])(p)).ravel()
     if not dae.is_ode:
-        rf = dae.__dict__.get("_z0_rootfinder")
-        if rf is None:
-            rf = dae.__dict__["_z0_rootfinder"] = ca.rootfinder(
-                "z0", "newton", {"x": dae.z, "p": ca.vertcat(dae.t, dae.x, dae.p), "g": dae.alg},
-                {"error_on_fail": False})
+        rf = dae.cached("z0_rootfinder", lambda: ca.rootfinder(
+            "z0", "newton", {"x": dae.z, "p": ca.vertcat(dae.t, dae.x, dae.p), "g": dae.alg},
+            {"error_on_fail": False}))
         z = np.array(rf(z, np.concatenate([[0.0], x0, p]))).ravel()
     y = np.array(dae.function("out")(0.0, x0, z, p)).ravel()
     at = {n: k for k, n in enumerate(dae.y_names)}

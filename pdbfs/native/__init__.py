@@ -1,6 +1,6 @@
 """Native code shared by the compiled simulation backend and the FMU: CasADi
 C code generation of a DAE's functions, the compiler command, the CVODE
-driver both link (``c/pdbfs_cvode.c``: CVODE through the rig's non-smooth
+driver both link (``c/shared/pdbfs_cvode.c``: CVODE through the rig's non-smooth
 points with dense output), and the static SUNDIALS it needs (its sources
 fetched once, as a PyPI sdist through the index pip is configured with,
 compiled once per target by ``zig cc``).
@@ -18,11 +18,23 @@ compiled once per target by ``zig cc``).
                         damped Newton of the parameters
     tolerances.py       the one rule for relative tolerances (every path, the FMU's too)
     stiffness.py        the thresholds of method "auto" (every path, the FMU's C too)
-    c/pdbfs_cvode.[ch]  the CVODE driver (its header also serves a library without
-                        SUNDIALS: simulation/c/pdbfs_cvode_none.c, -DPDBFS_NO_CVODE)
-    c/pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same interface;
-                        its step arithmetic (pdbfs_erk_rk.c, _la.h, _table.h) and its
-                        screens for roots from a step's ends (pdbfs_erk_screen.c)
+
+pdbfs's C, a folder per binary it goes into (codegen.py names the files):
+
+    c/shared/           in every binary, the compiled backend's library and every FMU:
+      pdbfs_cvode.[ch]  the CVODE driver
+      pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same
+                        interface; its step arithmetic (pdbfs_erk_rk.c, _la.h, _table.h)
+                        and its screens for roots from a step's ends (pdbfs_erk_screen.c)
+      pdbfs_modes.[ch]  the modes at a state (method "auto")
+    c/library/          the compiled backend's library only (pdbfs.simulation builds
+                        it): one run over a grid (pdbfs_batch*.c, pdbfs_erk_grid.c),
+                        a run's record and its summary (pdbfs_record, pdbfs_run_*.c,
+                        pdbfs_summary.c, pdbfs_pulse); without CVODE at hand, its
+                        stand-in (pdbfs_cvode_none.c, -DPDBFS_NO_CVODE: the explicit
+                        method alone)
+    c/fmu/              every FMU only (pdbfs.fmu writes it): the FMI 2.0 and 3.0
+                        wrappers, the model, Model Exchange and Co-Simulation
 
 May import: pdbfs.errors and pdbfs.modelling. Nothing here knows about
 FMI, results or studies.

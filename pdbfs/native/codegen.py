@@ -1,6 +1,6 @@
 """C code generation and compilation shared by the FMU exporter
 (``pdbfs.fmu``) and the compiled simulation backend
-(``pdbfs.simulation.compiled``).
+(``pdbfs.simulation.run.compiled``).
 
 Conventions (the same for every generated binary):
 
@@ -32,16 +32,21 @@ from pdbfs.modelling.initialization import needs_solving
 
 from . import toolchain
 from .initial import solved_start_function
+from .straight import HELPERS, PART_INSTRUCTIONS, straight_c, zeros_needed
 from .sundials import Sundials, find_sundials
 
-#: the C shared by every generated binary: CVODE through the events
+#: pdbfs's own C, a folder per binary it goes into: shared/ (every binary: the
+#: compiled backend's library and every FMU), library/ (the library only), fmu/
+#: (every FMU only)
 NATIVE_C = Path(__file__).with_name("c")
-CVODE_DRIVER = (NATIVE_C / "pdbfs_cvode.c", NATIVE_C / "pdbfs_cvode.h",
+SHARED_C, LIBRARY_C, FMU_C = NATIVE_C / "shared", NATIVE_C / "library", NATIVE_C / "fmu"
+#: the C shared by every generated binary: CVODE through the events
+CVODE_DRIVER = (SHARED_C / "pdbfs_cvode.c", SHARED_C / "pdbfs_cvode.h",
                 # ... and the modes at a state, for method "auto"
-                NATIVE_C / "pdbfs_modes.c", NATIVE_C / "pdbfs_modes.h")
+                SHARED_C / "pdbfs_modes.c", SHARED_C / "pdbfs_modes.h")
 #: the explicit Runge-Kutta 8(5,3) with root finding at the kinks (method "erk"),
 #: on the CVODE driver's model interface: one source for both users
-ERK_DRIVER = tuple(NATIVE_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk_screen.c",
+ERK_DRIVER = tuple(SHARED_C / n for n in ("pdbfs_erk.c", "pdbfs_erk_rk.c", "pdbfs_erk_screen.c",
                                           "pdbfs_erk.h",
                                           "pdbfs_erk_la.h", "pdbfs_erk_table.h"))
 #: generated beside the model: the state count pdbfs_erk_la.h specialises for
@@ -136,7 +141,6 @@ def generate(funcs: list[ca.Function], directory: str | os.PathLike,
     sizes (arg, res, iw, w) a caller must provide. The functions named in
     ``straight`` are written as straight-line C (straight.py) where that
     can be done, the others by CasADi."""
-    from .straight import HELPERS, straight_c, zeros_needed
     own = {}
     for f in funcs:
         if f.name() in straight:
@@ -205,14 +209,9 @@ def fast_pow(c_text: str) -> str:
     return c_text[:at] + POW_HELPER + c_text[at:]
 
 
-#: instructions per generated C function at most (about 35 kB of C): GCC's
-#: optimisation grows faster than linearly with the size of one function
-#: (measured on the split piston, N = 200: one function per output, 17 s
-#: and 520 MB at -O2; in parts of 2,000 instructions, 5.7 s and 295 MB;
-#: N = 1,000: 30 s and 760 MB)
-PART_INSTRUCTIONS = 2000
-#: and output rows at most: each written output is a branch in the C, and
-#: many branches in one function cost GCC as much as many instructions
+#: instructions (straight.PART_INSTRUCTIONS) and output rows per generated C
+#: function at most: each written output is a branch in the C, and many
+#: branches in one function cost GCC as much as many instructions
 PART_ROWS = 256
 
 

@@ -1,6 +1,6 @@
 """The cost model of ``method="auto"``, one rule for every path: the compiled
-and CasADi backends (pdbfs.simulation.stiffness, which computes the modes)
-and the FMU's co-simulation (its C, fmu/c/stiffness.c, decides with these
+and CasADi backends (pdbfs.simulation.run.stiffness, which computes the modes)
+and the FMU's co-simulation (its C, native/c/fmu/stiffness.c, decides with these
 numbers, written into pdbfs_model.h).
 
 A run's cost is estimated per method as (steps it needs) x (cost of a step).
@@ -88,7 +88,7 @@ def run_costs(fastest: float, rate: float, osc: float, n: int, instructions: flo
     rate      the fastest decay of a mode that does not oscillate, 1/s
     osc       the largest modulus of a mode that oscillates (|Im| >= |Re|), 1/s
     n         states; instructions: of the generated right-hand side
-    (fmu/c/stiffness.c computes the same)."""
+    (native/c/fmu/stiffness.c computes the same)."""
     long_run = t_end == float("inf")
     span = 1.0 if long_run else t_end
     accurate = (0.0 if long_run else ERK_STEPS_BASE) + ERK_STEPS_COEF * span * osc ** ERK_STEPS_EXP

@@ -24,7 +24,12 @@ import re
 
 import casadi as ca
 
-from .codegen import PART_INSTRUCTIONS
+#: instructions per generated C function at most, here and in codegen.split
+#: (about 35 kB of C): GCC's optimisation grows faster than linearly with the
+#: size of one function (measured on the split piston, N = 200: one function
+#: per output, 17 s and 520 MB at -O2; in parts of 2,000 instructions, 5.7 s
+#: and 295 MB; N = 1,000: 30 s and 760 MB)
+PART_INSTRUCTIONS = 2000
 
 
 def _ops(table):

@@ -1,60 +1,38 @@
-"""Simulation and results: a rig's DAE -> SUNDIALS -> a Result.
+"""Simulation and results: a rig's DAE -> SUNDIALS or compiled C -> a Result.
 
-    one_run.py     simulate(): one run of a rig, the function users call
-    simulator.py   Simulator: CVODES/IDAS through casadi.integrator,
-                   integrators cached per setting, clear SolverErrors
-    compiled.py    backend="c" (the default where it builds): the DAE's
-                   generated C + c/pdbfs_batch.c + CVODE or native/c/pdbfs_erk.c
-                   (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes;
-                   a run's states on the grid made when first read (c/pdbfs_run_*.c)
-                   (without CVODE at hand: the explicit method alone, c/pdbfs_cvode_none.c)
-    backends.py    "auto" and a CVODE method without CVODE at hand: CasADi, with a warning
-    block.py       one thread's buffer of the compiled calls' small arguments and answers
-    kept.py        a compiled run kept in the library until its states are read
-    replay.py      a run again with everything of the run before: its plan,
-                   the compiled call and its Result in a few Python frames
-    c_summary.py   a compiled run's summary from the run itself (no second run)
-    on_grid.py     outputs, rates and event indicators on a whole grid
-    result.py      Result: arrays by dotted name, values off the grid, peaks
-                   and crossings located on the solution, CSV, pandas, plot
-    summary.py     what a test engineer reads off a pulse (peak pressure,
-                   duration, restitution, complete or not, each blow)
-    summary_run.py the summary's own solution: a fixed grid, until the pulse is over
-    impulse.py     impulses and Guo & Batzer's restitution of sampled forces
-    contact_impulse.py  a contact force's impulse integrated by the solver
-                   (a quadrature on the solution: the summary's restitution)
-    stats.py       solver statistics under one set of names
-    initialize.py  the start solved before integration: free states, initial
-                   equations, initial="steady" (Newton, exact Jacobian)
-    newton.py      one damped Newton run on the start system, where it stopped and why
-    start_branches.py  the start across one-sided laws: guesses past their kinks
-                   where Newton stops at a singular Jacobian; one solution or a refusal
-    linearize.py   A, B, C, D at an operating point (algebraic variables
-                   eliminated), modes: omega, frequency, damping, shape
-    kinks.py       one-sided laws exactly at their kink at that point: the side linearized
-    settings.py    tolerances, method, output grid and argument types, checked first
-    inputs.py      parameters, start values, grid and settings of a run as vectors,
-                   checked; what depends on the rig alone made once
-    memory.py      sizes that cannot fit in the memory available, refused up front
-    time_events.py switch times: integrated from switch to switch, never stepped over
-    trajectory.py  the simulation as a differentiable CasADi Function of
-                   chosen parameters (CVODES sensitivities)
-    vectorize.py   CasADi output functions evaluated on whole numpy rows
-    plotting.py    matplotlib plots of a Result
-    reprs.py       one readable line and an HTML table for Result, Rig and the studies
+    setup/     what a run is set up from, checked before anything is
+               integrated: settings, parameters and start values as vectors,
+               the start solved (initial equations, steady state), memory,
+               switch times
+    run/       one run: simulate(), the Simulator (CVODES/IDAS through CasADi),
+               the compiled backend (one shared library per rig, ctypes), a
+               run replayed, method="auto", what a failure means
+    results/   what a run gives: Result, its summary (the compiled run's own,
+               or its own solution's), impulses and restitution, peaks and
+               crossings on the solution, outputs on a grid, plots
+    analysis/  beyond a run: linearization and modes, the simulation as a
+               differentiable CasADi Function of parameters
+    state.py   what the layer keeps of one compiled rig (RigState: its
+               Simulator, compiled library, plans), held by the DAE and gone
+               with it when the rig changes
+
+Inside, imports go one way: setup <- results <- run <- analysis (each folder
+may import those before it, and state.py; its __init__ says so). The C the compiled
+backend's library is built from is pdbfs.native's (native/c/library/ and
+native/c/shared/).
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, SUNDIALS). Never the component library, the studies, the FMU
 exporter or the rigs in pdbfs.models.
 """
-from .result import Result
-from .one_run import simulate
-from .simulator import MAX_NUM_STEPS, Simulator
-from .summary import KEYS as SUMMARY_KEYS
-from .summary import UNITS as SUMMARY_UNITS
-from .summary import summarize
-from .linearize import Linearization, linearize
-from .trajectory import trajectory_function
+from .results.result import Result
+from .run.one_run import simulate
+from .run.simulator import MAX_NUM_STEPS, Simulator
+from .results.summary import KEYS as SUMMARY_KEYS
+from .results.summary import UNITS as SUMMARY_UNITS
+from .results.summary import summarize
+from .analysis.linearize import Linearization, linearize
+from .analysis.trajectory import trajectory_function
 
 __all__ = ["Result", "Simulator", "simulate", "MAX_NUM_STEPS", "summarize", "SUMMARY_KEYS",
            "SUMMARY_UNITS", "trajectory_function", "linearize", "Linearization"]

@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain, require_extra
-from pdbfs.simulation.memory import require, table_bytes
-from pdbfs.simulation.settings import mapping, name_list, real
+from pdbfs.simulation.setup.memory import require, table_bytes
+from pdbfs.simulation.setup.settings import mapping, name_list, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -242,7 +242,7 @@ def _check_outputs(rig, outputs):
     """(the rig, the outputs as a list), before any run: each output a
     summary value of the rig, named once."""
     from pdbfs.simulation import Simulator
-    from pdbfs.simulation.summary import keys_for
+    from pdbfs.simulation.results.summary import keys_for
     if isinstance(rig, str):
         from pdbfs.models import RIGS
         if rig not in RIGS:

@@ -3,7 +3,7 @@ type before anything is built: each wrong one is a ParameterError naming it."""
 from __future__ import annotations
 
 from pdbfs.errors import ParameterError, plain
-from pdbfs.simulation.settings import mapping, real, whole
+from pdbfs.simulation.setup.settings import mapping, real, whole
 
 
 def check_fit_arguments(*, free, bounds, start, params, starts, t_end, seed=0, signal=None):

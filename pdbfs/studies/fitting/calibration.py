@@ -20,7 +20,7 @@ import numpy as np
 
 from pdbfs.errors import DataError, ParameterError, PdbfsError
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.reprs import number, table
+from pdbfs.simulation.results.reprs import number, table
 
 from .least_squares import distinct_optima, optimum_of_each_start, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns

@@ -21,8 +21,8 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.reprs import number, table, values
-from pdbfs.simulation.settings import real
+from pdbfs.simulation.results.reprs import number, table, values
+from pdbfs.simulation.setup.settings import real
 
 from .calibration import _rig
 from .features import FEATURES, UNITS

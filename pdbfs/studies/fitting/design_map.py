@@ -19,8 +19,8 @@ import warnings
 
 from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, plain
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.memory import require, table_bytes
-from pdbfs.simulation.settings import mapping, real
+from pdbfs.simulation.setup.memory import require, table_bytes
+from pdbfs.simulation.setup.settings import mapping, real
 
 from .calibration import _rig
 from .free_parameters import height_stands_for

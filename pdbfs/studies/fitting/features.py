@@ -1,6 +1,6 @@
 """Features of a pulse and their exact parameter gradients: peak value, time
 of peak, and the time spent above a fraction of the peak (the summary's
-pulse duration, pdbfs.simulation.summary.PULSE_LEVEL).
+pulse duration, pdbfs.simulation.results.summary.PULSE_LEVEL).
 
 From Samples (values, slopes and sensitivities on a fine grid) the features
 are located on the Hermite interpolant and differentiated exactly:
@@ -15,7 +15,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from pdbfs.errors import PdbfsError
-from pdbfs.simulation.summary import PULSE_LEVEL
+from pdbfs.simulation.results.summary import PULSE_LEVEL
 
 FEATURES = ("peak_pressure", "time_of_peak", "pulse_duration")
 UNITS = {"peak_pressure": "Pa", "time_of_peak": "s", "pulse_duration": "s"}

@@ -22,9 +22,9 @@ from scipy.interpolate import CubicHermiteSpline
 
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.initialize import refuse_solved_start
-from pdbfs.simulation.settings import default_atol
-from pdbfs.simulation.trajectory import symbolic_states
+from pdbfs.simulation.analysis.trajectory import symbolic_states
+from pdbfs.simulation.setup.initialize import refuse_solved_start
+from pdbfs.simulation.setup.settings import default_atol
 
 #: spacing of the fine grid, s
 DT = 5e-6
@@ -101,7 +101,7 @@ def model_grid(t_end, dt=DT, fine_until=None, coarse=MAX_COARSE) -> np.ndarray:
 def pulse_end(sim, p0, horizon) -> float | None:
     """Where the rig's pulse ends at the parameters ``p0`` (None if it has no
     pulse role or does not end within the look-ahead)."""
-    from pdbfs.simulation.summary_run import summary_run
+    from pdbfs.simulation.results.summary_run import summary_run
     if not (getattr(sim.dae, "signals", {}) or {}).get("pressure"):
         return None
     res = sim.run(min(horizon, 0.02), 2001, params=dict(zip(sim.dae.p_names, p0)))

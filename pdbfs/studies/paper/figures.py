@@ -70,8 +70,8 @@ def _pressure_study(ctx, rep, path, *, figure, param, values, label, xlim, ylim,
 def fig4(ctx, rep, path):
     """Contact force hammer -> piston at 2.73 m/s, 0-14 ms, impulses shaded."""
     import matplotlib.pyplot as plt
-    from pdbfs.simulation.impulse import impulse_ratio, integral, restitution_from_force
-    from pdbfs.simulation.summary import restitution
+    from pdbfs.simulation.results.impulse import impulse_ratio, integral, restitution_from_force
+    from pdbfs.simulation.results.summary import restitution
     # impulses are integrated on the output grid: always the fine one (1 run)
     res = ctx.rig.simulate(0.02, n_out=int(0.02e3 * N_PER_MS) + 1)
     t, f = res.t, res["contact.fc"]

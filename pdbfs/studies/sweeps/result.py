@@ -17,7 +17,7 @@ import numpy as np
 from pdbfs.errors import PdbfsError
 from pdbfs.files import save_figure, whole
 from pdbfs.simulation import SUMMARY_UNITS as UNITS
-from pdbfs.simulation.reprs import table
+from pdbfs.simulation.results.reprs import table
 
 from .runner import LIST_KEYS
 

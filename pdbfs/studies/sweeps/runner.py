@@ -20,8 +20,8 @@ import numpy as np
 from pdbfs.errors import ParameterError, PdbfsError
 from pdbfs.modelling import check_value, reduced_start, within_limits
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.initialize import needs_solving
-from pdbfs.simulation.summary import keys_for, summarize
+from pdbfs.simulation.setup.initialize import needs_solving
+from pdbfs.simulation.results.summary import keys_for, summarize
 
 #: list-valued summary entries (one value per blow) are stored as JSON text; the
 #: blows' count is a column of its own (impact_count). tests/test_every_rig_studies.py
@@ -117,7 +117,7 @@ class Runner:
 
     def _run_fast(self, P, ok, summary, error):
         s = self.settings
-        from pdbfs.simulation.compiled import RC_FOLLOW, SUMMARY_KEYS
+        from pdbfs.simulation.run.compiled import RC_FOLLOW, SUMMARY_KEYS
         values, codes, messages = self.fast.summaries(P[ok], s.t_end, s.rtol, s.atol, s.method,
                                                       s.max_step)
         rows = np.flatnonzero(ok)

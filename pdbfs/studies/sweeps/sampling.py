@@ -23,7 +23,7 @@ from scipy import stats
 from scipy.stats import qmc
 
 from pdbfs.errors import ParameterError, PdbfsWarning, plain
-from pdbfs.simulation.memory import require
+from pdbfs.simulation.setup.memory import require
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike

@@ -30,10 +30,9 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, missing_extra, plain, require_extra
 from pdbfs.simulation import Result, Simulator
-from pdbfs.simulation.backends import backend_for_method
-from pdbfs.simulation.memory import require, run_bytes, table_bytes
-from pdbfs.simulation.settings import mapping
-from pdbfs.simulation.settings import default_atol, default_rtol
+from pdbfs.simulation.run.backends import backend_for_method
+from pdbfs.simulation.setup.memory import require, run_bytes, table_bytes
+from pdbfs.simulation.setup.settings import default_atol, default_rtol, mapping
 
 from .sampling import Grid, PointSet
 from .result import SweepResult
@@ -270,9 +269,7 @@ def _forked_chunk(job):
     runner, points = _FORKED
     chunk = runner.run(np.arange(a, b), points.block(a, b))
     # Results travel without their Simulator; the parent gives them its own
-    chunk.results = [None if r is None else {k: v for k, v in vars(r).items()
-                                             if k not in ("_sim", "_curves", "_summary_warnings")}
-                     for r in chunk.results]
+    chunk.results = [None if r is None else r.detached() for r in chunk.results]
     return cid, chunk
 
 
@@ -291,10 +288,7 @@ def _run_forked(runner, points, chunks, workers, finish) -> str:
 def _rebuild(sim, state):
     if isinstance(state, Result):
         return state
-    res = Result.__new__(Result)
-    res.__dict__.update(state)
-    res._sim = sim
-    return res
+    return Result.attach(sim, state)
 
 
 def _windowed(chunks, submit, result, window, finish):

@@ -1,11 +1,11 @@
-"""The compiled simulation backend (``backend="c"``, and fast sweeps). The DAE's model functions are generated as C by CasADi, compiled with
-generic drivers and CVODE into one shared library (``compiled_build.py``),
+"""The compiled simulation backend (``backend="c"``, and fast sweeps). The
+DAE's model functions are generated as C by CasADi, compiled with generic drivers and CVODE into one shared library (``compiled_build.py``),
 and called through ctypes: ``run`` integrates one point over a whole output
-grid (``c/pdbfs_batch.c``); ``summaries`` integrates many points and reduces
-each to its summary during the integration (``c/pdbfs_summary.c``, on the
-record of ``c/pdbfs_record.c``, the pulse paired in ``c/pdbfs_pulse.c``),
-without a Python object per point. Both report CVODE's statistics
-(``STAT_KEYS``). The library is built once per rig structure and
+grid (``pdbfs_batch.c``); ``summaries`` integrates many points and reduces
+each to its summary during the integration (``pdbfs_summary.c``, on the
+record of ``pdbfs_record.c``, the pulse paired in ``pdbfs_pulse.c``: the
+library's C in pdbfs/native/c/library/), without a Python object per point.
+Both report CVODE's statistics (``STAT_KEYS``). The library is built once per rig structure and
 loaded once per DAE: parameters, start values, tolerances and the grid are
 call arguments, so nothing is rebuilt when they change. ctypes releases the
 GIL during a call, so threads run calls in parallel. Where CVODE is not
@@ -26,6 +26,8 @@ import numpy as np
 from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
+from ..results.c_summary import SUMMARY_KEYS
+from ..state import state_of
 from . import compiled_build as build_lib
 from .block import Block
 from .compiled_build import ABI, ROLES
@@ -37,11 +39,8 @@ CVODE_METHODS = ("adams", "bdf")
 MSG_LEN = 1024
 POINT_MSG_LEN = 320
 
-#: what the summary driver computes, in its order; a key is reported when its role exists.
-#: ``complete`` is 1.0 when the pulse ended inside the run (the pressure rose above and fell
-#: back below 1 % of its peak, and the contact force is zero at the end), else 0.0
-SUMMARY_KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
-                "max_piston_displacement", "restitution_coefficient", "complete")
+#: the role each key of the summary driver needs (SUMMARY_KEYS, in the driver's order:
+#: results/c_summary.py)
 KEY_ROLES = {"peak_pressure": "pressure", "time_of_peak": "pressure", "pulse_duration": "pressure",
              "peak_contact_force": "contact_force", "max_piston_displacement": "piston_displacement",
              "restitution_coefficient": "contact_force", "complete": "pressure"}
@@ -49,14 +48,15 @@ KEY_ROLES = {"peak_pressure": "pressure", "time_of_peak": "pressure", "pulse_dur
 #: the solver statistics of one run (RunStatus.stats, summaries(with_stats=True))
 STAT_KEYS = ("steps", "rhs_evals", "jac_evals", "root_events", "method", "wall_time")
 
-# return codes of pdbfs_batch_run (c/pdbfs_batch.c); CVODE failures are its negative flags
+# return codes of pdbfs_batch_run (native/c/library/pdbfs_batch.c); CVODE failures are its
+# negative flags
 RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
-#: a summary point whose pressure crossings do not alternate (c/pdbfs_summary.c)
+#: a summary point whose pressure crossings do not alternate (native/c/library/pdbfs_summary.c)
 RC_BAD_CROSSINGS = 6
 #: summaries(): a pulse cut off at t_end the driver could not follow past it (summary.py's)
 RC_FOLLOW = 7
-INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
-NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
+INFO_N = 7          # pdbfs_batch_run's info[] (native/c/library/pdbfs_batch.c INFO_*)
+NSTAT = 6           # pdbfs_summary_batch's stats columns (native/c/library/pdbfs_summary.c ST_*)
 
 
 def solver_name(code: int) -> str:
@@ -291,14 +291,14 @@ class CompiledODE:
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
                     max_num_steps=500000, checked=False, keep=False, t_addr=None):
         """As ``run`` (``t`` from 0), and the summary of the same integration
-        (the summary driver's, c/pdbfs_summary.c): (X, RunStatus, values (a
+        (the summary driver's, native/c/library/pdbfs_summary.c): (X, RunStatus, values (a
         list of len(SUMMARY_KEYS), NaN where undefined), summary code (0 ok, -1 when
         the run failed), note (its warnings or failure), kept). ``checked``: the
         caller (Simulator.run) has checked the arguments already, only their
         types and sizes are checked here (C checks them all again).
         ``keep`` with method "erk": the states on the grid are not computed
         now; X is None and ``kept`` (a KeptRun, None when the run failed) makes
-        them when asked (c/pdbfs_run_trajectory.c); else ``kept`` is None.
+        them when asked (native/c/library/pdbfs_run_trajectory.c); else ``kept`` is None.
         ``t_addr``: the address of ``t``'s data, where the caller has it
         (Simulator.run's plan: a read-only grid)."""
         if not checked:
@@ -376,7 +376,7 @@ class CompiledODE:
         return out, codes, messages
 
     def pulse_pairs(self, times, directions, above0, above1, t0, t1):
-        """The summary driver's pairing of a pulse's crossings (c/pdbfs_pulse.c):
+        """The summary driver's pairing of a pulse's crossings (native/c/library/pdbfs_pulse.c):
         (answer: 0 ok, 1 cut off, 2 crossings that do not alternate; duration,
         NaN unless ok; message)."""
         t = np.ascontiguousarray(times, dtype=float)
@@ -391,9 +391,10 @@ class CompiledODE:
 
 def compiled(dae, cvode: bool = False) -> CompiledODE:
     """The CompiledODE of ``dae``, built (or loaded from the disk cache) once
-    per DAE object; with ``cvode``, one whose library has CVODE (built anew,
-    once, if the one at hand runs the explicit method alone)."""
-    c = dae.__dict__.get("_compiled_c")
+    per DAE object (kept in its RigState); with ``cvode``, one whose library
+    has CVODE (built anew, once, if the one at hand runs the explicit method alone)."""
+    state = state_of(dae)
+    c = state.compiled
     if c is None or cvode and not c.cvode:
-        c = dae.__dict__["_compiled_c"] = CompiledODE(dae, cvode=True if cvode else None)
+        c = state.compiled = CompiledODE(dae, cvode=True if cvode else None)
     return c

@@ -26,7 +26,7 @@ import numpy as np
 from pdbfs.errors import ParameterError
 
 from .kinks import kinks_at
-from .settings import name_list
+from ..setup.settings import name_list
 
 if TYPE_CHECKING:
     import control
@@ -159,7 +159,7 @@ def linearize(model: Component | DAE, at: str | float = "start",
     in s of a run from the start); ``inputs``: parameter names (columns of B
     and D); ``outputs``: variable names (rows of C and D; default the rig's
     outputs). ``params``, ``start`` and ``initial`` as in simulate()."""
-    from .simulator import Simulator
+    from ..run.simulator import Simulator
     sim = Simulator.of(model)
     dae = sim.dae
     if isinstance(at, (bool, np.bool_)):       # True is no time (float(True) is 1 s)
@@ -201,7 +201,7 @@ def linearize(model: Component | DAE, at: str | float = "start",
 
 def operating_point(sim, at, p, start, initial, rtol, atol):
     """(x, t) of ``at``."""
-    from .initialize import solve_start
+    from ..setup.initialize import solve_start
     x_guess = sim.start_vector(p, start)
     if isinstance(at, str):
         if at not in ("start", "steady"):

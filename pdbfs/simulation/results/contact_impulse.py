@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import time_events as TE
+from ..setup import time_events as TE
 from .hermite import TRUST
 
 

@@ -27,8 +27,8 @@ REPLAY_UP_TO = 40
 
 
 class RunInputs:
-    """Mixed into Simulator (which has ``dae``, ``_cache``, ``_checked``,
-    ``_grids`` and ``x_names``)."""
+    """Mixed into Simulator (which has ``dae``, ``state``, ``_cache``,
+    ``_checked``, ``_grids`` and ``x_names``)."""
 
     check_settings = staticmethod(check_settings)
     #: entries ``_cache`` holds at most of what is kept per parameter vector
@@ -117,7 +117,7 @@ class RunInputs:
         a long one costs more that way). Where the rig's compiled library is
         loaded, the start values and the conditions are its C (a microsecond:
         a loop over new parameters pays for these at every run)."""
-        lib = self.dae.__dict__.get("_compiled_c")
+        lib = self.state.compiled
         key = ("numeric", name, lib is not None)
         f = self._cache.get(key)
         if f is None and lib is not None and (name == "conditions" or

@@ -6,7 +6,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from .vectorize import vectorize
+from ..setup.vectorize import vectorize
 
 
 class OnGrid:

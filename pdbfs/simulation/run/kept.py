@@ -8,7 +8,7 @@ import threading
 
 import numpy as np
 
-#: room for the trajectory driver's message (c/pdbfs_run_trajectory.c)
+#: room for the trajectory driver's message (native/c/library/pdbfs_run_trajectory.c)
 MSG_LEN = 1024
 
 
@@ -16,7 +16,7 @@ class KeptRun:
     """A run of ``run_summary(keep=True)`` kept in the library's memory
     (its record of every step) until its states on the grid are made:
     ``states()`` makes them on its first call (each step's dense output at
-    the grid's times in it, c/pdbfs_run_trajectory.c: the numbers of a run
+    the grid's times in it, native/c/library/pdbfs_run_trajectory.c: the numbers of a run
     that wrote them as it went), frees the record and answers the same
     after; garbage collection frees it too."""
 

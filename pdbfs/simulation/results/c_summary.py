@@ -1,7 +1,7 @@
 """The summary of a compiled run from the run itself: the compiled backend
 integrates the output grid and records every step in one call
-(c/pdbfs_run_summary.c), and the summary driver's reduction of that record
-(c/pdbfs_summary.c: peaks where the slope turns, crossings of the pulse
+(native/c/library/pdbfs_run_summary.c), and the summary driver's reduction of that record
+(native/c/library/pdbfs_summary.c: peaks where the slope turns, crossings of the pulse
 level, CVODE's root finding on the recorded steps) gives Result.summary()
 without integrating again.
 
@@ -15,8 +15,14 @@ from __future__ import annotations
 
 from operator import itemgetter
 
-from .compiled import SUMMARY_KEYS
 from .summary import keys_for
+
+#: what the summary driver computes, in its order (the compiled library's summary,
+#: native/c/library/pdbfs_summary.c); a key is reported when its role exists.
+#: ``complete`` is 1.0 when the pulse ended inside the run (the pressure rose above and fell
+#: back below 1 % of its peak, and the contact force is zero at the end), else 0.0
+SUMMARY_KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
+                "max_piston_displacement", "restitution_coefficient", "complete")
 
 COMPLETE = SUMMARY_KEYS.index("complete")
 
@@ -30,23 +36,24 @@ def usable(dae, lib) -> bool:
     return ok
 
 
-def _layout(dae) -> tuple:
+def _layout(sim) -> tuple:
     """(the rig's summary keys, a function picking their values from
-    SUMMARY_KEYS' order as a tuple), once per DAE."""
-    keys = tuple(keys_for(dae))
+    SUMMARY_KEYS' order as a tuple), once per rig (its RigState)."""
+    keys = tuple(keys_for(sim.dae))
     at = [SUMMARY_KEYS.index(k) for k in keys]
-    layout = dae.__dict__["_c_summary_layout"] = (keys, lambda v: tuple(v[i] for i in at)) \
+    layout = sim.state.summary_layout = (keys, lambda v: tuple(v[i] for i in at)) \
         if len(at) < 2 else (keys, itemgetter(*at))
     return layout
 
 
-def summary_of(dae, fast) -> dict | None:
+def summary_of(sim, fast) -> dict | None:
     """Result.summary()'s dict from the run's own summary (values (a list),
-    code, note), or None where summary.py must be asked."""
+    code, note), or None where summary.py must be asked (``sim``: the
+    Simulator of the run)."""
     values, code, note = fast
     if code != 0 or note or values[COMPLETE] != 1.0:
         return None
-    keys, pick = dae.__dict__.get("_c_summary_layout") or _layout(dae)
+    keys, pick = sim.state.summary_layout or _layout(sim)
     picked = pick(values)
     out = dict(zip(keys, picked))
     total = sum(picked)

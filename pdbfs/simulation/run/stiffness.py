@@ -23,12 +23,12 @@ METHOD_NAMES = {"erk": "explicit Runge-Kutta 8(5,3)", "adams": "CVODE Adams", "b
 
 
 def jacobian_function(dae) -> ca.Function:
-    """d(ode)/dx as a sparse CasADi Function of (t, x, p), cached on the DAE."""
-    f = dae.__dict__.get("_jac_x")
-    if f is None:
-        f = ca.Function("jac_x", [dae.t, dae.x, dae.p], [ca.jacobian(dae.ode, dae.x)])
-        dae.__dict__["_jac_x"] = f
-    return f
+    """d(ode)/dx as a sparse CasADi Function of (t, x, p), made once per DAE."""
+    from ..state import state_of
+    state = state_of(dae)
+    if state.jac_x is None:
+        state.jac_x = ca.Function("jac_x", [dae.t, dae.x, dae.p], [ca.jacobian(dae.ode, dae.x)])
+    return state.jac_x
 
 
 def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:

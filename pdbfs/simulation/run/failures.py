@@ -5,6 +5,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, SolverError
 
+from ..state import state_of
 from . import compiled as C
 
 CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages
@@ -121,10 +122,11 @@ def _undetermined(dae, t, x, z, p):
     if dae.is_ode or z is None or not np.size(z):
         return None
     import casadi as ca
-    f = dae.__dict__.get("_alg_jacobian")
-    if f is None:
-        f = dae.__dict__["_alg_jacobian"] = ca.Function(
+    state = state_of(dae)
+    if state.alg_jacobian is None:
+        state.alg_jacobian = ca.Function(
             "alg_jac", [dae.t, dae.x, dae.z, dae.p], [ca.densify(ca.jacobian(dae.alg, dae.z))])
+    f = state.alg_jacobian
     J = np.atleast_2d(np.array(f(t, x, z, p), dtype=float))
     x0 = np.array(dae.function("start")(p)).ravel()
     J0 = np.atleast_2d(np.array(f(0.0, x0, ca.Function("z0", [dae.p], [dae.z0])(p), p),

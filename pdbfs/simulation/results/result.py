@@ -17,11 +17,11 @@ import numpy as np
 from pdbfs.errors import PdbfsError
 from pdbfs.files import whole
 
+from ..setup.initialize import InitialState
 from .c_summary import summary_of
 from .hermite import Curves
-from .initialize import InitialState
 from .reprs import number, table
-from .settings import name_list
+from ..setup.settings import name_list
 from .summary import summarize
 
 
@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.figure import Figure
 
-    from .simulator import Simulator
+    from ..run.simulator import Simulator
 
 #: rows of a CSV formatted at a time (Result.to_csv)
 CSV_ROWS = 20000
@@ -89,9 +89,10 @@ class Result:
         self._Z = Z
         self.settings = settings
         dae = sim.dae
-        names = dae.__dict__.get("_result_names")     # the same for every Result of the rig
+        state = sim.state
+        names = state.result_names     # the same for every Result of the rig
         if names is None:
-            names = dae.__dict__["_result_names"] = (
+            names = state.result_names = (
                 {n: i for i, n in enumerate(dae.y_names)}, {v.name: v.unit for v in dae.y_info},
                 {v.name: v.description for v in dae.y_info}, tuple(dae.y_names),
                 tuple(dae.p_names), tuple(dae.x_names))
@@ -100,6 +101,27 @@ class Result:
         # the start the run began from: an initialize.InitialState, or the start
         # vector of a rig that starts as declared (its record made on first use)
         self._initial = initial
+
+    def detached(self) -> dict:
+        """This Result without its Simulator (and what it made of it), to be
+        sent to another process; ``Result.attach`` makes it a Result again there.
+        A compiled run's states are made now (its run is kept in this process's
+        library); the summary is made again where it is asked for."""
+        self._X                 # (made once: kept on this Result)
+        return {k: v for k, v in vars(self).items()
+                if k not in ("_sim", "_curves", "_summary", "_summary_warnings", "_make_states")}
+
+    @classmethod
+    def attach(cls, sim, state: dict) -> "Result":
+        """The Result ``detached`` gave ``state`` of, on ``sim`` (a Simulator of
+        the same rig, e.g. the parent process's of a sweep's worker)."""
+        res = cls.__new__(cls)
+        res._restore(sim, state)
+        return res
+
+    def _restore(self, sim, state):
+        self.__dict__.update(state)
+        self._sim = sim
 
     @property
     def _X(self) -> np.ndarray:
@@ -367,7 +389,7 @@ class Result:
         Warns (PulseIncompleteWarning) when the pulse outlasts the run.
         Computed once per Result."""
         if "_summary" not in self.__dict__ and self._fast is not None:
-            d = summary_of(self._sim.dae, self._fast)
+            d = summary_of(self._sim, self._fast)
             if d is not None:                  # the run's own: nothing integrated again
                 self._summary, self._summary_warnings = d, []
         if "_summary" not in self.__dict__:    # its warnings are kept and given again each call

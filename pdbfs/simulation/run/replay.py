@@ -1,8 +1,8 @@
 """A run with everything of a run before: the rig's own parameters and start,
 the same settings (``Simulator.run``'s plan). Nothing is decided or checked
 again: the compiled call, and its Result. ``rig.simulate()`` with no options
-finds its plan itself (``own``: kept on the DAE by t_end), without
-Simulator.run's arguments and key. Runs that give new parameters have plans
+finds its plan itself (``own``: kept in the rig's state by t_end,
+one_run.simulate_own), without Simulator.run's arguments and key. Runs that give new parameters have plans
 of their own settings: Simulator.run checks the parameters and decides their
 start and method, and where that is the plan's method, the plan's call is
 made with them (``run(sim, plan, p, x0)``).
@@ -24,10 +24,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import c_summary
+from ..results import c_summary
+from ..results.result import Result
 from .compiled import INFO_N, METHOD_CODES, MSG_LEN, POINT_MSG_LEN, SUMMARY_KEYS, _stats, _text
 from .kept import KeptRun
-from .result import Result
 
 # where Block.unpack's answers have the summary's values and its code
 _VALUES = INFO_N
@@ -79,9 +79,9 @@ def make_plan(sim, key, kept_grid, p, x0, rtol, atol, method, max_step, max_num_
 
 
 def own(sim, t_end):
-    """``sim.run(t_end)`` (Rig.simulate() with no options), its plan kept on the
-    DAE by ``t_end`` for the next such call: Rig.simulate replays it without
-    Simulator.run's arguments and checks."""
+    """``sim.run(t_end)`` (Rig.simulate() with no options), its plan kept in
+    the rig's state by ``t_end`` for the next such call: one_run.simulate_own
+    replays it without Simulator.run's arguments and checks."""
     r = sim.run(t_end)
     d = type(sim).run.__kwdefaults__         # run's defaults: the key run() made
     plan = sim._cache.get(key(t_end, type(sim).run.__defaults__[1], d["rtol"], d["atol"],
@@ -89,7 +89,7 @@ def own(sim, t_end):
                               False)) \
         if type(t_end) is float else None
     if plan is not None:
-        plans = sim.dae.__dict__.setdefault("_own_plans", {})
+        plans = sim.state.own_plans
         if len(plans) > 16:
             plans.clear()
         plans[t_end] = (sim, plan)

@@ -1,12 +1,12 @@
 """Building the compiled backend's shared library of a DAE (used by
 compiled.py): CasADi-generated C of the model functions, the generic drivers
-``c/pdbfs_batch.c`` (one run over an output grid) and ``c/pdbfs_summary.c``
-(many points reduced to their summaries, with ``c/pdbfs_record.c`` and
-``c/pdbfs_pulse.c``), the CVODE loop shared with the FMU
-(``native/c/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials,
+of pdbfs/native/c/library/, ``pdbfs_batch.c`` (one run over an output grid)
+and ``pdbfs_summary.c`` (many points reduced to their summaries, with
+``pdbfs_record.c`` and ``pdbfs_pulse.c``), the CVODE loop shared with the
+FMU (``native/c/shared/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials,
 compiled by ``zig cc`` (pdbfs.native.toolchain; ``$CC`` if set). Without
 CVODE at hand the library is built for the explicit method alone
-(``c/pdbfs_cvode_none.c`` in place of the CVODE loop, no SUNDIALS at all):
+(``pdbfs_cvode_none.c`` in place of the CVODE loop, no SUNDIALS at all):
 ``sundials_for`` decides.
 
 The library is cached on disk as ``$XDG_CACHE_HOME/pdbfs/compiled/<hash>.so``
@@ -26,14 +26,15 @@ from pathlib import Path
 import casadi as ca
 
 from pdbfs.native import codegen, straight, toolchain
-from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, POW_HELPER,
-                                  check_compiler_memory, compile_command, erk_size_header, generate,
-                                  model_functions, run_compiler, sizes_header_lines)
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, LIBRARY_C,
+                                  POW_HELPER, check_compiler_memory, compile_command,
+                                  erk_size_header, generate, model_functions, run_compiler,
+                                  sizes_header_lines)
 from pdbfs.native.sundials import Sundials, SundialsNotFound, cache_root, find_sundials
 
-from .summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
+from ..results.summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
 
-C_DIR = Path(__file__).with_name("c")
+C_DIR = LIBRARY_C
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
@@ -44,7 +45,7 @@ NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
 HEADER = "pdbfs_batch_model.h"
 ABI = 10
 
-#: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
+#: the summary roles the summary driver knows, in its order (native/c/library/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
 ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
 
@@ -94,7 +95,7 @@ def roles_of(dae) -> list[str]:
 
 
 def follow_lines(dae) -> list[str]:
-    """How the summary driver follows a pulse cut off at t_end (c/pdbfs_summary.c's
+    """How the summary driver follows a pulse cut off at t_end (native/c/library/pdbfs_summary.c's
     follow()): summary_run.py's grid and look-ahead, so that both decide alike."""
     return [f"#define PDBFS_SUMMARY_STEP {summary_step(dae)!r}",
             f"#define PDBFS_FOLLOW_WINDOW {WINDOW}",

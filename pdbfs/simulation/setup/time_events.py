@@ -2,7 +2,7 @@
 a prescribed motion's kink; ``dae.time_events``, functions of the
 parameters). The CasADi path integrates from switch to switch, restarting
 at each, so that no step can jump over one (the C drivers stop CVODE there
-themselves, pdbfs/native/c/pdbfs_cvode.c)."""
+themselves, pdbfs/native/c/shared/pdbfs_cvode.c)."""
 from __future__ import annotations
 
 import numpy as np

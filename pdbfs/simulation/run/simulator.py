@@ -1,12 +1,8 @@
-"""Simulation with SUNDIALS through casadi.integrator: CVODES for ODE rigs,
-IDAS for rigs that keep algebraic variables; or (``backend="c"``, ODE rigs
-only) the compiled backend (``compiled.py``). Tolerances, output grid, start
-values and parameters are arguments of each call; the DAE is never rebuilt,
-and integrators are cached per setting. Non-smooth points (contact onset and
-separation, a slack oil column) are integrated through with error control
-(the forces there are continuous); tests/test_accuracy.py checks against a
-tight event-located reference.
-"""
+"""The Simulator: SUNDIALS through casadi.integrator (CVODES for ODE rigs,
+IDAS for DAE rigs; integrators cached per setting) or the compiled backend
+(``compiled.py``). Tolerances, grid, start and parameters are arguments of
+each call: the DAE is never rebuilt. Kinks are integrated through with error
+control; tests/test_accuracy.py checks against an event-located reference."""
 from __future__ import annotations
 
 import time
@@ -18,20 +14,22 @@ import numpy as np
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE
 
-from . import c_summary, replay
+from ..results import c_summary
+from ..results.contact_impulse import force_role
+from ..results.on_grid import OnGrid
+from ..results.result import Result
+from ..setup import time_events as TE
+from ..setup.initialize import solve_start
+from ..setup.inputs import RunInputs
+from ..state import state_of
 from . import compiled as C
+from . import replay
 from .backends import backend_for_method
-from . import time_events as TE
-from .contact_impulse import force_role
 from .failures import compiled_failure, walk_failure
-from .initialize import solve_start
-from .inputs import RunInputs
-from .on_grid import OnGrid
-from .result import Result
 from .stats import casadi_stats
 from .stiffness import auto_method
-from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_atol,  # noqa: F401
-                       default_rtol, output_grid)
+from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings,  # noqa: F401
+                              default_atol, default_rtol, output_grid)
 
 
 class Simulator(RunInputs, OnGrid):
@@ -39,6 +37,8 @@ class Simulator(RunInputs, OnGrid):
 
     def __init__(self, dae: DAE):
         self.dae = dae
+        #: what is kept of the rig for every run (state.py), shared with every Simulator of the DAE
+        self.state = state_of(dae)
         self._cache = {}
         self._last_stats = {}
         self._checked = set()     # settings that passed check_settings (inputs.py)
@@ -52,10 +52,10 @@ class Simulator(RunInputs, OnGrid):
             raise ParameterError(f"rig = {model!r}: give a rig (a Component) or its compiled DAE, "
                                  f"not a {type(model).__name__}")
         dae = model if isinstance(model, DAE) else model.compile()
-        sim = dae.__dict__.get("_simulator")
-        if sim is None:
-            sim = dae.__dict__["_simulator"] = Simulator(dae)
-        return sim
+        state = state_of(dae)
+        if state.simulator is None:
+            state.simulator = Simulator(dae)
+        return state.simulator
 
     def z_guess(self, p) -> np.ndarray:
         """The algebraic variables' start guesses at parameters ``p`` (empty for an ODE rig)."""

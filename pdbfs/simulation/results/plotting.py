@@ -41,7 +41,7 @@ def plot_result(res, names=None, path=None, title=None):
         if not names:
             names = res._sim.dae.x_names
     else:
-        from .settings import name_list
+        from ..setup.settings import name_list
         names = name_list(names, "names", distinct=False)
     by_unit = {}
     for n in names:

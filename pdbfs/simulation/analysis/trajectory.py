@@ -18,10 +18,10 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError
-from .initialize import refuse_solved_start
-from .settings import default_atol, name_list
-from .simulator import MAX_NUM_STEPS, Simulator
-from .time_events import breakpoints
+from ..run.simulator import MAX_NUM_STEPS, Simulator
+from ..setup.initialize import refuse_solved_start
+from ..setup.settings import default_atol, name_list
+from ..setup.time_events import breakpoints
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike

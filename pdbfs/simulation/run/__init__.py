@@ -1,0 +1,24 @@
+"""One run of a rig: the Simulator, its two back ends and the method choice.
+
+    one_run.py     simulate(): one run of a rig, the function users call;
+                   simulate_own(): the rig's own run, replayed from the second on
+    simulator.py   Simulator: CVODES/IDAS through casadi.integrator,
+                   integrators cached per setting, clear SolverErrors
+    compiled.py    backend="c" (the default where it builds): the DAE's
+                   generated C + the library's drivers (native/c/library/) +
+                   CVODE or the explicit Runge-Kutta 8(5,3) (native/c/shared/) in
+                   one shared library, ctypes; a run's states on the grid made
+                   when first read
+    compiled_build.py  the compiled library built (zig cc) and cached on disk
+    block.py       one thread's buffer of the compiled calls' small arguments and answers
+    kept.py        a compiled run kept in the library until its states are read
+    replay.py      a run again with everything of the run before: its plan,
+                   the compiled call and its Result in a few Python frames
+    failures.py    what a failed integration most likely means (SolverError texts)
+    stats.py       solver statistics under one set of names
+    stiffness.py   method="auto": the method that suits the rig's modes
+
+May import: pdbfs.errors, pdbfs.files, pdbfs.modelling, pdbfs.native,
+pdbfs.simulation.state, pdbfs.simulation.setup and pdbfs.simulation.results;
+never analysis.
+"""

@@ -1,0 +1,20 @@
+"""What a run is set up from, checked before anything is integrated.
+
+    settings.py    tolerances, method, output grid and argument types, checked first
+    inputs.py      parameters, start values, grid and settings of a run as vectors,
+                   checked; what depends on the rig alone made once (mixed into
+                   the Simulator)
+    memory.py      sizes that cannot fit in the memory available, refused up front
+    initialize.py  the start solved before integration: free states, initial
+                   equations, initial="steady" (Newton, exact Jacobian)
+    newton.py      one damped Newton run on the start system, where it stopped and why
+    start_branches.py  the start across one-sided laws: guesses past their kinks
+                   where Newton stops at a singular Jacobian; one solution or a refusal
+    time_events.py switch times a run stops at: integrated from switch to switch
+                   (through the Simulator it is given), never stepped over
+    vectorize.py   CasADi functions evaluated on whole numpy rows (the checks'
+                   and the outputs')
+
+May import: pdbfs.errors, pdbfs.modelling, pdbfs.native, pdbfs.simulation.state;
+no other folder of pdbfs.simulation (every other folder may import this one).
+"""
