@@ -65,6 +65,17 @@ class Result:
             self._states = self._make_states()
         return self._states
 
+    def __getstate__(self) -> dict:
+        """Pickled (sent back from a worker process) with its states made: a
+        compiled run's record lives in this process's library only. The
+        interpolants are left out (remade from the grid when read)."""
+        state = dict(self.__dict__)
+        if state.get("_make_states") is not None:
+            state["_states"] = self._X
+        state["_make_states"] = None
+        state.pop("_curves", None)
+        return state
+
     # made on first use: most runs (sweeps, a summary) never read them
     @cached_property
     def t(self) -> np.ndarray:

@@ -251,9 +251,10 @@ def _forked_chunk(job):
     cid, a, b = job
     runner, points = _FORKED
     chunk = runner.run(np.arange(a, b), points.block(a, b))
-    # Results travel without their Simulator; the parent gives them its own
-    chunk.results = [None if r is None else {k: v for k, v in vars(r).items()
-                                             if k not in ("_sim", "_curves", "_summary_warnings")}
+    # Results travel without their Simulator (the parent gives them its own),
+    # their states made here (Result.__getstate__)
+    chunk.results = [None if r is None else
+                     {k: v for k, v in r.__getstate__().items() if k != "_sim"}
                      for r in chunk.results]
     return cid, chunk
 
