@@ -34,6 +34,8 @@
     inputs.py      parameters, start values, grid and settings of a run as vectors,
                    checked; what depends on the rig alone made once
     memory.py      sizes that cannot fit in the memory available, refused up front
+    limits.py      variables declared valid in a range (min=, max=): a run leaving
+                   one stops there with a SolverError naming it and the time
     time_events.py switch times: integrated from switch to switch, never stepped over
     trajectory.py  the simulation as a differentiable CasADi Function of
                    chosen parameters (CVODES sensitivities)

@@ -53,6 +53,8 @@ RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
 RC_BAD_CROSSINGS = 6
 #: summaries(): a pulse cut off at t_end the driver could not follow past it (summary.py's)
 RC_FOLLOW = 7
+#: a variable left the range it is declared valid in (c/pdbfs_record.h; limits.py)
+RC_LIMIT = 8
 INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
 NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
 

@@ -21,7 +21,7 @@ import numpy as np
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError, SolverError
 from pdbfs.modelling import DAE
 
-from . import c_summary, replay
+from . import c_summary, limits, replay
 from . import compiled as C
 from . import time_events as TE
 from .contact_impulse import force_role
@@ -250,6 +250,7 @@ class Simulator(RunInputs, OnGrid):
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                     "max_num_steps": max_num_steps, "backend": backend}
+        limits.check(self, grid, X, Z, p, settings)   # a variable out of its declared range
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
                       states=states, own_stats=True,
                       impulse=None if backend == "c" else self._last_impulse)
@@ -350,7 +351,7 @@ class Simulator(RunInputs, OnGrid):
         else:
             X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
-            raise compiled_failure(self.dae.name, grid, st)
+            raise compiled_failure(self.dae, grid, st)
         stats = st.stats or {"method": method}      # (the run's own dict, made for it)
         stats.pop("wall_time", None)
         self._last_stats = stats
@@ -381,9 +382,8 @@ class Simulator(RunInputs, OnGrid):
             self._check_finite(grid, X)
         return X
 
-    def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
-                 max_num_steps=MAX_NUM_STEPS):
-        return walk_failure(self, grid, x0, p, rtol, atol, method, max_step, err, max_num_steps)
+    #: (grid, x0, p, rtol, atol, method, max_step, err, max_num_steps): the SolverError to raise
+    _failure = walk_failure
 
 
 def _call(F, **args):

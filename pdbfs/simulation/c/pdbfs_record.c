@@ -1,5 +1,6 @@
 /* pdbfs_record: see pdbfs_record.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,8 +60,19 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     if (NR > 0 && !roles_done) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
     for (j = 0; j < NR; j++)
         if (!isfinite(R(h, h->n, j))) h->bad = 1;
+#if PDBFS_NL > 0
+    if (!h->bad && !h->limit) {   /* a variable out of its declared range: the run stops */
+        double g[NLX];
+        pdbfs_eval_txp(h->ev, pdbfs_limits, t, x, g);
+        for (j = 0; j < PDBFS_NL && !h->limit; j++)
+            if (g[j] < 0) {
+                h->limit = j + 1;
+                h->limit_k = h->n;
+            }
+    }
+#endif
     h->n++;
-    return h->bad;
+    return h->bad || h->limit;
 }
 
 static int add_crossing(Crossings *c, double t, int dir, const double *x) {
@@ -121,11 +133,19 @@ typedef struct {
     PdbfsEval *ev;
     int role, slope;          /* the role, and whether its slope (else value - level) */
     double level;
+    int limit;                /* 1 + a limit: its value (role, slope and level unused) */
 } Target;
 
 static int target_fn(void *env, double t, const double *x, double *g) {
     Target *q = (Target *)env;
-    double r[NRX];
+    double r[NRX > NLX ? NRX : NLX];
+#if PDBFS_NL > 0
+    if (q->limit) {
+        pdbfs_eval_txp(q->ev, pdbfs_limits, t, x, r);
+        *g = r[q->limit - 1];
+        return 0;
+    }
+#endif
     pdbfs_eval_txp(q->ev, q->slope ? pdbfs_roles_dot : pdbfs_roles, t, x, r);
     *g = r[q->role] - (q->slope ? 0.0 : q->level);
     return 0;
@@ -239,6 +259,7 @@ int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, 
     q.role = j;
     q.slope = 1;
     q.level = 0.0;
+    q.limit = 0;
     if (H->rk) {
         /* long steps: a narrow spike may hold no record near it, so every turn
          * of the role (rate from + to -) is located on the dense output, but
@@ -288,6 +309,7 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c) {
     q.role = j;
     q.slope = 0;
     q.level = level;
+    q.limit = 0;
     for (k = 0; k + 1 < H->n; k++) {
         double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
         int i, m;
@@ -301,5 +323,46 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c) {
         for (i = 0; i < m; i++)
             if (add_crossing(c, H->rt[i], H->rd[i], H->rx + i * NXQ)) return -1;
     }
+    return 0;
+}
+
+int pdbfs_limit_message(History *H, int code, char *msg, size_t len) {
+#if PDBFS_NL > 0
+    long k = H->n - 1;
+    if (H->limit) {
+        Target q;
+        double t = H->t[H->limit_k];
+        memset(&q, 0, sizeof q);
+        q.ev = H->ev;
+        q.limit = H->limit;
+        if (H->limit_k > 0 && refine(H, H->limit_k - 1, H->limit_k, &q, -1) > 0)
+            t = H->rt[0];        /* located on the step (else the record's time) */
+        if (msg && len) snprintf(msg, len, "limit %d crossed at t = %.17g", H->limit - 1, t);
+        return RC_LIMIT;
+    }
+    if (!code || H->oom || H->bad || k < 1) return code;
+    if (pdbfs_limit_near(H->ev, H->t[0], H->x, H->t[k], H->x + k * NXQ, msg, len))
+        return RC_LIMIT;
+#else
+    (void)H; (void)msg; (void)len;
+#endif
+    return code;
+}
+
+int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const double *x,
+                     char *msg, size_t len) {
+#if PDBFS_NL > 0
+    double g0[NLX], g[NLX];
+    int j;
+    pdbfs_eval_txp(ev, pdbfs_limits, t0, x0, g0);
+    pdbfs_eval_txp(ev, pdbfs_limits, t, x, g);
+    for (j = 0; j < PDBFS_NL; j++)
+        if (g0[j] > 0 && g[j] < LIMIT_NEAR * g0[j]) {
+            if (msg && len) snprintf(msg, len, "limit %d near at t = %.17g value %.17g", j, t, g[j]);
+            return 1;
+        }
+#else
+    (void)ev; (void)t0; (void)x0; (void)t; (void)x; (void)msg; (void)len;
+#endif
     return 0;
 }
