@@ -27,6 +27,7 @@ from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
 from . import compiled_build as build_lib
+from . import memory
 from .block import Block
 from .compiled_build import ABI, ROLES
 from .kept import KeptRun
@@ -56,6 +57,10 @@ RC_FOLLOW = 7
 #: a variable left the range it is declared valid in (c/pdbfs_record.h; limits.py)
 RC_LIMIT = 8
 INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
+#: what a run's record of its steps may still take, asked by C as the record grows
+#: (c/pdbfs_record.c): past it the run stops with "out of memory", before the system
+#: would kill the process
+_PROBE = ctypes.CFUNCTYPE(ctypes.c_double)(lambda: memory.headroom())
 NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
 
 
@@ -197,6 +202,9 @@ class CompiledODE:
         rel.restype = None
         rel.argtypes = [vp]
         self._release = rel
+        lib.pdbfs_set_memory_probe.restype = None
+        lib.pdbfs_set_memory_probe.argtypes = [vp]
+        lib.pdbfs_set_memory_probe(ctypes.cast(_PROBE, vp))
         return lib
 
     def modes(self, x0, p, t0=0.0):

@@ -14,6 +14,25 @@ def available() -> float:
     return float(psutil.virtual_memory().available)
 
 
+def headroom() -> float:
+    """Bytes this process may still take: the memory available, and under an
+    address-space limit (RLIMIT_AS) what is left below it; -1.0 when unknown.
+    Never raises (the compiled record asks it from C, c/pdbfs_record.c)."""
+    try:
+        have = available()
+        try:
+            import resource
+            soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+            if soft != resource.RLIM_INFINITY:
+                import psutil
+                have = min(have, float(soft - psutil.Process().memory_info().vms))
+        except (ImportError, AttributeError, ValueError, OSError):
+            pass                              # no such limit here (Windows)
+        return max(have, 0.0)
+    except Exception:                         # noqa: BLE001 - a probe must answer
+        return -1.0
+
+
 def plain_bytes(n: float) -> str:
     for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
         if n >= size:

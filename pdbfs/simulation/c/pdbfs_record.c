@@ -6,12 +6,33 @@
 
 #include "pdbfs_record.h"
 
+#define API __attribute__((visibility("default")))
+
+static pdbfs_probe_fn memory_probe = NULL;
+
+API void pdbfs_set_memory_probe(pdbfs_probe_fn probe) { memory_probe = probe; }
+
+/* whether a record of cap entries (with a Runge-Kutta run's dense output, rk)
+ * fits in what the memory probe says is left */
+static int record_fits(long cap, int rk) {
+    const double size = 8.0 * (double)cap * (1 + NXQ + NRX + (rk ? DNREC + NRX : 0));
+    double have;
+    if (!memory_probe || size <= RECORD_ASK) return 1;
+    have = memory_probe();
+    return have < 0 || size <= RECORD_SHARE * have;
+}
+
 int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
     int j, roles_done = 0;
     if (h->n == h->cap) {
         long cap = h->cap ? 2 * h->cap : 256;
-        double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
+        double *nt, *nx = NULL, *nr = NULL;
+        if (!record_fits(cap, h->rk != NULL)) {
+            h->oom = 1;
+            return 1;
+        }
+        nt = realloc(h->t, sizeof(double) * cap);
         if (nt) h->t = nt;
         if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
         if (nx) h->x = nx;

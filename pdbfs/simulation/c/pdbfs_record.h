@@ -23,6 +23,13 @@
 /* a failed run whose last record has a limit within this fraction of its value
  * at the start: the solver failed as the variable reached its bound */
 #define LIMIT_NEAR 1e-3
+/* a record growing past RECORD_ASK bytes asks the memory probe (set by
+ * pdbfs_set_memory_probe: bytes this process may still take, < 0 unknown) and
+ * grows only within RECORD_SHARE of it: else the run stops, out of memory,
+ * before the system would kill the process (its allocations succeed on credit) */
+#define RECORD_ASK (64.0 * 1048576.0)
+#define RECORD_SHARE 0.8
+typedef double (*pdbfs_probe_fn)(void);
 /* per record of an explicit Runge-Kutta run: its step's t_old, h_old, what
  * follows (DN_*), y_old (NXQ), and its dense output (7 NXQ) or, for a lazy
  * run, its 13 stages (13 NXQ: the dense output made from them when needed) */
