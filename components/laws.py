@@ -8,6 +8,10 @@ is post-processing: pdbfs.simulation.impulse).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import casadi as ca
 
 STANDARD_GRAVITY = 9.80665   # m/s^2
 
@@ -27,17 +31,19 @@ def hertz_stiffness(E1: float, nu1: float, R1: float, E2: float, nu2: float, R2:
     return 4.0 / 3.0 * e_star * math.sqrt(r_star)
 
 
-def damping_lankarani_nikravesh(k, e, v_impact):
+def damping_lankarani_nikravesh(k: float | ca.SX, e: float | ca.SX, v_impact: float | ca.SX
+                                ) -> float | ca.SX:
     """Hysteresis damping factor ``D = 3 k (1 - e^2) / (4 v)``, N.s/m^(n+1)."""
     return 3.0 * k * (1.0 - e ** 2) / (4.0 * v_impact)
 
 
-def damping_hunt_crossley(k, e, v_impact):
+def damping_hunt_crossley(k: float | ca.SX, e: float | ca.SX, v_impact: float | ca.SX
+                          ) -> float | ca.SX:
     """Hunt & Crossley: ``D = 3 k (1 - e) / (2 v)``."""
     return 3.0 * k * (1.0 - e) / (2.0 * v_impact)
 
 
-def damping_flores(k, e, v_impact):
+def damping_flores(k: float | ca.SX, e: float | ca.SX, v_impact: float | ca.SX) -> float | ca.SX:
     """Flores et al.: ``D = 8 k (1 - e) / (5 e v)``."""
     return 8.0 * k * (1.0 - e) / (5.0 * e * v_impact)
 

@@ -11,7 +11,8 @@ validated by fmpy, simulated by any importer.
     description3.py modelDescription.xml and buildDescription.xml (FMI 3.0)
     units.py        unit strings -> FMI base units
     platforms.py    the five platform tuples (x86_64/aarch64 Linux, x86_64 Windows,
-                    x86_64/aarch64 macOS) and their aliases; each built by zig cc
+                    x86_64/aarch64 macOS) and their aliases; each built by zig cc;
+                    prepare_offline(): the sources and every CVODE built ahead
     sources.py      SUNDIALS' CVODE sources for a source FMU
     derivatives.py  CasADi's forward and reverse AD for the directional and adjoint derivatives
     symbols.py      private names for everything but the FMI functions (pdbfs_names.h)

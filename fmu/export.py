@@ -18,6 +18,7 @@ import math
 import os
 import re
 import shutil
+import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 import uuid
@@ -32,7 +33,7 @@ from pdbfs.files import whole
 from pdbfs.modelling import DAE
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, check_compiler_memory,
                                   erk_size_header, generate, sizes_header_lines)
-from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS
+from pdbfs.native.stiffness import c_defines, ode_instructions
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
 from . import description3
@@ -94,7 +95,7 @@ def _fmi_header_dir(fmi_version: int = 2) -> Path:
                       f"fmpy or set PDBFS_FMI{fmi_version}_HEADERS to a directory holding them")
 
 
-def check_fmi_version(fmi_version) -> int:
+def check_fmi_version(fmi_version: int) -> int:
     """``fmi_version`` as 2 or 3, else an ExportError naming it."""
     if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
         raise ExportError(f"FMI version {fmi_version!r}: pdbfs writes FMI 2.0 or 3.0 "
@@ -160,12 +161,8 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          f"#define PDBFS_DEFAULT_RTOL {_c_double(model.tolerance)}",
          f"#define PDBFS_RTOL_MIN {_c_double(RTOL_MIN)}", f"#define PDBFS_RTOL_MAX {_c_double(RTOL_MAX)}",
          "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 0",   # auto
-         # solver.method auto (stiffness.c): pdbfs.native.stiffness's rule; the run's
-         # length when the importer gives no stop time: the default experiment's
-         f"#define PDBFS_ERK_RADIANS {_c_double(ERK_RADIANS)}",
-         f"#define PDBFS_STIFF_STEPS {_c_double(STIFF_STEPS)}",
-         f"#define PDBFS_DENSE_UP_TO {int(DENSE_UP_TO)}",
-         f"#define PDBFS_DEFAULT_SPAN {_c_double(model.stop_time)}",
+         # solver.method auto (stiffness.c): pdbfs.native.stiffness's cost model
+         *c_defines(), f"#define PDBFS_ODE_INSTRUCTIONS {ode_instructions(d)}",
          *sizes_header_lines(work),
          "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"
          + pad([p.value for p in d.params], _c_double, "0") + "};",
@@ -267,8 +264,13 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
             # the binary links the platform's CVODE archive: CVODE's names as built there
             return build_binary(name, [src / c for c in own_c], [src], out, what,
                                 [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
+        done = 0
         with ThreadPoolExecutor(max_workers=min(len(plats), os.cpu_count() or 1)) as pool:
             for name, built in zip(plats, pool.map(build, plats)):
+                done += 1
+                if len(plats) > 1:       # minutes the first time: each platform said as it ends
+                    print(f"pdbfs: [{done}/{len(plats)}] built the FMU's binary for {name}",
+                          file=sys.stderr, flush=True)
                 arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
                 slices.setdefault(arc, []).append(built)
         for arc, built in slices.items():   # FMI 2.0's darwin64: one universal binary of both Macs
@@ -302,7 +304,7 @@ def _describer(model: FmuModel, fmi_version: int, source_files: list[str]):
     return (lambda guid: model_description(model, guid, source_files)), ()
 
 
-def check_fmu_name(path) -> None:
+def check_fmu_name(path: str | os.PathLike) -> None:
     """Refuse a file name that does not end in ``.fmu``: the FMI standard
     names an FMU so, and tools look for it by that extension."""
     path = Path(path)

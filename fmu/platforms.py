@@ -40,6 +40,8 @@ class PlatformError(ExportError):
 
 @dataclass(frozen=True)
 class Platform:
+    """A platform an FMU's binary is built for, and where FMI 2.0 keeps it."""
+
     name: str            # FMI 3.0 platform tuple
     fmi2_dir: str        # folder under binaries/ in FMI 2.0
     suffix: str          # of the shared library
@@ -124,3 +126,27 @@ def universal_macho(thin: list[Path], out: Path) -> Path:
         image += b"\0" * (off - len(image)) + b
     out.write_bytes(bytes(image))
     return out
+
+
+def prepare_offline(platforms, say=None) -> dict:
+    """Everything an FMU export fetches or builds once, done now: SUNDIALS'
+    sources (through pip's index) and CVODE for each of ``platforms``
+    (resolved as :func:`resolve_platforms`; "none": the sources only).
+    ``say(k, n, text)`` is told each of the n steps as it starts. Returns
+    {"sources": origin, "cache": folder, "sdist": the kept sdist or None,
+    "platforms": [...]}; ExportError (one line) when the sources cannot be had."""
+    from pdbfs.native import sundials as S
+    names = [] if platforms == "none" else resolve_platforms(platforms)
+    steps = 1 + len(names)
+    say = say or (lambda k, n, text: None)
+    try:
+        say(1, steps, f"SUNDIALS {S.VERSION}'s sources ({S.SDIST})")
+        src = S.find_sundials_sources()
+        for k, name in enumerate(names, 2):
+            say(k, steps, f"CVODE for {name}")
+            S.find_sundials(target=name)
+    except SundialsNotFound as err:
+        raise ExportError(str(err)) from None
+    sdist = S.sdist_path()
+    return {"sources": src.origin, "cache": S.cache_root(), "platforms": names,
+            "sdist": sdist if sdist.is_file() else None}

@@ -37,6 +37,7 @@ _BSD3 = """\
 BSD 3-Clause License
 
 {copyright}
+All rights reserved.
 
 Redistribution and use in source and binary forms, with or without
 modification, are permitted provided that the following conditions are met:
@@ -70,7 +71,7 @@ def pdbfs_license_text() -> str:
     return _BSD3.format(copyright=PDBFS_COPYRIGHT)
 
 
-def check_rights(**values) -> dict:
+def check_rights(**values: str | None) -> dict:
     """``author``, ``license``, ``copyright`` as given (None: the default), or
     an ExportError naming the one that cannot go into modelDescription.xml."""
     for name, v in values.items():

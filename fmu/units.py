@@ -27,7 +27,7 @@ _TOKEN = re.compile(r"^([A-Za-z]+)(?:\^?\(?([-+]?\d+(?:\.\d+)?(?:/\d+)?)\)?)?$")
 
 
 class UnitError(ValueError):
-    pass
+    """A unit string that parse() cannot read."""
 
 
 def parse(unit: str) -> tuple[dict[str, Fraction], float]:

@@ -17,7 +17,11 @@ rigid-piston rig's; what the bar adds is the stress wave through the piston
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 from pdbfs.components import ElasticBar, check_bar_resolution
+from pdbfs.components.translational.bar import BarResolution
 
 from .split_piston import SPLIT_SIGNALS, SplitPistonRig
 
@@ -43,14 +47,15 @@ class BarPistonRig(SplitPistonRig):
     #: the parameters that matter most: PaperRig's and the bar's stiffness
     key_parameters = ("hammer.v0", "oil.k", "seal.c", "piston.E")
 
-    def __init__(self, n: int = 30, law=None, **params):
+    def __init__(self, n: int = 30, law: str | None = None, **params: float):
         super().__init__(n=n, law=law, **params)
 
     def make_piston(self, n: int) -> ElasticBar:
         return ElasticBar(n=n, sides=True, L=PISTON_LENGTH, A=PISTON_AREA, E=STEEL_E,
                           rho=STEEL_RHO)
 
-    def check_resolution(self, dt_out: float, params=None):
+    def check_resolution(self, dt_out: float, params: Mapping[str, float] | None = None
+                         ) -> BarResolution:
         """Warn (BarResolutionWarning) if output every ``dt_out`` s is finer
         than the piston's segments resolve; ``params`` as in simulate
         (``piston.L`` etc. override the defaults). Returns the
@@ -61,7 +66,7 @@ class BarPistonRig(SplitPistonRig):
         return check_bar_resolution(values, dt_out, name=self.piston.path(), stacklevel=3)
 
 
-def bar_piston_rig(n: int = 30, **kw) -> BarPistonRig:
+def bar_piston_rig(n: int = 30, **kw: Any) -> BarPistonRig:
     """The paper's rig with the piston an elastic steel bar of ``n``
     segments (30 by default: a segment's transit time, 8.7 us, is then
     within the default output interval of 10 us); ``law=`` as in paper_rig."""

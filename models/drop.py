@@ -36,6 +36,8 @@ height, and its bodies' start velocities are 0 (solved, not set).
 """
 from __future__ import annotations
 
+from typing import Any
+
 import casadi as ca
 
 from pdbfs.components import Gravity
@@ -104,7 +106,7 @@ class DropRig(_GravityRig):
                   "(at rest) to the contact", positive=True, tunable=False)
     g = GRAVITY
 
-    def __init__(self, law=None, **params):
+    def __init__(self, law: str | None = None, **params: float):
         if "rest" in params:
             raise ParameterError("DropRig: the hammer resting on the piston is its own rig, "
                                  "DropRestRig (drop_rig(rest=True)), which has no drop height")
@@ -151,7 +153,7 @@ class DropRestRig(_GravityRig):
                 for x in (body.s, body.v)]
 
 
-def drop_rig(rest: bool = False, **kw) -> DropRig | DropRestRig:
+def drop_rig(rest: bool = False, **kw: Any) -> DropRig | DropRestRig:
     """The rig with gravity, hammer dropped from ``h`` (parameter, default
     0.38 m = 2.73 m/s at impact). ``law=`` as in paper_rig; ``rest=True``:
     the hammer rests on the piston, the start solved at equilibrium

@@ -22,6 +22,10 @@ components' default of 1 kPa the draining chamber is stiff at the end of
 the pulse, and the parameter sensitivities that design and calibration
 integrate (Adams) took 50 times longer.
 """
+from __future__ import annotations
+
+from typing import Any
+
 from pdbfs.components.hydraulic import Accumulator, Orifice, PressureSource, PulseValve, Tank, \
     Volume
 from pdbfs.errors import ParameterError
@@ -47,7 +51,7 @@ class HydraulicPulseRig(Rig):
     #: the oil flows in and out through, and the chamber's stiffness
     key_parameters = ("supply.p0", "valve.A", "drain.A", "chamber.K")
 
-    def __init__(self, supply: str = "accumulator", line: bool = False, **params):
+    def __init__(self, supply: str = "accumulator", line: bool = False, **params: float):
         if supply not in SUPPLIES:
             raise ParameterError(f"HydraulicPulseRig: unknown supply {supply!r}; choose one of "
                                  + ", ".join(SUPPLIES))
@@ -79,6 +83,6 @@ class HydraulicPulseRig(Rig):
         self.connect(self.drain.port_b, self.tank.port)
 
 
-def hydraulic_pulse_rig(**kw) -> HydraulicPulseRig:
+def hydraulic_pulse_rig(**kw: Any) -> HydraulicPulseRig:
     """The valve-driven pulse rig; ``supply`` and ``line`` as in HydraulicPulseRig."""
     return HydraulicPulseRig(**kw)

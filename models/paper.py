@@ -5,6 +5,10 @@ loading piston and breech assembly, built only from the component library.
                                                |seal              |mount
                                               frame              frame
 """
+from __future__ import annotations
+
+from typing import Any
+
 from pdbfs.components import Fixed, ImpactContact, Mass, OilColumn, SealFriction, Spring
 from pdbfs.rig import Rig
 
@@ -30,7 +34,7 @@ class PaperRig(Rig):
     #: both (the workbench lists them first)
     key_parameters = ("hammer.v0", "oil.k", "seal.c")
 
-    def __init__(self, law=None, **params):
+    def __init__(self, law: str | None = None, **params: float):
         self._law = law
         super().__init__(**params)
 
@@ -50,14 +54,16 @@ class PaperRig(Rig):
         self.connect(self.frame.flange, self.mount.flange_b, self.seal.flange_a)
 
     # the oil column between piston and breech: a subclass may build it otherwise
-    def declare_oil(self):
+    def declare_oil(self) -> None:
+        """Declare the oil column ``oil`` (here an OilColumn: the paper's spring k2)."""
         self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
 
-    def connect_oil(self):
+    def connect_oil(self) -> None:
+        """Connect ``oil`` between the piston's lower face and the breech."""
         self.connect(self.piston.flange_b, self.oil.flange_a)
         self.connect(self.oil.flange_b, self.breech.flange_a)
 
 
-def paper_rig(**kw) -> PaperRig:
+def paper_rig(**kw: Any) -> PaperRig:
     """The paper's rig; ``law=`` picks a damping law for the contact."""
     return PaperRig(**kw)

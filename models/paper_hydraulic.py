@@ -23,6 +23,10 @@ use.
 ``leak="laminar"`` or ``"orifice"`` adds a seal leak from the oil to a tank
 at 0 Pa (off by default).
 """
+from __future__ import annotations
+
+from typing import Any
+
 from pdbfs.components.hydraulic import LaminarLeak, Orifice, Piston, Tank, Volume
 from pdbfs.errors import ParameterError
 from pdbfs.modelling import Parameter
@@ -52,7 +56,7 @@ class PaperHydraulicRig(PaperRig):
                   tunable=False)
 
     def __init__(self, law: str = "constant", swept: bool = False, leak: str | None = None,
-                 contact_law=None, **params):
+                 contact_law: str | None = None, **params: float):
         if leak is not None and leak not in LEAKS:
             raise ParameterError(f"PaperHydraulicRig: unknown seal leak {leak!r}; choose one of "
                                  + ", ".join(LEAKS) + " (or None)")
@@ -85,7 +89,7 @@ class PaperHydraulicRig(PaperRig):
             self.connect(self.leak.port_b, self.tank.port)
 
 
-def paper_hydraulic_rig(**kw) -> PaperHydraulicRig:
+def paper_hydraulic_rig(**kw: Any) -> PaperHydraulicRig:
     """The paper's rig with its oil column as a Piston and a Volume; ``law``,
     ``swept``, ``leak`` as in PaperHydraulicRig."""
     return PaperHydraulicRig(**kw)

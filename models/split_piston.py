@@ -21,11 +21,19 @@ for equation (tests/test_variants.py checks the pressure to 1e-9).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from pdbfs.components import (Fixed, ImpactContact, Mass, MassChain, OilColumn, SealFriction,
                               Spring)
 from pdbfs.errors import ParameterError
 from pdbfs.modelling import Component, Flange, Parameter
 from pdbfs.rig import Rig
+
+if TYPE_CHECKING:
+    import casadi as ca
+    import numpy as np
+
+    import pdbfs
 
 #: Axial stiffness EA/L of the whole piston, N/m (steel, see module docstring).
 K_AXIAL = 3.5e9
@@ -51,14 +59,14 @@ class SplitPiston(MassChain):
                         "the n-1 links has n*k_axial", positive=True)
     piece_prefix, body = "p", "piston"
 
-    def __init__(self, n: int = 4, **params):
+    def __init__(self, n: int = 4, **params: float | ca.SX):
         _check_n(n, "SplitPiston")
         super().__init__(n, sides=True, **params)
 
-    def total_mass(self):
+    def total_mass(self) -> ca.SX:
         return self.m
 
-    def total_stiffness(self):
+    def total_stiffness(self) -> ca.SX:
         return self.k_axial
 
 
@@ -69,7 +77,7 @@ class SplitSeal(Component):
     c = Parameter(2.556e4, "N.s/m", "Total viscous friction of the seal (the paper's c2)",
                   min=0.0)
 
-    def __init__(self, n: int = 4, **params):
+    def __init__(self, n: int = 4, **params: float | ca.SX):
         _check_n(n, "SplitSeal")
         self._n = n
         super().__init__(**params)
@@ -102,7 +110,7 @@ class SplitPistonRig(Rig):
     #: the rig's name is this prefix and n; who checks n in error messages
     name_prefix, builder = "pdbfs_split", "split_piston_rig"
 
-    def __init__(self, n: int = 4, law=None, **params):
+    def __init__(self, n: int = 4, law: str | None = None, **params: float):
         _check_n(n, self.builder)
         self._n = n
         self._law = law
@@ -135,9 +143,10 @@ class SplitPistonRig(Rig):
 
     @property
     def n(self) -> int:
+        """The number of pieces the piston and seal are split into."""
         return self._n
 
-    def force_chain(self, res) -> list:
+    def force_chain(self, res: pdbfs.Result) -> list[tuple[str, np.ndarray]]:
         """Compressive forces through the piston, top to bottom, from a
         Result: contact, links 1..n-1 (springs report tension, so negated),
         oil. Returns a list of (label, array)."""
@@ -146,7 +155,7 @@ class SplitPistonRig(Rig):
         return out + [("oil", res["oil.fc"])]
 
 
-def split_piston_rig(n: int = 4, **kw) -> SplitPistonRig:
+def split_piston_rig(n: int = 4, **kw: Any) -> SplitPistonRig:
     """The paper's rig with piston and seal split into ``n`` masses joined by
     stiff springs; ``n = 1`` is the paper's rig. ``law=`` as in paper_rig."""
     return SplitPistonRig(n=n, **kw)

@@ -23,6 +23,7 @@ from .errors import (ConnectError, DataError, ExportError, ModelError, Parameter
 from .errors import PdbfsWarning, PulseIncompleteWarning, SampleTooSmallWarning
 from .modelling import (DAE, Component, Flange, HydraulicPort, Parameter, ParamInfo, SignalInput,
                         SignalOutput, State, Variable, VarInfo, der, eq, time)
+from .files import example_data
 from .rig import Rig
 from .simulation import Result, simulate, trajectory_function
 
@@ -43,4 +44,4 @@ __all__ = ["Component", "Rig", "Flange", "HydraulicPort", "PdbfsWarning", "Pulse
            "DataError",
            "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
            "Result", "sweep", "trajectory_function", "calibrate", "design", "design_map",
-           "sensitivity"]
+           "sensitivity", "example_data"]

@@ -31,6 +31,47 @@ class DataError(PdbfsError, ValueError):
     the message names the file and what is wrong with it."""
 
 
+class MissingExtraError(PdbfsError, ImportError):
+    """A feature needs a package of one of pdbfs's extras that is not
+    installed; the message names the extra and the pip command that adds it."""
+
+
+#: the extras of ``pip install pdbfs[...]``: the packages each brings (as imported)
+EXTRAS = {"app": ("dash", "diskcache", "multiprocess", "orjson"),
+          "dask": ("dask", "distributed"),
+          "parquet": ("pyarrow",),
+          "sensitivity": ("SALib",)}
+
+
+def missing_extra(extra: str) -> str | None:
+    """The first package of ``extra`` that cannot be imported, or None when
+    all are installed (looked up without importing them)."""
+    from importlib.util import find_spec
+    for module in EXTRAS[extra]:
+        try:
+            if find_spec(module) is None:
+                return module
+        except (ImportError, ValueError):
+            return module
+    return None
+
+
+def require_extra(extra: str, what: str) -> None:
+    """Raise :class:`MissingExtraError` if ``extra`` is not installed.
+
+    Parameters
+    ----------
+    extra : str
+        A key of :data:`EXTRAS` ("app", "dask", "parquet", "sensitivity").
+    what : str
+        The feature that needs it, as the message names it (e.g. "pdbfs app").
+    """
+    module = missing_extra(extra)
+    if module is not None:
+        raise MissingExtraError(f"{what} needs pdbfs's extra [{extra}] ({module} is not "
+                                f"installed): pip install 'pdbfs[{extra}]'")
+
+
 class PdbfsWarning(UserWarning):
     """Base of pdbfs's warnings; the CLI prints each as one line on stderr."""
 

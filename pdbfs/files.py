@@ -5,6 +5,10 @@ under a hidden part name beside its destination and renamed onto it only
 once complete, so a failure or Ctrl-C never leaves a half-written file under
 the real name. Parts still open when the process is ended on purpose (the
 CLI's Ctrl-C watcher, pdbfs.cli.interrupt) are removed by :func:`discard`.
+
+Also where pdbfs keeps files of its own: its cache folder
+(:func:`cache_folder`) and the example files shipped in the package
+(:func:`example_data`, pdbfs/data).
 """
 from __future__ import annotations
 
@@ -79,3 +83,43 @@ def save_figure(fig, path, **savefig_kw) -> Path:
     with whole(path) as part:
         fig.savefig(part, format=fmt, **savefig_kw)
     return Path(path)
+
+
+#: the example files shipped in the package (pdbfs/data): name -> what it is
+EXAMPLES = {
+    "kistler_synthetic.csv": "a measured-like pressure trace of the paper rig (time_s, "
+                             "pressure_Pa; 10 us sampling, noise, offset): pdbfs calibrate --trace",
+    "gun_target.csv": "a target pressure pulse (time [s], pressure [Pa]): pdbfs design --target",
+}
+
+
+def example_data(name: str) -> Path:
+    """The path of an example file shipped with pdbfs.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`EXAMPLES`: ``"kistler_synthetic.csv"`` (a measured-like
+        pressure trace of the paper rig, for calibration) or
+        ``"gun_target.csv"`` (a target pulse, for design).
+
+    Returns
+    -------
+    pathlib.Path
+        The file inside the installed package (read it, do not write it).
+
+    Raises
+    ------
+    pdbfs.DataError
+        For an unknown name; the message lists the names there are.
+
+    Examples
+    --------
+    >>> import pdbfs
+    >>> pdbfs.example_data("kistler_synthetic.csv").name
+    'kistler_synthetic.csv'
+    """
+    from .errors import DataError
+    if name not in EXAMPLES:
+        raise DataError(f"no example file {name!r}; there are {', '.join(EXAMPLES)}")
+    return Path(__file__).with_name("data") / name

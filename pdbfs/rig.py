@@ -4,10 +4,23 @@ the back ends (simulation and FMU export), so that ``rig.simulate(...)`` and
 ``rig.export_fmu(...)`` read as they should."""
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from pdbfs.modelling import Component
-from pdbfs.simulation import Simulator, replay, simulate
+from pdbfs.simulation import MAX_NUM_STEPS, Simulator, replay, simulate
+
+if TYPE_CHECKING:
+    import os
+    from pathlib import Path
+
+    import pandas as pd
+    from numpy.typing import ArrayLike
+
+    from pdbfs.modelling import ParamInfo
+    from pdbfs.simulation import Linearization, Result
 
 
 class Rig(Component):
@@ -16,11 +29,65 @@ class Rig(Component):
     role in a summary), ``default_t_end`` and ``default_n_out`` (the rig's own
     experiment)."""
 
-    def simulate(self, t_end: float = 0.02, **kwargs):
-        """Simulate this rig; see ``pdbfs.simulate`` for the arguments.
-        Components with a ``check_output(dt_out, params)`` method (e.g. an
-        ElasticBar, whose segments may be too coarse for the output rate)
-        are asked first."""
+    def simulate(self, t_end: float = 0.02, n_out: int = 2001, *, t_out: ArrayLike | None = None,
+                 params: Mapping[str, float] | None = None, start: Mapping[str, float] | None = None,
+                 rtol: float | None = None, atol: float | None = None, method: str = "auto",
+                 max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
+                 backend: str = "auto", initial: str | Sequence[str] | None = None) -> Result:
+        """Simulate this rig from t = 0: the same run as ``pdbfs.simulate(rig, ...)``.
+
+        Components with a ``check_output(dt_out, params)`` method (an
+        ElasticBar, whose segments may be too coarse for the output rate) are
+        asked first. A call without options runs again the rig's own plan,
+        made by its first such call (almost nothing is checked again).
+
+        Parameters
+        ----------
+        t_end : float
+            End time of the run, s.
+        n_out : int
+            Number of output points, evenly spaced on [0, t_end].
+        t_out : array_like, optional
+            Output times, s, increasing from 0 (overrides ``t_end`` and ``n_out``).
+        params : mapping of str to float, optional
+            Parameter values by dotted name (``{"hammer.v0": 3.0}``), SI units;
+            the rest keep their defaults.
+        start : mapping of str to float, optional
+            Start values by state name, SI units (for a free state: its guess).
+        rtol, atol : float, optional
+            Relative and absolute tolerances of the integrator (``atol`` in
+            each state's unit). None: rtol 1e-8 (5e-8 for ``"erk"``), atol
+            1e-10, or 1e-2 * rtol when rtol is below 1e-8.
+        method : {"auto", "adams", "bdf", "erk"}
+            Integration method; see ``pdbfs.simulate``.
+        max_step : float, optional
+            Largest internal step, s (None: no limit).
+        max_num_steps : int
+            Most internal steps between two output points.
+        backend : {"auto", "c", "casadi"}
+            Compiled C where it builds (ODE rigs), else SUNDIALS through CasADi.
+        initial : str or sequence of str, optional
+            None: the start as declared (free states solved from the initial
+            equations); ``"steady"``: every state at rest; a list of state
+            names: those at rest.
+
+        Returns
+        -------
+        Result
+            Time and every variable, with peaks, crossings and the summary.
+
+        Raises
+        ------
+        ParameterError
+            A setting, parameter or start value that is refused, before any work.
+        SolverError
+            The integrator failed; the message says where and why.
+        """
+        kwargs = {k: v for k, v in (("n_out", n_out), ("t_out", t_out), ("params", params),
+                                    ("start", start), ("rtol", rtol), ("atol", atol),
+                                    ("method", method), ("max_step", max_step),
+                                    ("max_num_steps", max_num_steps), ("backend", backend),
+                                    ("initial", initial)) if v is not _DEFAULTS[k]}
         if not kwargs:
             # the rig's own run again: its plan replayed, nothing asked again (replay.py)
             dae = self._compiled
@@ -60,22 +127,110 @@ class Rig(Component):
             dae.__dict__["_output_checks"] = checks
         return checks
 
-    def linearize(self, at="start", **kwargs):
-        """State-space matrices A, B, C, D at ``at`` ("start", "steady" or a
-        time of a run, s); see pdbfs.simulation.linearize."""
+    def linearize(self, at: str | float = "start", inputs: str | Sequence[str] | None = None,
+                  outputs: str | Sequence[str] | None = None,
+                  params: Mapping[str, float] | None = None,
+                  start: Mapping[str, float] | None = None,
+                  initial: str | Sequence[str] | None = None, rtol: float = 1e-10,
+                  atol: float = 1e-12) -> Linearization:
+        """State-space matrices A, B, C, D of this rig at an operating point.
+
+        Parameters
+        ----------
+        at : {"start", "steady"} or float
+            The operating point: the start, every state at rest, or the state
+            of a run from the start at this time, s.
+        inputs : str or sequence of str, optional
+            Parameter names: the columns of B and D.
+        outputs : str or sequence of str, optional
+            Variable names: the rows of C and D (default: the rig's outputs).
+        params, start, initial
+            As in ``simulate``.
+        rtol, atol : float
+            Tolerances of the run to ``at`` and of the steady state.
+
+        Returns
+        -------
+        Linearization
+            A, B, C, D with the names of their states, inputs and outputs.
+        """
+        kwargs = dict(inputs=inputs, outputs=outputs, params=params, start=start,
+                      initial=initial, rtol=rtol, atol=atol)
         from pdbfs.simulation.linearize import linearize
         return linearize(self, at, **kwargs)
 
-    def modes(self, at="start", **kwargs):
-        """The rig's modes at ``at`` as a pandas DataFrame: omega (rad/s),
-        frequency (Hz), damping (ratio; NaN for a zero eigenvalue), shape
-        (amplitude by state name), eigenvalue; slowest first."""
+    def modes(self, at: str | float = "start", params: Mapping[str, float] | None = None,
+              start: Mapping[str, float] | None = None,
+              initial: str | Sequence[str] | None = None, rtol: float = 1e-10,
+              atol: float = 1e-12) -> pd.DataFrame:
+        """The rig's modes at an operating point, slowest first.
+
+        Parameters
+        ----------
+        at, params, start, initial, rtol, atol
+            As in ``linearize``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per mode: omega (rad/s), frequency (Hz), damping (ratio;
+            NaN for a zero eigenvalue), shape (amplitude by state name) and
+            eigenvalue (1/s).
+        """
+        kwargs = dict(params=params, start=start, initial=initial, rtol=rtol, atol=atol)
         from pdbfs.simulation.linearize import modes_frame
         return modes_frame(self.linearize(at, **kwargs).modes())
 
-    def export_fmu(self, path="pdbfs.fmu", **kwargs):
-        """Write an FMI 2.0 FMU (co-simulation and model exchange) of this rig;
-        ``fmi_version=3`` writes FMI 3.0."""
+    def export_fmu(self, path: str | os.PathLike = "pdbfs.fmu", model_identifier: str | None = None,
+                   *, stop_time: float | None = None, step_size: float | None = None,
+                   tolerance: float = 1e-8, keep_build_dir: str | os.PathLike | None = None,
+                   cflags: list[str] | None = None, fmi_version: int = 2,
+                   platforms: list[str] | str | None = None, author: str | None = None,
+                   license: str | None = None, copyright: str | None = None) -> Path:
+        """Write an FMU of this rig (Model Exchange and Co-Simulation) and return its path.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The FMU file to write (its folder must exist).
+        model_identifier : str, optional
+            The C identifier of the FMU's binary (default: the rig's name).
+        stop_time, step_size : float, optional
+            The DefaultExperiment, s (default: the rig's own experiment,
+            ``default_t_end`` and ``default_n_out``, else 0.02 s in 2000 steps).
+        tolerance : float
+            The DefaultExperiment's relative tolerance, also the default of
+            the FMU's ``solver.rtol``.
+        keep_build_dir : str or os.PathLike, optional
+            A folder to keep the generated C sources and build files in.
+        cflags : list of str, optional
+            Extra flags for the C compiler.
+        fmi_version : {2, 3}
+            FMI 2.0 or FMI 3.0.
+        platforms : str or list of str, optional
+            Binaries to build: platform tuples (``"x86_64-linux"``,
+            ``"x86_64-windows"``, ...), the aliases ``"linux64"`` and
+            ``"win64"``, or ``"all"``; default: this machine's.
+        author, license, copyright : str, optional
+            Written to modelDescription.xml as given (default: no author,
+            pdbfs's BSD-3-Clause licence and copyright).
+
+        Returns
+        -------
+        pathlib.Path
+            The FMU written.
+
+        Raises
+        ------
+        ExportError
+            Bad arguments (before any work), a rig with algebraic variables,
+            or a failed build; nothing is left at ``path`` then.
+        """
+        kwargs = dict(model_identifier=model_identifier, tolerance=tolerance,
+                      keep_build_dir=keep_build_dir, cflags=cflags, fmi_version=fmi_version,
+                      platforms=platforms, author=author, license=license, copyright=copyright,
+                      **{k: v for k, v in (("stop_time", stop_time), ("step_size", step_size))
+                         if v is not None})
         from pathlib import Path
 
         from pdbfs.errors import ExportError
@@ -91,6 +246,31 @@ class Rig(Component):
         kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))
         return export_fmu(dae, path, **kwargs)
 
-    def parameters(self):
-        """The rig's free parameters (ParamInfo), in the DAE's order."""
+    def parameters(self) -> list[ParamInfo]:
+        """The rig's free parameters (ParamInfo: name, value, unit, description), in the DAE's order."""
         return self.compile().params
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        from pdbfs.errors import PdbfsError
+        parts = [f"{n} ({type(c).__name__})" for n, c in self._children.items()]
+        rows = []
+        try:
+            dae = self.compile()          # from the disk cache for pdbfs's own rigs
+            rows.append(("size", f"{dae.x.numel()} states, {dae.z.numel()} algebraic, "
+                                 f"{len(dae.params)} parameters"))
+        except PdbfsError as err:
+            rows.append(("size", f"does not compile: {str(err).splitlines()[0]}"))
+        rows.append(("components", ", ".join(parts) or "none"))
+        return f"{type(self).__name__} '{self.rig_name()}'", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(v for _, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        from pdbfs.simulation.reprs import table
+        return table(*self._shown())
+
+
+#: Rig.simulate's default objects: an option left at its default is not passed on
+_DEFAULTS = {**Rig.simulate.__kwdefaults__, "n_out": Rig.simulate.__defaults__[1]}

@@ -29,8 +29,8 @@ if [ -z "${VIRTUAL_ENV:-}" ] && [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv 2>/dev/null || { rm -rf .venv; apt_install python3-venv && python3 -m venv .venv; }
 fi
 source scripts/env.sh
-step "installing pdbfs and its Python packages with pip (a few minutes on a fresh machine)"
-python -m pip install --quiet --disable-pip-version-check -e ".[test]"
+step "installing pdbfs, all its extras and the test and docs tools with pip (a few minutes on a fresh machine)"
+python -m pip install --quiet --disable-pip-version-check -e ".[all,test,docs]"
 
 # optional test tools: the browser tests of `pdbfs app` (Debian's Chromium and its
 # chromedriver), the Windows FMU binary under Wine (package wine64 holds the

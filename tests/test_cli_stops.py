@@ -89,3 +89,31 @@ def test_the_watch_ends_with_the_command():
     assert main(["params", "--rig", "drop", "--json"]) == 0
     assert (signal.getsignal(signal.SIGINT), threading.active_count()) == before
     assert signal.set_wakeup_fd(-1) == -1
+
+
+def test_ctrl_c_stops_the_workbench_with_status_130(tmp_path):
+    """`pdbfs app`: its web server returns quietly from a Ctrl-C (status 0 before);
+    it says so in one line and exits 130, as every other command. The signal
+    goes to the process group, as a terminal's Ctrl-C does."""
+    import os
+    import socket
+    pytest.importorskip("dash")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    p = subprocess.Popen([sys.executable, "-m", "pdbfs.cli", "app", "--port", str(port)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+                         start_new_session=True)
+    try:
+        ready = p.stdout.readline()                      # once it serves
+        assert "Ctrl-C stops it" in ready, p.stderr.read() if p.poll() is not None else ready
+        time.sleep(1.0)                                  # serving, not starting
+        t0 = time.time()
+        os.killpg(p.pid, signal.SIGINT)
+        out, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+    assert p.returncode == 130, err
+    assert err.strip().splitlines() == ["pdbfs: interrupted"], err
+    assert time.time() - t0 < 5.0

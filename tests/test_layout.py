@@ -16,7 +16,7 @@ MODULES = {"pdbfs/errors.py": "errors", "pdbfs/files.py": "files", "pdbfs/rig.py
 #: what each stage may import (besides itself)
 ALLOWED = {
     "errors": set(),
-    "files": set(),
+    "files": {"errors"},
     "modelling": {"errors", "files"},
     "components": {"errors", "files", "modelling"},
     "native": {"errors", "files", "modelling"},

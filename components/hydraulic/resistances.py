@@ -15,7 +15,10 @@ class PartialOrifice(PartialTwoPort):
     at ``|dp| = 100*dp_t``) and ``x`` the opening a subclass gives
     (``opening()``, 1 by default; ``open_fraction()`` where a subclass
     uses the name ``opening`` for something else, as CommandedValve's
-    signal input)."""
+    signal input).
+
+    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+    """
 
     Cd = Parameter(0.7, "1", "Discharge coefficient", positive=True, max=1.0)
     A = Parameter(1e-5, "m2", "Flow area (fully open)", positive=True)
@@ -24,6 +27,7 @@ class PartialOrifice(PartialTwoPort):
                      "rounded to stay smooth", positive=True, tunable=False)
 
     def opening(self):
+        """The valve's opening x, 0 (closed) to 1 (fully open): 1 for a fixed orifice."""
         return 1.0
 
     def open_fraction(self):
@@ -42,7 +46,10 @@ class Orifice(PartialOrifice):
 
 
 class LaminarLeak(PartialTwoPort):
-    """A laminar leak ``q = G*dp`` (a seal gap, a capillary)."""
+    """A laminar leak ``q = G*dp`` (a seal gap, a capillary).
+
+    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+    """
 
     G = Parameter(1e-12, "m3/(s.Pa)", "Hydraulic conductance", min=0.0)
 

@@ -10,7 +10,10 @@ class PartialSource(PartialOnePort):
     """A source whose value is a parameter, or ``function(t)`` giving a
     CasADi expression of time (which may use the component's parameters).
     ``breakpoints``: the times (numbers or parameter expressions) at which
-    ``function`` switches; every integrator stops there."""
+    ``function`` switches; every integrator stops there.
+
+    Connector: ``port``.
+    """
 
     def __init__(self, function=None, breakpoints=(), **params):
         self._function = function
@@ -21,6 +24,7 @@ class PartialSource(PartialOnePort):
         return switch_times(self, self._breakpoints)
 
     def prescribed(self, constant):
+        """The source's value: ``constant`` (its parameter), or ``function(t)`` when given."""
         return constant if self._function is None else self._function(time)
 
 
@@ -40,7 +44,10 @@ class PressureSource(PartialSource):
 
 
 class Tank(PressureSource):
-    """A reservoir at a fixed pressure ``p`` (atmospheric by default)."""
+    """A reservoir at a fixed pressure ``p`` (atmospheric by default).
+
+    Connector: ``port``; ``q_out`` is the flow it delivers.
+    """
 
     p = Parameter(ATMOSPHERE, "Pa", "Tank pressure (absolute)", min=0.0)
 

@@ -42,7 +42,10 @@ class ReliefValve(PartialPressureValve):
 
 class TimedValve(PartialOrifice):
     """A valve driven by time: closed until ``t_open``, then opening over
-    ``T_open`` (laws.smooth_step) and staying open: a fast switching valve."""
+    ``T_open`` (laws.smooth_step) and staying open: a fast switching valve.
+
+    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+    """
 
     t_open = Parameter(1e-3, "s", "Time the valve starts to open", min=0.0)
     T_open = Parameter(2e-3, "s", "Time the valve takes to open fully", positive=True)
@@ -57,7 +60,10 @@ class TimedValve(PartialOrifice):
 
 class PulseValve(TimedValve):
     """A TimedValve that closes again: starts closing at ``t_close`` and is
-    shut ``T_close`` later (a pulse of flow)."""
+    shut ``T_close`` later (a pulse of flow).
+
+    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+    """
 
     t_close = Parameter(4e-3, "s", "Time the valve starts to close", min=0.0)
     T_close = Parameter(2e-3, "s", "Time the valve takes to close", positive=True)
@@ -80,7 +86,11 @@ class CommandedValve(PartialOrifice):
     """A valve opened by the signal input ``opening`` (1: 0 closed, 1
     fully open, the flow area then ``A``): an orifice of area
     ``opening*A``. A command outside 0..1 is clamped there (a valve does not
-    open beyond its stops), each stop an event."""
+    open beyond its stops), each stop an event.
+
+    Connectors: ``port_a`` and ``port_b`` (the flow ``q`` goes from a to
+    b), and the signal input ``opening``.
+    """
 
     def declare(self):
         super().declare()

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import operator
 import warnings
+from collections.abc import Mapping
 from typing import NamedTuple
 
 import casadi as ca
@@ -65,20 +66,21 @@ class ElasticBar(MassChain):
 
     piece_prefix, body = "seg", "bar"
 
-    def __init__(self, n: int = 20, sides: bool = False, **params):
+    def __init__(self, n: int = 20, sides: bool = False, **params: float | ca.SX):
         super().__init__(_segment_count(n), sides, **params)
 
-    def total_mass(self):
+    def total_mass(self) -> ca.SX:
         return self.rho * self.A * self.L
 
-    def total_stiffness(self):
+    def total_stiffness(self) -> ca.SX:
         return self.E * self.A / self.L
 
     def segment(self, i: int) -> Mass:
         """Segment ``i`` (1-based, 1 at flange_a)."""
         return self.piece(i)
 
-    def check_output(self, dt_out: float, params=None):
+    def check_output(self, dt_out: float, params: Mapping[str, float] | None = None
+                     ) -> BarResolution | None:
         """Called by Rig.simulate with its output interval and ``params``
         (dotted names): warn if the segments do not resolve the wave there."""
         prefix = self.path() + "."
@@ -89,7 +91,7 @@ class ElasticBar(MassChain):
             return None      # a bad value: simulate() reports it with the rig's names
         return check_bar_resolution(values, dt_out, name=self.path(), stacklevel=5)
 
-    def values(self, overrides=None) -> dict:
+    def values(self, overrides: Mapping[str, float] | None = None) -> dict:
         """The numbers L, A, E, rho (defaults, then ``overrides``) and n."""
         out = {"n": self._n}
         for name in ("L", "A", "E", "rho"):
@@ -124,6 +126,7 @@ class BarResolution(NamedTuple):
 
     @property
     def resolved(self) -> bool:
+        """Whether a wave crosses a segment within one output interval (factor <= 1)."""
         return self.factor <= 1.0
 
 
@@ -145,8 +148,8 @@ def bar_resolution(L: float, E: float, rho: float, n: int, dt_out: float) -> Bar
     return BarResolution(c, transit, tau, tau / dt_out, math.ceil(transit / dt_out - 1e-9))
 
 
-def check_bar_resolution(bar_or_params, dt_out: float, *, name: str | None = None,
-                         stacklevel: int = 2) -> BarResolution:
+def check_bar_resolution(bar_or_params: ElasticBar | Mapping[str, float], dt_out: float, *,
+                         name: str | None = None, stacklevel: int = 2) -> BarResolution:
     """Warn (BarResolutionWarning) when one segment's transit time
     L/(n*c) is longer than the output interval ``dt_out``: the output then
     resolves time scales the lumped chain does not carry, and shows its

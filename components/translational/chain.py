@@ -4,10 +4,15 @@ composed from Mass and Spring. A subclass says what the whole body weighs
 and how stiff it is; the chain does the rest."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from pdbfs.modelling import Component, Flange, Variable, eq
 
 from .mass import Mass
 from .springs import Spring
+
+if TYPE_CHECKING:
+    import casadi as ca
 
 
 class MassChain(Component):
@@ -22,20 +27,21 @@ class MassChain(Component):
     piece_prefix = "p"
     body = "body"
 
-    def __init__(self, n: int, sides: bool = True, **params):
+    def __init__(self, n: int, sides: bool = True, **params: float | ca.SX):
         self._n = n
         self._sides = bool(sides)
         super().__init__(**params)
 
     @property
     def n(self) -> int:
+        """The number of pieces."""
         return self._n
 
-    def total_mass(self):
+    def total_mass(self) -> ca.SX:
         """Mass of the whole body (an expression of the parameters), kg."""
         raise NotImplementedError
 
-    def total_stiffness(self):
+    def total_stiffness(self) -> ca.SX:
         """Axial stiffness EA/L of the whole body, N/m."""
         raise NotImplementedError
 

@@ -1,4 +1,6 @@
 """Impact contact: Hertz elasticity plus Hunt-Crossley hysteresis damping."""
+from __future__ import annotations
+
 import casadi as ca
 
 from pdbfs.errors import ParameterError
@@ -11,7 +13,10 @@ from ..laws import DAMPING_LAWS
 
 class HertzContact(PartialCompression):
     """Hertz contact ``fc = k*d^n`` for indentation ``d = -s_rel - gap > 0``,
-    zero otherwise. flange_a is the striking (upper) body."""
+    zero otherwise. flange_a is the striking (upper) body.
+
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
+    """
 
     k = Parameter(5.958e10, "N/m^1.5", "Contact stiffness (unit N/m^n)", positive=True)
     n = Parameter(1.5, "1", "Hertz exponent (1.5 for spheres)", min=1.0,
@@ -36,6 +41,8 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     Give ``D`` directly, or ``law=`` one of 'lankarani-nikravesh',
     'hunt-crossley', 'flores' with parameters ``e`` (restitution) and
     ``v_impact``: ``D`` is then computed from them and ``k``.
+
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
     """
 
     D = Parameter(1.595e6, "N.s/m^2.5", "Hysteresis damping factor (unit N.s/m^(n+1))", min=0.0)
@@ -44,7 +51,7 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     n = Parameter(1.5, "1", "Indentation exponent", min=1.0, tunable=False)
     gap = Parameter(0.0, "m", "Clearance, as in HertzContact", tunable=False)
 
-    def __init__(self, law: str | None = None, **params):
+    def __init__(self, law: str | None = None, **params: float | ca.SX):
         if law is not None and law not in DAMPING_LAWS:
             raise ParameterError(f"HuntCrossleyDamper: unknown damping law {law!r}; "
                                  f"choose one of {', '.join(DAMPING_LAWS)}")
@@ -77,14 +84,17 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
 
 class ImpactContact(PartialCompression):
     """Contact = HertzContact + HuntCrossleyDamper in parallel; the combined
-    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper."""
+    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper.
+
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
+    """
 
     k = HertzContact.k
     n = HertzContact.n
     gap = HertzContact.gap
     D = HuntCrossleyDamper.D
 
-    def __init__(self, law: str | None = None, **params):
+    def __init__(self, law: str | None = None, **params: float | ca.SX):
         self._law = law
         super().__init__(**params)
 

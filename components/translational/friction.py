@@ -1,3 +1,4 @@
+"""Seal friction between a sliding body and the frame."""
 import casadi as ca
 
 from pdbfs.modelling import Parameter, eq

@@ -21,7 +21,10 @@ class PartialTwoFlanges(Component):
 class PartialCompliant(PartialTwoFlanges):
     """A massless element between two flanges: relative position ``s_rel``
     and the force ``f`` it transmits (positive in tension: it pulls the
-    flanges together). A subclass adds one equation for ``f``."""
+    flanges together). A subclass adds one equation for ``f``.
+
+    Connectors: ``flange_a`` and ``flange_b``; ``s_rel = flange_b.s - flange_a.s``.
+    """
 
     def declare(self):
         super().declare()
@@ -36,7 +39,10 @@ class PartialCompliant(PartialTwoFlanges):
 
 class PartialCompliantWithVelocity(PartialCompliant):
     """PartialCompliant plus the relative velocity ``v_rel``, for dissipative
-    elements."""
+    elements.
+
+    Connectors: ``flange_a`` and ``flange_b``.
+    """
 
     def declare(self):
         super().declare()
@@ -49,7 +55,10 @@ class PartialCompliantWithVelocity(PartialCompliant):
 
 class PartialCompression(PartialCompliant):
     """A compliant element that acts when its flanges approach: compression
-    ``d = -s_rel - gap`` and compressive force ``fc = -f`` (an output)."""
+    ``d = -s_rel - gap`` and compressive force ``fc = -f`` (an output).
+
+    Connectors: ``flange_a`` (upper) and ``flange_b`` (lower).
+    """
 
     def declare(self):
         super().declare()

@@ -1,3 +1,4 @@
+"""Rigid bodies and the frame."""
 from pdbfs.modelling import Parameter, State, Variable, der, eq
 
 from .interfaces import PartialOneFlange, PartialTwoFlanges
@@ -5,7 +6,10 @@ from .interfaces import PartialOneFlange, PartialTwoFlanges
 
 class Mass(PartialTwoFlanges):
     """A rigid body sliding along x (positive down), as a point: both flanges
-    sit at its position ``s``."""
+    sit at its position ``s``.
+
+    Connectors: ``flange_a`` (its upper face) and ``flange_b`` (its lower face).
+    """
 
     m = Parameter(1.0, "kg", "Mass of the body", positive=True, tunable=False)
     s0 = Parameter(0.0, "m", "Start position", tunable=False)

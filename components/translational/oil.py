@@ -1,8 +1,15 @@
+"""The oil column between the loading piston and the breech, as a compression-only spring."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
 
 from pdbfs.modelling import Parameter, Variable, eq
 
 from ..functions import positive_power
 from .interfaces import PartialCompression
+
+if TYPE_CHECKING:
+    import casadi as ca
 
 
 class OilColumn(PartialCompression):
@@ -26,7 +33,7 @@ class OilColumn(PartialCompression):
     A = Parameter(2.270e-2, "m2", "Piston area the pressure acts on", positive=True,
                   tunable=False)
 
-    def __init__(self, bulk_modulus: bool = False, **params):
+    def __init__(self, bulk_modulus: bool = False, **params: float | ca.SX):
         self._from_bulk = bulk_modulus
         super().__init__(**params)
 

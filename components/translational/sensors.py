@@ -2,13 +2,23 @@
 (force, pressure), and give their reading as a SignalOutput: under its own
 name (``s``, ``v``, ``f``, ``p``) and as ``y``, the output every block
 reads."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 from pdbfs.modelling import Parameter, SignalOutput, der, eq
 
 from .interfaces import PartialOneFlange, PartialTwoFlanges
 
+if TYPE_CHECKING:
+    import casadi as ca
+
 
 class PositionSensor(PartialOneFlange):
-    """Absolute position of a flange, output ``s`` (m)."""
+    """Absolute position of a flange, output ``s`` (m).
+
+    Connectors: ``flange`` (no force), the signal outputs ``s`` and ``y`` (the same).
+    """
 
     def declare(self):
         super().declare()
@@ -21,7 +31,10 @@ class PositionSensor(PartialOneFlange):
 
 
 class SpeedSensor(PartialOneFlange):
-    """Absolute velocity of a flange, output ``v`` (m/s)."""
+    """Absolute velocity of a flange, output ``v`` (m/s).
+
+    Connectors: ``flange`` (no force), the signal outputs ``v`` and ``y`` (the same).
+    """
 
     def declare(self):
         super().declare()
@@ -42,11 +55,11 @@ class ForceSensor(PartialTwoFlanges):
         self.f = SignalOutput("N", "Measured force (positive in tension)")
         self.y = SignalOutput(*self.reading_unit())
 
-    def reading_unit(self):
+    def reading_unit(self) -> tuple[str, str]:
         """(unit, description) of the output ``y``."""
         return "N", "Measured force, positive in tension (the same as f)"
 
-    def reading(self):
+    def reading(self) -> ca.SX:
         """What the output ``y`` gives."""
         return self.f.value
 
@@ -60,7 +73,11 @@ class ForceSensor(PartialTwoFlanges):
 class PressureSensor(ForceSensor):
     """Like ForceSensor, as a pressure on an area: output ``p`` (Pa,
     positive in compression, ``p = -f/A``), also as ``y`` (the force is
-    still ``f``)."""
+    still ``f``).
+
+    Connectors: ``flange_a`` and ``flange_b``, the signal outputs ``f``,
+    ``p`` and ``y``.
+    """
 
     A = Parameter(2.270e-2, "m2", "Area the force acts on", positive=True, tunable=False)
 

@@ -1,9 +1,17 @@
 """Sources: prescribed forces and positions (parameters, functions of time,
 or signals), and gravity."""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
 from pdbfs.modelling import Parameter, SignalInput, Variable, eq, switch_times, time
 
 from .interfaces import PartialOneFlange
 from ..laws import STANDARD_GRAVITY
+
+if TYPE_CHECKING:
+    import casadi as ca
 
 
 class Force(PartialOneFlange):
@@ -11,11 +19,15 @@ class Force(PartialOneFlange):
     parameter ``F``, or ``function(t)`` returning a CasADi expression of time
     (which may use the component's parameters). ``breakpoints``: the times
     (numbers or parameter expressions) at which ``function`` switches; every
-    integrator stops there, so that no step jumps over a switch."""
+    integrator stops there, so that no step jumps over a switch.
+
+    Connector: ``flange``, on the body pushed.
+    """
 
     F = Parameter(0.0, "N", "Constant force, positive down")
 
-    def __init__(self, function=None, breakpoints=(), **params):
+    def __init__(self, function: Callable[[ca.SX], ca.SX] | None = None,
+                 breakpoints: Sequence | Callable[[], Sequence] = (), **params: float | ca.SX):
         self._function = function
         self._breakpoints = breakpoints
         super().__init__(**params)
@@ -34,7 +46,10 @@ class Force(PartialOneFlange):
 
 class Gravity(PartialOneFlange):
     """Weight ``m*g`` of a body, pushing down (+x). Bind ``m`` to the body's
-    mass: ``Gravity(m=rig.hammer.m)``."""
+    mass: ``Gravity(m=rig.hammer.m)``.
+
+    Connector: ``flange``, on the body.
+    """
 
     m = Parameter(1.0, "kg", "Mass the weight acts on", positive=True, tunable=False)
     g = Parameter(STANDARD_GRAVITY, "m/s2", "Gravitational acceleration", min=0.0,
@@ -52,7 +67,8 @@ class Position(PartialOneFlange):
 
     s0 = Parameter(0.0, "m", "Constant position, positive down")
 
-    def __init__(self, function=None, breakpoints=(), **params):
+    def __init__(self, function: Callable[[ca.SX], ca.SX] | None = None,
+                 breakpoints: Sequence | Callable[[], Sequence] = (), **params: float | ca.SX):
         self._function = function
         self._breakpoints = breakpoints
         super().__init__(**params)
@@ -67,7 +83,10 @@ class Position(PartialOneFlange):
 
 class SignalForce(PartialOneFlange):
     """A force given by the signal input ``u`` (N), pushing the attached body
-    in +x (down) as Force does; ``force`` is the force applied."""
+    in +x (down) as Force does; ``force`` is the force applied.
+
+    Connectors: ``flange``, on the body pushed, and the signal input ``u``.
+    """
 
     def declare(self):
         super().declare()

@@ -1,3 +1,6 @@
+"""Springs (linear, power-law, compression-only) and linear dampers."""
+from __future__ import annotations
+
 import casadi as ca
 
 from pdbfs.modelling import Parameter, eq
@@ -8,13 +11,16 @@ from .interfaces import PartialCompliant, PartialCompliantWithVelocity
 
 class Spring(PartialCompliant):
     """Spring ``f = k*|e|^n*sign(e)`` on the stretch ``e = s_rel - s_rel0``;
-    linear for ``n = 1``. ``compression_only=True`` makes it push, never pull."""
+    linear for ``n = 1``. ``compression_only=True`` makes it push, never pull.
+
+    Connectors: ``flange_a`` and ``flange_b``; ``s_rel = flange_b.s - flange_a.s``.
+    """
 
     k = Parameter(1.0, "N/m", "Stiffness (unit N/m^n for an exponent n other than 1)", positive=True)
     n = Parameter(1.0, "1", "Force-law exponent (1: linear)", min=1.0, tunable=False)
     s_rel0 = Parameter(0.0, "m", "Unstretched relative position", tunable=False)
 
-    def __init__(self, compression_only: bool = False, **params):
+    def __init__(self, compression_only: bool = False, **params: float | ca.SX):
         self._compression_only = compression_only
         super().__init__(**params)
 
@@ -30,7 +36,11 @@ class Spring(PartialCompliant):
 
 
 class Damper(PartialCompliantWithVelocity):
-    """Linear viscous damper ``f = c*v_rel``."""
+    """Linear viscous damper ``f = c*v_rel``.
+
+    Connectors: ``flange_a`` and ``flange_b``; ``v_rel`` is flange_b's
+    velocity less flange_a's.
+    """
 
     c = Parameter(1.0, "N.s/m", "Damping coefficient", min=0.0)
 

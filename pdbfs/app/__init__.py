@@ -20,6 +20,9 @@ May import: pdbfs.errors, pdbfs.simulation, pdbfs.studies, pdbfs.models,
 pdbfs.components (laws) and the public API (pdbfs); it sits beside pdbfs.cli
 and nothing below imports from here.
 """
-from .server import create_app, serve
+from pdbfs.errors import require_extra
+
+require_extra("app", "pdbfs.app, the workbench,")
+from .server import create_app, serve  # noqa: E402
 
 __all__ = ["create_app", "serve"]

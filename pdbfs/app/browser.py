@@ -63,6 +63,7 @@ function(n, running) {
 
 
 def register(app):
+    """Add the liveness route and the page's heartbeat (a lost server is said on the page) to ``app``."""
     @app.server.route(ALIVE)
     def alive():
         return "ok"

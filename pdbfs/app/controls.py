@@ -30,11 +30,13 @@ class Control:
     derived: str = ""      # "hammer.v0" for a drop height that stands for it
 
     def to_slider(self, value: float) -> float:
+        """The slider position of ``value`` (log10 of it on a logarithmic slider)."""
         if self.log:
             return math.log10(value) if value > 0 else math.log10(self.lo)
         return value
 
     def from_slider(self, s: float) -> float:
+        """The value at slider position ``s``."""
         return 10.0 ** s if self.log else s
 
     def slider_value(self, s: float) -> float:
@@ -85,6 +87,7 @@ def linear_range(default: float, pmin):
 
 
 def control_of(info) -> Control:
+    """The Control of a parameter (ParamInfo): logarithmic for units that span decades."""
     log = info.unit.startswith(LOG_UNITS) and info.value > 0
     if log:
         c = math.log10(info.value)

@@ -130,6 +130,7 @@ def _summary_table(rows):
 
 
 def redraw(pins, trace, cal, des, settings):
+    """Callback: the figure again when pins, trace, calibration or design change."""
     return draw(settings, pins, trace, cal, des)
 
 
@@ -143,6 +144,7 @@ def page_hint(text: str) -> str:
 
 
 def stale_figure(text: str) -> dict:
+    """An empty figure showing ``text`` (in red) where a curve cannot be drawn."""
     return {"data": [], "layout": {
         "height": 300, "xaxis": {"visible": False}, "yaxis": {"visible": False},
         "annotations": [{"text": text, "showarrow": False, "font": {"size": 14, "color": "#b00020"},
@@ -150,6 +152,7 @@ def stale_figure(text: str) -> dict:
 
 
 def run_args(settings) -> dict:
+    """The run's t_end and method from the page's settings."""
     return {"t_end": settings.get("t_end"), "method": settings.get("method", "auto")}
 
 
@@ -213,6 +216,7 @@ def edit_run(t_end, method, settings, pins, trace, cal, des):
 
 
 def pin(_pin, _unpin, settings, pins):
+    """Callback: keep the current curve (labelled by what changed) or clear the kept ones."""
     if ctx.triggered_id == "unpin":
         return []
     wb = workbench(settings["rig"])
@@ -226,6 +230,7 @@ def pin(_pin, _unpin, settings, pins):
 
 
 def upload(data, settings):
+    """Callback: read an uploaded trace (CSV) for calibration, or say why it cannot be read."""
     if not data:
         raise PreventUpdate
     wb = workbench(settings["rig"])
@@ -241,6 +246,7 @@ def upload(data, settings):
 
 
 def change_rig(rig, settings):
+    """Callback: another rig chosen: its controls, settings and figure."""
     if rig == settings["rig"]:
         raise PreventUpdate
     try:
@@ -268,6 +274,7 @@ def show_parts(value, settings):
 
 
 def download(_csv, _png, _json, settings):
+    """Callback: the results as CSV, the plot as PNG or the settings as JSON, for download."""
     wb = workbench(settings["rig"])
     try:
         if ctx.triggered_id == "dl-csv":
@@ -285,6 +292,7 @@ def download(_csv, _png, _json, settings):
 
 
 def register(app):
+    """Add the page's interactive callbacks (sliders, fields, pins, uploads, downloads) to ``app``."""
     app.callback(
         Output({"type": "slider", "name": ALL}, "value"),
         Output({"type": "slider", "name": ALL}, "min"),

@@ -89,6 +89,7 @@ def _values_table(wb, values, std=None, units=None, note=None):
 
 
 def calibrate(set_progress, _n, settings, trace, free):
+    """Background job: calibrate the free parameters to the uploaded trace."""
     wb = workbench(settings["rig"])
     if not trace:
         return None, _error("upload a trace first"), True
@@ -108,6 +109,7 @@ def calibrate(set_progress, _n, settings, trace, free):
 
 
 def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free):
+    """Background job: design for target features or the uploaded curve."""
     wb = workbench(settings["rig"])
     if not free:
         return None, _error("choose the free parameters"), True
@@ -137,6 +139,7 @@ def design(set_progress, _n, settings, trace, mode, peak, duration, tpeak, free)
 
 
 def design_map(set_progress, _n, settings, x, xlo, xhi, y, ylo, yhi, n):
+    """Background job: the design map over two parameters' ranges."""
     wb = workbench(settings["rig"])
     try:
         ax = (x, parse_number(f"{x} from", xlo), parse_number(f"{x} to", xhi))
@@ -155,6 +158,7 @@ def design_map(set_progress, _n, settings, x, xlo, xhi, y, ylo, yhi, n):
 
 
 def fmu(set_progress, _n, settings):
+    """Background job: the rig's FMU at the page's settings, for download."""
     wb = workbench(settings["rig"])
     try:
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
@@ -166,6 +170,7 @@ def fmu(set_progress, _n, settings):
 
 
 def register(app):
+    """Add the background jobs' callbacks to ``app``."""
     common = {"background": True, "prevent_initial_call": True, "interval": POLL}
     app.callback(Output("cal", "data", allow_duplicate=True), Output("cal-out", "children"),
                  Output("cal-apply", "disabled"),

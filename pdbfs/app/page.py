@@ -41,6 +41,7 @@ def field_text(c: Control, value: float, derived: bool = False) -> str:
 
 
 def marks(c: Control, lo: float, hi: float) -> dict:
+    """A slider's end marks, as values."""
     return {lo: number(c.from_slider(lo), MARK_DIGITS), hi: number(c.from_slider(hi), MARK_DIGITS)}
 
 
@@ -50,6 +51,7 @@ def group_title(group: str) -> str:
 
 
 def control_row(c: Control, value: float):
+    """One parameter's row: label with unit, slider and field."""
     lo, hi = c.slider_range(value)
     label = f"{c.name} [{c.unit}]" + (" (log)" if c.log else "")
     return html.Div([
@@ -87,6 +89,7 @@ def parts_toggle(wb: Workbench):
 
 
 def initial_settings(wb: Workbench) -> dict:
+    """The page's settings on opening: the rig's defaults."""
     return {"rig": wb.name, "values": wb.defaults(), "t_end": wb.t_end, "method": "auto",
             "parts": False}
 
@@ -112,6 +115,7 @@ def _labelled(text, comp):
 
 
 def studies_panels(wb: Workbench):
+    """The calibration, design, design map and FMU panels."""
     opts = free_options(wb)
     picks = study_defaults(wb)
     first, second = picks["map-x"], picks["map-y"]
@@ -204,6 +208,7 @@ INTRO = ("A drop-hammer test rig as a model: each parameter on the left has a fi
 
 
 def layout(wb: Workbench):
+    """The whole page for the rig of ``wb``."""
     settings = initial_settings(wb)
     head = html.Div([
         html.H2("pdbfs workbench", style={"margin": "0 12px 0 0"}),

@@ -68,7 +68,20 @@ def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_br
         ready(url)
     if open_browser:
         threading.Timer(1.0, webbrowser.open, args=(url,)).start()
-    app.run(host=host, port=port, debug=False, threaded=True)
+    # the server returns quietly from a Ctrl-C (werkzeug catches it): noted here and
+    # raised again, so that the command says so and exits 130 as every other does
+    stopped = []
+
+    def _interrupt(signum, frame):
+        stopped.append(signum)
+        raise KeyboardInterrupt
+    previous = signal.signal(signal.SIGINT, _interrupt)
+    try:
+        app.run(host=host, port=port, debug=False, threaded=True)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if stopped:
+        raise KeyboardInterrupt
 
 
 def page_url(host: str, port: int) -> str:

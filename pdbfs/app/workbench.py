@@ -135,15 +135,18 @@ class Workbench:
         return {n: p for n, p in pattern.items() if "#" in p and count[p] >= 3}
 
     def parts_note(self) -> str:
+        """What the "repeated parts" switch shows ("" for a rig without them)."""
         groups = sorted(set(self.parts.values()))
         return (f"show the {len(self.parts)} parameters of repeated parts ("
                 + ", ".join(groups[:3]) + (", ..." if len(groups) > 3 else "")
                 + "; editing is slower with them)") if groups else ""
 
     def index(self, name: str) -> int:
+        """The position of the control ``name``."""
         return [c.name for c in self.controls].index(name)
 
     def control(self, name: str) -> Control:
+        """The control ``name``."""
         return self.controls[self.index(name)]
 
     def study_defaults(self) -> dict:
@@ -171,6 +174,7 @@ class Workbench:
 
     # -- settings ----------------------------------------------------------------
     def defaults(self) -> dict:
+        """Every control's default value by name."""
         return {c.name: c.default for c in self.controls}
 
     def check(self, name: str, text) -> dict:
@@ -271,18 +275,21 @@ class Workbench:
 
     # -- downloads ---------------------------------------------------------------
     def results_csv(self, settings: dict, **run) -> bytes:
+        """The run at ``settings`` as CSV bytes."""
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
             path = Path(tmp) / "results.csv"
             self.run(settings, **run).to_csv(path)
             return path.read_bytes()
 
     def results_png(self, settings: dict, **run) -> bytes:
+        """The run's plot at ``settings`` as PNG bytes."""
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp, _PLOT_LOCK:
             path = Path(tmp) / "results.png"
             self.run(settings, **run).plot(path=path)
             return path.read_bytes()
 
     def settings_json(self, settings: dict, t_end=None, method="auto") -> dict:
+        """The settings as JSON-ready data: rig, t_end, method, parameters and units."""
         return {"rig": self.name, "t_end": self.t_end if t_end is None else t_end,
                 "method": method, "params": self.params(settings),
                 "units": {k: self.units[k] for k in self.params(settings)},
@@ -312,6 +319,7 @@ class Workbench:
         return params, start
 
     def calibrate(self, settings: dict, trace, free: list, progress=None) -> dict:
+        """pdbfs.calibrate at ``settings``, as JSON-ready data for the page."""
         import pdbfs
         params, start = self._fixed_and_start(settings, free)
         cal = pdbfs.calibrate(self.rig, trace, free, params=params, start=start,
@@ -321,6 +329,7 @@ class Workbench:
                 "undetermined": cal.undetermined, "t": _list(cal.t), "fit": _list(cal.fit)}
 
     def design(self, settings: dict, target, free: list, progress=None) -> dict:
+        """pdbfs.design at ``settings``, as JSON-ready data for the page."""
         import pdbfs
         params, start = self._fixed_and_start(settings, free)
         des = pdbfs.design(self.rig, target, free=free, params=params, start=start,
@@ -331,6 +340,7 @@ class Workbench:
                 "t": _list(des.t), "fit": _list(des.fit)}
 
     def design_map(self, settings: dict, x: tuple, y: tuple, n: int, progress=None) -> dict:
+        """pdbfs.design_map over the axes ``x`` and ``y`` (name, from, to), as JSON-ready data."""
         import pdbfs
         params = self.params(settings)
         for name, *_ in (x, y):

@@ -1,5 +1,5 @@
 """Command line: ``pdbfs simulate | params | export-fmu | modes | sweep | sensitivity | reproduce |
-calibrate | design | design-map | app``.
+calibrate | design | design-map | app | example-data | prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -17,20 +17,31 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import app, calibrate, design, interrupt, modes, reproduce, sensitivity, simulate, sweep
+from . import (app, calibrate, design, examples, interrupt, modes, offline, reproduce, sensitivity,
+               simulate, sweep)
 
-COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, app)
+COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, app, examples,
+            offline)
+
+#: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
+DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "
+               "calibration, design) and export them as FMUs. Commands print their results and "
+               "write files only where --out (or -o) says; export-fmu and reproduce, whose "
+               "results are files, have a default. `pdbfs COMMAND --help` shows a command's "
+               "options.")
 
 
-def build_parser():
-    ap = argparse.ArgumentParser(prog="pdbfs", description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    """The ``pdbfs`` argument parser, every command's options included."""
+    ap = argparse.ArgumentParser(prog="pdbfs", description=DESCRIPTION)
     from importlib.metadata import PackageNotFoundError, version
     try:
         ver = version("pdbfs")
     except PackageNotFoundError:
         ver = "unknown"
-    ap.add_argument("--version", action="version", version=f"pdbfs {ver}")
-    sub = ap.add_subparsers(dest="command", required=True)
+    ap.add_argument("--version", action="version", version=f"pdbfs {ver}",
+                    help="print pdbfs's version and exit")
+    sub = ap.add_subparsers(dest="command", required=True, title="commands", metavar="COMMAND")
     for module in COMMANDS:
         module.add_parsers(sub)
     return ap
@@ -50,7 +61,8 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"pdbfs: warning: {plain_text(message)}", file=sys.stderr)
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line with ``argv`` (default: sys.argv); returns the exit status."""
     args = build_parser().parse_args(argv)
     warnings.showwarning = _show_warning
     # the page's server stops on Ctrl-C its own way

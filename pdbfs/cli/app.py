@@ -1,8 +1,12 @@
 """pdbfs app: the rig workbench in the browser, served on this machine."""
 from __future__ import annotations
 
+from pdbfs.errors import require_extra
+
 
 def cmd_app(args):
+    """pdbfs app: serve the workbench page until Ctrl-C."""
+    require_extra("app", "pdbfs app")
     from pdbfs.app import serve
     serve(args.rig, host=args.host, port=args.port, open_browser=args.open,
           ready=lambda url: print(f"pdbfs workbench of rig {args.rig} at {url} "
@@ -10,6 +14,7 @@ def cmd_app(args):
 
 
 def add_parsers(sub):
+    """Add the ``app`` command to the subparsers ``sub``."""
     s = sub.add_parser("app", help="serve the rig workbench (a page in the browser)")
     s.add_argument("--rig", default="paper", help="rig shown first (default: paper)")
     s.add_argument("--port", type=int, default=8050, help="port (default 8050)")

@@ -12,6 +12,7 @@ from .progress import Progress
 
 
 def free_list(text):
+    """A comma-separated list of names as a list (empty entries dropped)."""
     return [f.strip() for f in (text or "").split(",") if f.strip()]
 
 
@@ -26,6 +27,7 @@ def write_outputs(out, stem, result):
 
 
 def cmd_calibrate(args):
+    """pdbfs calibrate: fit a rig to a measured trace, print the fit, write its files."""
     from pdbfs.studies import calibrate
     if args.seed is not None and args.starts == 1:
         raise ParameterError(f"--seed {args.seed}: only the extra starts of --starts 2 or more "
@@ -47,6 +49,7 @@ def cmd_calibrate(args):
 
 
 def add_parsers(sub):
+    """Add the ``calibrate`` command to the subparsers ``sub``."""
     s = sub.add_parser("calibrate", help="fit a rig's unknown parameters to a measured trace "
                        "(CSV: time in s, signal in SI units)")
     s.add_argument("--rig", default="paper", help="rig name (default: paper)")

@@ -37,17 +37,19 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
                        help="integration method: CVODE's adams or bdf, or erk (explicit "
-                       "Runge-Kutta of order 8, compiled backend); auto: erk (compiled) or "
-                       f"Adams unless the rig is stiff, then bdf (default {method})")
+                       "Runge-Kutta of order 8, compiled backend); auto: the cheapest for the "
+                       f"run by an estimate from the rig's modes (default {method})")
     s.add_argument("--backend", default=backend, choices=["auto", "casadi", "c"],
                    help="casadi: SUNDIALS through CasADi; c: the rig's generated C compiled "
                    "with pdbfs's integrators (ODE rigs, built once by zig cc, cached); "
                    f"auto: c where it can be built, else casadi (default {backend})")
 
 
-def add_output_options(s, out="out", what="results", json_help="print the result as JSON"):
-    s.add_argument("--out", default=out, help=f"output folder for the {what}"
-                   + (f" (default: {out})" if out else " (default: none)"))
+def add_output_options(s, out=None, what="results", json_help="print the result as JSON"):
+    """Add ``--out`` (the output folder; default ``out``, None: nothing is written) and
+    ``--json`` to the parser ``s``."""
+    s.add_argument("--out", default=out, metavar="DIR", help=f"output folder for the {what}"
+                   + (f" (default: {out})" if out else " (default: none: nothing is written)"))
     s.add_argument("--json", action="store_true", help=json_help)
 
 
@@ -102,6 +104,7 @@ def _try_writing(folder, option, path):
 
 # -- values ---------------------------------------------------------------------------
 def rig_by_name(name):
+    """A new rig of ``RIGS[name]``; an unknown name is a ParameterError listing the names."""
     from pdbfs.models import RIGS
     if name not in RIGS:
         raise ParameterError(f"unknown rig {name!r}; choose one of {', '.join(RIGS)}")
@@ -143,6 +146,7 @@ def _shown(value) -> str:
 
 
 def print_summary(summary):
+    """Print a run's summary, one key a line with its unit."""
     from pdbfs.simulation import SUMMARY_UNITS
     # a count or a ratio has the unit "1": printed as the bare number
     units = {k: ("" if u == "1" else " " + u) for k, u in SUMMARY_UNITS.items()}

@@ -12,6 +12,7 @@ from .progress import Progress
 
 
 def cmd_design(args):
+    """pdbfs design: find the settings for a target pulse, print them, write the files."""
     from pdbfs.studies import design
     rig = rig_by_name(args.rig)
     prepare_out(args.out)
@@ -39,16 +40,18 @@ def cmd_design(args):
 
 
 def cmd_design_map(args):
+    """pdbfs design-map: pulse features over a grid of two parameters."""
     from pdbfs.studies import design_map
     rig = rig_by_name(args.rig)
     prepare_out(args.out)
     m = design_map(rig, args.x, args.y, n=args.n, params=parse_sets(args.set),
                    t_end=args.t_end, backend=args.backend,
                    progress=None if not args.quiet else False)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    m.plot(out / "design_map.png")
-    m.to_csv(out / "design_map.csv")
+    out = Path(args.out) if args.out else None
+    if out is not None:                  # files only where --out says
+        out.mkdir(parents=True, exist_ok=True)
+        m.plot(out / "design_map.png")
+        m.to_csv(out / "design_map.csv")
     if args.json:
         print(json.dumps({"x": {m.x_name: m.x.tolist()}, "y": {m.y_name: m.y.tolist()},
                           **{k: [[None if v != v else v for v in row] for row in a.tolist()]
@@ -57,10 +60,12 @@ def cmd_design_map(args):
     else:
         blank = f", {m.no_pulse} without a complete pulse (blank)" if m.no_pulse else ""
         print(f"rig {m.rig}: {m.x.size} x {m.y.size} points, {m.failed} failed{blank}")
-        print(f"wrote {out / 'design_map.png'} and {out / 'design_map.csv'}")
+        if out is not None:
+            print(f"wrote {out / 'design_map.png'} and {out / 'design_map.csv'}")
 
 
 def add_parsers(sub):
+    """Add the ``design`` and ``design-map`` commands to the subparsers ``sub``."""
     s = sub.add_parser("design", help="find the settings whose pulse matches a target curve "
                        "or target features")
     s.add_argument("--rig", default="paper", help="rig name (default: paper)")
@@ -95,7 +100,8 @@ def add_parsers(sub):
     s.add_argument("--t-end", type=float, default=0.03, help="simulated horizon, s (default 0.03)")
     s.add_argument("--backend", default="auto", choices=["auto", "casadi", "c"],
                    help="as for simulate (default: auto)")
-    s.add_argument("--out", default="out", help="output folder (default: out)")
+    s.add_argument("--out", default=None, metavar="DIR",
+                   help="folder for design_map.png and .csv (default: none: nothing is written)")
     s.add_argument("--json", action="store_true", help="print the map as JSON")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_design_map)

@@ -10,6 +10,7 @@ from .common import add_rig_options, parse_sets, rig_by_name
 
 
 def add_initial_option(s):
+    """Add ``--initial`` (how the rig starts) to the parser ``s``."""
     s.add_argument("--initial", default=None, metavar="steady|STATE,...",
                    help="start at rest: 'steady' (every state, der(x) = 0, solved) or the "
                    "states to start at rest, comma-separated; der(x) = 0 fixes what x's rate "
@@ -19,6 +20,7 @@ def add_initial_option(s):
 
 
 def parse_initial(text):
+    """``--initial``'s text as simulate()'s ``initial``: None, "steady" or a list of states."""
     if text is None:
         return None
     if text == "steady":
@@ -43,6 +45,7 @@ def print_initial(res):
 
 
 def parse_at(text):
+    """``--at``'s text: "start", "steady" or a time in s."""
     if text in ("start", "steady"):
         return text
     try:
@@ -52,6 +55,7 @@ def parse_at(text):
 
 
 def cmd_modes(args):
+    """pdbfs modes: print the rig's modes (or JSON) at the operating point asked for."""
     if args.shape is not None and args.shape < 0:
         raise ParameterError(f"--shape {args.shape}: how many entries of each shape to print; "
                              "give a whole number >= 0")
@@ -83,6 +87,7 @@ def cmd_modes(args):
 
 
 def add_parsers(sub):
+    """Add the ``modes`` command to the subparsers ``sub``."""
     s = sub.add_parser("modes", help="natural frequencies, damping and mode shapes of a rig")
     add_rig_options(s)
     s.add_argument("--at", default="start", help="operating point: start, steady, or a time "

@@ -3,11 +3,18 @@ from __future__ import annotations
 
 import json
 
+from pdbfs.errors import require_extra
+from pdbfs.files import write_text
+
 from .common import (add_output_options, add_rig_options, add_run_options, parse_sets,
                      prepare_out, rig_by_name, unique)
 
 
 def cmd_sensitivity(args):
+    """pdbfs sensitivity: Sobol' indices of the summary over parameter ranges."""
+    require_extra("sensitivity", "pdbfs sensitivity")
+    if args.dask:
+        require_extra("dask", "--dask")
     from pdbfs.studies import sensitivity
     from pdbfs.studies.sweeps.cluster import close, connect
     from pdbfs.studies.sweeps.sampling import parse_range
@@ -23,18 +30,22 @@ def cmd_sensitivity(args):
     finally:
         if client is not None:
             close(client)
-    out.mkdir(parents=True, exist_ok=True)
-    s.plot(out / "sensitivity.png")
-    (out / "sensitivity.json").write_text(json.dumps(s.to_dict(), indent=1) + "\n")
-    (out / "sensitivity.txt").write_text(s.table() + "\n")
+    if out is not None:                  # files only where --out says
+        out.mkdir(parents=True, exist_ok=True)
+        s.plot(out / "sensitivity.png")
+        write_text(out / "sensitivity.json", json.dumps(s.to_dict(), indent=1) + "\n")
+        write_text(out / "sensitivity.txt", s.table() + "\n")
     if args.json:
         print(json.dumps(s.to_dict()))
     else:
         print(s.table())
-        print(f"wrote {out / 'sensitivity.png'}, {out / 'sensitivity.json'}, {out / 'sensitivity.txt'}")
+        if out is not None:
+            print(f"wrote {out / 'sensitivity.png'}, {out / 'sensitivity.json'}, "
+                  f"{out / 'sensitivity.txt'}")
 
 
 def add_parsers(sub):
+    """Add the ``sensitivity`` command to the subparsers ``sub``."""
     s = sub.add_parser("sensitivity", help="Sobol' indices (SALib) of peak pressure, time of "
                        "peak and pulse duration over parameter ranges")
     add_rig_options(s)

@@ -10,6 +10,7 @@ from .progress import Progress
 
 
 def cmd_simulate(args):
+    """pdbfs simulate: one run of a rig, its summary printed (or JSON), results written."""
     rig = rig_by_name(args.rig)
     params = parse_sets(args.set)
     out = prepare_out(args.out)
@@ -21,10 +22,11 @@ def cmd_simulate(args):
                        rtol=args.rtol, atol=args.atol, method=args.method,
                        backend=args.backend)
     summary = res.summary()
-    out.mkdir(parents=True, exist_ok=True)
-    with Progress(f"writing {out / 'results.csv'}", "rows") as progress:
-        res.to_csv(out / "results.csv", progress=progress)
-    res.plot(path=out / "results.png", title=_title(args.rig, res))
+    if out is not None:                  # files only where --out says
+        out.mkdir(parents=True, exist_ok=True)
+        with Progress(f"writing {out / 'results.csv'}", "rows") as progress:
+            res.to_csv(out / "results.csv", progress=progress)
+        res.plot(path=out / "results.png", title=_title(args.rig, res))
     if args.json:
         solved = {"initial": res.initial.to_dict()} if res.initial.solved else {}
         print(json.dumps({**summary, "stats": res.stats, **solved}, allow_nan=False))
@@ -35,7 +37,8 @@ def cmd_simulate(args):
         st = res.stats
         print(f"  solver: {st.get('method')} ({st.get('backend')}), {st.get('steps')} steps, "
               f"{st.get('rhs_evals')} right-hand sides, {st.get('wall_time', 0) * 1e3:.1f} ms")
-        print(f"wrote {out / 'results.csv'} and {out / 'results.png'}")
+        if out is not None:
+            print(f"wrote {out / 'results.csv'} and {out / 'results.png'}")
 
 
 #: characters of a value in results.csv, about (``repr`` of a float and a comma)
@@ -55,6 +58,8 @@ def check_room(out, n_rows, dae):
         return                         # small, or refused by simulate() itself
     require(run_bytes(dae, n_rows), f"rig {dae.name}: {n_rows} output points",
             "ask for fewer (n_out, --n-out)")
+    if out is None:
+        return                         # no results.csv to write
     need = float(n_rows) * (len(dae.y_names) + 1) * CSV_CHARS
     base = out
     while not base.exists():
@@ -73,6 +78,7 @@ def _title(name, res):
 
 
 def cmd_params(args):
+    """pdbfs params: every parameter of a rig with its value, unit and description."""
     dae = rig_by_name(args.rig).compile()
     if args.json:
         print(json.dumps([p.__dict__ for p in dae.params]))
@@ -85,6 +91,7 @@ def cmd_params(args):
 
 
 def cmd_export_fmu(args):
+    """pdbfs export-fmu: write a rig's FMU."""
     rig = rig_by_name(args.rig)
     check_output_file(args.output)
     version = int(args.fmi_version) if args.fmi_version in ("2", "3") else args.fmi_version  # else refused
@@ -94,7 +101,9 @@ def cmd_export_fmu(args):
 
 
 def add_parsers(sub):
-    s = sub.add_parser("simulate", help="simulate a rig, write results.csv and a plot")
+    """Add the ``simulate``, ``params`` and ``export-fmu`` commands to the subparsers ``sub``."""
+    s = sub.add_parser("simulate", help="simulate a rig and print its summary; with --out, "
+                       "write results.csv and a plot")
     add_rig_options(s)
     add_run_options(s)
     add_initial_option(s)
@@ -104,12 +113,14 @@ def add_parsers(sub):
 
     s = sub.add_parser("params", help="list the parameters of a rig")
     add_rig_options(s, sets=False)
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the parameters (name, value, unit, description) as JSON")
     s.set_defaults(func=cmd_params)
 
     s = sub.add_parser("export-fmu", help="write an FMI 2.0 or 3.0 FMU of a rig")
     add_rig_options(s, sets=False)
-    s.add_argument("-o", "--output", default="pdbfs.fmu")
+    s.add_argument("-o", "--output", default="pdbfs.fmu", metavar="FILE.fmu",
+                   help="the FMU file to write (default: pdbfs.fmu in the current folder)")
     s.add_argument("--fmi-version", default="2", metavar="{2,3}", help="FMI version (default: 2)")
     s.add_argument("--platforms", default=None, metavar="P1,P2",
                    help="binaries to build: x86_64-linux, aarch64-linux, x86_64-windows, x86_64-darwin, "

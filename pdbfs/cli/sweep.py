@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, require_extra
 
 from .common import (add_output_options, add_rig_options, add_run_options, horizon,
                      prepare_out, rig_by_name, unique)
@@ -74,8 +74,10 @@ def points_from_args(args):
 
 
 def cmd_sweep(args):
+    """pdbfs sweep: simulate a rig over many parameter values, locally or on Dask."""
     from pdbfs.studies import sweep
     from pdbfs.studies.sweeps.cluster import close, connect
+    check_extras(args)
     rig = rig_by_name(args.rig)
     points, fixed = points_from_args(args)
     t_end, n_out = horizon(args, rig)
@@ -84,7 +86,8 @@ def cmd_sweep(args):
                              "the sweep (start them with as many threads as wanted)")
     # a small grid keeps its trajectories for the overlay plot, in memory; the rest
     # streams its chunks to --out (and resumes)
-    plot = not args.no_plot and not args.sample and points.n <= PLOT_MAX_POINTS and not args.dask
+    plot = args.out is not None and not args.no_plot and not args.sample and \
+        points.n <= PLOT_MAX_POINTS and not args.dask
     if plot and args.format is not None:
         raise ParameterError(f"--format {args.format}: this sweep of {points.n} points runs in "
                              "memory for its plot and writes no chunk files (its table is "
@@ -98,17 +101,19 @@ def cmd_sweep(args):
         res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
                     params=fixed, rtol=args.rtol, atol=args.atol, method=args.method,
                     backend=args.backend, workers=args.workers, client=client,
-                    out=None if plot else out, format=None if plot else args.format,
-                    chunk_size=args.chunk, overwrite=args.overwrite and not plot,
+                    out=None if plot or out is None else out,
+                    format=None if plot else args.format, chunk_size=args.chunk,
+                    overwrite=args.overwrite and not plot,
                     progress=None if not args.quiet else False)
     except KeyboardInterrupt:
         raise KeyboardInterrupt(interrupted(out, plot, points.n)) from None
     finally:
         if client is not None:
             close(client)
-    out.mkdir(parents=True, exist_ok=True)
     wrote = [out] if res.store is not None else []
-    if len(res) <= CSV_MAX_POINTS:
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    if out is not None and len(res) <= CSV_MAX_POINTS:
         res.to_csv(out / "sweep.csv")
         wrote.append(out / "sweep.csv")
     if plot and res.ok:
@@ -131,14 +136,24 @@ def cmd_sweep(args):
               f"{res.elapsed:.2f} s on {res.where} ({res.computed / max(res.elapsed, 1e-9):.0f} "
               "points/s)" + (f", {resumed} found done in {args.out}" if resumed else ""))
         print(res.table())
-        print("wrote " + ", ".join(str(w) for w in wrote))
+        if wrote:
+            print("wrote " + ", ".join(str(w) for w in wrote))
     return 1 if failed and args.strict else 0
+
+
+def check_extras(args):
+    """--dask and --format parquet without their extras: refused before any work."""
+    if args.dask:
+        require_extra("dask", "--dask")
+    if args.format == "parquet":
+        require_extra("parquet", "--format parquet")
 
 
 def interrupted(out, in_memory, n) -> str:
     """What a Ctrl-C leaves: the points saved in --out, and how to go on."""
-    if in_memory:
-        return f"the sweep of {n} points kept nothing (small sweeps run in memory)"
+    if in_memory or out is None:
+        return (f"the sweep of {n} points kept nothing (it ran in memory: "
+                + ("small sweeps do" if out is not None else "no --out") + ")")
     from pdbfs.studies.sweeps.store import saved_points
     done = saved_points(out)
     return (f"{done} of {n} points are saved in {out}; the same command resumes "
@@ -146,6 +161,7 @@ def interrupted(out, in_memory, n) -> str:
 
 
 def add_parsers(sub):
+    """Add the ``sweep`` command to the subparsers ``sub``."""
     s = sub.add_parser("sweep", help="simulate a rig over a grid or a sample of parameter "
                        "values, locally or on a Dask cluster; summaries to CSV/Parquet")
     add_rig_options(s, set_help="values of a parameter, comma separated or START:STOP:NUM "
@@ -167,9 +183,11 @@ def add_parsers(sub):
                    help="run on the Dask scheduler at ADDRESS (tcp://HOST:8786), or 'local' "
                    "for a LocalCluster here")
     add_output_options(s, what="manifest and chunk files of the sweep (rerun the same "
-                       "command to resume), sweep.csv, sweep.png")
+                       "command to resume), sweep.csv, sweep.png; without it the sweep runs in "
+                       "memory and prints its table")
     s.add_argument("--format", default=None, choices=["parquet", "csv"],
-                   help="format of the chunk files (default: parquet)")
+                   help="format of the chunk files (default: parquet where pyarrow, the extra "
+                   "pdbfs[parquet], is installed, else csv)")
     s.add_argument("--chunk", type=int, default=None, help="points per chunk (default: automatic)")
     s.add_argument("--overwrite", action="store_true",
                    help="replace another sweep found in --out instead of refusing")

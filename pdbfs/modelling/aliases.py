@@ -31,6 +31,8 @@ from .casadi_helpers import subst as _subst
 
 
 class Aliases:
+    """The alias sets of one flat system and the replacements found so far."""
+
     def __init__(self, flat, t):
         self.t = t
         self.vars = {v.name: v for v in flat.vars}
@@ -58,6 +60,7 @@ class Aliases:
         return (2, -self.order[self.der_owner[name].name])
 
     def unknown_symbols(self):
+        """The symbols of the unknowns not eliminated (unknowns())."""
         return [s for _, s in self.unknowns()]
 
     def unknowns(self):
@@ -73,6 +76,7 @@ class Aliases:
         return self._unknowns
 
     def unknowns_vector(self):
+        """The unknowns not eliminated as one CasADi column (cached with unknowns())."""
         self.unknowns()
         if self._unknowns_vec is None:
             self._unknowns_vec = ca.vertcat(*[u for _, u in self._unknowns])
@@ -80,6 +84,7 @@ class Aliases:
 
     # -- elimination ---------------------------------------------------------------
     def eliminate(self, eqs):
+        """The residuals of ``eqs`` ((residual, origin) pairs) left after removing their aliases."""
         R = ca.vertcat(*[r for r, _ in eqs]) if eqs else ca.SX(0, 1)   # one column
         W = [w for _, w in eqs]
         fresh = None                     # rows that may have become aliases (None: all)
@@ -249,6 +254,7 @@ class Aliases:
         return _subst(R, K, V)
 
     def resolve(self, expr):
+        """``expr`` with every eliminated symbol replaced by its kept members."""
         if self._KV is None:
             self._KV = self._closed()
         K, V = self._KV

@@ -17,6 +17,10 @@ from .casadi_helpers import subst as _subst
 
 
 def solve_blt(eqs, unknowns, labels):
+    """Match ``eqs`` ((residual, origin) pairs) to ``unknowns`` (symbols named
+    ``labels``) and solve them block by block in BLT order. Returns (solved
+    (symbol, expression) pairs, algebraic symbols, their names, their residuals);
+    raises ModelError naming what is under- or over-determined."""
     n_e, n_u = len(eqs), len(unknowns)
     R = ca.vertcat(*[r for r, _ in eqs]) if eqs else ca.SX(0, 1)
     U = ca.vertcat(*unknowns) if unknowns else ca.SX(0, 1)

@@ -8,12 +8,18 @@ used inside a bigger rig.
 """
 from __future__ import annotations
 
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
 import casadi as ca
 
 from pdbfs.errors import ConnectError, ModelError, ParameterError
 
 from .connectors import Connector
 from .symbols import Parameter, Variable
+
+if TYPE_CHECKING:
+    from .dae import DAE
 
 
 class ParamSlot:
@@ -28,6 +34,8 @@ class ParamSlot:
 
 
 class VarSlot:
+    """A variable of one component instance: declaration and symbol."""
+
     def __init__(self, decl: Variable, name: str):
         self.decl = decl
         self.name = name
@@ -37,7 +45,7 @@ class VarSlot:
 class Component:
     """Base class of every component and rig."""
 
-    def __init__(self, **values):
+    def __init__(self, **values: float | ca.SX):
         set_ = object.__setattr__
         set_(self, "_name", "")
         set_(self, "_parent", None)
@@ -70,7 +78,7 @@ class Component:
                 f"it has: {', '.join(self._params) or 'none'}")
 
     # -- what subclasses write ------------------------------------------------
-    def declare(self):
+    def declare(self) -> None:
         """Declare connectors, variables and sub-components as attributes."""
 
     def equations(self) -> list:
@@ -88,7 +96,7 @@ class Component:
         determine the states declared ``fixed=False`` (initialization.py)."""
         return []
 
-    def free(self, *names: str):
+    def free(self, *names: str) -> None:
         """Make the start of states ``names`` of this component free (only a
         guess, solved from initial equations), as Modelica's ``fixed=false``."""
         for n in names:
@@ -122,7 +130,7 @@ class Component:
         self._params[name] = slot
         object.__setattr__(self, name, slot.sym)
 
-    def bind(self, name: str, value):
+    def bind(self, name: str, value: float | ca.SX) -> None:
         """Give parameter ``name`` a new default (a number), or make it
         computed from others (an expression of their symbols)."""
         slot = self._params[name]
@@ -163,22 +171,24 @@ class Component:
 
     # -- names ----------------------------------------------------------------
     def path(self) -> str:
+        """The dotted path of this component in its rig ("" for the rig itself)."""
         if self._parent is None:
             return ""
         up = self._parent.path()
         return f"{up}.{self._name}" if up else self._name
 
     def label(self) -> str:
+        """The path and class, as messages name a component ("contact (ImpactContact)")."""
         return f"{self.path() or 'the rig'} ({type(self).__name__})"
 
-    def walk(self):
+    def walk(self) -> Iterator[Component]:
         """This component and every descendant, parents first."""
         yield self
         for child in self._children.values():
             yield from child.walk()
 
     # -- connections ----------------------------------------------------------
-    def connect(self, *connectors: Connector):
+    def connect(self, *connectors: Connector) -> None:
         """Connect two or more connectors: equal across variables, and for
         flanges a zero sum of forces."""
         if len(connectors) < 2:
@@ -223,7 +233,7 @@ class Component:
         return False
 
     # -- compile ----------------------------------------------------------------
-    def compile(self):
+    def compile(self) -> DAE:
         """The simplified CasADi DAE of this rig (built once, then cached; a
         rig of pdbfs's own components whose declaration was compiled before,
         by any process, is read from the disk cache: dae_cache.py)."""
@@ -244,6 +254,7 @@ class Component:
         return self._compiled
 
     def rig_name(self) -> str:
+        """The DAE's and the FMU's name: the class attribute ``name``, else the class name."""
         return getattr(self, "name", None) or type(self).__name__
 
 

@@ -37,11 +37,12 @@ class Connector:
     def _make_symbols(self):
         raise NotImplementedError
 
-    def variables(self):
+    def variables(self) -> list[tuple]:
         """(local name, symbol, unit, description, is_flow) of each variable."""
         raise NotImplementedError
 
     def path(self) -> str:
+        """The dotted path of this connector in its rig (``piston.flange_a``)."""
         owner = self.owner.path() if self.owner is not None else "?"
         return f"{owner}.{self.name}" if owner else str(self.name)
 

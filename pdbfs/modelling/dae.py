@@ -48,6 +48,11 @@ class VarInfo:
 
 @dataclass
 class DAE:
+    """A rig compiled: one semi-explicit CasADi DAE in SX (see the module
+    docstring for its parts), with the names, units and descriptions of its
+    states, algebraic variables, parameters and outputs. ``rig.compile()``
+    makes it; every back end (simulation, FMU export, the studies) reads it."""
+
     name: str
     t: ca.SX
     x: ca.SX                 # column, states
@@ -93,7 +98,7 @@ class DAE:
                 "conditions", [self.p], [ca.vertcat(*[e for e, _ in conds])])
         return f
 
-    def conditions_hold(self, P) -> np.ndarray:
+    def conditions_hold(self, P: np.ndarray) -> np.ndarray:
         """Per row of ``P`` (points x parameters): whether every condition
         holds, all rows in one call (a sweep's chunk; check_conditions names
         what fails)."""
@@ -104,7 +109,7 @@ class DAE:
         v = np.array(f.map(P.shape[0])(P.T), float).reshape(-1, P.shape[0])
         return np.all(v >= 0, axis=0)
 
-    def check_conditions(self, p) -> None:
+    def check_conditions(self, p: np.ndarray) -> None:
         """Refuse parameters that contradict each other physically (each
         component's conditions()): a ParameterError naming them."""
         f = self._conditions_function()
@@ -127,7 +132,7 @@ class DAE:
             return float("nan")
         return float(ca.Function("v", [self.p], [self.calculated[name][0]])(p))
 
-    def time_event_times(self, p) -> np.ndarray:
+    def time_event_times(self, p: np.ndarray) -> np.ndarray:
         """The time events at parameters p, sorted (non-finite ones left out)."""
         n = self.time_events.numel()
         if not n:
@@ -148,25 +153,31 @@ class DAE:
     # -- names ---------------------------------------------------------------
     @property
     def x_names(self) -> list[str]:
+        """The states' names, in the DAE's order."""
         return [v.name for v in self.x_info]
 
     @property
     def z_names(self) -> list[str]:
+        """The algebraic variables' names (none for an ODE rig)."""
         return [v.name for v in self.z_info]
 
     @property
     def p_names(self) -> list[str]:
+        """The free parameters' names, in the DAE's order."""
         return [p.name for p in self.params]
 
     @property
     def y_names(self) -> list[str]:
+        """The names of every variable a Result holds (the outputs), in the DAE's order."""
         return [v.name for v in self.y_info]
 
     @property
     def is_ode(self) -> bool:
+        """True when no algebraic variable is left (CVODES, or the compiled backend, can run it)."""
         return self.z.numel() == 0
 
     def p_default(self) -> np.ndarray:
+        """The parameters' default values as a vector (SI units)."""
         return np.array([p.value for p in self.params], dtype=float)
 
     @property

@@ -20,6 +20,8 @@ from .symbols import der_of, time
 
 @dataclass
 class FlatParam:
+    """A parameter of the flat system, under its dotted name."""
+
     name: str
     sym: ca.SX
     decl: object          # symbols.Parameter
@@ -28,6 +30,8 @@ class FlatParam:
 
 @dataclass
 class FlatVar:
+    """A variable of the flat system, under its dotted name."""
+
     name: str
     sym: ca.SX
     unit: str
@@ -43,6 +47,8 @@ class FlatVar:
 
 @dataclass
 class FlatSystem:
+    """The whole rig flattened: parameters, variables and equations, before simplification."""
+
     name: str
     params: list[FlatParam] = field(default_factory=list)
     vars: list[FlatVar] = field(default_factory=list)
@@ -61,6 +67,8 @@ def _join(prefix, name):
 
 
 def flatten(root) -> FlatSystem:
+    """The component tree of ``root`` as one flat system: every variable and
+    parameter under its dotted name, the connection equations added."""
     flat = FlatSystem(name=type(root).__name__)
     old, new = [], []          # local symbol -> global symbol
     deferred = []              # (FlatVar, local start) resolved after renaming

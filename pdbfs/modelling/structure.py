@@ -29,6 +29,8 @@ from .casadi_helpers import subst as _subst
 
 
 def simplify(flat: FlatSystem, name: str) -> DAE:
+    """The DAE of a flat system, named ``name``: aliases eliminated, the index
+    reduced, the equations sorted and solved where they can be (BLT)."""
     t = flat.time
     free, calculated, p_old, p_new = _parameters(flat)
     eqs = list(zip(_each(flat.equations, p_old, p_new), [w for _, w in flat.equations]))

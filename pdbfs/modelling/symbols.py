@@ -25,8 +25,8 @@ class Parameter:
     (start values), which the FMU marks as a fixed parameter.
     """
 
-    def __init__(self, default, unit: str, description: str, *, min=None, max=None,
-                 positive=False, tunable=True):
+    def __init__(self, default: float, unit: str, description: str, *, min: float | None = None,
+                 max: float | None = None, positive: bool = False, tunable: bool = True):
         self.default = default
         self.unit = unit
         self.description = description
@@ -39,7 +39,7 @@ class Parameter:
     def __set_name__(self, owner, name):
         self.name = name
 
-    def check(self, value, where: str) -> float:
+    def check(self, value: float, where: str) -> float:
         """The value as a float; ParameterError naming ``where`` if not allowed."""
         return check_value(value, where, self)
 
@@ -89,8 +89,9 @@ class Variable:
 
     is_state = False
 
-    def __init__(self, unit: str, description: str, *, output=False, start=None,
-                 min: float | None = None, max: float | None = None, beyond: str = ""):
+    def __init__(self, unit: str, description: str, *, output: bool = False,
+                 start: float | ca.SX | None = None, min: float | None = None,
+                 max: float | None = None, beyond: str = ""):
         self.unit = unit
         self.description = description
         self.output = output
@@ -114,8 +115,9 @@ class State(Variable):
 
     is_state = True
 
-    def __init__(self, unit: str, description: str, *, start=0.0, output=True, fixed=True,
-                 min: float | None = None, max: float | None = None, beyond: str = ""):
+    def __init__(self, unit: str, description: str, *, start: float | ca.SX = 0.0,
+                 output: bool = True, fixed: bool = True, min: float | None = None,
+                 max: float | None = None, beyond: str = ""):
         super().__init__(unit, description, output=output, start=start, min=min, max=max,
                          beyond=beyond)
         self.fixed = bool(fixed)
@@ -147,6 +149,6 @@ def der_of(v: ca.SX):
     return hit[1] if hit is not None else None
 
 
-def eq(lhs, rhs):
+def eq(lhs: ca.SX | float, rhs: ca.SX | float) -> ca.SX:
     """An equation ``lhs = rhs`` in the residual form the compiler works with."""
     return lhs - rhs

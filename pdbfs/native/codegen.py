@@ -245,6 +245,7 @@ def split(f: ca.Function, size: int = PART_INSTRUCTIONS) -> ca.Function:
 
 
 def work_sizes(funcs: list[ca.Function]) -> tuple[int, int, int, int]:
+    """The largest (arg, res, iw, w) work sizes of ``funcs``: one work area serves them all."""
     return (max(f.sz_arg() for f in funcs), max(f.sz_res() for f in funcs),
             max(f.sz_iw() for f in funcs), max(f.sz_w() for f in funcs))
 
@@ -257,13 +258,18 @@ def sizes_header_lines(work: tuple[int, int, int, int]) -> list[str]:
 
 def compile_command(sources: list[Path], out: Path, include_dirs: list[Path],
                     cflags: list[str] | None = None, sd: Sundials | None = None,
-                    target: str | None = None) -> list[str]:
+                    target: str | None = None, cvode: bool = True) -> list[str]:
     """The command line that builds a shared library of ``sources`` for
-    ``target`` (default: the host's) linked with that target's static CVODE."""
+    ``target`` (default: the host's) linked with that target's static CVODE
+    (``sd``, found if not given); with ``cvode`` False, without any SUNDIALS
+    (``-DPDBFS_NO_CVODE``: the explicit method's library)."""
     target = target or toolchain.host_target()
-    sd = sd or find_sundials(target=target)
     cc = toolchain.compiler(target)
     before, after = toolchain.shared_flags(target, cc, Path(out).name)
+    if not cvode:
+        return [*cc, *toolchain.cflags(target), *before, *(cflags or []), "-DPDBFS_NO_CVODE",
+                *[f"-I{d}" for d in include_dirs], *map(str, sources), "-o", str(out), *after]
+    sd = sd or find_sundials(target=target)
     return [*cc, *toolchain.cflags(target), *before, *(cflags or []),
             *[f"-I{d}" for d in include_dirs], f"-I{sd.include_dir}",
             *map(str, sources), "-o", str(out), *sd.link_args(), *after]
@@ -299,6 +305,8 @@ def _available_memory() -> int | None:
 
 
 def run_compiler(cmd: list[str], what: str) -> None:
+    """Run the compiler command ``cmd``; a failure is an ExportError naming
+    ``what`` was compiled and the compiler's first error."""
     try:
         r = subprocess.run(cmd, capture_output=True, text=True)
     except OSError as err:

@@ -27,6 +27,7 @@ RESIDUAL_TOL = 1e-8
 
 
 def solved_start_function(dae, name: str = "pdbfs_start") -> ca.Function:
+    """The CasADi Function ``name``: p -> the solved start x0 (not finite where Newton failed)."""
     free, eqs, names = start_system(dae)
     square_start(dae, free, eqs, names)       # as many equations as unknowns, or a ModelError
     w, xg, G = start_residual(dae, free, eqs)

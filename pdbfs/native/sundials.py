@@ -9,13 +9,16 @@ no SUNDIALS code.
 
 * :func:`find_sundials_sources` fetches the sdist once per machine into the
   cache (``$XDG_CACHE_HOME/pdbfs/sundials-7.1.1``, default
-  ``~/.cache/pdbfs``), checks its hash and extracts only those files, with a
-  ``sundials_config.h`` and ``sundials_export.h`` that pdbfs writes (no
-  CMake). ``$PDBFS_SUNDIALS_SDIST`` names a local copy of the sdist instead
-  (offline machines); the download honours ``https_proxy``.
+  ``~/.cache/pdbfs``) the way pip finds packages (``pipindex.py``: the
+  index and find-links pip is configured with, within 20 s), checks its hash,
+  keeps it (``sdist/``, to carry to an offline machine) and extracts only
+  those files, with a ``sundials_config.h`` and ``sundials_export.h`` that
+  pdbfs writes (no CMake). ``$PDBFS_SUNDIALS_SDIST`` names a local copy of
+  the sdist instead (offline machines).
 * :func:`find_sundials` compiles :data:`SUNDIALS_C` once per target with
   the target's compiler (``toolchain.py``: ``zig cc -O2``) into a static
-  archive in the cache, under a file lock (any OS), and returns it.
+  archive in the cache, under a file lock (any OS), and returns it, saying
+  on stderr how far it is (``[3/31] compiling cvodes_ls.c for aarch64-linux``).
 """
 from __future__ import annotations
 
@@ -26,20 +29,24 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 from pdbfs.errors import ExportError
 from pdbfs.files import cache_folder
 
-from . import toolchain
+from . import pipindex, toolchain
 from .sundials_config import CONFIG_H, EXPORT_H
 
 VERSION = "7.1.1"
+PROJECT = "amici"
 SDIST = "amici-1.1.0.tar.gz"
 SDIST_SHA256 = "63d51cbbf1f989f2f852bb98c9b5a59501f4d3697883221737ff0188eec6870f"
-SDIST_URL = ("https://files.pythonhosted.org/packages/b0/ab/"
-             "aeebac08b65fa7110934ed0938d48f1e3cdfed00361a09ca10d70e2ccf92/" + SDIST)
+#: how to get the sdist by hand on a machine with pip (any Python: the sdist
+#: itself declares Requires-Python >= 3.12, which --python-version answers)
+PIP_DOWNLOAD = (f"pip download --no-deps --no-binary {PROJECT} --python-version 3.12 "
+                f"{PROJECT}==1.1.0")
 #: SUNDIALS' folder inside the sdist
 SDIST_ROOT = "amici-1.1.0/amici/_installation/ThirdParty/sundials/"
 
@@ -65,7 +72,7 @@ _EXTRACT = tuple(sorted({"src/" + c.rsplit("/", 1)[0] + "/" for c in SUNDIALS_C}
 
 
 class SundialsNotFound(RuntimeError):
-    pass
+    """SUNDIALS' sources could not be had (not downloadable, a wrong hash, an unreadable file)."""
 
 
 @dataclass(frozen=True)
@@ -78,14 +85,17 @@ class SundialsSources:
 
     @property
     def src(self) -> Path:
+        """The folder of SUNDIALS' C sources."""
         return self.root / "src"
 
     @property
     def include(self) -> Path:
+        """The folder of the public headers, pdbfs's configuration headers included."""
         return self.root / "include"
 
     @property
     def license(self) -> Path:
+        """SUNDIALS' LICENSE file."""
         return self.root / "LICENSE"
 
 
@@ -99,6 +109,7 @@ class Sundials:
     target: str = ""
 
     def link_args(self) -> list[str]:
+        """The static libraries to put on a link line."""
         return [str(p) for p in self.libraries]
 
 
@@ -121,6 +132,11 @@ def _say(msg: str) -> None:
     print(f"pdbfs: {msg}", file=sys.stderr, flush=True)
 
 
+def sdist_path() -> Path:
+    """Where the cache keeps the sdist once fetched (to carry to an offline machine)."""
+    return cache_root() / "sdist" / SDIST
+
+
 def _download() -> bytes:
     local = os.environ.get("PDBFS_SUNDIALS_SDIST")
     if local:
@@ -128,14 +144,27 @@ def _download() -> bytes:
             return Path(local).read_bytes()
         except OSError as err:
             raise SundialsNotFound(f"PDBFS_SUNDIALS_SDIST={local}: {err.strerror or err}") from None
-    _say(f"fetching SUNDIALS {VERSION}'s sources once: {SDIST} (1.3 MB) from PyPI")
+    kept = sdist_path()
+    if kept.is_file():
+        return kept.read_bytes()
+    _say(f"fetching SUNDIALS {VERSION}'s sources once: {SDIST} (1.3 MB) from the package "
+         "index pip uses")
     try:
-        import urllib.request          # (imported here: a run that finds its library needs none)
-        with urllib.request.urlopen(SDIST_URL, timeout=120) as r:   # honours *_proxy
-            return r.read()
-    except OSError as err:
-        raise SundialsNotFound(f"could not download {SDIST_URL} ({err}); download it by hand and "
-                               "set PDBFS_SUNDIALS_SDIST to its path") from None
+        data, origin = pipindex.fetch(PROJECT, SDIST, SDIST_SHA256)
+    except pipindex.FetchError as err:
+        raise SundialsNotFound(
+            f"could not fetch SUNDIALS' sources ({SDIST}) through pip's index: {err}. On a "
+            f"machine with access run `pdbfs prepare-offline`, or get the file with `"
+            f"{PIP_DOWNLOAD}` and set PDBFS_SUNDIALS_SDIST to its path") from None
+    _say(f"fetched {SDIST} from {origin}")
+    try:
+        kept.parent.mkdir(parents=True, exist_ok=True)
+        part = kept.with_name(f".{SDIST}.{os.getpid()}")
+        part.write_bytes(data)
+        os.replace(part, kept)
+    except OSError:
+        pass               # not kept: the sources are extracted all the same
+    return data
 
 
 def _extract(data: bytes, dest: Path) -> None:
@@ -187,7 +216,11 @@ def find_sundials_sources(fetch: bool = True) -> SundialsSources:
     return SundialsSources(dest, (dest / "ORIGIN").read_text().strip())
 
 
-def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path) -> list[Path]:
+def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path,
+                 target: str = "") -> list[Path]:
+    done = [0]
+    lock = threading.Lock()
+
     def one(rel: str) -> Path:
         obj = objdir / (Path(rel).stem + ".o")
         r = subprocess.run([*cmd, "-c", f"-I{sources.include}", f"-I{sources.src / 'sundials'}", str(sources.src / rel), "-o", str(obj)],
@@ -195,6 +228,9 @@ def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path) -> list
         if r.returncode != 0:
             raise SundialsNotFound(f"compiling SUNDIALS' {rel} with {Path(cmd[0]).name} failed: "
                                    f"{toolchain.first_error(r.stderr)}")
+        with lock:                 # each step as it ends, with its share of the whole
+            done[0] += 1
+            _say(f"[{done[0]}/{len(SUNDIALS_C)}] compiled {Path(rel).name} for {target}")
         return obj
     from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
@@ -216,10 +252,10 @@ def find_sundials(fetch: bool = True, target: str | None = None) -> Sundials:
             raise SundialsNotFound(f"no CVODE built for {target} in {dest}")
         with _lock(dest):
             if not lib.is_file():
-                _say(f"compiling CVODE for {target} once (about a minute)")
+                _say(f"compiling CVODE for {target} once ({len(SUNDIALS_C)} files, about a minute)")
                 dest.mkdir(parents=True, exist_ok=True)
                 with tempfile.TemporaryDirectory(dir=dest) as tmp:
-                    objs = _compile_all(cmd, sources, Path(tmp))
+                    objs = _compile_all(cmd, sources, Path(tmp), target)
                     part = Path(tmp) / lib.name
                     r = subprocess.run([*toolchain.archiver(), "rcs", str(part), *map(str, objs)],
                                        capture_output=True, text=True)

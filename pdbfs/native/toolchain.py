@@ -107,6 +107,7 @@ def archiver() -> list[str]:
 
 
 def is_zig(cmd: list[str]) -> bool:
+    """Whether the compiler command ``cmd`` is ``zig cc``."""
     return len(cmd) > 1 and cmd[1] == "cc" and Path(cmd[0]).stem == "zig"
 
 
@@ -177,4 +178,5 @@ def first_error(stderr: str) -> str:
 
 
 def library_suffix(target: str) -> str:
+    """The shared library's file suffix on ``target`` (.so, .dll or .dylib)."""
     return ".dll" if target.endswith("-windows") else ".dylib" if target.endswith("-darwin") else ".so"

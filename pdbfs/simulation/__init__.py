@@ -7,6 +7,8 @@
                    generated C + c/pdbfs_batch.c + CVODE or native/c/pdbfs_erk.c
                    (explicit Runge-Kutta 8(5,3)) in one shared library, ctypes;
                    a run's states on the grid made when first read (c/pdbfs_run_*.c)
+                   (without CVODE at hand: the explicit method alone, c/pdbfs_cvode_none.c)
+    backends.py    "auto" and a CVODE method without CVODE at hand: CasADi, with a warning
     block.py       one thread's buffer of the compiled calls' small arguments and answers
     kept.py        a compiled run kept in the library until its states are read
     replay.py      a run again with everything of the run before: its plan,
@@ -33,7 +35,8 @@
     settings.py    tolerances, method, output grid and argument types, checked first
     inputs.py      parameters, start values, grid and settings of a run as vectors,
                    checked; what depends on the rig alone made once
-    memory.py      sizes that cannot fit in the memory available, refused up front
+    memory.py      sizes that cannot fit in the memory available, refused up front;
+                   the probe a compiled run's record of its steps grows within
     limits.py      variables declared valid in a range (min=, max=): a run leaving
                    one stops there with a SolverError naming it and the time
     time_events.py switch times: integrated from switch to switch, never stepped over
@@ -41,6 +44,7 @@
                    chosen parameters (CVODES sensitivities)
     vectorize.py   CasADi output functions evaluated on whole numpy rows
     plotting.py    matplotlib plots of a Result
+    reprs.py       one readable line and an HTML table for Result, Rig and the studies
 
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, SUNDIALS). Never the component library, the studies, the FMU

@@ -1,7 +1,4 @@
-"""The compiled simulation backend (``pdbfs.simulate(..., backend="c")`` and
-fast sweeps).
-
-The DAE's model functions are generated as C by CasADi, compiled with
+"""The compiled simulation backend (``backend="c"``, and fast sweeps). The DAE's model functions are generated as C by CasADi, compiled with
 generic drivers and CVODE into one shared library (``compiled_build.py``),
 and called through ctypes: ``run`` integrates one point over a whole output
 grid (``c/pdbfs_batch.c``); ``summaries`` integrates many points and reduces
@@ -11,7 +8,10 @@ without a Python object per point. Both report CVODE's statistics
 (``STAT_KEYS``). The library is built once per rig structure and
 loaded once per DAE: parameters, start values, tolerances and the grid are
 call arguments, so nothing is rebuilt when they change. ctypes releases the
-GIL during a call, so threads run calls in parallel.
+GIL during a call, so threads run calls in parallel. Where CVODE is not
+at hand without the network, the library holds the explicit method alone;
+a run with Adams or BDF gets one with CVODE first (:func:`compiled`), so
+that ``method="erk"`` never needs SUNDIALS' sources.
 """
 from __future__ import annotations
 
@@ -26,13 +26,14 @@ import numpy as np
 from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
-from . import compiled_build as build_lib
-from . import memory
+from . import compiled_build as build_lib, memory
 from .block import Block
 from .compiled_build import ABI, ROLES
 from .kept import KeptRun
 
 METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
+#: the methods that need CVODE in the library
+CVODE_METHODS = ("adams", "bdf")
 MSG_LEN = 1024
 POINT_MSG_LEN = 320
 
@@ -54,13 +55,7 @@ RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
 RC_BAD_CROSSINGS = 6
 #: summaries(): a pulse cut off at t_end the driver could not follow past it (summary.py's)
 RC_FOLLOW = 7
-#: a variable left the range it is declared valid in (c/pdbfs_record.h; limits.py)
-RC_LIMIT = 8
 INFO_N = 7          # pdbfs_batch_run's info[] (c/pdbfs_batch.c INFO_*)
-#: what a run's record of its steps may still take, asked by C as the record grows
-#: (c/pdbfs_record.c): past it the run stops with "out of memory", before the system
-#: would kill the process
-_PROBE = ctypes.CFUNCTYPE(ctypes.c_double)(lambda: memory.headroom())
 NSTAT = 6           # pdbfs_summary_batch's stats columns (c/pdbfs_summary.c ST_*)
 
 
@@ -106,13 +101,17 @@ class RunStatus:
 
     @property
     def ok(self) -> bool:
+        """Whether the call succeeded."""
         return self.code == RC_OK
 
 
 class CompiledODE:
     """The shared library of one ODE rig; ``run`` integrates over a grid."""
 
-    def __init__(self, dae):
+    def __init__(self, dae, cvode: bool | None = None):
+        """``cvode``: True: with CVODE (its sources fetched if need be); None:
+        with CVODE where it is at hand without the network, else the explicit
+        method alone; False: the explicit method alone."""
         if not dae.is_ode:
             raise ParameterError(
                 f"backend='c' integrates ODE rigs only; rig {dae.name} keeps {dae.z.numel()} "
@@ -133,6 +132,9 @@ class CompiledODE:
         #: the summary keys the summary driver gives for this rig
         self.summary_keys = [k for k in SUMMARY_KEYS if KEY_ROLES[k] in self.roles]
         try:
+            self._sd = build_lib.sundials_for(cvode)
+            #: whether the library runs Adams and BDF (CVODE) besides the explicit method
+            self.cvode = self._sd is not None
             self.path = self._build(dae)
             try:
                 self._lib = self._load(self.path)
@@ -146,13 +148,21 @@ class CompiledODE:
         except PdbfsError:
             raise
         except SundialsNotFound as err:
-            raise PdbfsError(f"backend='c' needs SUNDIALS' CVODE: {err}") from err
+            raise PdbfsError(f"backend='c' needs SUNDIALS' CVODE for methods adams and bdf "
+                             f"(method='erk' and backend='casadi' need none): {err}") from err
         except (RuntimeError, OSError) as err:
             raise PdbfsError(f"backend='c' could not build the compiled model of rig {dae.name}: "
                              f"{err}") from err
 
     def _build(self, dae) -> Path:
-        return build_lib.build(dae)
+        return build_lib.build(dae, self._sd)
+
+    def _check_method(self, method):
+        if method not in METHOD_CODES:
+            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
+        if method in CVODE_METHODS and not self.cvode:      # compiled(dae, cvode=True) first
+            raise PdbfsError(f"rig {self.name}: this compiled library was built without CVODE "
+                             f"(the explicit method alone); method {method!r} needs it")
 
     def _load(self, path: Path):
         lib = ctypes.CDLL(str(path))
@@ -202,16 +212,15 @@ class CompiledODE:
         rel.restype = None
         rel.argtypes = [vp]
         self._release = rel
-        lib.pdbfs_set_memory_probe.restype = None
-        lib.pdbfs_set_memory_probe.argtypes = [vp]
-        lib.pdbfs_set_memory_probe(ctypes.cast(_PROBE, vp))
+        memory.attach(lib)          # the record of a run's steps grows within the memory left
         return lib
 
     def modes(self, x0, p, t0=0.0):
         """(the largest modulus of an eigenvalue of d(ode)/dx at (t0, x0), the
-        fastest decay of a mode that does not oscillate), as
-        stiffness.fast_modes' eigenvalues give them; (0, 0) where the Jacobian
-        is not finite; None where the eigenvalues did not converge (the caller
+        fastest decay of a mode that does not oscillate, the largest modulus
+        of a mode that does), as stiffness.rates gives them of
+        stiffness.fast_modes' eigenvalues; (0, 0, 0) where the Jacobian is
+        not finite; None where the eigenvalues did not converge (the caller
         asks LAPACK). x0 and p: float arrays of the rig's sizes."""
         if len(x0) != self.nx or len(p) != self.np:
             raise ParameterError(f"rig {self.name}: {len(x0)} start values and {len(p)} parameters "
@@ -222,7 +231,7 @@ class CompiledODE:
         code = self._modes(b.addr[0], b.addr[1], float(t0), b.c_addr)
         if code == RC_SETUP:
             raise MemoryError(f"rig {self.name}: no memory for the Jacobian's modes")
-        return None if code < 0 else tuple(b.c[:2].tolist())
+        return None if code < 0 else tuple(b.c[:3].tolist())
 
     def start(self, p) -> np.ndarray:
         """The start values of the parameters ``p`` (pdbfs_batch_start)."""
@@ -264,8 +273,7 @@ class CompiledODE:
         if x0.size not in (self.nx, self.nx + self.nq) or p.size != self.np:
             raise ParameterError(f"rig {self.name}: {x0.size} start values and {p.size} parameters "
                                  f"given, expected {self.nx} and {self.np}")
-        if method not in METHOD_CODES:
-            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
+        self._check_method(method)
         nt = t.size
         X = np.empty((x0.size, nt))
         info = np.zeros(INFO_N)
@@ -314,6 +322,7 @@ class CompiledODE:
             raise ParameterError(f"rig {self.name}: run_summary needs {self.nx} start values, "
                                  f"{self.np} parameters, a strictly increasing grid from 0 "
                                  f"(float64) and a method of {', '.join(METHOD_CODES)}")
+        self._check_method(method)
         keep = keep and method == "erk"
         X = None if keep else np.empty((self.nx, t.size))
         b = self._block()
@@ -348,8 +357,7 @@ class CompiledODE:
         if P.shape[1] != self.np:
             raise ParameterError(f"rig {self.name}: points of {P.shape[1]} parameters given, "
                                  f"expected {self.np}")
-        if method not in METHOD_CODES:
-            raise ParameterError(f"unknown method {method!r}; choose one of {', '.join(METHOD_CODES)}")
+        self._check_method(method)
         n = P.shape[0]
         out = np.empty((n, len(SUMMARY_KEYS)))
         codes = np.zeros(n, dtype=np.intc)
@@ -382,10 +390,11 @@ class CompiledODE:
         return int(ans), float(dur[0]), msg.value.decode(errors="replace")
 
 
-def compiled(dae) -> CompiledODE:
+def compiled(dae, cvode: bool = False) -> CompiledODE:
     """The CompiledODE of ``dae``, built (or loaded from the disk cache) once
-    per DAE object."""
+    per DAE object; with ``cvode``, one whose library has CVODE (built anew,
+    once, if the one at hand runs the explicit method alone)."""
     c = dae.__dict__.get("_compiled_c")
-    if c is None:
-        c = dae.__dict__["_compiled_c"] = CompiledODE(dae)
+    if c is None or cvode and not c.cvode:
+        c = dae.__dict__["_compiled_c"] = CompiledODE(dae, cvode=True if cvode else None)
     return c

@@ -4,7 +4,10 @@ compiled.py): CasADi-generated C of the model functions, the generic drivers
 (many points reduced to their summaries, with ``c/pdbfs_record.c`` and
 ``c/pdbfs_pulse.c``), the CVODE loop shared with the FMU
 (``native/c/pdbfs_cvode.c``) and the static CVODE of pdbfs.native.sundials,
-compiled by ``zig cc`` (pdbfs.native.toolchain; ``$CC`` if set).
+compiled by ``zig cc`` (pdbfs.native.toolchain; ``$CC`` if set). Without
+CVODE at hand the library is built for the explicit method alone
+(``c/pdbfs_cvode_none.c`` in place of the CVODE loop, no SUNDIALS at all):
+``sundials_for`` decides.
 
 The library is cached on disk as ``$XDG_CACHE_HOME/pdbfs/compiled/<hash>.so``
 (``.dll`` on Windows, ``.dylib`` on macOS)
@@ -26,7 +29,7 @@ from pdbfs.native import codegen, straight, toolchain
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, POW_HELPER,
                                   check_compiler_memory, compile_command, erk_size_header, generate,
                                   model_functions, run_compiler, sizes_header_lines)
-from pdbfs.native.sundials import cache_root, find_sundials
+from pdbfs.native.sundials import Sundials, SundialsNotFound, cache_root, find_sundials
 
 from .summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
 
@@ -35,8 +38,11 @@ DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_r
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
                                      "pdbfs_run_trajectory.c")) + ERK_DRIVER
+#: the CVODE loop's stand-in in a library without CVODE (the explicit method alone)
+NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
+    (C_DIR / "pdbfs_cvode_none.c",)
 HEADER = "pdbfs_batch_model.h"
-ABI = 9
+ABI = 10
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")
@@ -54,7 +60,31 @@ BUILDS = 0
 
 
 def cache_dir() -> Path:
+    """The folder of the compiled rigs' shared libraries, in pdbfs's cache."""
     return cache_root() / "compiled"
+
+
+def sundials_for(cvode: bool | None) -> Sundials | None:
+    """The host's CVODE for a library: ``cvode`` True: needed (its sources
+    fetched if need be; SundialsNotFound if they cannot be had); None: where
+    it is at hand without the network (else None: the explicit method's
+    library); False: none."""
+    if cvode is False:
+        return None
+    try:
+        return find_sundials(fetch=bool(cvode), target=toolchain.host_target())
+    except SundialsNotFound:
+        if cvode:
+            raise
+        return None
+
+
+#: ``sd`` of build() and fingerprint() when not given: the CVODE at hand, if any
+AT_HAND = "at hand"
+
+
+def _cvode_files(sd) -> tuple[Path, ...]:
+    return CVODE_DRIVER if sd is not None else NO_CVODE
 
 
 def roles_of(dae) -> list[str]:
@@ -73,6 +103,7 @@ def follow_lines(dae) -> list[str]:
 
 
 def header(dae, work) -> str:
+    """The C header of a rig's library: its sizes, work sizes (``work``) and the summary's roles."""
     signals = getattr(dae, "signals", {}) or {}
     present = [r for r in ROLES if signals.get(r) in dae.y_names]
     macros = [f"#define PDBFS_ROLE_{m} {present.index(r) if r in present else -1}"
@@ -87,7 +118,7 @@ def header(dae, work) -> str:
         *follow_lines(dae), *sizes_header_lines(work), "#endif", ""])
 
 
-def fingerprint(dae) -> str:
+def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     """A cheap key of the library of ``dae``, known before any code generation:
     the DAE's expressions (serialised), the functions generated and how
     (codegen.py, straight.py), the drivers' text, the compiler command and the
@@ -101,14 +132,14 @@ def fingerprint(dae) -> str:
                                     ca.vertcat(*pick([force] if force in dae.y_names else [])),
                                     dae.limits_expr())]
     f = ca.Function("fingerprint", [dae.t, dae.x, dae.z, dae.p], outs)
+    sd = sundials_for(None) if sd is AT_HAND else sd
     host = toolchain.host_target()
-    sd = find_sundials(target=host)
     h = hashlib.sha256()
     for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
                  "\0".join(FUNCTIONS), "\0".join(STRAIGHT),
                  *(Path(m.__file__).read_text() for m in (codegen, straight)),
                  f"nte {dae.time_events.numel()}", "\0".join(roles), *follow_lines(dae),
-                 *(p.read_text() for p in (*DRIVERS, *CVODE_DRIVER)),
+                 *(p.read_text() for p in (*DRIVERS, *_cvode_files(sd))),
                  "\0".join(_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")], sd, host)),
                  _archives_stamp(sd)):
         h.update(part.encode())
@@ -116,14 +147,16 @@ def fingerprint(dae) -> str:
     return h.hexdigest()[:32]
 
 
-def build(dae) -> Path:
-    """The library of ``dae``: from the disk cache (found by its fingerprint
+def build(dae, sd: Sundials | None | str = AT_HAND) -> Path:
+    """The library of ``dae`` linked with the CVODE ``sd`` (None: the explicit
+    method's, without SUNDIALS): from the disk cache (found by its fingerprint
     without code generation, else by the hash of the generated C), or
     compiled into it."""
-    fast = cache_dir() / f"fp-{fingerprint(dae)}.so"
+    sd = sundials_for(None) if sd is AT_HAND else sd
+    fast = cache_dir() / f"fp-{fingerprint(dae, sd)}.so"
     if fast.is_file():
         return fast
-    target = _build(dae)
+    target = _build(dae, sd)
     try:     # the fingerprint's name for the next process: a hard link (else a copy)
         tmp = fast.with_name(f".{fast.name}.{os.getpid()}")
         tmp.unlink(missing_ok=True)
@@ -137,7 +170,7 @@ def build(dae) -> Path:
     return target
 
 
-def _build(dae) -> Path:
+def _build(dae, sd: Sundials | None) -> Path:
     global BUILDS
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
@@ -150,8 +183,7 @@ def _build(dae) -> Path:
         (src / HEADER).write_text(hdr)
         (src / ERK_SIZE_HEADER).write_text(erk_size_header(dae.x.numel()))   # nx is in hdr (the key)
         host = toolchain.host_target()
-        sd = find_sundials(target=host)
-        files = {f.name: f.read_text() for f in (*DRIVERS, *CVODE_DRIVER)}
+        files = {f.name: f.read_text() for f in (*DRIVERS, *_cvode_files(sd))}
         c_files = [n for n in files if n.endswith(".c")] + [f"{FUNCS}.c"]
         # the command with placeholders for the temporary paths: part of the key
         cmd_key = _command([Path(f"@SRC@/{n}") for n in c_files], Path("@OUT@"), [Path("@SRC@")],
@@ -188,12 +220,15 @@ def _build(dae) -> Path:
 def _command(sources, out, include_dirs, sd, host) -> list[str]:
     """The compile command of the library: for this machine's CPU (it runs nowhere else)."""
     return compile_command(sources, out, include_dirs,
-                           toolchain.host_cpu_flags(toolchain.compiler(host)), sd=sd, target=host)
+                           toolchain.host_cpu_flags(toolchain.compiler(host)), sd=sd, target=host,
+                           cvode=sd is not None)
 
 
 def _archives_stamp(sd) -> str:
     """The SUNDIALS archives linked in (path, size, mtime): a rebuilt SUNDIALS
     gives new libraries."""
+    if sd is None:
+        return "no CVODE"
     parts = [str(sd.include_dir), sd.version]
     for lib in sd.libraries:
         try:

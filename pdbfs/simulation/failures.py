@@ -26,7 +26,7 @@ def compiled_failure(dae, grid, st) -> Exception:
     """The error to raise for a failed run of the compiled driver (a RunStatus)
     of the rig ``dae``."""
     name = dae.name
-    if st.code == C.RC_LIMIT and limits.from_c(dae, st.message):   # a variable out of range
+    if st.code == limits.RC_LIMIT and limits.from_c(dae, st.message):   # a variable out of range
         return SolverError(limits.from_c(dae, st.message))
     if st.code == C.RC_BAD_INPUT:
         return ParameterError(f"rig {name}: the compiled solver refused its input: {st.message}")

@@ -47,6 +47,7 @@ class InitialState:
         return self.values[name]
 
     def to_dict(self) -> dict:
+        """The start as plain JSON-ready data, with the largest residual."""
         return {"values": dict(self.values), "solved": list(self.solved),
                 "equations": list(self.equations), "iterations": self.iterations,
                 "max_residual": max(self.residuals.values(), default=0.0)}

@@ -81,6 +81,7 @@ class RunInputs:
         return p
 
     def start_vector(self, p, start=None) -> np.ndarray:
+        """The start values at parameters ``p``, with ``start`` ({state: value}) put in, checked."""
         key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
         known = self._cache.get(key)
         if known is None:
@@ -157,9 +158,10 @@ class RunInputs:
                          backend)
         if initial is not None:
             check_initial(initial, self.dae)
-        backend = self.resolve_backend(backend)
-        if backend == "c" and self.nx:
-            self.compiled()          # a DAE rig is refused before anything else
+        asked, backend = backend, self.resolve_backend(backend)
+        if backend == "c" and self.nx:   # a DAE rig is refused before anything else (and
+            # backend="c" with a CVODE method without its sources: "auto" falls back later)
+            self.compiled(method if asked == "c" else None)
         n_points = np.size(t_out) if t_out is not None else n_out
         if isinstance(n_points, (int, np.integer)):     # before the grid itself is allocated
             per_point = self._cache.get("bytes/point")
@@ -179,6 +181,7 @@ class RunInputs:
 
     @property
     def nx(self) -> int:
+        """The number of states."""
         n = self.__dict__.get("_nx")
         if n is None:
             n = self._nx = int(self.dae.x.numel())

@@ -58,6 +58,7 @@ class Kink:
                 f"its {other} side differs")
 
     def to_dict(self) -> dict:
+        """The kink as plain JSON-ready data."""
         return {"law": self.law, "description": self.description, "value": self.value,
                 "side": self.side, "branch": self.branch, "differs": self.differs}
 

@@ -20,6 +20,8 @@ import numpy as np
 
 from pdbfs.errors import PdbfsError, SolverError
 
+#: a compiled run's code for a limit reached (c/pdbfs_record.h RC_LIMIT)
+RC_LIMIT = 8
 #: a failure at a state where a limit is within this fraction of its value at
 #: the start is put down to the bound (c/pdbfs_record.h LIMIT_NEAR)
 NEAR = 1e-3

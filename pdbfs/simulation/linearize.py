@@ -16,7 +16,9 @@ the side (kinks.py).
 """
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import casadi as ca
 import numpy as np
@@ -25,6 +27,11 @@ from pdbfs.errors import ParameterError
 
 from .kinks import kinks_at
 from .settings import name_list
+
+if TYPE_CHECKING:
+    import control
+
+    from pdbfs.modelling import DAE, Component
 
 
 @dataclass
@@ -53,7 +60,7 @@ class Linearization:
             lines += [f"  {k}" for k in self.kinks]
         return "\n".join(lines)
 
-    def to_control(self):
+    def to_control(self) -> control.StateSpace:
         """A python-control StateSpace (optional dependency: pip install control);
         its signal names have '_' for '.', which python-control refuses."""
         try:
@@ -72,6 +79,8 @@ class Linearization:
 
 @dataclass
 class Mode:
+    """One mode of a linearized rig: an eigenvalue of A (one per complex pair)."""
+
     omega: float          # rad/s, |lambda| (the undamped natural frequency of a pair)
     frequency: float      # Hz, omega / (2 pi)
     damping: float | None  # ratio, -Re(lambda)/|lambda|; None for lambda = 0
@@ -79,6 +88,7 @@ class Mode:
     eigenvalue: complex
 
     def to_dict(self) -> dict:
+        """The mode as plain JSON-ready data (the eigenvalue as [re, im])."""
         return {"omega": self.omega, "frequency": self.frequency, "damping": self.damping,
                 "eigenvalue": [self.eigenvalue.real, self.eigenvalue.imag],
                 "shape": dict(self.shape)}
@@ -95,6 +105,7 @@ def modes_frame(modes):
 
 
 def modes_of(A, states, units=None) -> list:
+    """The Modes of the state matrix ``A`` (states named ``states``), slowest first."""
     if A.size == 0:
         return []
     lam, V = np.linalg.eig(A)
@@ -139,8 +150,11 @@ def _shape(v, states, units, floor=1e-13):
     return out
 
 
-def linearize(model, at="start", inputs=None, outputs=None, params=None, start=None,
-              initial=None, rtol=1e-10, atol=1e-12) -> Linearization:
+def linearize(model: Component | DAE, at: str | float = "start",
+              inputs: str | Sequence[str] | None = None, outputs: str | Sequence[str] | None = None,
+              params: Mapping[str, float] | None = None, start: Mapping[str, float] | None = None,
+              initial: str | Sequence[str] | None = None, rtol: float = 1e-10,
+              atol: float = 1e-12) -> Linearization:
     """State-space matrices of a rig at ``at`` ("start", "steady" or a time
     in s of a run from the start); ``inputs``: parameter names (columns of B
     and D); ``outputs``: variable names (rows of C and D; default the rig's

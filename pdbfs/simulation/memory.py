@@ -1,6 +1,9 @@
 """Sizes that cannot fit, refused before any work: what a run or a study would
-hold in memory, against what the machine has available now (psutil)."""
+hold in memory, against what the machine has available now (psutil); and
+the probe a compiled run's record of its steps grows within (PROBE)."""
 from __future__ import annotations
+
+import ctypes
 
 from pdbfs.errors import ParameterError
 
@@ -33,7 +36,20 @@ def headroom() -> float:
         return -1.0
 
 
+#: headroom() as a C function: a compiled run's record of its steps asks it as it
+#: grows (c/pdbfs_record.c) and stops the run before the system would kill it
+PROBE = ctypes.CFUNCTYPE(ctypes.c_double)(lambda: headroom())
+
+
+def attach(lib) -> None:
+    """Give a compiled library (ctypes) the probe its records ask."""
+    lib.pdbfs_set_memory_probe.restype = None
+    lib.pdbfs_set_memory_probe.argtypes = [ctypes.c_void_p]
+    lib.pdbfs_set_memory_probe(ctypes.cast(PROBE, ctypes.c_void_p))
+
+
 def plain_bytes(n: float) -> str:
+    """``n`` bytes in kB, MB, GB or TB, three digits."""
     for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
         if n >= size:
             return f"{n / size:.3g} {unit}"

@@ -44,6 +44,7 @@ class Outcome:
 
     @property
     def solved(self) -> bool:
+        """Whether every scaled residual is below RESIDUAL_TOL (and finite)."""
         return self.status != "nonfinite" and bool(np.all(self.scaled <= RESIDUAL_TOL))
 
     def scaled_jacobian(self) -> tuple[np.ndarray, np.ndarray]:
@@ -67,6 +68,7 @@ class Outcome:
 
     @property
     def regular(self) -> bool:
+        """Whether the scaled Jacobian at ``w`` is not singular."""
         return self.null_spaces()[1].shape[1] == 0
 
 

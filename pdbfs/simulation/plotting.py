@@ -28,6 +28,7 @@ def envelope(y, bins: int = PLOT_BINS):
 
 
 def plot_result(res, names=None, path=None, title=None):
+    """Result.plot(): a matplotlib Figure of ``names`` against time in ms, saved to ``path`` if given."""
     # a Figure without pyplot: pyplot's import (its backends, its state) is most
     # of a one-shot `pdbfs simulate`'s time, and a file needs none of it
     from matplotlib.figure import Figure

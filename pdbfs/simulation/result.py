@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import csv
 import warnings
+from collections.abc import Callable, Sequence
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,17 +20,57 @@ from pdbfs.files import whole
 from .c_summary import summary_of
 from .hermite import Curves
 from .initialize import InitialState
+from .reprs import number, table
 from .settings import name_list
 from .summary import summarize
 
+
+if TYPE_CHECKING:
+    import os
+
+    import pandas as pd
+    from matplotlib.figure import Figure
+
+    from .simulator import Simulator
 
 #: rows of a CSV formatted at a time (Result.to_csv)
 CSV_ROWS = 20000
 
 
 class Result:
-    def __init__(self, sim, t, p, X, Z, settings, stats=None, fast_summary=None, initial=None,
-                 states=None, own_stats=False, shared=False, impulse=None):
+    """One simulation of a rig: time and every variable as numpy arrays, SI units.
+
+    ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]``
+    is ``res.t``); ``"oil.pressure" in res`` says whether the rig has it.
+    Values between output points, peaks and crossings are located on the
+    solution itself (on the Hermite interpolant where it is trusted, else by
+    a short integration from the nearest output point), so they do not
+    depend on the output grid. Read it with ``summary()``, ``peak()``,
+    ``crossings()`` and ``value_at()``; export it with ``to_csv()``,
+    ``to_pandas()``, ``as_dict()`` and ``plot()``. Made by ``simulate``.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        The output times, s.
+    names, units, descriptions : list and dicts
+        Every variable's dotted name (the DAE's order); unit and description by name.
+    params, p : dict and numpy.ndarray
+        The run's parameter values (SI units) by name, and as a vector in the DAE's order.
+    initial : InitialState
+        The start the run began from, and what initialization solved.
+    rig : str
+        The rig's name.
+    settings, stats : dict
+        The settings as used (rtol, atol, method, max_step, max_num_steps,
+        backend) and the solver's statistics (steps, rhs_evals, jac_evals,
+        root_events, method, wall_time in s, backend).
+    """
+
+    def __init__(self, sim: Simulator, t: np.ndarray, p: np.ndarray, X: np.ndarray | None, Z: np.ndarray,
+                 settings: dict, stats: dict | None = None, fast_summary: tuple | None = None,
+                 initial: InitialState | np.ndarray | None = None, states: Callable | None = None,
+                 own_stats: bool = False, shared: bool = False, impulse: np.ndarray | None = None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         self._impulse = impulse     # the contact force's impulse on t, if integrated (summary)
@@ -99,6 +141,7 @@ class Result:
 
     @cached_property
     def descriptions(self) -> dict:
+        """name -> description."""
         return dict(self._names[2])
 
     @cached_property
@@ -107,7 +150,7 @@ class Result:
         return dict(zip(self._names[4], self.p.tolist()))
 
     @property
-    def initial(self):
+    def initial(self) -> InitialState:
         """The start the run began from (initialize.InitialState): each state's
         value, and what initialization solved (nothing where the rig starts as
         declared)."""
@@ -116,12 +159,48 @@ class Result:
         return self._initial
 
     @initial.setter
-    def initial(self, value):
+    def initial(self, value: InitialState):
         self._initial = value
 
     @property
     def rig(self) -> str:
+        """The rig's name."""
         return self._sim.dae.name
+
+    def _cheap_summary(self) -> dict | None:
+        """The summary if it costs nothing now: computed already, or the
+        compiled run's own; else None (a repr integrates nothing)."""
+        if "_summary" not in self.__dict__ and self._fast is not None:
+            d = summary_of(self._sim.dae, self._fast)
+            if d is not None:
+                self._summary, self._summary_warnings = d, []
+        return self.__dict__.get("_summary")
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        t = self._shared[0] if "t" not in self.__dict__ and hasattr(self, "_shared") else self.t
+        st = self.stats
+        rows = [("time", f"{t[0]:g} .. {t[-1]:g} s, {len(t)} points"),
+                ("solver", f"{st.get('method', '?')} ({st.get('backend', '?')}), "
+                 f"{st.get('steps', '?')} steps")]
+        s = self._cheap_summary()
+        if s is None:
+            rows.append(("summary", "not computed yet: .summary()"))
+        else:
+            from .summary import UNITS as SUMMARY_UNITS
+            if "complete" in s:
+                rows.append(("pulse", "complete" if s["complete"] else
+                             "incomplete (it outlasts the run)"))
+            for key in ("peak_pressure", "time_of_peak", "pulse_duration"):
+                if key in s and not isinstance(s[key], (list, tuple, dict)):
+                    rows.append((key, number(s[key], SUMMARY_UNITS.get(key, ""))))
+        return f"Result of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name == "time":
@@ -139,7 +218,7 @@ class Result:
             self._rows[i] = self._sim.outputs(self.t, self._X, self._Z, self.p, [i])[0]
         return self._rows[i]
 
-    def prefetch(self, names):
+    def prefetch(self, names: str | Sequence[str]) -> None:
         """Compute the outputs ``names``, their rates and the event indicators
         in one pass over the grid (a summary reads all of them)."""
         names = [n for n in dict.fromkeys(names) if n in self._index]
@@ -184,18 +263,19 @@ class Result:
         return float(out(t, x, z, self.p)[i])
 
     @property
-    def curves(self):
+    def curves(self) -> Curves:
         """The Hermite interpolants of the variables (pdbfs.simulation.hermite)."""
         if "_curves" not in self.__dict__:
             self._curves = Curves(self)
         return self._curves
 
-    def peak(self, name: str, sign: float = 1.0, window=None) -> tuple[float, float]:
+    def peak(self, name: str, sign: float = 1.0, window: tuple[float, float] | None = None
+             ) -> tuple[float, float]:
         """(time, value) of the maximum (``sign=-1``: minimum) of ``name``,
         over the run or between the times ``window = (a, b)``: the largest
         sample, refined on the solution between its neighbours (on the
         Hermite interpolant where it is trusted, else by minimising the
-        solution itself)."""
+        solution itself). The time is in s, the value in the variable's unit."""
         y = sign * self[name]
         k0, k1 = 0, len(y) - 1
         if window is not None:
@@ -219,8 +299,9 @@ class Result:
         return float(self.t[k]), float(self[name][k])
 
     def crossings(self, name: str, level: float = 0.0) -> np.ndarray:
-        """Times at which ``name`` crosses ``level``, on the Hermite
-        interpolant where it is trusted, else by root finding on the solution."""
+        """Times, s, at which ``name`` crosses ``level`` (in its unit), on the
+        Hermite interpolant where it is trusted, else by root finding on the
+        solution."""
         y = self[name] - level
         s = np.sign(y)
         idx = np.flatnonzero(s[:-1] * s[1:] < 0)
@@ -235,16 +316,20 @@ class Result:
         return np.array(out)
 
     # -- export -------------------------------------------------------------------
-    def as_dict(self, names=None) -> dict:
+    def as_dict(self, names: str | Sequence[str] | None = None) -> dict[str, np.ndarray]:
+        """{"time": t, name: values, ...} for ``names`` (default: every variable)."""
         names = self.names if names is None else name_list(names, "names", distinct=False)
         return {"time": self.t, **{n: self[n] for n in names}}
 
-    def to_csv(self, path, names=None, progress=None):
+    def to_csv(self, path: str | os.PathLike, names: str | Sequence[str] | None = None,
+               progress: Callable[[int, int], object] | None = None) -> str | os.PathLike:
         """Write time and the variables (all by default) as CSV, SI units in
         the header (``name [unit]``). Written CSV_ROWS rows at a time (the
         outputs computed for those rows only, unless the Result holds them):
         the memory it takes does not grow with the run. ``progress``: a
-        function called with (rows written, rows in all) after each block."""
+        function called with (rows written, rows in all) after each block.
+        Returns ``path``; raises PdbfsError, writing nothing, for a value
+        that is NaN or infinite."""
         names = self.names if names is None else name_list(names, "names", distinct=False)
         for n in names:
             if n not in self:
@@ -269,7 +354,7 @@ class Result:
                     progress(b, n_rows)
         return path
 
-    def to_pandas(self, names=None):
+    def to_pandas(self, names: str | Sequence[str] | None = None) -> pd.DataFrame:
         """A pandas DataFrame indexed by time (needs pandas installed)."""
         try:
             import pandas as pd
@@ -279,7 +364,8 @@ class Result:
         t = d.pop("time")
         return pd.DataFrame(d, index=pd.Index(t, name="time"))
 
-    def plot(self, names=None, path=None, title=None):
+    def plot(self, names: str | Sequence[str] | None = None, path: str | os.PathLike | None = None,
+             title: str | None = None) -> Figure:
         """Plot variables against time in ms (one panel per unit); save to
         ``path`` if given. Returns the matplotlib Figure."""
         from .plotting import plot_result

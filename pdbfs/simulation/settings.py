@@ -43,6 +43,7 @@ def real(value, name: str) -> float:
 
 
 def whole(value, name: str) -> int:
+    """``value`` as an int if it is a whole number (not a bool), else a ParameterError naming ``name``."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise ParameterError(f"{name} = {plain(value)}: must be a whole number, not "
                              f"{type(value).__name__}")
@@ -99,6 +100,7 @@ def mapping(value, name: str, example: str = "'hammer.v0': 3.0") -> dict:
 
 def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
                    backend="auto"):
+    """Refuse, with a ParameterError naming it, a setting that is not valid."""
     if backend not in BACKENDS:
         raise ParameterError(f"unknown backend {backend!r}; choose one of "
                              f"{', '.join(BACKENDS)}")
@@ -122,6 +124,7 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
 
 
 def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
+    """The output times: ``t_out`` checked (increasing from 0), else n_out points on [0, t_end]."""
     if t_out is None:
         if not (np.isfinite(real(t_end, "t_end")) and t_end > 0):
             raise ParameterError(f"t_end = {t_end}: must be a positive time in s")

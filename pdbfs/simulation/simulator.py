@@ -1,14 +1,11 @@
 """Simulation with SUNDIALS through casadi.integrator: CVODES for ODE rigs,
 IDAS for rigs that keep algebraic variables; or (``backend="c"``, ODE rigs
-only) with CVODE in a shared library compiled from CasADi-generated C of the
-DAE and a generic driver (``compiled.py``, ``c/pdbfs_batch.c``).
-
-Tolerances, output grid, start values and parameters are arguments of each
-call; the DAE is never rebuilt, and integrators are cached per setting.
-
-Non-smooth points (contact onset and separation, a slack oil column) are
-integrated through with error control (the forces there are continuous);
-tests/test_accuracy.py checks against a tight event-located reference.
+only) the compiled backend (``compiled.py``). Tolerances, output grid, start
+values and parameters are arguments of each call; the DAE is never rebuilt,
+and integrators are cached per setting. Non-smooth points (contact onset and
+separation, a slack oil column) are integrated through with error control
+(the forces there are continuous); tests/test_accuracy.py checks against a
+tight event-located reference.
 """
 from __future__ import annotations
 
@@ -23,6 +20,7 @@ from pdbfs.modelling import DAE
 
 from . import c_summary, limits, replay
 from . import compiled as C
+from .backends import backend_for_method
 from . import time_events as TE
 from .contact_impulse import force_role
 from .failures import compiled_failure, walk_failure
@@ -32,7 +30,6 @@ from .on_grid import OnGrid
 from .result import Result
 from .stats import casadi_stats
 from .stiffness import auto_method
-
 from .settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings, default_atol,  # noqa: F401
                        default_rtol, output_grid)
 
@@ -50,6 +47,7 @@ class Simulator(RunInputs, OnGrid):
 
     @staticmethod
     def of(model) -> "Simulator":
+        """The Simulator of a rig or DAE: one per compiled DAE, made on first use."""
         if not isinstance(model, DAE) and not callable(getattr(model, "compile", None)):
             raise ParameterError(f"rig = {model!r}: give a rig (a Component) or its compiled DAE, "
                                  f"not a {type(model).__name__}")
@@ -60,18 +58,18 @@ class Simulator(RunInputs, OnGrid):
         return sim
 
     def z_guess(self, p) -> np.ndarray:
+        """The algebraic variables' start guesses at parameters ``p`` (empty for an ODE rig)."""
         dae = self.dae
         if dae.is_ode:
             return np.zeros(0)
         return ca.Function("z0", [dae.p], [dae.z0])(p).full().ravel()
 
-    # -- integrators -------------------------------------------------------------
     def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
         """``method``, or for "auto" the one stiffness.auto_method picks
-        for this start and time span (cached: repeated runs pay nothing); in
-        the compiled backend a rig that is not stiff gets the explicit
-        Runge-Kutta method ("erk") instead of Adams, and the modes are the
-        compiled library's."""
+        for this start and time span (cached: repeated runs pay nothing): in
+        the compiled backend the cheapest of "erk", "adams" and "bdf" by its
+        cost estimate (the modes from the compiled library), through CasADi
+        of "adams" and "bdf"."""
         if method != "auto":
             return method
         key = ("auto", backend == "c", np.asarray(p, float).tobytes(),
@@ -80,11 +78,10 @@ class Simulator(RunInputs, OnGrid):
         if found is None:
             # (backend "c" here: run() has refused a DAE rig already)
             lib = self.compiled() if backend == "c" and self.nx else None
-            found = auto_method(self.dae, p, x0, span, lib)
+            found = auto_method(self.dae, p, x0, span, lib, backend)
             if len(self._cache) < self.CACHE_MAX:   # a loop over new parameters: bounded
                 self._cache[key] = found
-        chosen, _, erk = found
-        return "erk" if erk and backend == "c" else chosen
+        return found[0]
 
     def resolve_backend(self, backend: str) -> str:
         """``backend``, or for "auto" the compiled backend where it can be
@@ -146,8 +143,7 @@ class Simulator(RunInputs, OnGrid):
         return self._cache[key]
 
     def consistent_start(self, t0, x0, p):
-        """(z, der(x)) at the start of a DAE rig: z solved from the algebraic
-        equations by Newton from the declared guesses, der(x) from the ODE."""
+        """(z, der(x)) at a DAE rig's start: z by Newton from the declared guesses."""
         dae = self.dae
         rf = self._cache.get("rootfinder")
         if rf is None:
@@ -193,15 +189,15 @@ class Simulator(RunInputs, OnGrid):
         r = _call(F, x0=x, p=np.concatenate([p, [t0, h]]), z0=z0)
         return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
 
-    # -- one simulation -----------------------------------------------------------
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=None, atol=None, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
+        """One run, as simulate(). From the rig's start (its parameters or new ones), what the
+        checks decide is kept as a plan for the next run with the same settings (and types)."""
         dae = self.dae
         key = plan = None
+        asked = backend
         if t_out is None and start is None and initial is None:
-            # the rig's start, with its own parameters or new ones: what the checks
-            # below decide is kept for the next run with the same settings (and types)
             try:
                 key = replay.key(t_end, n_out, rtol, atol, method, max_step, max_num_steps,
                                  backend, params is not None)
@@ -224,6 +220,8 @@ class Simulator(RunInputs, OnGrid):
         else:
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
+        if plan is None:
+            backend = backend_for_method(self, asked, backend, method)
         rtol = default_rtol(method, rtol)
         atol = default_atol(rtol, atol)
         if plan is not None:
@@ -256,6 +254,7 @@ class Simulator(RunInputs, OnGrid):
                       impulse=None if backend == "c" else self._last_impulse)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
+        """(X, Z): states and algebraic variables on ``grid`` through CasADi, settings checked."""
         self._last_impulse = None      # the contact force's impulse on grid, for the summary
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
@@ -326,9 +325,10 @@ class Simulator(RunInputs, OnGrid):
                               f"t = {grid[k]:.6g} s; check parameter values (a stiffness or "
                               "exponent far out of range?)")
 
-    def compiled(self):
-        """The DAE compiled to a shared library (compiled.py), built once."""
-        return C.compiled(self.dae)
+    def compiled(self, method: str | None = None):
+        """The DAE compiled to a shared library (compiled.py), built once; one
+        with CVODE when ``method`` needs it."""
+        return C.compiled(self.dae, cvode=method in C.CVODE_METHODS)
 
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False, c_grid=None):
@@ -341,7 +341,7 @@ class Simulator(RunInputs, OnGrid):
         if self.nx == 0:
             X = self.prescribed(grid, p)[0]
             return (X, None, None) if summary else X
-        lib, fast, kept = self.compiled(), None, None
+        lib, fast, kept = self.compiled(method), None, None
         if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
             t, t_addr = c_grid or (grid, None)
             X, st, values, code, note, kept = lib.run_summary(

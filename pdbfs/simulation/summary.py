@@ -18,6 +18,7 @@ blow (impact_times, impact_peak_pressures, impact_durations).
 from __future__ import annotations
 
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -25,6 +26,9 @@ from pdbfs.errors import PdbfsWarning, PulseIncompleteWarning
 
 from . import contact_impulse
 from .summary_run import PULSE_LEVEL, has_pulse, pulse_level, summary_run
+
+if TYPE_CHECKING:
+    from .result import Result
 
 KEYS = ("peak_pressure", "time_of_peak", "pulse_duration", "peak_contact_force",
         "max_piston_displacement", "restitution_coefficient", "complete")
@@ -60,7 +64,10 @@ def keys_for(dae) -> list[str]:
     return keys
 
 
-def summarize(res, warn: bool = True) -> dict:
+def summarize(res: Result, warn: bool = True) -> dict:
+    """The summary of the Result ``res`` (KEYS, units in UNITS), located on the
+    summary's own solution; with ``warn``, a PulseIncompleteWarning when the
+    pulse outlasts the run."""
     roles = getattr(res._sim.dae, "signals", {}) or {}
     run = summary_run(res)
     R = run.trajectory
@@ -133,6 +140,7 @@ def summarize(res, warn: bool = True) -> dict:
 
 
 def incomplete_message(res, run, cut=()) -> str:
+    """The warning for a pulse still running at t_end: where it ends, if the run saw it."""
     where = f"rig {res._sim.dae.name}: the pulse is still running at t_end = {run.t_end:.6g} s"
     if cut:
         where += f" ({'; '.join(cut)})"

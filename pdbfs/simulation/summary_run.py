@@ -61,6 +61,8 @@ def has_pulse(base: float, peak: float) -> bool:
 
 @dataclass
 class SummaryRun:
+    """The summary's own solution of a run, followed until the pulse is over."""
+
     trajectory: object          # a Result on the summary's grid, over [0, min(t_end, stop)]
     t_end: float                # the caller's horizon
     complete: bool | None       # the pulse ended inside the horizon (None: no pulse role)
@@ -76,10 +78,13 @@ class SummaryRun:
 
 
 def summary_step(dae) -> float:
+    """The summary solution's output step for this rig, s."""
     return float(getattr(dae, "summary_step", None) or SUMMARY_STEP)
 
 
 def summary_run(res) -> SummaryRun:
+    """The summary's solution of the run of ``res``: on a fixed grid from its start,
+    followed past t_end (as far as the look-ahead allows) to see the pulse end."""
     Result = type(res)          # no import of result.py, which imports this module
     sim, s = res._sim, res.settings
     dae = sim.dae

@@ -11,6 +11,9 @@ design on the same DAE.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import casadi as ca
 import numpy as np
 
@@ -20,9 +23,16 @@ from .settings import default_atol, name_list
 from .simulator import MAX_NUM_STEPS, Simulator
 from .time_events import breakpoints
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
-def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, *,
-                        t_out=None, inputs=None, params=None, rtol: float = 1e-8,
+    from pdbfs.modelling import DAE, Component
+
+
+def trajectory_function(model: Component | DAE, outputs: str | Sequence[str], t_end: float = 0.02,
+                        n_out: int = 2001, *, t_out: ArrayLike | None = None,
+                        inputs: str | Sequence[str] | None = None,
+                        params: Mapping[str, float] | None = None, rtol: float = 1e-8,
                         atol: float | None = None, method: str = "auto",
                         max_step: float | None = None) -> ca.Function:
     """casadi.Function ``p -> y``: ``outputs`` (dotted names) on the output

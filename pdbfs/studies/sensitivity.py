@@ -13,16 +13,26 @@ logarithm of that parameter.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain
+from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain, require_extra
 from pdbfs.simulation.memory import require, table_bytes
 from pdbfs.simulation.settings import mapping, name_list, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
+
+if TYPE_CHECKING:
+    import os
+
+    from distributed import Client
+    from matplotlib.figure import Figure
+
+    from pdbfs.modelling import DAE, Component
 
 OUTPUTS = ("peak_pressure", "time_of_peak", "pulse_duration")
 #: below this base sample the bootstrap intervals mean nothing (N = 1 gives
@@ -35,6 +45,24 @@ FOLLOW = 20
 
 @dataclass
 class Sensitivity:
+    """Sobol' indices of summary outputs with respect to rig parameters.
+
+    Attributes
+    ----------
+    names : list of str
+        The parameters, sampled over ``ranges`` (name -> (low, high[, log])).
+    outputs : list of str
+        The summary keys analysed.
+    S1, ST : dict
+        Output -> first-order and total indices, one per parameter.
+    S1_conf, ST_conf : dict
+        Output -> half-widths of their 95 % confidence intervals.
+    n, points : int
+        The base sample size N and the simulations run, N (D + 2).
+    undefined : dict
+        Output -> why it has no indices.
+    """
+
     names: list                # parameters
     outputs: list              # summary keys
     S1: dict                   # output -> array over names
@@ -77,6 +105,7 @@ class Sensitivity:
         return out
 
     def to_dict(self) -> dict:
+        """JSON-ready: the indices by output and parameter, with reliability and problems."""
         return {"parameters": self.names, "n": self.n, "points": self.points,
                 "reliable": not self.problems(), "problems": self.problems(),
                 "undefined": dict(self.undefined or {}),
@@ -86,6 +115,7 @@ class Sensitivity:
                                 for i, p in enumerate(self.names)} for o in self.outputs}}
 
     def table(self) -> str:
+        """The indices as a text table, with the problems of the sample if any."""
         lines = [f"Sobol' indices from {self.points} simulations (N = {self.n}), 95 % intervals",
                  f"{'output':<16} {'parameter':<14} {'first order S1':>18} {'total ST':>18}"]
         for o in self.outputs:
@@ -99,12 +129,14 @@ class Sensitivity:
         return "\n".join(lines)
 
     def warning(self) -> str:
+        """One line saying the sample is too small, and how large to make it."""
         found = self.problems()
         return (f"the sample (N = {self.n}) is too small for these indices to mean anything "
                 f"({found[0]}{f', and {len(found) - 1} more' if len(found) > 1 else ''}); "
                 f"run again with a larger N, e.g. --n {max(self.n * 4, MIN_N)}")
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """The indices as bars, one panel per output; saved to ``path`` if given. Returns the Figure."""
         import matplotlib
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
@@ -129,13 +161,18 @@ class Sensitivity:
         return fig
 
 
-def sensitivity(rig, ranges: dict, *, n: int = 4096, outputs=OUTPUTS, params=None,
-                backend: str = "auto", client=None, seed: int = 0, t_end: float = 0.02,
-                workers=None, progress=None, out=None, overwrite: bool = False) -> Sensitivity:
+def sensitivity(rig: Component | DAE | str, ranges: Mapping[str, tuple], *, n: int = 4096,
+                outputs: Sequence[str] = OUTPUTS, params: Mapping[str, float] | None = None,
+                backend: str = "auto", client: Client | None = None, seed: int = 0,
+                t_end: float = 0.02, workers: int | None = None,
+                progress: bool | Callable[[int, int], object] | None = None,
+                out: str | os.PathLike | None = None, overwrite: bool = False) -> Sensitivity:
     """Sobol' indices of ``outputs`` (summary keys) with respect to the
     parameters in ``ranges`` {name: (lo, hi) or (lo, hi, "log")}: N (D + 2)
     simulations of ``rig`` (N = ``n``, a power of 2), run as one sweep
-    (``backend``, ``client``, ``out`` as for pdbfs.sweep)."""
+    (``backend``, ``client``, ``out`` as for pdbfs.sweep). Needs SALib, the
+    extra pdbfs[sensitivity]."""
+    require_extra("sensitivity", "pdbfs.sensitivity (Sobol' indices)")
     from SALib.analyze import sobol as analyze
     from SALib.sample import sobol as sample
     ranges = mapping(ranges, "ranges", "'hammer.v0': (1.5, 5.5)")

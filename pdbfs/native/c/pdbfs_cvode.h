@@ -20,11 +20,22 @@
 #ifndef PDBFS_CVODE_H
 #define PDBFS_CVODE_H
 
+#ifdef PDBFS_NO_CVODE
+#include <stddef.h>
+/* a compiled library of the explicit method alone (simulation/c/pdbfs_cvode_none.c):
+ * built without SUNDIALS, whose handles are then opaque pointers of the same size */
+typedef void *SUNContext;
+typedef void *N_Vector;
+typedef void *SUNMatrix;
+typedef void *SUNLinearSolver;
+typedef void *SUNNonlinearSolver;
+#else
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nonlinearsolver.h>
+#endif
 
 #include "pdbfs_model_funcs.h"
 
@@ -60,6 +71,10 @@
 /* pdbfs_cvode_advance's own failures (CVODE's are its negative flags) */
 #define PDBFS_CV_TOO_MUCH_WORK 3
 #define PDBFS_CV_STOPPED 5        /* the step callback asked to stop */
+/* the step callback's answer that stops pdbfs_cvode_advance without an error
+ * (co-simulation switching methods): s->y is the state at s->tn, where the
+ * step ended, and CVODE's dense output still covers that step */
+#define PDBFS_STEP_PAUSE 2
 
 /* what the log callback is told */
 #define PDBFS_LOG_ERROR 0

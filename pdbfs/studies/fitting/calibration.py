@@ -12,12 +12,15 @@ out of the fit: no made-up value is reported for them.
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pdbfs.errors import DataError, ParameterError, PdbfsError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.reprs import number, table
 
 from .least_squares import distinct_optima, optimum_of_each_start, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
@@ -25,6 +28,16 @@ from .signal_model import DT, SignalModel, pulse_end, signal_of
 from .arguments import check_fit_arguments
 from .traces import as_trace, check_horizon, check_time_origin
 from .free_parameters import CALIBRATION_RANGE, parse_bounds, rig_unknowns
+
+if TYPE_CHECKING:
+    import os
+
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+    from pdbfs.modelling import DAE, Component
+
+    from .traces import Trace
 
 
 @dataclass
@@ -54,7 +67,28 @@ class Calibration:
 
     @property
     def residuals(self) -> np.ndarray:
+        """Trace minus fit at the trace's times, in the signal's unit."""
         return self.y - self.fit
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        fitted = {k: v for k, v in self.params.items() if v is not None}
+        rows = [("fitted", ", ".join(f"{k} {number(v, self.units.get(k, ''))} +- "
+                                     f"{number(self.std.get(k), self.units.get(k, ''))}"
+                                     for k, v in fitted.items())
+                 or "nothing")]
+        if self.undetermined:
+            rows.append(("undetermined", ", ".join(self.undetermined)))
+        if self.at_bounds:
+            rows.append(("at a bound", ", ".join(self.at_bounds)))
+        rows.append(("residual", f"rms {number(self.rms_residual, self.unit)} of {self.signal}"))
+        return f"Calibration of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def to_dict(self) -> dict:
         """JSON-ready: params, std, rms_residual, correlation, undetermined, ..."""
@@ -65,23 +99,30 @@ class Calibration:
                 "evaluations": self.evaluations}
 
     def report(self) -> str:
+        """The fit as text: each value with its standard deviation, correlations, warnings."""
         from .reports import calibration_text
         return calibration_text(self)
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """Trace, fit and residuals against time; saved to ``path`` if given. Returns the Figure."""
         from .reports import plot_fit
         return plot_fit(self, path)
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
+        """Write time, trace, fit and residual as CSV (units in the header); returns ``path``."""
         from .reports import write_columns
         return write_columns(path, {"time [s]": self.t, f"trace [{self.unit}]": self.y,
                                     f"fit [{self.unit}]": self.fit,
                                     f"residual [{self.unit}]": self.residuals})
 
 
-def calibrate(rig, trace, free, *, signal=None, fit_offset=False, t_end=None, bounds=None,
-              start=None, params=None, starts: int = 3, seed: int = 0, rtol: float = 1e-8,
-              atol: float | None = None, dt: float = DT, progress=None) -> Calibration:
+def calibrate(rig: Component | DAE | str, trace: str | os.PathLike | Trace | tuple[ArrayLike, ArrayLike],
+              free: str | Sequence[str], *, signal: str | None = None, fit_offset: bool = False,
+              t_end: float | None = None,
+              bounds: Mapping[str, tuple[float, float]] | Sequence[str] | None = None,
+              start: Mapping[str, float] | None = None, params: Mapping[str, float] | None = None,
+              starts: int = 3, seed: int = 0, rtol: float = 1e-8, atol: float | None = None,
+              dt: float = DT, progress: Callable[[int], object] | None = None) -> Calibration:
     """Fit the parameters ``free`` of ``rig`` so that its ``signal`` (default:
     the rig's pressure) matches ``trace`` (a CSV path, a Trace or (t, y)).
 

@@ -13,12 +13,15 @@ returned with what stops it (a bound, or the features moving together).
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.reprs import number, table, values
 from pdbfs.simulation.settings import real
 
 from .calibration import _rig
@@ -30,6 +33,16 @@ from .arguments import check_fit_arguments
 from .traces import as_trace, check_horizon, check_time_origin
 from .free_parameters import DESIGN_RANGE, parse_bounds, rig_unknowns
 
+if TYPE_CHECKING:
+    import os
+
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+    from pdbfs.modelling import DAE, Component
+
+    from .traces import Trace
+
 #: relative miss of a feature target below which it counts as reached
 REACHED = 1e-4
 ALIASES = {"peak": "peak_pressure", "duration": "pulse_duration", "peak_time": "time_of_peak"}
@@ -37,6 +50,28 @@ ALIASES = {"peak": "peak_pressure", "duration": "pulse_duration", "peak_time": "
 
 @dataclass
 class Design:
+    """What a design found: the free parameters' values that give the target pulse.
+
+    Attributes
+    ----------
+    params : dict
+        Free name -> designed value (SI units; a drop height in m).
+    implied : dict
+        Rig parameters set through another (``hammer.v0`` from a drop height).
+    reachable : bool
+        Whether the target is met; ``limit`` says why not.
+    targets, features : dict
+        Feature targets asked for and the designed pulse's features.
+    rms_error, worst_deviation, worst_time : float or None
+        For a target curve: its RMS and largest miss (signal's unit) and
+        where the largest is (s).
+    at_bounds : dict
+        Free name -> the bound it ended at.
+    t, y, fit : numpy.ndarray
+        Times (s), the target curve (None for feature targets) and the
+        designed pulse there.
+    """
+
     rig: str
     signal: str
     unit: str
@@ -56,7 +91,27 @@ class Design:
     fit: np.ndarray = None             # the designed pulse at t
     evaluations: int = 0
 
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        rows = [("settings", values(self.params, self.units) or "none"),
+                ("targets", "reached" if self.reachable else f"not reached: {self.limit}")]
+        if self.targets:
+            rows.append(("features", values({k: self.features.get(k) for k in self.targets},
+                                            UNITS)))
+        elif self.rms_error is not None:
+            rows.append(("curve", f"rms error {number(self.rms_error, self.unit)}"))
+        if self.at_bounds:
+            rows.append(("at a bound", ", ".join(self.at_bounds)))
+        return f"Design of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
+
     def to_dict(self) -> dict:
+        """JSON-ready: params, implied, reachable, targets and features or the curve's errors."""
         d = {"rig": self.rig, "signal": self.signal, "params": self.params, "implied": self.implied,
              "units": self.units, "reachable": self.reachable, "at_bounds": self.at_bounds,
              "evaluations": self.evaluations}
@@ -70,14 +125,17 @@ class Design:
         return d
 
     def report(self) -> str:
+        """The design as text: the values, the features reached, the bounds hit."""
         from .reports import design_text
         return design_text(self)
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """The designed pulse (and the target curve); saved to ``path`` if given. Returns the Figure."""
         from .reports import plot_design
         return plot_design(self, path)
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
+        """Write time, target (if a curve) and designed pulse as CSV; returns ``path``."""
         from .reports import write_columns
         cols = {"time [s]": self.t}
         if self.y is not None:
@@ -86,9 +144,15 @@ class Design:
         return write_columns(path, cols)
 
 
-def design(rig, target, *, free, bounds=None, start=None, params=None, signal=None,
-           t_end=None, starts: int = 1, seed: int = 0, rtol: float = 1e-8,
-           atol: float | None = None, dt: float = DT, progress=None) -> Design:
+def design(rig: Component | DAE | str,
+           target: str | os.PathLike | Trace | tuple[ArrayLike, ArrayLike] | Mapping[str, float], *,
+           free: str | Sequence[str],
+           bounds: Mapping[str, tuple[float, float]] | Sequence[str] | None = None,
+           start: Mapping[str, float] | None = None, params: Mapping[str, float] | None = None,
+           signal: str | None = None, t_end: float | None = None, starts: int = 1, seed: int = 0,
+           rtol: float = 1e-8,
+           atol: float | None = None, dt: float = DT,
+           progress: Callable[[int], object] | None = None) -> Design:
     """Settings of ``free`` that make ``rig``'s ``signal`` (default: its
     pressure) match ``target``: a curve (CSV path, Trace, (t, y)) or a dict of
     features {peak_pressure (Pa), pulse_duration (s), time_of_peak (s)}.

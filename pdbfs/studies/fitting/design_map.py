@@ -8,7 +8,9 @@ pins on the wall to see which settings give which pulse.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -25,11 +27,34 @@ from .free_parameters import height_stands_for
 from .reports import save_figure, write_columns
 from ..sweeps import sweep
 
+if TYPE_CHECKING:
+    import os
+
+    from matplotlib.figure import Figure
+
+    from pdbfs.modelling import DAE, Component
+
 MAPPED = ("peak_pressure", "pulse_duration", "time_of_peak")
 
 
 @dataclass
 class DesignMap:
+    """Pulse features over a grid of two parameters: what a design can reach.
+
+    Attributes
+    ----------
+    x_name, y_name : str
+        The two parameters (``hammer.h`` is a drop height, m).
+    x, y : numpy.ndarray
+        Their values on the axes, in ``x_unit`` and ``y_unit``.
+    values : dict
+        Feature (peak_pressure in Pa, pulse_duration and time_of_peak in s)
+        -> array of shape (len(y), len(x)); NaN where a point failed or gave
+        no complete pulse.
+    failed, no_pulse : int
+        Points whose run failed, and points without a complete pulse.
+    """
+
     rig: str
     x_name: str
     y_name: str
@@ -41,7 +66,9 @@ class DesignMap:
     y_unit: str = ""
     no_pulse: int = 0              # points that ran but gave no complete pulse (left blank)
 
-    def plot(self, path=None):
+    def plot(self, path: str | os.PathLike | None = None) -> Figure:
+        """Peak pressure (colour) and pulse duration (contours) over the two
+        parameters; saved to ``path`` if given. Returns the Figure."""
         import matplotlib
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
@@ -69,7 +96,8 @@ class DesignMap:
             save_figure(fig, path)
         return fig
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
+        """Write one row per grid point (both parameters and each feature); returns ``path``."""
         X, Y = np.meshgrid(self.x, self.y)
         cols = {self.x_name: X.ravel(), self.y_name: Y.ravel()}
         cols.update({k: v.ravel() for k, v in self.values.items()})
@@ -105,8 +133,10 @@ def axis(spec, n: int, log=None):
     return name, (np.geomspace(lo, hi, n) if log else np.linspace(lo, hi, n))
 
 
-def design_map(rig, x, y, *, n: int = 21, params=None, t_end: float = 0.03, log=None,
-               backend: str = "auto", progress=None) -> DesignMap:
+def design_map(rig: Component | DAE | str, x: tuple[str, float, float] | str,
+               y: tuple[str, float, float] | str, *, n: int = 21, params: Mapping[str, float] | None = None, t_end: float = 0.03,
+               log: bool | None = None, backend: str = "auto",
+               progress: bool | Callable[[int, int], object] | None = None) -> DesignMap:
     """Peak pressure, pulse duration and time of peak over the grid of
     ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
     for the impact speed X.v0), ``n`` points per axis, all in one sweep."""

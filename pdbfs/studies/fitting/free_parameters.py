@@ -37,10 +37,12 @@ class Unknown:
     height: bool = False       # a drop height for target = X.v0
 
     def z(self, v: float) -> float:
+        """The scaled unknown of value ``v``."""
         return math.log(v / self.ref) if self.log else (v - self.ref) / self.scale
 
     def value(self, z: float) -> float:
-        # a plain float: z comes from numpy, and the value lands in dicts users print
+        """The value of scaled unknown ``z`` (a plain float: z comes from numpy,
+        and the value lands in dicts users print)."""
         return float(self.ref * math.exp(z) if self.log else self.ref + self.scale * z)
 
     def dvalue(self, z: float) -> float:
@@ -52,10 +54,12 @@ class Unknown:
         return math.sqrt(2.0 * STANDARD_GRAVITY * v) if self.height else v
 
     def drig(self, v: float) -> float:
+        """d rig_value / d value at ``v``."""
         return STANDARD_GRAVITY / math.sqrt(2.0 * STANDARD_GRAVITY * v) if self.height else 1.0
 
     @property
     def z_bounds(self) -> tuple[float, float]:
+        """The bounds lo and hi as scaled unknowns."""
         return self.z(self.lo), self.z(self.hi)
 
 

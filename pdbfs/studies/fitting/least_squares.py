@@ -34,6 +34,8 @@ class Start:
 
 @dataclass
 class Fit:
+    """The best of a least-squares fit's starts, and every start's outcome."""
+
     z: np.ndarray              # scaled unknowns at the optimum
     residual: np.ndarray
     jac: np.ndarray            # d residual / d z at the optimum
@@ -111,6 +113,8 @@ def distinct_optima(fit: Fit, rel: float = 1e-3) -> int:
 
 @dataclass
 class Statistics:
+    """Standard errors and correlations of a fit, from the Jacobian at its optimum."""
+
     std_z: np.ndarray          # standard errors of the scaled unknowns (inf: not determined)
     cov_z: np.ndarray
     corr: np.ndarray

@@ -49,6 +49,7 @@ class CurveProblem:
         self.rig_cols = {u.name: k for k, u in enumerate(u for u in unknowns if u.target)}
 
     def values(self, z) -> dict:
+        """Every unknown's value by name for the scaled vector ``z`` (held ones included)."""
         it = iter(z)
         return {u.name: self.held[u.name] if u.name in self.held else u.value(next(it))
                 for u in self.all}
@@ -82,9 +83,11 @@ class FeatureProblem:
         self.names = list(self.targets)
 
     def values(self, z) -> np.ndarray:
+        """The unknowns' values for the scaled vector ``z``."""
         return np.array([u.value(zi) for u, zi in zip(self.unknowns, z)])
 
     def features(self, z, sens=True):
+        """(features, their gradients in z, the signal) at ``z``."""
         v = self.values(z)
         s = self.model(np.array([u.rig_value(vi) for u, vi in zip(self.unknowns, v)]), sens=sens)
         feats, grads = pulse_features(s, self.names)

@@ -20,6 +20,7 @@ def _fmt(v, unit=""):
 
 
 def calibration_text(cal) -> str:
+    """Calibration.report()."""
     lines = [f"rig {cal.rig}: {cal.signal} fitted to {len(cal.t)} samples",
              f"{'parameter':<18} {'value':>14} {'std. error':>12}  unit"]
     for name, v in cal.params.items():
@@ -47,6 +48,7 @@ def calibration_text(cal) -> str:
 
 
 def design_text(des) -> str:
+    """Design.report()."""
     lines = [f"rig {des.rig}: design of {des.signal} "
              + ("(reached)" if des.reachable else "(NOT reached)")]
     for name, v in des.params.items():
@@ -93,6 +95,7 @@ def plot_fit(res, path=None, title=None, labels=("trace", "fit")):
 
 
 def save_figure(fig, path):
+    """Save a pyplot Figure to ``path`` (its folder made, written whole) and close it."""
     import matplotlib.pyplot as plt
     try:
         return files.save_figure(fig, path, dpi=130)

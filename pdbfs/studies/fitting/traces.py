@@ -3,6 +3,7 @@ read from a CSV file (units in the header converted to SI, the column chosen
 by name), checked before anything is fitted to them."""
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,6 +44,7 @@ class Trace:
 
     @property
     def span(self) -> float:
+        """The time the trace covers, s."""
         return float(self.t[-1] - self.t[0])
 
 
@@ -55,6 +57,7 @@ def split_header(label) -> tuple[str, str | None]:
 
 
 def to_si(unit, where, column) -> tuple[float, str]:
+    """(factor to SI, SI unit) of a column's ``unit``; an unknown unit is a DataError naming ``where``."""
     if unit is None:
         return 1.0, ""
     if unit not in UNITS:
@@ -63,7 +66,7 @@ def to_si(unit, where, column) -> tuple[float, str]:
     return UNITS[unit]
 
 
-def read_trace(path, what: str = "trace", signal: str | None = None) -> Trace:
+def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None = None) -> Trace:
     """Read a CSV trace: time in the first column, then the signal. The
     delimiter is sniffed (comma, semicolon, tab or spaces). A header is
     optional; where it gives units (``time [ms]``, ``oil.pressure [kPa]``)

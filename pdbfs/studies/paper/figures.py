@@ -158,6 +158,7 @@ def _with_point(t, f, tp, fp):
 
 # ------------------------------------------------------------------ Fig. 5
 def fig5(ctx, rep, path):
+    """Fig. 5: the oil pressure at 2.73 m/s, both readings of k2's unit."""
     res = ctx.rig.simulate(0.014, n_out=ctx.n_out(0.014))
     alt = ctx.rig.simulate(0.014, n_out=ctx.n_out(0.014), params={"oil.n": 1.5})
     fig, ax = _axes("Fig. 5: pressure exerted on the breech assembly, v = 2.73 m/s",
@@ -182,6 +183,7 @@ def fig5(ctx, rep, path):
 
 # ------------------------------------------------------------------ Figs. 6-9
 def fig6(ctx, rep, path):
+    """Fig. 6: the oil pressure for the paper's impact velocities."""
     sw = _pressure_study(
         ctx, rep, path, figure="Fig. 6", param="hammer.v0", values=VELOCITIES,
         label=lambda v: f"v={v:.2f} m/s", xlim=(0, 14), ylim=(0, 200),
@@ -191,6 +193,7 @@ def fig6(ctx, rep, path):
 
 
 def fig7(ctx, rep, path):
+    """Fig. 7: the piston's displacement for the paper's impact velocities."""
     sw = getattr(ctx, "velocity_sweep", None) or ctx.study("hammer.v0", VELOCITIES)
     fig, ax = _axes("Fig. 7: displacement of the loading piston and seal assembly")
     for pt, v, st in zip(sw, VELOCITIES, STYLES):
@@ -212,6 +215,7 @@ def fig7(ctx, rep, path):
 
 
 def fig8(ctx, rep, path):
+    """Fig. 8: the oil pressure for the paper's seal friction coefficients c2."""
     _pressure_study(
         ctx, rep, path, figure="Fig. 8", param="seal.c", values=SEAL_C,
         label=lambda c: f"c2={c / 10 ** np.floor(np.log10(c)):.3f}E{int(np.log10(c))} Ns/m",
@@ -220,6 +224,7 @@ def fig8(ctx, rep, path):
 
 
 def fig9(ctx, rep, path):
+    """Fig. 9: the oil pressure for the paper's oil stiffnesses k2."""
     _pressure_study(
         ctx, rep, path, figure="Fig. 9", param="oil.k", values=OIL_K,
         label=lambda k: f"k2={k / 1e8:.3f}E8 N/m", xlim=(0, 20), ylim=(0, 200),

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import os
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, require_extra
 
 #: how long to wait for a scheduler before saying it cannot be reached, s
 CONNECT_TIMEOUT = 5.0
@@ -16,6 +16,7 @@ def connect(address: str, timeout: float = CONNECT_TIMEOUT, workers: int | None 
     """A dask.distributed Client for ``address`` ("local" or tcp://HOST:PORT)."""
     import logging
 
+    require_extra("dask", "a sweep on a Dask cluster")
     from distributed import Client, LocalCluster
     if address == "local":
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()

@@ -8,15 +8,27 @@ from __future__ import annotations
 
 import csv
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pdbfs.errors import PdbfsError
 from pdbfs.files import save_figure, whole
 from pdbfs.simulation import SUMMARY_UNITS as UNITS
+from pdbfs.simulation.reprs import table
 
 from .runner import LIST_KEYS
+
+if TYPE_CHECKING:
+    import os
+
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .store import Store
 
 
 @dataclass
@@ -34,6 +46,7 @@ class SweepPoint:
 
     @property
     def ok(self) -> bool:
+        """Whether the point ran."""
         return self.error is None
 
     def __getitem__(self, key):
@@ -48,8 +61,10 @@ class SweepResult:
     """The points of a sweep, in input order. ``frame`` is the table (pandas);
     ``store`` the folder it came from, if any."""
 
-    def __init__(self, rig, names, keys, frame=None, store=None, results=None, elapsed=0.0,
-                 workers=1, where="this process"):
+    def __init__(self, rig: str, names: Sequence[str], keys: Sequence[str],
+                 frame: pd.DataFrame | None = None, store: Store | None = None,
+                 results: dict | None = None, elapsed: float = 0.0, workers: int = 1,
+                 where: str = "this process"):
         self.rig, self.names, self.keys = rig, list(names), list(keys)
         self._frame, self.store = frame, store
         self._results = results or {}
@@ -58,7 +73,7 @@ class SweepResult:
         self._points = None
 
     @classmethod
-    def load(cls, path) -> "SweepResult":
+    def load(cls, path: str | os.PathLike) -> SweepResult:
         """The sweep written to the folder ``path`` (as far as it got)."""
         from .store import Store
         store = Store.open(path)
@@ -73,17 +88,37 @@ class SweepResult:
 
     # -- the table --------------------------------------------------------------
     @property
-    def frame(self):
+    def frame(self) -> pd.DataFrame:
+        """The table (pandas), read from the store when first asked for; ``to_pandas()`` copies it."""
         if self._frame is None:
             self._frame = self.store.read()
         return self._frame
+
+    def _shown(self) -> tuple[str, list[tuple[str, str]]]:
+        rows = [("points", f"{len(self)}"
+                 + (f", {self.n_failed} failed" if self._frame is not None or self.store is None
+                    else " (in the folder, not read yet)")),
+                ("swept", ", ".join(self.names) or "none"),
+                ("summary keys", ", ".join(self.keys) or "none")]
+        if self.store is not None:
+            rows.append(("folder", str(self.store.dir)))
+        if self.computed is not None:
+            rows.append(("run", f"{self.computed} computed in {self.elapsed:.3g} s on {self.where}"))
+        return f"SweepResult of rig {self.rig}", rows
+
+    def __repr__(self) -> str:
+        title, rows = self._shown()
+        return f"<{title}: " + "; ".join(f"{k} {v}" for k, v in rows) + ">"
+
+    def _repr_html_(self) -> str:
+        return table(*self._shown())
 
     def __len__(self):
         if self._frame is None and self.store is not None:
             return self.store.spec["n_points"]
         return len(self.frame)
 
-    def to_pandas(self):
+    def to_pandas(self) -> pd.DataFrame:
         """The table as a pandas DataFrame: one row per point (point number,
         parameters, summary keys, error; undefined values are NaN)."""
         return self.frame.copy()
@@ -99,11 +134,13 @@ class SweepResult:
         return self.frame[key].to_numpy(dtype=float, na_value=np.nan)
 
     def summary_keys(self) -> list[str]:
+        """The summary keys the table holds."""
         return list(self.keys)
 
     # -- points -------------------------------------------------------------------
     @property
     def points(self) -> list[SweepPoint]:
+        """Every point as a SweepPoint, in input order."""
         if self._points is None:
             self._points = self._make_points(self.frame)
         return self._points
@@ -139,14 +176,17 @@ class SweepResult:
 
     @property
     def ok(self) -> list[SweepPoint]:
+        """The points that ran."""
         return [p for p in self.points if p.ok]
 
     @property
     def failed(self) -> list[SweepPoint]:
+        """The points that failed, each with its error."""
         return [p for p in self.points if not p.ok]
 
     @property
     def n_failed(self) -> int:
+        """How many points failed (counted without reading the whole table)."""
         if self._frame is None and self.store is not None:    # not read whole for a count
             return self.store.failures()
         return int((self.frame["error"] != "").sum()) if len(self) else 0
@@ -164,7 +204,7 @@ class SweepResult:
         return out
 
     # -- output -------------------------------------------------------------------
-    def to_csv(self, path):
+    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
         """One row per point: swept parameters, every summary key (SI units in
         the header; an undefined value is an empty cell), and the error."""
         head = self.names + [f"{k} [{UNITS.get(k, '')}]".replace(" []", "") for k in self.keys]
@@ -175,7 +215,9 @@ class SweepResult:
                 w.writerow([_cell(v) for v in row])
         return path
 
-    def plot(self, name=None, path=None, title=None, labels=None, scale=None, ax=None):
+    def plot(self, name: str | None = None, path: str | os.PathLike | None = None,
+             title: str | None = None, labels: Sequence[str] | None = None,
+             scale: float | None = None, ax: Axes | None = None) -> Figure:
         """Overlay ``name`` (by default the rig's pressure) of every point
         against time in ms. Needs trajectories=True."""
         import matplotlib.pyplot as plt

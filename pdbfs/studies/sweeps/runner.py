@@ -31,6 +31,8 @@ LIST_KEYS = ("impact_times", "impact_peak_pressures", "impact_durations")
 
 @dataclass(frozen=True)
 class Settings:
+    """The settings every point of a sweep runs with (times in s)."""
+
     t_end: float = 0.02
     n_out: int = 2001
     rtol: float = 1e-8
@@ -67,11 +69,12 @@ class Runner:
         # the compiled batch starts from the declared starts: not for a solved start
         if settings.backend == "c" and not settings.start and not settings.trajectories \
                 and not needs_solving(dae, None):
-            lib = sim.compiled()
+            lib = sim.compiled(settings.method)
             if set(self.keys) <= set(lib.summary_keys):
                 self.fast = lib
 
     def run(self, index, block) -> Chunk:
+        """Evaluate the points ``block`` (rows of parameter values) numbered ``index``."""
         block = np.atleast_2d(np.asarray(block, dtype=float))
         n = block.shape[0]
         P = np.repeat(self.base[None, :], n, axis=0)
@@ -115,7 +118,7 @@ class Runner:
     def _run_fast(self, P, ok, summary, error):
         s = self.settings
         from pdbfs.simulation import limits
-        from pdbfs.simulation.compiled import RC_FOLLOW, RC_LIMIT, SUMMARY_KEYS
+        from pdbfs.simulation.compiled import RC_FOLLOW, SUMMARY_KEYS
         values, codes, messages = self.fast.summaries(P[ok], s.t_end, s.rtol, s.atol, s.method,
                                                       s.max_step)
         rows = np.flatnonzero(ok)
@@ -125,7 +128,7 @@ class Runner:
         codes = np.asarray(codes)
         for r, code, msg in zip(rows, codes, messages):
             if code and code != RC_FOLLOW:
-                bound = limits.from_c(self.sim.dae, msg) if code == RC_LIMIT else None
+                bound = limits.from_c(self.sim.dae, msg) if code == limits.RC_LIMIT else None
                 error[r] = f"SolverError: {bound}" if bound else \
                     f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
                 for k in self.keys:
@@ -195,6 +198,7 @@ _RUNNERS: dict = {}   # key -> Runner, per worker process: the rig is built once
 
 
 def run_remote(key: str, data: bytes, index, block) -> Chunk:
+    """Runner.run on a Dask worker, its Runner built from ``data`` (payload()) once per process."""
     runner = _RUNNERS.get(key)
     if runner is None:
         with ca.global_unpickle_context():

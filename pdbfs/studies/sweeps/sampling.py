@@ -15,6 +15,8 @@ from __future__ import annotations
 import math
 import threading
 import warnings
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import stats
@@ -22,6 +24,9 @@ from scipy.stats import qmc
 
 from pdbfs.errors import ParameterError, PdbfsWarning, plain
 from pdbfs.simulation.memory import require
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 SAMPLERS = ("lhs", "sobol", "mc")
 DISTRIBUTIONS = {"normal": 2, "uniform": 2, "lognormal": 2}   # name -> number of arguments
@@ -33,17 +38,22 @@ SOBOL_MAX = 2 ** 30
 
 
 class PointSet:
+    """The points of a sweep: ``n`` rows of values of the parameters ``names``."""
+
     names: list[str]
     n: int
 
     def block(self, i0: int, i1: int) -> np.ndarray:
+        """The points i0 .. i1 - 1 as rows of parameter values (SI units)."""
         raise NotImplementedError
 
     @property
     def spec(self) -> dict:
+        """What defines the points, as JSON-ready data (a resumed sweep checks it)."""
         raise NotImplementedError
 
     def all(self) -> np.ndarray:
+        """Every point, as rows."""
         return self.block(0, self.n)
 
 
@@ -111,7 +121,8 @@ class Sample(PointSet):
     ("uniform", lo, hi) | ("lognormal", median, sigma_ln)} and uniform
     ranges; reproducible from ``seed``."""
 
-    def __init__(self, kind: str, n: int, ranges=None, dists=None, seed: int = 0):
+    def __init__(self, kind: str, n: int, ranges: Mapping[str, tuple] | None = None,
+                 dists: Mapping[str, tuple] | None = None, seed: int = 0):
         if kind not in SAMPLERS:
             raise ParameterError(f"unknown sampler {kind!r}; choose one of {', '.join(SAMPLERS)}")
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:
@@ -283,7 +294,7 @@ def parse_sample(text: str):
 class Points(PointSet):
     """Points given as an array (rows) over ``names``; ``spec`` identifies them."""
 
-    def __init__(self, names, array, spec: dict):
+    def __init__(self, names: Sequence[str], array: ArrayLike, spec: dict):
         self.names, self.array = list(names), np.atleast_2d(np.asarray(array, dtype=float))
         self.n = self.array.shape[0]
         self._spec = {**spec, "sha256": _digest(self.array)}

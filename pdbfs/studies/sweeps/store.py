@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, require_extra
 from pdbfs.files import whole, write_text
 
 MANIFEST = "manifest.json"
@@ -25,14 +25,19 @@ FORMATS = ("parquet", "csv")
 
 
 def spec_hash(spec: dict) -> str:
+    """A short hash of a sweep's specification (its manifest)."""
     return hashlib.sha256(json.dumps(spec, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
 class Store:
+    """A sweep's folder: its manifest (what was asked) and the chunks computed so far."""
+
     def __init__(self, path, spec: dict, n_points: int, chunk_size: int, fmt: str = "parquet",
                  overwrite: bool = False):
         if fmt not in FORMATS:
             raise ParameterError(f"unknown sweep file format {fmt!r}; choose {' or '.join(FORMATS)}")
+        if fmt == "parquet":
+            require_extra("parquet", "sweep files in Parquet (format='parquet', --format parquet)")
         self.dir, self.fmt = Path(path), fmt
         self.spec = {**spec, "format": fmt, "chunk_size": int(chunk_size), "n_points": int(n_points)}
         self.hash = spec_hash(self.spec)
@@ -92,15 +97,18 @@ class Store:
         return self.dir / CHUNKS
 
     def chunk_files(self) -> list[Path]:
+        """The chunk files written so far, in order."""
         if not self.chunk_dir.is_dir():
             return []
         return sorted(p for p in self.chunk_dir.glob("chunk-*.*")
                       if p.suffix in (".parquet", ".csv"))
 
     def path_of(self, chunk_id: int) -> Path:
+        """The file of chunk ``chunk_id``."""
         return self.chunk_dir / f"chunk-{chunk_id:06d}.{self.fmt}"
 
     def done(self) -> set[int]:
+        """The numbers of the chunks written (a resumed sweep skips them)."""
         return {int(p.stem.split("-")[1]) for p in self.chunk_files() if p.suffix == f".{self.fmt}"}
 
     def write(self, chunk_id: int, columns: dict):
@@ -164,6 +172,8 @@ class Store:
         """Every chunk as one pandas DataFrame, in point order."""
         import pandas as pd
         files = [p for p in self.chunk_files() if p.suffix == f".{self.fmt}"]
+        if files and self.fmt == "parquet":
+            require_extra("parquet", f"reading the Parquet files of the sweep in {self.dir}")
         if not files:
             return pd.DataFrame()
         read = pd.read_parquet if self.fmt == "parquet" else \

@@ -21,13 +21,16 @@ import threading
 import os
 import sys
 import time
+from collections.abc import Callable, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pdbfs.errors import ParameterError, plain
+from pdbfs.errors import ParameterError, missing_extra, plain, require_extra
 from pdbfs.simulation import Result, Simulator
+from pdbfs.simulation.backends import backend_for_method
 from pdbfs.simulation.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.settings import mapping
 from pdbfs.simulation.settings import default_atol, default_rtol
@@ -36,6 +39,12 @@ from .sampling import Grid, PointSet
 from .result import SweepResult
 from .runner import Runner, Settings, payload, run_remote
 from .store import Store, chunk_columns
+
+if TYPE_CHECKING:
+    from distributed import Client
+    from numpy.typing import ArrayLike
+
+    from pdbfs.modelling import DAE, Component
 
 #: below this many points a sweep runs in one process
 PARALLEL_MIN_POINTS = 8
@@ -52,11 +61,13 @@ def points_of(values: dict, grid: bool = True) -> list[dict]:
     return [dict(zip(g.names, row.tolist())) for row in g.all()]
 
 
-def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
+def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet, *,
+          grid: bool = True, trajectories: bool = False, t_end: float = 0.02,
           n_out: int = 2001, params: dict | None = None, start: dict | None = None,
           rtol: float | None = None, atol: float | None = None, method: str = "auto",
           max_step: float | None = None, backend: str = "auto", workers: int | None = None,
-          progress=None, client=None, out=None, format: str | None = None,
+          progress: bool | Callable[[int, int], object] | None = None, client: Client | None = None,
+          out: str | os.PathLike | None = None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
@@ -70,8 +81,10 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     workers       threads or processes on this machine (None: automatic)
     client        a dask.distributed.Client: one task per chunk on its cluster
     out           a folder: chunks are written there as they finish (``format``
-                  parquet, the default, or csv) and a rerun of the same sweep resumes; a folder
-                  holding another sweep is refused unless ``overwrite``
+                  "parquet" or "csv"; None: Parquet where pyarrow, the extra
+                  pdbfs[parquet], is installed, else CSV) and a rerun of the same
+                  sweep resumes; a folder holding another sweep is refused unless
+                  ``overwrite``
     progress      a progress bar on stderr (None: once the sweep takes a while), or a
                   function called with (points done, points in all) after each chunk
 
@@ -86,6 +99,10 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     if client is not None and workers is not None:
         raise ParameterError(f"sweep: workers = {plain(workers)} is for this machine; with "
                              "client= the cluster's workers run the sweep")
+    if format is None:
+        format = "csv" if missing_extra("parquet") else "parquet"
+    elif format == "parquet" and out is not None:
+        require_extra("parquet", "sweep files in Parquet (format='parquet', --format parquet)")
     if isinstance(rig, str):
         from pdbfs.models import RIGS
         if rig not in RIGS:
@@ -103,10 +120,11 @@ def sweep(rig, values, *, grid: bool = True, trajectories: bool = False, t_end: 
     p_fixed = sim.param_vector(fixed)
     sim.grid(t_end, n_out)
     sim.check_settings(default_rtol(method, rtol), atol, method, max_step, backend=backend)
-    backend = sim.resolve_backend(backend)
+    asked, backend = backend, sim.resolve_backend(backend)
     x_fixed = sim.start_vector(p_fixed, start)
     # "auto": one method for the whole sweep, judged at the fixed point
     method = sim.resolve_method(method, p_fixed, x_fixed, float(t_end), backend)
+    backend = backend_for_method(sim, asked, backend, method)
     rtol = default_rtol(method, rtol)
     atol = default_atol(rtol, atol)
     if trajectories and (client is not None or out is not None):
