@@ -275,10 +275,12 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         treached = t[k];
     }
 
+#ifndef PDBFS_NO_CVODE
     /* a failure as a variable reached its declared range's bound: say which */
     if (rc && rc != RC_SETUP && pdbfs_limit_near(&ev, t[0], x0, s.tn, N_VGetArrayPointer(s.y),
                                                  msg, c.msglen))
         rc = RC_LIMIT;
+#endif
     info[INFO_T] = treached;
     info[INFO_STEPS] = (double)s.steps;
     info[INFO_ROOTS] = (double)s.roots;
