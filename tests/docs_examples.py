@@ -46,14 +46,7 @@ OVERRIDES = {
 #: commands a page shows that fail today through a defect of pdbfs, not of the page:
 #: run, and expected to fail until the defect is fixed (then the test says to remove
 #: the entry)
-_LAZY_STATES = ("a small grid keeps its runs for the overlay plot, and a run whose states are "
-                "made lazily (a lambda) cannot be sent back from a forked worker: a traceback, "
-                "exit status 1")
-KNOWN_FAILURES = {
-    "pdbfs sweep --rig paper --set hammer.v0=1.87,2.73,4.23,5.5 --set seal.c=2.556e4,2.556e5 "
-    "--out grid": _LAZY_STATES,
-    "pdbfs sweep --rig split-piston --set oil.k=1e8:8e8:8 --out stiffness": _LAZY_STATES,
-}
+KNOWN_FAILURES: dict[str, str] = {}
 #: commands that do not end by themselves: their options are parsed only
 PARSE_ONLY = {"app": "a web server that runs until stopped; tests/test_app.py drives it"}
 

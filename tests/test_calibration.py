@@ -54,6 +54,9 @@ def test_three_parameters_recovered_from_a_noisy_trace():
     assert cal.corr["oil.k"]["oil.k"] == pytest.approx(1.0)
     d = cal.to_dict()
     assert set(d["params"]) == set(d["std"]) == set(TRUE) and d["rms_residual"] > 0
+    # plain floats, as printed (hammer.v0, scaled linearly, was np.float64(...))
+    assert all(type(v) is float for v in cal.params.values()), cal.params
+    assert "np." not in repr(d)
 
 
 def test_trigger_shift_and_sensor_offset_recovered():

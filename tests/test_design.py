@@ -41,6 +41,9 @@ def test_design_to_peak_and_duration_is_exact():
     s = rig.simulate(0.03, params=des.params).summary()     # the settings, simulated afresh
     assert s["peak_pressure"] == pytest.approx(150e6, rel=2e-4)
     assert s["pulse_duration"] == pytest.approx(0.009, rel=2e-4)
+    # plain floats, as printed (a linear unknown's value was np.float64(...))
+    assert all(type(v) is float for v in des.params.values()), des.params
+    assert "np." not in repr(des.to_dict())
 
 
 def test_design_in_drop_height():

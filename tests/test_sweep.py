@@ -130,6 +130,24 @@ def test_trajectories_of_compiled_runs_come_back_from_worker_processes(rig):
     assert res[1].result.summary() == alone.summary()
 
 
+def test_compiled_trajectories_come_back_from_worker_processes(rig):
+    """A compiled run's states are made from its record in the library only
+    when read; a Result sent back from a forked worker makes them there (it
+    failed to pickle: a lambda), the same numbers as a run in this process."""
+    res = pdbfs.sweep(rig, {"hammer.v0": V}, trajectories=True, workers=2, backend="c")
+    assert res.where == "2 processes" and len(res.failed) == 0
+    for k, v in enumerate(V):
+        here = pdbfs.simulate(rig, params={"hammer.v0": v}, backend="c",
+                              method=res[k].result.settings["method"])
+        assert np.array_equal(res[k].result["oil.pressure"], here["oil.pressure"])
+    # a lazy Result travels with its states made (and loses nothing else)
+    import pickle
+    lazy = pdbfs.simulate(rig, backend="c", method="erk")
+    assert lazy._states is None
+    back = pickle.loads(pickle.dumps(lazy.detached()))
+    assert "_make_states" not in back and np.array_equal(back["_states"], lazy._X)
+
+
 def test_cli_sweep_writes_csv_and_plot(tmp_path, capsys):
     out = tmp_path / "sw"
     code = main(["sweep", "--set", "hammer.v0=1.87,2.73", "--set", "oil.k=2e8:4e8:2",

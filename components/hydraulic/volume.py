@@ -102,7 +102,9 @@ class Volume(PartialOnePort):
         if self._swept:
             self.q_swept = SignalInput("m3/s", "Rate at which moving walls sweep volume into "
                                        "the chamber (from a Piston)")
-            self.Vc = State("m3", "Chamber volume now", start=self.V)
+            self.Vc = State("m3", "Chamber volume now", start=self.V, min=0.0,
+                            beyond="the moving walls have swept the chamber empty (a piston at "
+                            "its bottom); give the rig an end stop there, or a larger V")
 
     def modulus(self, p):
         """The bulk modulus at pressure ``p`` under this volume's law."""

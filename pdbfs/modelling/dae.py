@@ -40,6 +40,10 @@ class VarInfo:
     unit: str
     description: str
     output: bool = False   # offered as an FMU output / shown in summaries
+    # the values the equations describe (Variable's min, max): a run leaving them stops
+    min: float | None = None
+    max: float | None = None
+    beyond: str = ""       # what leaving them means, for the run's error
 
 
 @dataclass
@@ -200,10 +204,26 @@ class DAE:
         """The parameters' default values as a vector (SI units)."""
         return np.array([p.value for p in self.params], dtype=float)
 
+    @property
+    def limits(self) -> list[tuple[VarInfo, str, float]]:
+        """The ranges the rig's variables are declared valid in (Variable's
+        ``min``, ``max``): (the variable, "min" or "max", the bound), in the
+        order of :meth:`limits_expr`."""
+        return [(v, k, b) for v in self.y_info
+                for k, b in (("min", getattr(v, "min", None)), ("max", getattr(v, "max", None)))
+                if b is not None]
+
+    def limits_expr(self) -> ca.SX:
+        """Each of :attr:`limits` as an expression of (t, x, z, p), >= 0
+        inside it."""
+        at = {n: i for i, n in enumerate(self.y_names)}
+        return ca.vertcat(*[self.y[at[v.name]] - b if k == "min" else b - self.y[at[v.name]]
+                            for v, k, b in self.limits]) if self.limits else ca.SX(0, 1)
+
     # -- CasADi functions (cheap to build, cached) ----------------------------
     def function(self, which: str) -> ca.Function:
-        """``ode``, ``alg``, ``out``, ``events`` as CasADi Functions of
-        (t, x, z, p), or ``start`` of (p)."""
+        """``ode``, ``alg``, ``out``, ``events``, ``limits`` as CasADi
+        Functions of (t, x, z, p), or ``start`` of (p)."""
         cache = self.__dict__.setdefault("_functions", {})
         if which not in cache:
             args = [self.t, self.x, self.z, self.p]
@@ -211,8 +231,8 @@ class DAE:
             if which == "start":
                 f = ca.Function("start", [self.p], [self.x0], ["p"], ["x0"])
             else:
-                expr = {"ode": self.ode, "alg": self.alg, "out": self.y,
-                        "events": self.events}[which]
+                expr = self.limits_expr() if which == "limits" else \
+                    {"ode": self.ode, "alg": self.alg, "out": self.y, "events": self.events}[which]
                 f = ca.Function(which, args, [expr], names, [which])
             cache[which] = f
         return cache[which]

@@ -42,6 +42,7 @@ class FlatVar:
     rank: int             # preference to keep under alias elimination (higher keeps)
     der: ca.SX | None = None
     fixed: bool = True    # start is fixed (False: a guess, solved at initialization)
+    limits: tuple = (None, None, "")   # (min, max, beyond) of the declaration
 
 
 @dataclass
@@ -104,6 +105,7 @@ def flatten(root) -> FlatSystem:
             fv = add_var(_join(prefix, v.name), v.sym, d.unit, d.description, d.is_state,
                          d.start, d.output or d.is_state, 2)
             fv.fixed = getattr(d, "fixed", True)
+            fv.limits = (getattr(d, "min", None), getattr(d, "max", None), getattr(d, "beyond", ""))
         for c in comp._connectors.values():
             for local_name, sym, unit, desc, _ in c.variables():
                 add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,

@@ -81,16 +81,30 @@ def within_limits(values, spec):
 
 class Variable:
     """An algebraic variable declaration. ``output`` marks it as a result users
-    look at (an FMU output)."""
+    look at (an FMU output). ``min`` and ``max`` (numbers, SI) bound the
+    values the component's equations describe (a chamber's volume stays
+    above 0): a run that takes the variable out of them stops there with a
+    SolverError naming it and the time; ``beyond`` says in that message
+    what leaving them means."""
 
     is_state = False
 
     def __init__(self, unit: str, description: str, *, output: bool = False,
-                 start: float | ca.SX | None = None):
+                 start: float | ca.SX | None = None, min: float | None = None,
+                 max: float | None = None, beyond: str = ""):
         self.unit = unit
         self.description = description
         self.output = output
         self.start = start
+        for what, b in (("min", min), ("max", max)):
+            if b is not None and not (isinstance(b, (int, float)) and not isinstance(b, bool)
+                                      and np.isfinite(b)):
+                raise ModelError(f"Variable {description!r}: {what} = {b!r} must be a finite number")
+        if min is not None and max is not None and not min < max:
+            raise ModelError(f"Variable {description!r}: min = {min!r} must be below max = {max!r}")
+        self.min = None if min is None else float(min)
+        self.max = None if max is None else float(max)
+        self.beyond = beyond
 
 
 class State(Variable):
@@ -102,8 +116,10 @@ class State(Variable):
     is_state = True
 
     def __init__(self, unit: str, description: str, *, start: float | ca.SX = 0.0,
-                 output: bool = True, fixed: bool = True):
-        super().__init__(unit, description, output=output, start=start)
+                 output: bool = True, fixed: bool = True, min: float | None = None,
+                 max: float | None = None, beyond: str = ""):
+        super().__init__(unit, description, output=output, start=start, min=min, max=max,
+                         beyond=beyond)
         self.fixed = bool(fixed)
 
 

@@ -77,6 +77,7 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
     ``conditions`` (of p: the components' consistency conditions, each >= 0),
     ``reduced`` (of p: the declared starts of the states index reduction
     made algebraic, ``dae.reduced_starts``; each must equal its output at the start),
+    ``limits`` (the variables' declared ranges, ``dae.limits_expr``: each >= 0 inside),
     ``roles`` (the outputs named in ``roles``), ``roles_both`` (the roles,
     then their time derivatives for a state derivative v: (d/dx) v + d/dt, a
     function of (t, x, v, p): one call), ``roles_dot`` (their derivatives along the solution),
@@ -118,6 +119,9 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
         "reduced": lambda: ca.Function("pdbfs_reduced", [dae.p], [ca.densify(
             ca.vertcat(*[e for _, _, e in getattr(dae, "reduced_starts", None) or []])
             if getattr(dae, "reduced_starts", None) else ca.SX(0, 1))], ["p"], ["s"]),
+        # the variables' declared ranges (DAE.limits): each >= 0 inside its range
+        "limits": lambda: ca.Function("pdbfs_limits", args, [ca.densify(dae.limits_expr())],
+                                      names, ["g"]),
         "roles": lambda: ca.Function("pdbfs_roles", args, [ca.densify(r)], names, ["r"]),
         "roles_dot": lambda: ca.Function("pdbfs_roles_dot", args, [ca.densify(r_dot)], names,
                                          ["r_dot"]),

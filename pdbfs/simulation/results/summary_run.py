@@ -26,6 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pdbfs.errors import SolverError
+
+from ..setup import limits
 from .contact_impulse import on_grid
 
 #: spacing of the summary's grid, s (a rig may set ``summary_step``)
@@ -115,7 +118,14 @@ def summary_run(res) -> SummaryRun:
             res.prefetch([n for n in roles.values() if isinstance(n, str)])
             Q = res._impulse  # its impulse (None: integrated again if the restitution asks)
         else:
-            X, Z, Q = _integrate(sim, grid, x, res.p, s, f_name)
+            try:
+                X, Z, Q = _integrate(sim, grid, x, res.p, s, f_name)
+                limits.check(sim, grid, X, Z, res.p, s)     # followed past t_end: still in range
+            except SolverError as err:
+                if grid[-1] <= t_end:
+                    raise
+                raise SolverError(f"{err} (the summary follows the pulse past t_end = "
+                                  f"{t_end:g} s)") from None
         first = 0 if not ts else 1
         ts.append(grid[first:])
         Xs.append(X[:, first:])

@@ -27,6 +27,7 @@ from pdbfs.errors import ExportError, ParameterError, PdbfsError
 from pdbfs.native.sundials import SundialsNotFound
 
 from ..results.c_summary import SUMMARY_KEYS
+from ..setup import memory
 from ..state import state_of
 from . import compiled_build as build_lib
 from .block import Block
@@ -212,6 +213,7 @@ class CompiledODE:
         rel.restype = None
         rel.argtypes = [vp]
         self._release = rel
+        memory.attach(lib)          # the record of a run's steps grows within the memory left
         return lib
 
     def modes(self, x0, p, t0=0.0):

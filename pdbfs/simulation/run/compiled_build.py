@@ -51,7 +51,7 @@ ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
 
 #: the model functions the drivers call (native/codegen.model_functions)
 FUNCTIONS = ("ode", "jac", "events", "events_both", "start", "conditions", "roles", "roles_dot",
-             "roles_both", "ode_q", "jac_q")
+             "roles_both", "ode_q", "jac_q", "limits")
 #: those of the integration's inner loop, as straight-line C (native/straight.py)
 STRAIGHT = ("pdbfs_ode", "pdbfs_ode_q", "pdbfs_events", "pdbfs_roles", "pdbfs_roles_dot",
             "pdbfs_roles_both")
@@ -114,6 +114,7 @@ def header(dae, work) -> str:
         "#ifndef PDBFS_BATCH_MODEL_H", "#define PDBFS_BATCH_MODEL_H",
         f"#define PDBFS_NX {dae.x.numel()}", f"#define PDBFS_NP {dae.p.numel()}",
         f"#define PDBFS_NE {dae.events.numel()}", f"#define PDBFS_NR {len(present)}", *macros,
+        f"#define PDBFS_NL {len(dae.limits)}",            # variables' ranges (pdbfs_limits)
         f"#define PDBFS_NTE {dae.time_events.numel()}",   # the first NTE events: t - t_i
         *follow_lines(dae), *sizes_header_lines(work), "#endif", ""])
 
@@ -129,7 +130,8 @@ def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     roles = roles_of(dae)
     pick = lambda names: [dae.y[dae.y_names.index(n)] for n in names]   # noqa: E731
     outs = [ca.densify(e) for e in (dae.ode, dae.events, dae.x0, ca.vertcat(*pick(roles)),
-                                    ca.vertcat(*pick([force] if force in dae.y_names else [])))]
+                                    ca.vertcat(*pick([force] if force in dae.y_names else [])),
+                                    dae.limits_expr())]
     f = ca.Function("fingerprint", [dae.t, dae.x, dae.z, dae.p], outs)
     sd = sundials_for(None) if sd is AT_HAND else sd
     host = toolchain.host_target()

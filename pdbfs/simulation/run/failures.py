@@ -7,6 +7,7 @@ from pdbfs.errors import ParameterError, SolverError
 
 from ..state import state_of
 from . import compiled as C
+from ..setup import limits
 
 CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages
     "TOO_MUCH_WORK": "too many steps: the solution may blow up (a force or parameter out of "
@@ -22,8 +23,12 @@ CAUSES = {   # CVODES/IDAS failure -> the likely cause, for SolverError messages
 }
 
 
-def compiled_failure(name, grid, st) -> Exception:
-    """The error to raise for a failed run of the compiled driver (a RunStatus)."""
+def compiled_failure(dae, grid, st) -> Exception:
+    """The error to raise for a failed run of the compiled driver (a RunStatus)
+    of the rig ``dae``."""
+    name = dae.name
+    if st.code == limits.RC_LIMIT and limits.from_c(dae, st.message):   # a variable out of range
+        return SolverError(limits.from_c(dae, st.message))
     if st.code == C.RC_BAD_INPUT:
         return ParameterError(f"rig {name}: the compiled solver refused its input: {st.message}")
     causes = {
@@ -86,6 +91,9 @@ def walk_failure(sim, grid, x0, p, rtol, atol, method, max_step, err, max_num_st
             reason = cause
             break
     if t_ok < grid[-1]:
+        bound = limits.near(sim.dae, t_ok, x, z, p)     # a variable at its declared bound
+        if bound:
+            return SolverError(bound)
         undetermined = _undetermined(sim.dae, t_ok, x, z, p)
         if undetermined:
             reason = undetermined

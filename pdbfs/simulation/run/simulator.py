@@ -18,6 +18,7 @@ from ..results import c_summary
 from ..results.contact_impulse import force_role
 from ..results.on_grid import OnGrid
 from ..results.result import Result
+from ..setup import limits
 from ..setup import time_events as TE
 from ..setup.initialize import solve_start
 from ..setup.inputs import RunInputs
@@ -248,6 +249,7 @@ class Simulator(RunInputs, OnGrid):
         stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                     "max_num_steps": max_num_steps, "backend": backend}
+        limits.check(self, grid, X, Z, p, settings)   # a variable out of its declared range
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
                       states=states, own_stats=True,
                       impulse=None if backend == "c" else self._last_impulse)
@@ -350,7 +352,7 @@ class Simulator(RunInputs, OnGrid):
         else:
             X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
         if not st.ok:
-            raise compiled_failure(self.dae.name, grid, st)
+            raise compiled_failure(self.dae, grid, st)
         stats = st.stats or {"method": method}      # (the run's own dict, made for it)
         stats.pop("wall_time", None)
         self._last_stats = stats
@@ -381,9 +383,8 @@ class Simulator(RunInputs, OnGrid):
             self._check_finite(grid, X)
         return X
 
-    def _failure(self, grid, x0, p, rtol, atol, method, max_step, err,
-                 max_num_steps=MAX_NUM_STEPS):
-        return walk_failure(self, grid, x0, p, rtol, atol, method, max_step, err, max_num_steps)
+    #: (grid, x0, p, rtol, atol, method, max_step, err, max_num_steps): the SolverError to raise
+    _failure = walk_failure
 
 
 def _call(F, **args):

@@ -4,7 +4,10 @@
     inputs.py      parameters, start values, grid and settings of a run as vectors,
                    checked; what depends on the rig alone made once (mixed into
                    the Simulator)
-    memory.py      sizes that cannot fit in the memory available, refused up front
+    memory.py      sizes that cannot fit in the memory available, refused up front;
+                   the probe a compiled run's record of its steps grows within
+    limits.py      variables declared valid in a range (min=, max=): a run leaving
+                   one stops there with a SolverError naming it and the time
     initialize.py  the start solved before integration: free states, initial
                    equations, initial="steady" (Newton, exact Jacobian)
     newton.py      one damped Newton run on the start system, where it stopped and why

@@ -1,6 +1,9 @@
 """Sizes that cannot fit, refused before any work: what a run or a study would
-hold in memory, against what the machine has available now (psutil)."""
+hold in memory, against what the machine has available now (psutil); and
+the probe a compiled run's record of its steps grows within (PROBE)."""
 from __future__ import annotations
+
+import ctypes
 
 from pdbfs.errors import ParameterError
 
@@ -12,6 +15,37 @@ def available() -> float:
     """Bytes of memory available now (psutil's estimate: free + reclaimable)."""
     import psutil
     return float(psutil.virtual_memory().available)
+
+
+def headroom() -> float:
+    """Bytes this process may still take: the memory available, and under an
+    address-space limit (RLIMIT_AS) what is left below it; -1.0 when unknown.
+    Never raises (the compiled record asks it from C, c/pdbfs_record.c)."""
+    try:
+        have = available()
+        try:
+            import resource
+            soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+            if soft != resource.RLIM_INFINITY:
+                import psutil
+                have = min(have, float(soft - psutil.Process().memory_info().vms))
+        except (ImportError, AttributeError, ValueError, OSError):
+            pass                              # no such limit here (Windows)
+        return max(have, 0.0)
+    except Exception:                         # noqa: BLE001 - a probe must answer
+        return -1.0
+
+
+#: headroom() as a C function: a compiled run's record of its steps asks it as it
+#: grows (c/pdbfs_record.c) and stops the run before the system would kill it
+PROBE = ctypes.CFUNCTYPE(ctypes.c_double)(lambda: headroom())
+
+
+def attach(lib) -> None:
+    """Give a compiled library (ctypes) the probe its records ask."""
+    lib.pdbfs_set_memory_probe.restype = None
+    lib.pdbfs_set_memory_probe.argtypes = [ctypes.c_void_p]
+    lib.pdbfs_set_memory_probe(ctypes.cast(PROBE, ctypes.c_void_p))
 
 
 def plain_bytes(n: float) -> str:

@@ -41,8 +41,9 @@ class Unknown:
         return math.log(v / self.ref) if self.log else (v - self.ref) / self.scale
 
     def value(self, z: float) -> float:
-        """The value of scaled unknown ``z``."""
-        return self.ref * math.exp(z) if self.log else self.ref + self.scale * z
+        """The value of scaled unknown ``z`` (a plain float: z comes from numpy,
+        and the value lands in dicts users print)."""
+        return float(self.ref * math.exp(z) if self.log else self.ref + self.scale * z)
 
     def dvalue(self, z: float) -> float:
         """d value / d z."""

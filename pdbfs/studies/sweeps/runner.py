@@ -118,6 +118,7 @@ class Runner:
     def _run_fast(self, P, ok, summary, error):
         s = self.settings
         from pdbfs.simulation.run.compiled import RC_FOLLOW, SUMMARY_KEYS
+        from pdbfs.simulation.setup import limits
         values, codes, messages = self.fast.summaries(P[ok], s.t_end, s.rtol, s.atol, s.method,
                                                       s.max_step)
         rows = np.flatnonzero(ok)
@@ -127,7 +128,9 @@ class Runner:
         codes = np.asarray(codes)
         for r, code, msg in zip(rows, codes, messages):
             if code and code != RC_FOLLOW:
-                error[r] = f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
+                bound = limits.from_c(self.sim.dae, msg) if code == limits.RC_LIMIT else None
+                error[r] = f"SolverError: {bound}" if bound else \
+                    f"SolverError: rig {self.sim.dae.name}: {msg or f'failed (code {code})'}"
                 for k in self.keys:
                     summary[k][r] = np.nan
         # a pulse running at t_end: whether its highest pressure so far is its peak

@@ -46,6 +46,11 @@
 #define RC_SETUP 2           /* CVODE or memory could not be set up */
 #define RC_TOO_MUCH_WORK PDBFS_CV_TOO_MUCH_WORK   /* max_num_steps steps between two outputs */
 #define RC_NOT_FINITE 4      /* NaN or infinity in the solution */
+#define RC_LIMIT 8           /* a variable at its declared range's bound (pdbfs_record.h) */
+
+/* pdbfs_record.h */
+int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const double *x,
+                     char *msg, size_t len);
 
 /* info[] slots */
 #define INFO_T 0             /* time reached (last successful CVODE step, or t_end) */
@@ -270,6 +275,12 @@ API int pdbfs_batch_run(long long nx, long long np, const double *p, const doubl
         treached = t[k];
     }
 
+#ifndef PDBFS_NO_CVODE
+    /* a failure as a variable reached its declared range's bound: say which */
+    if (rc && rc != RC_SETUP && pdbfs_limit_near(&ev, t[0], x0, s.tn, N_VGetArrayPointer(s.y),
+                                                 msg, c.msglen))
+        rc = RC_LIMIT;
+#endif
     info[INFO_T] = treached;
     info[INFO_STEPS] = (double)s.steps;
     info[INFO_ROOTS] = (double)s.roots;

@@ -15,7 +15,12 @@
 
 #define RC_SETUP 2
 #define RC_NOT_FINITE 4
+#define RC_LIMIT 8           /* as pdbfs_record.h */
 enum { INFO_T, INFO_STEPS, INFO_ROOTS, INFO_RHS, INFO_FLAG, INFO_JAC, INFO_METHOD };
+
+/* pdbfs_record.h */
+int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const double *x,
+                     char *msg, size_t len);
 
 int pdbfs_batch_run_erk(int nx, const double *p, const double *x0, long long nt, const double *t,
                         double *X, double rtol, double atol, double max_step,
@@ -59,6 +64,10 @@ int pdbfs_batch_run_erk(int nx, const double *p, const double *x0, long long nt,
         }
     }
     if (rc && msg && msglen > 0) snprintf(msg, (size_t)msglen, "%s", s.msg);
+    /* a failure as a variable reached its declared range's bound: say which */
+    if (rc && rc != RC_NOT_FINITE && pdbfs_limit_near(&ev, t[0], x0, s.t, s.y, msg,
+                                                      msg && msglen > 0 ? (size_t)msglen : 0))
+        rc = RC_LIMIT;
     info[INFO_STEPS] = (double)s.steps;
     info[INFO_ROOTS] = (double)s.roots;
     info[INFO_RHS] = (double)s.rhs_evals;

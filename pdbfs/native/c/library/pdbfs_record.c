@@ -1,16 +1,38 @@
 /* pdbfs_record: see pdbfs_record.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "pdbfs_record.h"
+
+#define API __attribute__((visibility("default")))
+
+static pdbfs_probe_fn memory_probe = NULL;
+
+API void pdbfs_set_memory_probe(pdbfs_probe_fn probe) { memory_probe = probe; }
+
+/* whether a record of cap entries (with a Runge-Kutta run's dense output, rk)
+ * fits in what the memory probe says is left */
+static int record_fits(long cap, int rk) {
+    const double size = 8.0 * (double)cap * (1 + NXQ + NRX + (rk ? DNREC + NRX : 0));
+    double have;
+    if (!memory_probe || size <= RECORD_ASK) return 1;
+    have = memory_probe();
+    return have < 0 || size <= RECORD_SHARE * have;
+}
 
 int pdbfs_record_step(void *env, double t, const double *x) {
     History *h = (History *)env;
     int j, roles_done = 0;
     if (h->n == h->cap) {
         long cap = h->cap ? 2 * h->cap : 256;
-        double *nt = realloc(h->t, sizeof(double) * cap), *nx = NULL, *nr = NULL;
+        double *nt, *nx = NULL, *nr = NULL;
+        if (!record_fits(cap, h->rk != NULL)) {
+            h->oom = 1;
+            return 1;
+        }
+        nt = realloc(h->t, sizeof(double) * cap);
         if (nt) h->t = nt;
         if (nt) nx = realloc(h->x, sizeof(double) * cap * NXQ);
         if (nx) h->x = nx;
@@ -59,8 +81,19 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     if (NR > 0 && !roles_done) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
     for (j = 0; j < NR; j++)
         if (!isfinite(R(h, h->n, j))) h->bad = 1;
+#if PDBFS_NL > 0
+    if (!h->bad && !h->limit) {   /* a variable out of its declared range: the run stops */
+        double g[NLX];
+        pdbfs_eval_txp(h->ev, pdbfs_limits, t, x, g);
+        for (j = 0; j < PDBFS_NL && !h->limit; j++)
+            if (g[j] < 0) {
+                h->limit = j + 1;
+                h->limit_k = h->n;
+            }
+    }
+#endif
     h->n++;
-    return h->bad;
+    return h->bad || h->limit;
 }
 
 static int add_crossing(Crossings *c, double t, int dir, const double *x) {
@@ -121,11 +154,19 @@ typedef struct {
     PdbfsEval *ev;
     int role, slope;          /* the role, and whether its slope (else value - level) */
     double level;
+    int limit;                /* 1 + a limit: its value (role, slope and level unused) */
 } Target;
 
 static int target_fn(void *env, double t, const double *x, double *g) {
     Target *q = (Target *)env;
-    double r[NRX];
+    double r[NRX > NLX ? NRX : NLX];
+#if PDBFS_NL > 0
+    if (q->limit) {
+        pdbfs_eval_txp(q->ev, pdbfs_limits, t, x, r);
+        *g = r[q->limit - 1];
+        return 0;
+    }
+#endif
     pdbfs_eval_txp(q->ev, q->slope ? pdbfs_roles_dot : pdbfs_roles, t, x, r);
     *g = r[q->role] - (q->slope ? 0.0 : q->level);
     return 0;
@@ -239,6 +280,7 @@ int pdbfs_peak(History *H, int j, long k0, long k1, double *t_pk, double *v_pk, 
     q.role = j;
     q.slope = 1;
     q.level = 0.0;
+    q.limit = 0;
     if (H->rk) {
         /* long steps: a narrow spike may hold no record near it, so every turn
          * of the role (rate from + to -) is located on the dense output, but
@@ -288,6 +330,7 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c) {
     q.role = j;
     q.slope = 0;
     q.level = level;
+    q.limit = 0;
     for (k = 0; k + 1 < H->n; k++) {
         double a = R(H, k, j) - level, b = R(H, k + 1, j) - level;
         int i, m;
@@ -301,5 +344,46 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c) {
         for (i = 0; i < m; i++)
             if (add_crossing(c, H->rt[i], H->rd[i], H->rx + i * NXQ)) return -1;
     }
+    return 0;
+}
+
+int pdbfs_limit_message(History *H, int code, char *msg, size_t len) {
+#if PDBFS_NL > 0
+    long k = H->n - 1;
+    if (H->limit) {
+        Target q;
+        double t = H->t[H->limit_k];
+        memset(&q, 0, sizeof q);
+        q.ev = H->ev;
+        q.limit = H->limit;
+        if (H->limit_k > 0 && refine(H, H->limit_k - 1, H->limit_k, &q, -1) > 0)
+            t = H->rt[0];        /* located on the step (else the record's time) */
+        if (msg && len) snprintf(msg, len, "limit %d crossed at t = %.17g", H->limit - 1, t);
+        return RC_LIMIT;
+    }
+    if (!code || H->oom || H->bad || k < 1) return code;
+    if (pdbfs_limit_near(H->ev, H->t[0], H->x, H->t[k], H->x + k * NXQ, msg, len))
+        return RC_LIMIT;
+#else
+    (void)H; (void)msg; (void)len;
+#endif
+    return code;
+}
+
+int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const double *x,
+                     char *msg, size_t len) {
+#if PDBFS_NL > 0
+    double g0[NLX], g[NLX];
+    int j;
+    pdbfs_eval_txp(ev, pdbfs_limits, t0, x0, g0);
+    pdbfs_eval_txp(ev, pdbfs_limits, t, x, g);
+    for (j = 0; j < PDBFS_NL; j++)
+        if (g0[j] > 0 && g[j] < LIMIT_NEAR * g0[j]) {
+            if (msg && len) snprintf(msg, len, "limit %d near at t = %.17g value %.17g", j, t, g[j]);
+            return 1;
+        }
+#else
+    (void)ev; (void)t0; (void)x0; (void)t; (void)x; (void)msg; (void)len;
+#endif
     return 0;
 }

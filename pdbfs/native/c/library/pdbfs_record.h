@@ -16,6 +16,20 @@
 #define NQ (PDBFS_ROLE_FORCE >= 0 ? 1 : 0)   /* the contact force's integral */
 #define NXQ (PDBFS_NX + NQ)
 #define MAXR 8                                /* roots of one refined step, to start with */
+#define NLX (PDBFS_NL > 0 ? PDBFS_NL : 1)     /* the variables' limits (pdbfs_limits) */
+/* a limit reached (the run's code, pdbfs.simulation.compiled.RC_LIMIT): a variable
+ * declared with min or max left its range; the message is pdbfs_limit_message's */
+#define RC_LIMIT 8
+/* a failed run whose last record has a limit within this fraction of its value
+ * at the start: the solver failed as the variable reached its bound */
+#define LIMIT_NEAR 1e-3
+/* a record growing past RECORD_ASK bytes asks the memory probe (set by
+ * pdbfs_set_memory_probe: bytes this process may still take, < 0 unknown) and
+ * grows only within RECORD_SHARE of it: else the run stops, out of memory,
+ * before the system would kill the process (its allocations succeed on credit) */
+#define RECORD_ASK (64.0 * 1048576.0)
+#define RECORD_SHARE 0.8
+typedef double (*pdbfs_probe_fn)(void);
 /* per record of an explicit Runge-Kutta run: its step's t_old, h_old, what
  * follows (DN_*), y_old (NXQ), and its dense output (7 NXQ) or, for a lazy
  * run, its 13 stages (13 NXQ: the dense output made from them when needed) */
@@ -40,6 +54,8 @@ typedef struct {
     PdbfsErk *rk;
     double *dn;
     double *rdot;             /* with rk: the roles' rates per record (NR each) */
+    int limit;                /* 0, or 1 + the limit record limit_k is outside of */
+    long limit_k;
 } History;
 
 /* record k's step with its dense output (made now from its stages, on the
@@ -71,6 +87,19 @@ typedef struct {
 
 /* the step callback of pdbfs_cvode (env: a History): keep (t, x) and its roles */
 int pdbfs_record_step(void *env, double t, const double *x);
+
+/* A run that stopped (code != 0) with a limit reached (H->limit, set by
+ * pdbfs_record_step) or nearly reached at its last record (within LIMIT_NEAR
+ * of its value at the first): msg (len) gets "limit <j> crossed at t = <t>",
+ * the crossing located on the recorded step, or "limit <j> near at t = <t>
+ * value <g>", and RC_LIMIT is returned; else code. */
+int pdbfs_limit_message(History *H, int code, char *msg, size_t len);
+
+/* A run that failed at (t, x), started at (t0, x0): a limit within LIMIT_NEAR of
+ * its value at the start writes "limit <j> near at t = <t> value <g>" to msg
+ * (len) and gives 1; else 0 (the drivers without a record, pdbfs_batch*.c) */
+int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const double *x,
+                     char *msg, size_t len);
 
 /* the largest value of role j over records k0 .. k1-1, refined where its slope
  * turns: its time, value and (x_pk not NULL) state; -1 when out of memory */

@@ -175,6 +175,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     info[INFO_RHS] = (double)(erk ? K->rk.rhs_evals : s.rhs_evals);
     info[INFO_JAC] = (double)s.jac_evals;
     info[INFO_METHOD] = erk ? (double)PDBFS_ERK : (double)(s.method | s.nls << 4 | s.linsol << 8);
+    if (rc) rc = pdbfs_limit_message(H, rc, msg, err.len);   /* a variable out of its range */
     if (!rc && t[0] == 0.0) *scode = pdbfs_summarise(H, out, x_pk, &m);
     pdbfs_cvode_free(&s);
     H->cv = NULL;

@@ -198,6 +198,15 @@ static int follow(History *H, PdbfsErk *rk, PdbfsEval *ev, double t_end, double 
             if (t_last >= limit - 1e-6 * h) t_last = limit;
             code = pdbfs_erk_advance(rk, t_last, max_steps, x);
             if (code) return code;
+#if PDBFS_NL > 0
+            {   /* past a variable's declared range: nothing to tell from here */
+                double g[NLX];
+                int i;
+                pdbfs_eval_txp(ev, pdbfs_limits, t_last, x, g);
+                for (i = 0; i < PDBFS_NL; i++)
+                    if (g[i] < 0) return RC_LIMIT;
+            }
+#endif
             pdbfs_eval_txp(ev, pdbfs_roles, t_last, x, r);
             if (!isfinite(r[PDBFS_ROLE_PRESSURE])) return RC_NOT_FINITE;
             after = fmax(after, r[PDBFS_ROLE_PRESSURE]);
@@ -309,7 +318,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
             pdbfs_note(&m, "parameters or start values are not finite");
         } else {
             H.n = 0;
-            H.oom = H.bad = 0;
+            H.oom = H.bad = H.limit = 0;
             s.on_step = NULL;
             rk.on_step = NULL;
             code = erk ? (pdbfs_erk_start(&rk, &set, 0.0, x0) ? RC_NOT_FINITE : 0)
@@ -326,7 +335,9 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
                 code = pdbfs_cvode_advance(&s, t_end, t_end, (long)max_num_steps, xe);
             }
             s.on_step = rk.on_step = NULL;
-            if (code)
+            if (code && pdbfs_limit_message(&H, code, m.text, m.len) == RC_LIMIT)
+                code = RC_LIMIT;         /* a variable out of its range: the message says which */
+            else if (code)
                 pdbfs_note(&m, "%s at t = %.6g s", H.oom ? "out of memory"
                      : H.bad ? "the solution became NaN or infinite"
                      : code == PDBFS_CV_TOO_MUCH_WORK ? "too many steps"

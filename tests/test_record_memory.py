@@ -1,0 +1,76 @@
+"""A compiled run keeps a record of every step for its summary
+(c/pdbfs_record.c): the record grows only within the memory the machine
+has available. `pdbfs simulate --t-end 1e4` took 154 million steps; with
+method erk or adams its record outgrew a 23 GB machine and the kernel killed
+the process (allocations succeed on credit, so no allocation ever failed).
+Here the memory available is made small (what psutil reports, as on a
+machine whose memory is mostly taken) under a 3 GB address-space limit as a
+safety net: the run must stop at what is available, in one line naming the
+time reached, not grow on to the limit."""
+import re
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from pdbfs.models import paper_rig
+
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"),
+                                reason="RLIMIT_AS and ru_maxrss as Linux has them")
+
+#: the memory the child is told is available, bytes
+AVAILABLE = 4e8
+
+CHILD = textwrap.dedent("""
+    import resource, sys
+    resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))   # the safety net
+    import pdbfs.simulation.setup.memory as memory
+    memory.available = lambda: {available!r}
+    from pdbfs.cli import main
+    try:
+        code = main({argv!r})
+    finally:
+        with open({rss!r}, "w") as fh:        # the child's peak resident memory, kB
+            fh.write(str(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss))
+    sys.exit(code)
+""")
+
+
+def _simulate(tmp_path, method):
+    rss = tmp_path / "rss"
+    argv = ["simulate", "--t-end", "1e4", "--method", method, "--json"]
+    r = subprocess.run([sys.executable, "-c", CHILD.format(available=AVAILABLE, argv=argv,
+                                                          rss=str(rss))],
+                       capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    return r, 1e3 * float(rss.read_text())
+
+
+@pytest.mark.parametrize("method", ["erk", "adams"])
+def test_a_long_run_stops_within_the_memory_available(tmp_path, method):
+    r, peak = _simulate(tmp_path, method)
+    assert r.returncode == 2, r.stderr[-2000:]
+    line = r.stderr.strip()
+    m = re.fullmatch(r"pdbfs: error: rig pdbfs_paper: the run ran out of memory after "
+                     r"t = ([0-9.e+-]+) s \(of 10000 s, (\d+) steps\): .*shorter t_end", line)
+    assert m and 0.02 < float(m.group(1)) < 1e4, line
+    assert r.stdout == ""
+    # the record stopped within the share of what is available (a record of 0.8 x
+    # 400 MB, and the process's own ~300 MB); it grew on to 3 GB before
+    assert peak < 0.8 * AVAILABLE + 5e8, peak
+
+
+def test_a_record_that_fits_keeps_its_numbers(monkeypatch):
+    """The probe is asked as a long run's record grows, and stops nothing that
+    fits: the numbers are those of a run it is not asked in."""
+    from pdbfs.simulation.setup import memory
+    rig = paper_rig()
+    asked = []
+    monkeypatch.setattr(memory, "headroom", lambda: asked.append(1) or 1e15)
+    a = rig.simulate(10.0, method="erk", backend="c")
+    assert asked and a.stats["steps"] > 65536      # a record past RECORD_ASK (64 MB)
+    monkeypatch.setattr(memory, "headroom", lambda: -1.0)      # unknown: never stops
+    b = rig.simulate(10.0, method="erk", backend="c", params={"hammer.v0": 2.73})
+    assert np.array_equal(a["oil.pressure"], b["oil.pressure"])
+    assert a.summary() == b.summary()
