@@ -55,11 +55,25 @@ def package_of(path: pathlib.Path) -> list[str]:
     return (base + ("." + tail.replace("/", ".") if tail else "")).split(".")
 
 
+def _typing_only(tree) -> set:
+    """The import nodes under ``if TYPE_CHECKING:``: they name types for
+    annotations and never run, so they are no dependency (not counted)."""
+    skip = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            skip |= {id(n) for b in node.body for n in ast.walk(b)}
+    return skip
+
+
 def imported(path: pathlib.Path):
-    """(line, dotted name) of every pdbfs import in the file, relative ones resolved."""
+    """(line, dotted name) of every pdbfs import in the file, relative ones
+    resolved, but those for annotations only (``if TYPE_CHECKING:``)."""
     tree = ast.parse(path.read_text())
     pkg = package_of(path)
+    typing_only = _typing_only(tree)
     for node in ast.walk(tree):
+        if id(node) in typing_only:
+            continue
         if isinstance(node, ast.Import):
             for a in node.names:
                 yield node.lineno, a.name
@@ -145,7 +159,11 @@ def module_targets(path: pathlib.Path):
     ``from ... import``, and the package imported from unless it is one of
     the module's own (already running when the module is)."""
     me, pkg = dotted(path), package_of(path)
-    for node in ast.walk(ast.parse(path.read_text())):
+    tree = ast.parse(path.read_text())
+    typing_only = _typing_only(tree)
+    for node in ast.walk(tree):
+        if id(node) in typing_only:
+            continue
         if isinstance(node, ast.Import):
             yield from (a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom):

@@ -12,6 +12,7 @@ from .common import prepare_out
 
 
 def cmd_example_data(args):
+    """pdbfs example-data: list the example files, or copy them into --out."""
     if args.out is None:                 # nothing written: what there is, and where
         for name, what in EXAMPLES.items():
             print(f"{name:<24} {what}")
@@ -43,6 +44,7 @@ def cmd_example_data(args):
 
 
 def add_parsers(sub):
+    """Add the ``example-data`` command to the subparsers ``sub``."""
     s = sub.add_parser("example-data", help="list the example files shipped with pdbfs, or "
                        "copy them to a folder (--out)",
                        description="The example files shipped with pdbfs: "

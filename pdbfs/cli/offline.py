@@ -16,6 +16,7 @@ def _size(folder) -> float:
 
 
 def cmd_prepare_offline(args):
+    """pdbfs prepare-offline: fetch the sources, build CVODE, say how to carry the cache."""
     from pdbfs.fmu.platforms import prepare_offline
     out = prepare_out(args.out) if args.out else None
 
@@ -41,6 +42,7 @@ def cmd_prepare_offline(args):
 
 
 def add_parsers(sub):
+    """Add the ``prepare-offline`` command to the subparsers ``sub``."""
     s = sub.add_parser(
         "prepare-offline",
         help="fetch SUNDIALS' sources and compile CVODE for every platform now, for work "

@@ -12,7 +12,9 @@ Parameters stay symbolic: changing one never rebuilds anything.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -144,7 +146,7 @@ class DAE:
         v = np.array(f(np.asarray(p, float)), dtype=float).ravel()
         return np.sort(v[np.isfinite(v)])
 
-    def cached(self, name: str, make):
+    def cached(self, name: str, make: Callable[[], Any]) -> Any:
         """The CasADi object ``make()`` made of this DAE under ``name`` (a
         function, a rootfinder), made on the first request and kept with the
         DAE's own functions (``function``), never pickled."""

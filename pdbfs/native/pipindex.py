@@ -56,6 +56,7 @@ class PipSettings:
 
     @property
     def indexes(self) -> list[str]:
+        """The index URLs to ask, in order (none with ``--no-index``)."""
         return [] if self.no_index else [self.index_url, *self.extra_index_urls]
 
 

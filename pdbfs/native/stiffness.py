@@ -72,10 +72,7 @@ SWITCH_TO_ERK = 0.5
 def ode_instructions(dae) -> int:
     """Instructions of the rig's right-hand side (the cost of an evaluation),
     cached on the DAE."""
-    n = dae.__dict__.get("_ode_instructions")
-    if n is None:
-        n = dae.__dict__["_ode_instructions"] = int(dae.function("ode").n_instructions())
-    return n
+    return dae.cached("ode_instructions", lambda: int(dae.function("ode").n_instructions()))
 
 
 def run_costs(fastest: float, rate: float, osc: float, n: int, instructions: float,

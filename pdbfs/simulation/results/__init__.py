@@ -7,11 +7,16 @@
     summary_run.py the summary's own solution: a fixed grid, until the pulse is over
     c_summary.py   a compiled run's summary from the run itself (no second run),
                    and the summary driver's keys in its order
-    impulse.py     impulses and Guo & Batzer's restitution (the one implementation)
+    impulse.py     impulses and Guo & Batzer's restitution of sampled forces
+    contact_impulse.py  a contact force's impulse integrated by the solver (a
+                   quadrature on the solution: the summary's restitution)
     hermite.py     peaks, crossings and integrals located on the solution's cubics
     on_grid.py     outputs, rates and event indicators on a whole grid (mixed into
                    the Simulator)
     plotting.py    matplotlib plots of a Result
+    exports.py     a Result as a dict, CSV (written a block at a time), pandas,
+                   a plot, and its readable line and HTML table
+    reprs.py       one readable line and an HTML table for Result, Rig and the studies
 
 A Result integrates again (values off the grid, the summary's own solution)
 through the Simulator it was made by, never by importing it.

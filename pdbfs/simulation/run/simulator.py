@@ -85,8 +85,7 @@ class Simulator(RunInputs, OnGrid):
         return found[0]
 
     def resolve_backend(self, backend: str) -> str:
-        """``backend``, or for "auto" the compiled backend where it can be
-        built, else "casadi" (decided once per DAE)."""
+        """``backend``; "auto": "c" where it can be built, else "casadi" (once per DAE)."""
         if backend != "auto":
             return backend
         chosen = self._cache.get("backend")

@@ -31,10 +31,7 @@ _C_TEXT = re.compile(r"limit (\d+) (crossed|near) at t = (\S+)(?: value (\S+))?"
 
 def count(dae) -> int:
     """How many limits the rig declares (cached on the DAE)."""
-    n = dae.__dict__.get("_limits_n")
-    if n is None:
-        n = dae.__dict__["_limits_n"] = len(dae.limits)
-    return n
+    return dae.cached("limits_n", lambda: len(dae.limits))
 
 
 def message(dae, j: int, t: float, value: float | None = None) -> str:
