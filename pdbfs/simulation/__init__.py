@@ -33,6 +33,11 @@
     settings.py    tolerances, method, output grid and argument types, checked first
     inputs.py      parameters, start values, grid and settings of a run as vectors,
                    checked; what depends on the rig alone made once
+    input_traces.py  the rig's inputs of a run (traces, numbers, functions) checked,
+                   piecewise linear: the segments and their entries of p
+    callable.py    an input given as a function of time, sampled into a trace
+    driven.py      a run with inputs, segment by segment, and the Simulator its
+                   Result reads through (each point with its own inputs)
     memory.py      sizes that cannot fit in the memory available, refused up front
     time_events.py switch times: integrated from switch to switch, never stepped over
     trajectory.py  the simulation as a differentiable CasADi Function of

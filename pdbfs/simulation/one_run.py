@@ -9,7 +9,7 @@ from .simulator import Simulator
 def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, params=None,
              start=None, rtol: float | None = None, atol: float | None = None, method: str = "auto",
              max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
-             backend: str = "auto", initial=None):
+             backend: str = "auto", initial=None, inputs=None):
     """Simulate a rig (a Component or its compiled DAE) from t = 0.
 
     t_out     output times (overrides t_end and n_out); must start at 0
@@ -21,6 +21,12 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               declared initial equations are not used); a list of state
               names: those at rest, the rest as declared (initialize.py).
               The start used is ``Result.initial``.
+    inputs    {input name: value} for the rig's inputs (Input components):
+              a trace (t, u) of times and values, interpolated linearly,
+              its times breakpoints the solver stops at (a time given twice:
+              a jump), covering [0, t_end]; a number, held; or a function of
+              time, sampled to 1e-6 of its largest value (callable.py). An
+              input not given holds its start value (input_traces.py)
     rtol/atol relative and absolute tolerances of the integrator (rtol
               None: 1e-8, and 5e-8 for the explicit method, whose peak
               pressure is then within 1e-7 of a tight reference; atol, in
@@ -51,6 +57,11 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
     Returns a pdbfs.Result.
     """
     sim = Simulator.of(model)
+    if inputs is not None:
+        from .driven import run_driven
+        return run_driven(sim, inputs, t_end, n_out, t_out=t_out, params=params, start=start,
+                          rtol=rtol, atol=atol, method=method, max_step=max_step,
+                          max_num_steps=max_num_steps, backend=backend, initial=initial)
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,
                    method=method, max_step=max_step, max_num_steps=max_num_steps,
                    backend=backend, initial=initial)
