@@ -94,3 +94,9 @@ class Rig(Component):
     def parameters(self):
         """The rig's free parameters (ParamInfo), in the DAE's order."""
         return self.compile().params
+
+    def inputs(self):
+        """The rig's inputs (InputInfo: name, unit, description, start), one per
+        Input component: given to a run by ``simulate(..., inputs={name: ...})``,
+        never parameters."""
+        return list(self.compile().inputs)

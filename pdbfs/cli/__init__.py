@@ -1,5 +1,5 @@
-"""Command line: ``pdbfs simulate | params | export-fmu | modes | sweep | sensitivity | reproduce |
-calibrate | design | design-map | app``.
+"""Command line: ``pdbfs simulate | params | export-fmu | modes | linearize | sweep | sensitivity |
+reproduce | calibrate | design | design-map | app``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -17,9 +17,10 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import app, calibrate, design, interrupt, modes, reproduce, sensitivity, simulate, sweep
+from . import (app, calibrate, design, interrupt, linearize, modes, reproduce, sensitivity, simulate,
+               sweep)
 
-COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, app)
+COMMANDS = (simulate, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, app)
 
 
 def build_parser():

@@ -38,6 +38,8 @@
     callable.py    an input given as a function of time, sampled into a trace
     driven.py      a run with inputs, segment by segment, and the Simulator its
                    Result reads through (each point with its own inputs)
+    driven_trajectory.py  a run with inputs as CasADi expressions of parameters
+                   (calibration and design with a measured command)
     memory.py      sizes that cannot fit in the memory available, refused up front
     time_events.py switch times: integrated from switch to switch, never stepped over
     trajectory.py  the simulation as a differentiable CasADi Function of

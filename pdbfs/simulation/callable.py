@@ -1,6 +1,7 @@
 """An input given as a function of time, made a trace before the run.
 
-``f`` is evaluated at the output times, then every interval is halved
+``f`` is evaluated at the output times and at FIRST + 1 even times over
+the run, then every interval is halved
 where ``f`` at its middle differs from the straight line between its ends
 by more than CALLABLE_RTOL of the largest |f| seen, until none does: the
 run then integrates that piecewise-linear trace exactly (its samples are
@@ -23,13 +24,16 @@ from pdbfs.errors import ParameterError
 CALLABLE_RTOL = 1e-6
 #: intervals shorter than this part of the run are not halved again (a jump)
 MIN_WIDTH = 1e-9
+#: the first samples: the output times and this many even intervals over the run
+FIRST = 1024
 #: the most samples of one function
 MAX_SAMPLES = 1_000_000
 
 
 def sample_callable(name, f, grid):
     """(t, u): ``f`` sampled on [grid[0], grid[-1]] to CALLABLE_RTOL."""
-    t = np.unique(np.asarray(grid, float))
+    grid = np.asarray(grid, float)
+    t = np.unique(np.concatenate([grid, np.linspace(grid[0], grid[-1], FIRST + 1)]))
     u = _evaluate(name, f, t)
     span = float(t[-1] - t[0])
     todo = np.arange(t.size - 1)           # the intervals to test
