@@ -87,3 +87,73 @@ class CommandedPulse(pdbfs.Rig):
         self.connect(self.valve.port_b, self.chamber.port, self.drain.port_a)
         self.connect(self.drain.port_b, self.tank.port)
         self.connect(self.command.y, self.valve.opening)
+
+
+def msd_ramp(t, rate, tk):
+    """x(t) of m x'' + c x' + k x = rate*(t - tk) from tk on, at rest until then."""
+    sigma = C / (2 * M)
+    wd = math.sqrt(K / M - sigma ** 2)
+    tau = np.clip(t - tk, 0.0, None)
+    g = C / K
+    return rate / K * (tau - g + np.exp(-sigma * tau) * (g * np.cos(wd * tau)
+                                                         + (g * sigma - 1.0) / wd * np.sin(wd * tau)))
+
+
+class BaseExcited(pdbfs.Rig):
+    """A mass on a spring and damper whose other end moves as the signal of
+    ``source`` prescribes (SignalPosition): the damper needs the signal's
+    rate, its first derivative."""
+
+    def __init__(self, source=None, **kw):
+        self._source = source
+        super().__init__(**kw)
+
+    def declare(self):
+        from pdbfs.components import SignalPosition
+        self.base = self._source if self._source is not None else B.Input("m")
+        self.drive = SignalPosition()
+        self.spring = Spring(k=K)
+        self.damper = Damper(c=C)
+        self.body = Mass(m=M)
+        self.connect(self.base.y, self.drive.u)
+        self.connect(self.drive.flange, self.spring.flange_a, self.damper.flange_a)
+        self.connect(self.spring.flange_b, self.damper.flange_b, self.body.flange_a)
+
+
+class ShakenMass(pdbfs.Rig):
+    """A mass whose position an input prescribes: its acceleration would be
+    the input's second derivative."""
+
+    def declare(self):
+        from pdbfs.components import SignalPosition
+        self.base = B.Input("m")
+        self.drive = SignalPosition()
+        self.body = Mass(m=2.0)
+        self.spring = Spring(k=1e3)
+        self.frame = Fixed()
+        self.connect(self.base.y, self.drive.u)
+        self.connect(self.drive.flange, self.body.flange_a)
+        self.connect(self.body.flange_b, self.spring.flange_a)
+        self.connect(self.spring.flange_b, self.frame.flange)
+
+
+class ScaledCommandPulse(CommandedPulse):
+    """The pulse rig whose valve follows a fixed command shape (a Table of
+    COMMAND) times the rig's input ``scale`` (1 by default): an input that is
+    a parameter of the command's trace."""
+
+    def declare(self):
+        self._command = B.Table(*COMMAND)
+        super().declare()
+        self.scale = B.Input("1", start=1.0, description="Scale of the valve's command")
+        self.times = B.Product()
+        self.connect(self.command.y, self.times.u1)
+        self.connect(self.scale.y, self.times.u2)
+
+    def connect(self, *connectors):
+        # the valve follows the product, not the shape itself
+        if connectors == (self.command.y, self.valve.opening):
+            return
+        super().connect(*connectors)
+        if getattr(self, "times", None) is not None and connectors[0] is self.scale.y:
+            super().connect(self.times.y, self.valve.opening)

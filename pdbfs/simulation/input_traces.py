@@ -44,8 +44,8 @@ def drive_of(dae, inputs, grid):
     if inputs is None:
         return None
     if not isinstance(inputs, dict):
-        raise ParameterError(f"inputs = {plain(inputs)[:80]}: give a dict of input name -> trace "
-                             "(t, u), number or function of time")
+        raise ParameterError(f"inputs = {' '.join(plain(inputs).split())[:80]}: give a dict of "
+                             "input name -> trace (t, u), number or function of time")
     if not inputs:
         return None
     names = dae.input_names
@@ -81,8 +81,10 @@ def trace_of(name, given, t0, t1, grid):
     elif isinstance(given, (tuple, list)) and len(given) == 2:
         arr = given
     if arr is None:
-        raise ParameterError(f"inputs: {name} = {plain(given)[:60]}: give a trace (t, u) of "
-                             "times and values, a number, or a function of time")
+        shown = f"an array of shape {given.shape}" if isinstance(given, np.ndarray) else \
+            " ".join(plain(given).split())[:60]
+        raise ParameterError(f"inputs: {name} = {shown}: give a trace (t, u) of times and "
+                             "values, a number, or a function of time")
     try:
         t = np.asarray(arr[0], dtype=float)
         u = np.asarray(arr[1], dtype=float)

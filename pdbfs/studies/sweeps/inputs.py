@@ -1,7 +1,8 @@
 """The rig's inputs in a sweep: the same for every point (``inputs=``), or
 a dimension of the sweep (an input's name in ``values`` with a list of
 traces, numbers or functions: each point takes one of them; the sweep's
-column of that name holds the trace's number in the list, from 0).
+column of that name holds the number itself where every item is a number,
+else the item's place in the list, from 0).
 
 Every trace is checked (and a function sampled, callable.py) once, before
 any point runs, on the sweep's own horizon: a point never meets a bad
@@ -34,11 +35,16 @@ class SweepInputs:
         return all(isinstance(v, float) for v in self.fixed.values()) and \
             all(isinstance(v, float) for vs in self.dims.values() for v in vs)
 
+    def numbers(self, name) -> bool:
+        """Whether the dimension ``name`` is numbers (its column holds them)."""
+        return all(isinstance(v, float) for v in self.dims[name])
+
     def of_point(self, names, row) -> dict:
         """The inputs of one point: ``row`` its values of the sweep's ``names``."""
         out = dict(self.fixed)
         for name, values in self.dims.items():
-            out[name] = values[int(row[names.index(name)])]
+            v = row[names.index(name)]
+            out[name] = float(v) if self.numbers(name) else values[int(v)]
         return out
 
     def set_constants(self, P, names, block):
@@ -48,9 +54,8 @@ class SweepInputs:
         index = {n: k for k, n in enumerate(self.dae.input_names)}
         for name, v in self.fixed.items():
             P[:, u0 + index[name]] = v
-        for name, values in self.dims.items():
-            picks = block[:, names.index(name)].astype(int)
-            P[:, u0 + index[name]] = np.asarray(values, float)[picks]
+        for name in self.dims:
+            P[:, u0 + index[name]] = block[:, names.index(name)]     # numbers: the column
 
     def key(self) -> str:
         """A digest of every trace and number (a stored sweep's manifest)."""
@@ -87,7 +92,9 @@ def split_inputs(sim, values, inputs, t_end, n_out):
             if name in fixed:
                 raise ParameterError(f"sweep: input {name} is both swept and given in inputs=")
             dims[name] = [_checked(name, v, grid) for v in given]
-        values = {n: (list(range(len(dims[n]))) if n in dims else v) for n, v in values.items()}
+        values = {n: ([float(x) for x in dims[n]] if all(isinstance(x, float) for x in dims[n])
+                      else list(range(len(dims[n])))) if n in dims else v
+                  for n, v in values.items()}
     if not fixed and not dims:
         return values, None
     return values, SweepInputs(dae, fixed, dims)
