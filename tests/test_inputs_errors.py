@@ -66,7 +66,7 @@ def test_an_fmu_of_a_rig_with_inputs_is_refused_in_one_line(tmp_path):
 
 
 def test_linearize_refuses_unknown_and_differentiated_inputs():
-    with pytest.raises(pdbfs.ParameterError, match="input 'v' is neither an input nor a parameter"):
+    with pytest.raises(pdbfs.ParameterError, match="input 'v' is not a parameter of rig Pushed nor one of its inputs"):
         Pushed().linearize(inputs=["v"])
     with pytest.raises(pdbfs.ParameterError) as err:
         BaseExcited().linearize(inputs=["base"], outputs=["body.s"])

@@ -76,10 +76,11 @@ def trace_of(name, given, t0, t1, grid):
     if callable(given):
         return sample_callable(name, given, grid)
     arr = None
-    if isinstance(given, np.ndarray) and given.ndim == 2 and given.shape[1] == 2:
-        arr = (given[:, 0], given[:, 1])
-    elif isinstance(given, (tuple, list)) and len(given) == 2:
+    if isinstance(given, (tuple, list)) and len(given) == 2:
         arr = given
+    elif hasattr(given, "__array__") and np.ndim(given) == 2 and np.shape(given)[1] == 2:
+        table = np.asarray(given)             # two columns (a numpy array, a DataFrame)
+        arr = (table[:, 0], table[:, 1])
     if arr is None:
         shown = f"an array of shape {given.shape}" if isinstance(given, np.ndarray) else \
             " ".join(plain(given).split())[:60]

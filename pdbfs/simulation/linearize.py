@@ -154,8 +154,8 @@ def linearize(model, at="start", inputs=None, outputs=None, params=None, start=N
         [v.name for v in dae.y_info if v.output]
     for n in inputs:
         if dae.p_row(n) is None:
-            raise ParameterError(f"linearize: input {n!r} is neither an input nor a parameter of "
-                                 f"rig {dae.name}; `pdbfs params` lists them")
+            raise ParameterError(f"linearize: input {n!r} is not a parameter of rig {dae.name} "
+                                 "nor one of its inputs; `pdbfs params` lists them")
     refuse_differentiated(dae, inputs)
     for n in outputs:
         if n not in dae.y_names:
