@@ -71,7 +71,7 @@ def test_a_function_of_time_is_followed_to_its_stated_accuracy(backend):
     res = Pushed().simulate(2.0, n_out=2001, inputs={"u": lambda t: A * np.sin(2 * np.pi * f * t)},
                             backend=backend, **TIGHT)
     want = msd_sine(res.t, A, f)
-    # sampled to 1e-6 of its amplitude at every interval's middle (callable.py): measured
+    # sampled to 1e-6 of its amplitude at every interval's middle (input_function.py): measured
     # 3.8e-7 (c), 4.8e-7 (casadi) of the response
     assert np.max(np.abs(res["body.s"] - want)) < 1e-6 * np.max(np.abs(want))
     assert res.stats["segments"] > 5000

@@ -35,7 +35,7 @@
                    checked; what depends on the rig alone made once
     input_traces.py  the rig's inputs of a run (traces, numbers, functions) checked,
                    piecewise linear: the segments and their entries of p
-    callable.py    an input given as a function of time, sampled into a trace
+    input_function.py  an input given as a function of time, sampled into a trace
     driven.py      a run with inputs, segment by segment, and the Simulator its
                    Result reads through (each point with its own inputs)
     driven_trajectory.py  a run with inputs as CasADi expressions of parameters

@@ -10,15 +10,17 @@ An input is given as
   a kink or a jump lands exactly, between output points too. The trace must
   cover the run, [0, t_end]: a run does not guess values;
 * a number: held for the whole run;
-* a function of time, ``f(t) -> value`` (callable.py: sampled into a trace
-  that agrees with it to CALLABLE_RTOL of its largest value at the middle
-  of every interval);
+* a function of time, ``f(t) -> value`` (input_function.py: sampled into
+  a trace that agrees with it to CALLABLE_RTOL of its largest value at the
+  middle of every interval);
 
-an input not given holds its ``start`` value. Over each segment between two
-breakpoints (of all inputs together) every input is u + du (t - t_ref): the
-DAE's input entries of p (pdbfs.modelling.rig_inputs) for that segment are
-``Drive.p_at``'s; on an output grid, ``Drive.P_on`` gives each point its own
-(right-continuous: at a breakpoint, the segment that starts there).
+an input not given holds its ``start`` value. Past a trace's end (the
+summary follows a pulse past t_end) an input holds its last value. Over
+each segment between two breakpoints (of all inputs together) every input
+is u + du (t - t_ref): the DAE's input entries of p
+(pdbfs.modelling.rig_inputs) for that segment are ``Drive.p_at``'s; on an
+output grid, ``Drive.P_on`` gives each point its own (right-continuous: at
+a breakpoint, the segment that starts there).
 """
 from __future__ import annotations
 
@@ -29,7 +31,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, plain
 
-from .callable import sample_callable
+from .input_function import sample_callable
 
 #: a trace ending this close (relative to the run) before t_end covers it
 END_SLACK = 1e-9

@@ -4,7 +4,7 @@ traces, numbers or functions: each point takes one of them; the sweep's
 column of that name holds the number itself where every item is a number,
 else the item's place in the list, from 0).
 
-Every trace is checked (and a function sampled, callable.py) once, before
+Every trace is checked (and a function sampled, input_function.py) once, before
 any point runs, on the sweep's own horizon: a point never meets a bad
 trace, and what travels to workers is arrays and numbers only. Where every
 input of every point is a number, the inputs are entries of the points'
