@@ -156,3 +156,17 @@ def test_the_summary_and_values_off_the_grid_use_the_inputs(backend):
         assert given.value_at("command.y", t) == pytest.approx(np.interp(t, *COMMAND), rel=1e-12)
     p, _ = given.peak("chamber.p")
     assert p == pytest.approx(table.peak("chamber.p")[0], rel=1e-8)
+
+
+def test_the_summary_follows_a_pulse_past_t_end_only_as_far_as_the_inputs_go():
+    """Cut at 8 ms the pulse is still running: with a command that goes on
+    to 50 ms the summary finds its end past t_end; with one that ends at
+    t_end it says the pulse has not ended, and guesses nothing."""
+    rig = CommandedPulse()
+    with pytest.warns(pdbfs.PulseIncompleteWarning, match="it ends at about 0.014"):
+        longer = rig.simulate(0.008, inputs={"command": COMMAND}).summary()
+    assert longer["complete"] is False and longer["pulse_duration"] is None
+    cut = (np.append(COMMAND[0][:4], 0.008), np.append(COMMAND[1][:4], 0.0))
+    with pytest.warns(pdbfs.PulseIncompleteWarning, match="has not ended by 0.008 s"):
+        ended_here = rig.simulate(0.008, inputs={"command": cut}).summary()
+    assert ended_here["complete"] is False

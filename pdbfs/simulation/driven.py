@@ -42,6 +42,13 @@ class Driven:
     def nx(self) -> int:
         return self.base.nx
 
+    @property
+    def known_until(self) -> float:
+        """The end of the shortest trace given (inf: every input a number or
+        held): the summary does not follow a pulse past it (summary_run.py)."""
+        ends = [float(t[-1]) for t, _ in self.drive.traces if t.size > 1]
+        return min(ends) if ends else np.inf
+
     def compiled(self):
         return self.base.compiled()
 

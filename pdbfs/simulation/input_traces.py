@@ -14,8 +14,8 @@ An input is given as
   a trace that agrees with it to CALLABLE_RTOL of its largest value at the
   middle of every interval);
 
-an input not given holds its ``start`` value. Past a trace's end (the
-summary follows a pulse past t_end) an input holds its last value. Over
+an input not given holds its ``start`` value. The summary follows a pulse
+past t_end only as far as the traces go (driven.Driven.known_until). Over
 each segment between two breakpoints (of all inputs together) every input
 is u + du (t - t_ref): the DAE's input entries of p
 (pdbfs.modelling.rig_inputs) for that segment are ``Drive.p_at``'s; on an

@@ -26,8 +26,8 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               its times breakpoints the solver stops at (a time given twice:
               a jump), covering [0, t_end]; a number, held; or a function of
               time, sampled to 1e-6 of its largest value (input_function.py).
-              An input not given holds its start value; the summary's look
-              past t_end holds each at its last value (input_traces.py)
+              An input not given holds its start value; the summary follows
+              a pulse past t_end only as far as the traces go (input_traces.py)
     rtol/atol relative and absolute tolerances of the integrator (rtol
               None: 1e-8, and 5e-8 for the explicit method, whose peak
               pressure is then within 1e-7 of a tight reference; atol, in
