@@ -32,7 +32,7 @@ from pdbfs.files import whole
 from pdbfs.modelling import DAE
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, check_compiler_memory,
                                   erk_size_header, generate, sizes_header_lines)
-from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS
+from pdbfs.native.stiffness import c_defines, ode_instructions
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
 from . import description3
@@ -160,12 +160,8 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          f"#define PDBFS_DEFAULT_RTOL {_c_double(model.tolerance)}",
          f"#define PDBFS_RTOL_MIN {_c_double(RTOL_MIN)}", f"#define PDBFS_RTOL_MAX {_c_double(RTOL_MAX)}",
          "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 0",   # auto
-         # solver.method auto (stiffness.c): pdbfs.native.stiffness's rule; the run's
-         # length when the importer gives no stop time: the default experiment's
-         f"#define PDBFS_ERK_RADIANS {_c_double(ERK_RADIANS)}",
-         f"#define PDBFS_STIFF_STEPS {_c_double(STIFF_STEPS)}",
-         f"#define PDBFS_DENSE_UP_TO {int(DENSE_UP_TO)}",
-         f"#define PDBFS_DEFAULT_SPAN {_c_double(model.stop_time)}",
+         # solver.method auto (stiffness.c): pdbfs.native.stiffness's cost model
+         *c_defines(), f"#define PDBFS_ODE_INSTRUCTIONS {ode_instructions(d)}",
          *sizes_header_lines(work),
          "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"
          + pad([p.value for p in d.params], _c_double, "0") + "};",

@@ -23,10 +23,12 @@ DEFAULT_MAX_NUM_STEPS = 10_000_000
 #: solver.method's items (name, value, description): the pdbfs.SolverMethod type of
 #: both FMI versions, the documentation's range and the C (fmu_instance.h METHOD_*)
 SOLVER_METHODS = (
-    ("auto", 0, "decided at initialisation from the parameters, the start and the stop time (without "
-                "one: the default experiment's) as in pdbfs's compiled backend: explicit Runge-Kutta for a run of at most 1,000 radians of the "
-                "fastest mode of d(der(x))/dx at the start, else BDF when a mode decays without "
-                "oscillating fast enough to cost Adams over 50,000 steps, else Adams"),
+    ("auto", 0, "decided at initialisation from the parameters, the start and the stop time as in "
+                "pdbfs's compiled backend: the cheapest method for the run by an estimate of its steps "
+                "(from the modes of d(der(x))/dx at the start) and of a step's cost; without a stop time, "
+                "the cheapest for each second of a long run. Where that is explicit Runge-Kutta or BDF, "
+                "the run switches between the two at the solvers' own steps: to BDF where the explicit "
+                "steps are held by stability, back at an event or where BDF's steps turn short"),
     ("BDF", 1, "CVODE backward differentiation formulas, Newton (exact sparse Jacobian, band or dense LU)"),
     ("Adams", 2, "CVODE Adams-Moulton (fixed point below 40 states, else Newton)"),
     ("ERK", 3, "explicit Runge-Kutta 8(5,3), Dormand and Prince, 7th-order dense output; roots of the "

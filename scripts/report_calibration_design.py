@@ -1,4 +1,4 @@
-"""Regenerate the figures and numbers of docs/calibration-design.md: one
+"""Regenerate the figures and numbers of docs/tutorials/calibrate.md and design.md: one
 calibration (a synthetic Kistler-like trace with trigger delay, sensor offset
 and noise), one design to target features in drop height, one design map.
 

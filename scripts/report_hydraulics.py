@@ -1,4 +1,4 @@
-"""Regenerate the figures and numbers of docs/hydraulics.md: the oil column
+"""Regenerate the figures and numbers of docs/tutorials/hydraulic-rig.md: the oil column
 of the paper rig with a constant and a pressure-dependent bulk modulus at
 2.73 and 5.5 m/s, and the paper-hydraulic and hydraulic-pulse rigs designed
 to one target curve.

@@ -98,16 +98,17 @@ def test_the_summary_driver_with_erk_agrees_with_the_reference(rig, tight):
         p_pk, rel=1e-7)
 
 
-def test_auto_keeps_adams_for_runs_long_against_the_fastest_mode():
-    """the drop rig's 1.5 s are 10,000 rad of its breech mode: the explicit
-    method's steps would be limited by stability there, so "auto" takes Adams"""
+def test_auto_keeps_the_explicit_method_for_a_long_ringing_run():
+    """the drop rig's 1.5 s are 10,000 rad of its breech mode, rung by the
+    blows: every method resolves it, and the explicit method takes several
+    times fewer steps than Adams (measured 12,800 against 70,700, 2x the
+    time), so "auto" keeps it"""
     from pdbfs.models import drop_rig
-    from pdbfs.simulation.stiffness import ERK_RADIANS, fast_modes
     rig = drop_rig()
     sim = Simulator.of(rig)
     p = sim.param_vector()
     x0 = sim.start_vector(p)
-    fastest = float(np.max(np.abs(fast_modes(sim.dae, p, x0))))
-    assert fastest * 1.5 > ERK_RADIANS > fastest * 0.02
-    assert sim.resolve_method("auto", p, x0, 1.5, "c") == "adams"
+    assert sim.resolve_method("auto", p, x0, 1.5, "c") == "erk"
     assert sim.resolve_method("auto", p, x0, 0.02, "c") == "erk"
+    steps = {m: rig.simulate(1.5, n_out=11, method=m, backend="c").stats["steps"] for m in ("erk", "adams")}
+    assert steps["adams"] > 3 * steps["erk"]

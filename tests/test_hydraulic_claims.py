@@ -1,7 +1,8 @@
-"""The figures README.md and docs/hydraulics.md state about the
-paper-hydraulic-oil rig, read from the text and run on the rig with the
-settings the text names, so that a stated figure cannot drift from the code
-again (README once gave the matched oil's 213.7 MPa as the rig's default)."""
+"""The figures the hydraulic tutorial (docs/tutorials/hydraulic-rig.md)
+states about the paper-hydraulic-oil rig, read from the text and run on the
+rig with the settings the text names, so that a stated figure cannot drift
+from the code again (the README once gave the matched oil's 213.7 MPa as the
+rig's default)."""
 import re
 from pathlib import Path
 
@@ -27,12 +28,12 @@ def _flat(path):
     return re.sub(r"\s+", " ", (ROOT / path).read_text())
 
 
-def test_readme_states_the_paper_hydraulic_oil_rig_s_own_peaks():
-    text = _flat("README.md")
+def test_docs_state_the_paper_hydraulic_oil_rig_s_own_peaks():
+    text = _flat("docs/tutorials/hydraulic-rig.md")
     m = re.search(r"`--rig paper-hydraulic-oil` .*? at 5\.5 m/s \(`--set hammer\.v0=5\.5`\) it "
                   r"gives ([\d.]+) MPa where the linear spring gives ([\d.]+) MPa; with `--set "
                   r"oil\.K=([\d.e]+)`, .*?, ([\d.]+) MPa", text)
-    assert m, "README's paper-hydraulic-oil sentence changed: update this test with it"
+    assert m, "the tutorial's paper-hydraulic-oil sentence changed: update this test with it"
     default, linear, k_matched, matched = m.groups()
     assert _agrees(default, _peak("paper-hydraulic-oil", **{"hammer.v0": 5.5}))
     assert _agrees(linear, _peak("paper-hydraulic", **{"hammer.v0": 5.5}))
@@ -41,11 +42,11 @@ def test_readme_states_the_paper_hydraulic_oil_rig_s_own_peaks():
 
 
 def test_docs_state_the_matched_oil_and_the_default_at_5_5_m_s():
-    text = _flat("docs/hydraulics.md")
+    text = _flat("docs/tutorials/hydraulic-rig.md")
     m = re.search(r"of ([\d.]+) MPa \(`--rig paper-hydraulic-oil --set oil\.K=([\d.e]+) --set "
                   r"hammer\.v0=5\.5`; the rig's default `K`, ([\d.]+) GPa, gives ([\d.]+) MPa\)",
                   text)
-    assert m, "docs/hydraulics.md's sentence changed: update this test with it"
+    assert m, "the hydraulic tutorial's sentence changed: update this test with it"
     matched, k_matched, k_default, default = m.groups()
     rig = RIGS["paper-hydraulic-oil"]()
     k = {p.name: p.value for p in rig.compile().params}["oil.K"]

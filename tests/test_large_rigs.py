@@ -88,12 +88,13 @@ def test_auto_picks_bdf_for_a_fast_decaying_mode_and_bdf_is_cheaper_there():
 
 
 def test_an_oscillating_chain_is_not_called_stiff():
-    """The split piston's fastest modes ring (|Im| >> |Re|): Adams."""
+    """The split piston's fastest modes ring (|Im| >> |Re|): through CasADi,
+    Adams, whose steps are fewer than BDF's there."""
     dae = split_piston_rig(50).compile()
     sim = Simulator.of(dae)
     p = sim.param_vector()
     method, why = choose_method(dae, p, sim.start_vector(p), 0.02)
-    assert method == "adams" and "oscillates" in why
+    assert method == "adams" and why.startswith("the cheapest by the estimate (adams")
 
 
 def test_the_band_solver_of_the_compiled_backend_agrees_with_dense_lu():

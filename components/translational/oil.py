@@ -12,7 +12,7 @@ class OilColumn(PartialCompression):
 
     Linear (``n = 1``) by default: the paper's Table 1 prints the unit of k2
     as N/m^1.5, but its Figs. 5, 6 and 9 only fit a linear oil spring (see
-    README); ``n = 1.5`` gives the other reading.
+    docs/explanation/paper-rig.md); ``n = 1.5`` gives the other reading.
 
     Give ``k`` directly, or ``bulk_modulus=True`` to compute it as
     ``K*A/L`` from the parameters ``K`` (bulk modulus) and ``L`` (length).

@@ -3,9 +3,12 @@
  * (native/c/pdbfs_erk.c, the compiled backend's "erk") through the rig's
  * non-smooth points.  Communication points are served from the solver's
  * dense output, so the trajectory does not depend on the communication
- * step; a tunable parameter changed between steps restarts the solver. */
+ * step; a tunable parameter changed between steps restarts the solver.
+ * solver.method auto switches between the explicit method and BDF at the
+ * solvers' own steps (stiffness.c). */
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 #include "fmu_instance.h"
 
@@ -33,10 +36,13 @@ static double horizon(const Inst *m, double t) {
 
 /* (Re)start the explicit method at (t, x): it never steps past the next
  * time event (a valve's switch: the right-hand side jumps there) nor the
- * stop time, where it is started again */
+ * stop time, where it is started again; under auto's switching it stops
+ * where its steps are held by stability (PDBFS_ERK_STIFF) */
 static int erk_start(Inst *m, double t, const double *x) {
     PdbfsCvodeSettings set = {0};
     double stop = horizon(m, t);
+    m->rk.stiff_after = m->switching && m->lambda_ref > 0 ? PDBFS_AUTO_SWITCH_STEPS : 0;
+    m->rk.stiff_h = m->lambda_ref > 0 ? PDBFS_AUTO_SWITCH_TO_BDF / m->lambda_ref : INFINITY;
     m->t_break = pdbfs_next_time_event(&m->solver, t, x);
     set.rtol = model_rtol(m);
     set.atol = m->atol;
@@ -46,8 +52,39 @@ static int erk_start(Inst *m, double t, const double *x) {
     return FMU_OK;
 }
 
-/* (Re)start the solver at (time, x); absolute tolerance = rtol * nominal */
-int cosim_start(Inst *m) {
+/* auto's switch back from BDF, at a root (a kink: a blow or a valve's switch
+ * begins there, which the explicit method resolves in fewer steps), or after
+ * BDF_SETTLE steps of a (re)start (its first steps are short whatever the
+ * rig) once PDBFS_AUTO_SWITCH_STEPS steps in a row, over a period of the
+ * fastest mode at least (not the few short steps before a kink), were
+ * shorter than PDBFS_AUTO_SWITCH_TO_ERK / lambda_ref: CVODE pauses where the
+ * step ended and the explicit method starts there (integrate_to), whatever
+ * the communication points */
+#define BDF_SETTLE (2 * PDBFS_AUTO_SWITCH_STEPS)
+#define TWO_PI 6.283185307179586
+static int bdf_watch(void *env, double t, const double *x) {
+    Inst *m = (Inst *)env;
+    double h = 0.0;
+    if (!m->solver.root_pending) {
+        if (m->solver.steps_since_start <= BDF_SETTLE || CVodeGetLastStep(m->solver.cv, &h) != CV_SUCCESS)
+            return 0;
+        if (h * m->lambda_ref < PDBFS_AUTO_SWITCH_TO_ERK) {
+            m->bdf_short++;
+            m->bdf_short_time += h;
+        } else {
+            m->bdf_short = 0;
+            m->bdf_short_time = 0.0;
+        }
+        if (m->bdf_short < PDBFS_AUTO_SWITCH_STEPS || m->bdf_short_time * m->lambda_ref < TWO_PI) return 0;
+    }
+    m->switch_pending = 1;
+    m->t_switch = t;
+    memcpy(m->x_switch, x, sizeof(double) * NX);
+    return PDBFS_STEP_PAUSE;
+}
+
+/* (Re)start the solver at (t, x); absolute tolerance = rtol * nominal */
+static int start_at(Inst *m, double t, const double *x) {
     PdbfsCvodeSettings set = {0};
     int i;
     if (!m->solver.ev) {
@@ -56,9 +93,12 @@ int cosim_start(Inst *m) {
     }
     set.rtol = model_rtol(m);
     for (i = 0; i < NX; i++) m->atol[i] = set.rtol * PDBFS_X_NOMINAL[i];
+    m->bdf_short = 0;
+    m->bdf_short_time = 0.0;
+    m->switch_pending = 0;
     if (m->s.method_used == METHOD_ERK) {
         if (!m->rk.y && pdbfs_erk_init(&m->rk, NX, NE, &m->ev)) return ERR(m, "out of memory");
-        if (erk_start(m, m->s.time, m->s.x) != FMU_OK) return FMU_ERROR;
+        if (erk_start(m, t, x) != FMU_OK) return FMU_ERROR;
         m->need_restart = 0;
         return FMU_OK;
     }
@@ -66,9 +106,27 @@ int cosim_start(Inst *m) {
     set.atol = m->atol;
     set.max_step = m->s.max_step > 0 ? m->s.max_step : 0.0;
     set.t_stop = INFINITY;
-    if (pdbfs_cvode_start(&m->solver, &set, m->s.time, m->s.x)) return ERR(m, "CVODE setup failed");
+    m->solver.on_step = NULL;
+    if (m->switching && m->s.method_used == METHOD_BDF && m->lambda_ref > 0) m->solver.on_step = bdf_watch;
+    m->solver.step_env = m;
+    if (pdbfs_cvode_start(&m->solver, &set, t, x)) return ERR(m, "CVODE setup failed");
     m->need_restart = 0;
     return FMU_OK;
+}
+
+int cosim_start(Inst *m) {
+    return start_at(m, m->s.time, m->s.x);
+}
+
+/* auto's switches: to BDF where the explicit method stopped (its steps held
+ * by stability), to the explicit method where BDF paused (its steps short) */
+static int switch_method(Inst *m, int to, double t, const double *x) {
+    fmu_log(m, FMU_OK, "logEvents", "solver.method auto: %s from t=%.17g (%s)",
+            to == METHOD_BDF ? "CVODE BDF" : "explicit Runge-Kutta 8(5,3)", t,
+            to == METHOD_BDF ? m->rk.msg
+            : m->solver.root_pending ? "an event" : "BDF's steps short against the fastest mode");
+    m->s.method_used = to;
+    return start_at(m, t, x);
 }
 
 /* the explicit method to tEnd, through the time events on the way (each a
@@ -87,6 +145,7 @@ static int erk_to(Inst *m, double tEnd) {
         fmu_log(m, FMU_OK, "logEvents", "time event at t=%.17g, explicit Runge-Kutta restarted", target);
         if (erk_start(m, target, m->s.x) != FMU_OK) return FMU_ERROR;
     }
+    if (flag == PDBFS_ERK_STIFF) return PDBFS_ERK_STIFF;     /* (auto: to BDF, integrate_to) */
     if (flag == PDBFS_CV_TOO_MUCH_WORK)
         return ERR(m, "explicit Runge-Kutta failed (too much work: solver.max_num_steps = %d steps) at "
                    "t=%.17g while integrating to t=%.17g", m->s.max_num_steps, m->rk.t, tEnd);
@@ -103,12 +162,25 @@ static int integrate_to(Inst *m, double tEnd) {
         int st = cosim_start(m);
         if (st != FMU_OK) return st;
     }
-    if (m->s.method_used == METHOD_ERK) {
-        flag = erk_to(m, tEnd);
-        if (flag != FMU_OK) m->need_restart = 1;
-        return flag;
+    for (;;) {
+        if (m->s.method_used == METHOD_ERK) {
+            flag = erk_to(m, tEnd);
+            if (flag == PDBFS_ERK_STIFF) {
+                if (switch_method(m, METHOD_BDF, m->rk.t, m->rk.y) == FMU_OK) continue;
+                flag = FMU_ERROR;
+            }
+            if (flag != FMU_OK) m->need_restart = 1;
+            return flag;
+        }
+        if (m->switch_pending && m->t_switch < tEnd) {
+            if (switch_method(m, METHOD_ERK, m->t_switch, m->x_switch) == FMU_OK) continue;
+            m->need_restart = 1;
+            return FMU_ERROR;
+        }
+        /* (a pause past tEnd: no step taken, tEnd served from CVODE's last step) */
+        flag = pdbfs_cvode_advance(&m->solver, tEnd, horizon(m, m->solver.tn), m->s.max_num_steps, m->s.x);
+        if (flag != PDBFS_CV_STOPPED || !m->switch_pending) break;
     }
-    flag = pdbfs_cvode_advance(&m->solver, tEnd, horizon(m, m->solver.tn), m->s.max_num_steps, m->s.x);
     if (flag == PDBFS_CV_TOO_MUCH_WORK) {
         m->need_restart = 1;
         return ERR(m, "CVODE failed (too much work: solver.max_num_steps = %d internal steps) at t=%.17g "

@@ -141,6 +141,18 @@ struct Inst {
     double atol[NX + 1];     /* absolute tolerances (the explicit method keeps a pointer) */
     double t_break;          /* the explicit method stops and restarts here (a time event) */
     int need_restart;        /* restart the solver from (time, x) before integrating */
+    /* solver.method auto in co-simulation: switching between the explicit
+     * method and BDF as the run goes (stiffness.c, cosimulation.c) */
+    int switching;           /* on: auto chose one of the two */
+    double lambda_ref;       /* 1/s, the start's fastest mode: explicit steps longer than
+                              * PDBFS_AUTO_SWITCH_TO_BDF / lambda_ref are held by stability, BDF
+                              * steps shorter than PDBFS_AUTO_SWITCH_TO_ERK / lambda_ref resolve it
+                              * (0: no switching) */
+    int bdf_short;           /* such BDF steps in a row, and their length (s) */
+    double bdf_short_time;
+    int switch_pending;      /* BDF paused at t_switch (x_switch) to switch, past the last
+                              * communication point: its dense output serves up to there */
+    double t_switch, x_switch[NX + 1];
     /* CasADi work memory */
     PdbfsEval ev;
     const double *arg[PDBFS_SZ_ARG + 1];
@@ -215,7 +227,8 @@ int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, 
                   const double seed[], double sens[]);
 
 /* stiffness.c: solver.method "auto" resolved for a run of ``span`` s from
- * (time, x, p): METHOD_ERK, METHOD_ADAMS or METHOD_BDF, the reason in why */
+ * (time, x, p) (INFINITY: a run of unknown length): METHOD_ERK, METHOD_ADAMS
+ * or METHOD_BDF, the reason in why; sets switching and lambda_ref */
 int stiffness_choose(Inst *m, double span, char *why, size_t n);
 
 /* cosimulation.c */

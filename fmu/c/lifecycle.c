@@ -105,10 +105,11 @@ int fmu_exit_init(Inst *m, const char *fn) {
     }
     m->need_restart = 1;
     m->s.method_used = m->s.method == METHOD_AUTO ? METHOD_BDF : m->s.method;   /* (Model Exchange: unused) */
+    m->switching = 0;        /* (auto's switching: stiffness_choose) */
     if (m->s.type == FMU_CS && m->s.method == METHOD_AUTO) {
         char why[256];
-        /* the run: to the stop time, else the default experiment's length */
-        double span = m->s.stop_defined ? m->s.t_stop - m->s.t_start : PDBFS_DEFAULT_SPAN;
+        /* the run: to the stop time, else of unknown length (no length assumed) */
+        double span = m->s.stop_defined ? m->s.t_stop - m->s.t_start : INFINITY;
         m->s.method_used = stiffness_choose(m, span, why, sizeof why);
         fmu_log(m, FMU_OK, "logAll", "solver.method auto: %s; %s", method_name(m->s.method_used), why);
     }

@@ -52,6 +52,8 @@ def create_app(rig: str = "paper", cache_dir=None):
 def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_browser=False,
           ready=None):
     """Serve the page until interrupted; ``ready(url)`` is called once it is built."""
+    if host.startswith("[") and host.endswith("]"):     # an IPv6 address as a URL writes it
+        host = host[1:-1]
     check_address(host, port)
     if host not in LOOPBACK:
         print(f"pdbfs: warning: --host {host}: the page is open to every machine that can reach "
@@ -61,12 +63,18 @@ def serve(rig: str = "paper", host: str = "127.0.0.1", port: int = 8050, open_br
     signal.signal(signal.SIGTERM, _terminate)
     app = create_app(rig)
     logging.getLogger("werkzeug").setLevel(logging.ERROR)   # no line per request
-    url = f"http://{host}:{port}/"
+    url = page_url(host, port)
     if ready:
         ready(url)
     if open_browser:
         threading.Timer(1.0, webbrowser.open, args=(url,)).start()
     app.run(host=host, port=port, debug=False, threaded=True)
+
+
+def page_url(host: str, port: int) -> str:
+    """The address a browser opens: an IPv6 address in brackets (RFC 3986),
+    since a bare ``::1:8050`` is no URL."""
+    return f"http://[{host}]:{port}/" if ":" in host else f"http://{host}:{port}/"
 
 
 def _terminate(signum, frame):

@@ -8,6 +8,7 @@ from pdbfs.errors import ParameterError
 from pdbfs.files import write_text
 
 from .common import parse_sets, prepare_out, rig_by_name
+from .progress import Progress
 
 
 def free_list(text):
@@ -31,9 +32,11 @@ def cmd_calibrate(args):
                              "are drawn at random; the one start is the rig's values")
     rig = rig_by_name(args.rig)
     prepare_out(args.out)                  # before the fit: no work lost on a bad --out
-    cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
-                    fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
-                    params=parse_sets(args.set), starts=args.starts, seed=args.seed or 0)
+    with Progress("calibrating", "simulations") as progress:
+        cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
+                        fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
+                        params=parse_sets(args.set), starts=args.starts, seed=args.seed or 0,
+                        progress=progress)
     wrote = write_outputs(args.out, "calibration", cal) if args.out else []
     if args.json:
         print(json.dumps(cal.to_dict()))

@@ -37,8 +37,8 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
                        help="integration method: CVODE's adams or bdf, or erk (explicit "
-                       "Runge-Kutta of order 8, compiled backend); auto: erk (compiled) or "
-                       f"Adams unless the rig is stiff, then bdf (default {method})")
+                       "Runge-Kutta of order 8, compiled backend); auto: the cheapest for the "
+                       f"run by an estimate from the rig's modes (default {method})")
     s.add_argument("--backend", default=backend, choices=["auto", "casadi", "c"],
                    help="casadi: SUNDIALS through CasADi; c: the rig's generated C compiled "
                    "with pdbfs's integrators (ODE rigs, built once by zig cc, cached); "
@@ -143,16 +143,18 @@ def _shown(value) -> str:
 
 
 def print_summary(summary):
-    from pdbfs.simulation import SUMMARY_UNITS as UNITS
+    from pdbfs.simulation import SUMMARY_UNITS
+    # a count or a ratio has the unit "1": printed as the bare number
+    units = {k: ("" if u == "1" else " " + u) for k, u in SUMMARY_UNITS.items()}
     for k, v in summary.items():
         if isinstance(v, bool):
             print(f"  {k:<26} {'yes' if v else 'no':>14}")
         elif isinstance(v, (list, tuple)):   # one value per blow (rigs with repeated impacts)
             vals = ", ".join("n/a" if x is None else f"{x:.6g}" for x in v)
-            print(f"  {k:<26} [{vals}] {UNITS.get(k, '')}")
+            print(f"  {k:<26} [{vals}]{units.get(k, '')}")
         elif isinstance(v, dict):
             continue
         elif v is None:                    # not defined for this run (e.g. no contact)
             print(f"  {k:<26} {'n/a':>14}")
         else:
-            print(f"  {k:<26} {v:>14.6g} {UNITS.get(k, '')}")
+            print(f"  {k:<26} {v:>14.6g}{units.get(k, '')}")

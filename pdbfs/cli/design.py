@@ -8,6 +8,7 @@ from pdbfs.errors import PdbfsError
 
 from .calibrate import free_list, write_outputs
 from .common import parse_sets, prepare_out, rig_by_name
+from .progress import Progress
 
 
 def cmd_design(args):
@@ -21,9 +22,10 @@ def cmd_design(args):
         raise PdbfsError("give a target curve (--target) or target features "
                          "(--peak/--duration/--time-of-peak), not both")
     target = args.target if args.target else given
-    des = design(rig, target, free=free_list(args.free), bounds=args.bounds,
-                 params=parse_sets(args.set), signal=args.signal, t_end=args.t_end,
-                 starts=args.starts)
+    with Progress("designing", "simulations") as progress:
+        des = design(rig, target, free=free_list(args.free), bounds=args.bounds,
+                     params=parse_sets(args.set), signal=args.signal, t_end=args.t_end,
+                     starts=args.starts, progress=progress)
     if args.json:
         print(json.dumps(des.to_dict()))
     else:

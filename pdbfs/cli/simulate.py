@@ -7,6 +7,7 @@ from .common import (add_output_options, add_rig_options, add_run_options, check
                      horizon, parse_sets, prepare_out, print_summary, rig_by_name)
 from .inputs import add_input_option, parse_inputs
 from .modes import add_initial_option, parse_initial, print_initial
+from .progress import Progress
 
 
 def cmd_simulate(args):
@@ -17,13 +18,15 @@ def cmd_simulate(args):
     # rigs may suggest their own horizon (the drop rig needs about a second)
     t_end, n_out = horizon(args, rig)
     initial = parse_initial(args.initial)
+    check_room(out, n_out, rig.compile())
     extra = {"inputs": inputs} if inputs else {}
     res = rig.simulate(t_end, n_out=n_out, params=params, initial=initial,
                        rtol=args.rtol, atol=args.atol, method=args.method,
                        backend=args.backend, **extra)
     summary = res.summary()
     out.mkdir(parents=True, exist_ok=True)
-    res.to_csv(out / "results.csv")
+    with Progress(f"writing {out / 'results.csv'}", "rows") as progress:
+        res.to_csv(out / "results.csv", progress=progress)
     res.plot(path=out / "results.png", title=_title(args.rig, res))
     if args.json:
         solved = {"initial": res.initial.to_dict()} if res.initial.solved else {}
@@ -36,6 +39,34 @@ def cmd_simulate(args):
         print(f"  solver: {st.get('method')} ({st.get('backend')}), {st.get('steps')} steps, "
               f"{st.get('rhs_evals')} right-hand sides, {st.get('wall_time', 0) * 1e3:.1f} ms")
         print(f"wrote {out / 'results.csv'} and {out / 'results.png'}")
+
+
+#: characters of a value in results.csv, about (``repr`` of a float and a comma)
+CSV_CHARS = 18
+
+
+def check_room(out, n_rows, dae):
+    """Refuse, before the run, output points that cannot fit in memory (as
+    simulate() would), then a results.csv larger than the room left on the
+    disk of ``out`` (it is written a block of rows at a time: memory does not
+    bound it, the disk does)."""
+    import shutil
+
+    from pdbfs.errors import ParameterError
+    from pdbfs.simulation.memory import plain_bytes, require, run_bytes
+    if not isinstance(n_rows, int) or n_rows < 100_000:
+        return                         # small, or refused by simulate() itself
+    require(run_bytes(dae, n_rows), f"rig {dae.name}: {n_rows} output points",
+            "ask for fewer (n_out, --n-out)")
+    need = float(n_rows) * (len(dae.y_names) + 1) * CSV_CHARS
+    base = out
+    while not base.exists():
+        base = base.parent
+    free = shutil.disk_usage(base).free
+    if need > free:
+        raise ParameterError(f"--n-out {n_rows}: {out / 'results.csv'} would take about "
+                             f"{plain_bytes(need)}, and {plain_bytes(free)} are free on its "
+                             "disk; ask for fewer output points")
 
 
 def _title(name, res):

@@ -13,7 +13,7 @@ class Block:
     """p, x0, info[n_info], the summary values[n_sum], the summary's code (one
     double's room), its two messages (msg_len and note_len bytes) and the
     kept run's handle, in one float64 buffer ``buf``; and ``c`` for
-    pdbfs_batch_start's conditions or the two modes. C writes every answer
+    pdbfs_batch_start's conditions or the three modes. C writes every answer
     before it returns.
 
     ``addr``: the addresses of (p, x0, info, msg, values, code, note, handle),
@@ -23,7 +23,7 @@ class Block:
 
     def __init__(self, n_p: int, nx: int, nc: int, n_info: int, n_sum: int, msg_len: int,
                  note_len: int):
-        self.c = np.zeros(max(nc, 2))
+        self.c = np.zeros(max(nc, 3))
         self.c_addr = self.c.ctypes.data
         n_in = n_p + nx
         n = n_in + n_info + n_sum + 1 + (msg_len + note_len + 7) // 8 + 1

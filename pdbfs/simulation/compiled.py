@@ -199,9 +199,10 @@ class CompiledODE:
 
     def modes(self, x0, p, t0=0.0):
         """(the largest modulus of an eigenvalue of d(ode)/dx at (t0, x0), the
-        fastest decay of a mode that does not oscillate), as
-        stiffness.fast_modes' eigenvalues give them; (0, 0) where the Jacobian
-        is not finite; None where the eigenvalues did not converge (the caller
+        fastest decay of a mode that does not oscillate, the largest modulus
+        of a mode that does), as stiffness.rates gives them of
+        stiffness.fast_modes' eigenvalues; (0, 0, 0) where the Jacobian is
+        not finite; None where the eigenvalues did not converge (the caller
         asks LAPACK). x0 and p: float arrays of the rig's sizes."""
         if len(x0) != self.nx or len(p) != self.np:
             raise ParameterError(f"rig {self.name}: {len(x0)} start values and {len(p)} parameters "
@@ -212,7 +213,7 @@ class CompiledODE:
         code = self._modes(b.addr[0], b.addr[1], float(t0), b.c_addr)
         if code == RC_SETUP:
             raise MemoryError(f"rig {self.name}: no memory for the Jacobian's modes")
-        return None if code < 0 else tuple(b.c[:2].tolist())
+        return None if code < 0 else tuple(b.c[:3].tolist())
 
     def start(self, p) -> np.ndarray:
         """The start values of the parameters ``p`` (pdbfs_batch_start)."""

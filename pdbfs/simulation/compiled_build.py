@@ -36,7 +36,7 @@ DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_r
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
                                      "pdbfs_run_trajectory.c")) + ERK_DRIVER
 HEADER = "pdbfs_batch_model.h"
-ABI = 9
+ABI = 10
 
 #: the summary roles the summary driver knows, in its order (c/pdbfs_summary.c)
 ROLES = ("pressure", "contact_force", "piston_displacement", "striker_velocity")

@@ -35,15 +35,22 @@ def compiled_failure(name, grid, st) -> Exception:
         -4: CAUSES["CONV_FAIL"],                                  # CV_CONV_FAILURE
         -27: CAUSES["TOO_CLOSE"],                                 # CV_TOO_CLOSE
     }
+    method = str((getattr(st, "stats", None) or {}).get("method", ""))
+    who = "explicit Runge-Kutta" if method.startswith("erk") else "CVODE"
+    if st.message == "out of memory":       # the record of the run's steps outgrew it
+        return SolverError(
+            f"rig {name}: the run ran out of memory after t = {st.t_reached:.6g} s (of "
+            f"{grid[-1]:.6g} s, {st.steps} steps): it keeps every step of its solution for "
+            "its summary; ask for a shorter t_end")
     if st.code in (-8, -9, -10, -11):       # CV_RHSFUNC_FAIL ... CV_UNREC_RHSFUNC_ERR
         cause = ("the right-hand side became NaN or infinite (a force blowing up, or a "
                  "parameter out of range)")
     else:
-        cause = causes.get(st.code, "CVODE failed")
-    who = "explicit Runge-Kutta" if str((getattr(st, "stats", None) or {}).get("method", "")) \
-        .startswith("erk") else "CVODE"
+        cause = causes.get(st.code, f"{who} failed")
+    if method.startswith("bdf"):             # already the method the hints suggest
+        cause = cause.replace(" (try method='bdf')", "").replace("method='bdf' or ", "")
     detail = f" ({who}: {st.message})" if st.message else ""
-    if who != "CVODE":       # the explicit method cannot follow a stiff rig
+    if who != "CVODE" and "method='bdf'" not in cause:   # an explicit method and a stiff rig
         detail += "; if the rig is stiff there, try method='bdf'"
     return SolverError(f"rig {name}: the solver failed after t = {st.t_reached:.6g} s "
                        f"(of {grid[-1]:.6g} s): {cause}{detail}")

@@ -26,6 +26,7 @@ from pdbfs.errors import ParameterError
 
 from .input_traces import refuse_differentiated
 from .kinks import kinks_at
+from .settings import name_list
 
 
 @dataclass
@@ -149,8 +150,10 @@ def linearize(model, at="start", inputs=None, outputs=None, params=None, start=N
     from .simulator import Simulator
     sim = Simulator.of(model)
     dae = sim.dae
-    inputs = list(inputs or [])
-    outputs = list(outputs) if outputs is not None else \
+    if isinstance(at, (bool, np.bool_)):       # True is no time (float(True) is 1 s)
+        raise ParameterError(f"at={at!r}: give 'start', 'steady' or a time in s")
+    inputs = name_list(inputs, "inputs", "'oil.k'") if inputs is not None else []
+    outputs = name_list(outputs, "outputs", distinct=False) if outputs is not None else \
         [v.name for v in dae.y_info if v.output]
     for n in inputs:
         if dae.p_row(n) is None:

@@ -34,10 +34,11 @@ def simulate(model, t_end: float = 0.02, n_out: int = 2001, *, t_out=None, param
               each state's unit, None: 1e-10, and 1e-2 * rtol below rtol
               1e-8, so that a tighter rtol converges however small the
               signals)
-    method    'auto' (the default: Adams unless a fast mode decays without
-              oscillating, see stiffness.py; in the compiled backend the
-              explicit Runge-Kutta method instead of Adams), 'adams'
-              (non-stiff), 'bdf' (stiff) or 'erk' (explicit Runge-Kutta of
+    method    'auto' (the default: the cheapest method for the run by an
+              estimate of its steps, from the rig's modes at the start, and
+              of a step's cost, see stiffness.py: in the compiled backend of
+              'erk', 'adams' and 'bdf', through CasADi of the last two),
+              'adams' (non-stiff), 'bdf' (stiff) or 'erk' (explicit Runge-Kutta of
               order 8 with event location, compiled backend only); rigs with
               algebraic variables always use IDAS (BDF)
     max_step  largest internal step, s (None: no limit)

@@ -18,7 +18,12 @@ from pdbfs.files import whole
 from .c_summary import summary_of
 from .hermite import Curves
 from .initialize import InitialState
+from .settings import name_list
 from .summary import summarize
+
+
+#: rows of a CSV formatted at a time (Result.to_csv)
+CSV_ROWS = 20000
 
 
 class Result:
@@ -221,22 +226,37 @@ class Result:
 
     # -- export -------------------------------------------------------------------
     def as_dict(self, names=None) -> dict:
-        names = self.names if names is None else names
+        names = self.names if names is None else name_list(names, "names", distinct=False)
         return {"time": self.t, **{n: self[n] for n in names}}
 
-    def to_csv(self, path, names=None):
+    def to_csv(self, path, names=None, progress=None):
         """Write time and the variables (all by default) as CSV, SI units in
-        the header (``name [unit]``)."""
-        names = self.names if names is None else list(names)
-        if len(names) > 8:
-            self._all()
-        data = np.vstack([self.t] + [self[n] for n in names]).T
-        if not np.all(np.isfinite(data)):
-            raise PdbfsError("refusing to write NaN or infinite values to " + str(path))
-        row = ",".join(["%r"] * data.shape[1])      # what csv.writer writes, a third sooner
+        the header (``name [unit]``). Written CSV_ROWS rows at a time (the
+        outputs computed for those rows only, unless the Result holds them):
+        the memory it takes does not grow with the run. ``progress``: a
+        function called with (rows written, rows in all) after each block."""
+        names = self.names if names is None else name_list(names, "names", distinct=False)
+        for n in names:
+            if n not in self:
+                self[n]                                  # its KeyError, with suggestions
+        idx = [self._index.get(n) for n in names]
+        n_rows = len(self.t)
+        # few names, or outputs at hand: whole rows (kept on the Result, as before)
+        held = self._Y is not None or len(names) <= 8 or None in idx or \
+            all(i in self._rows for i in idx)
+        row = ",".join(["%r"] * (len(names) + 1))     # what csv.writer writes, a third sooner
         with whole(path) as part, open(part, "w", newline="") as fh:
             csv.writer(fh).writerow(["time [s]"] + [f"{n} [{self.units[n]}]" for n in names])
-            fh.write("".join([row % tuple(r) + "\r\n" for r in data.tolist()]))
+            for a in range(0, n_rows, CSV_ROWS):
+                b = min(n_rows, a + CSV_ROWS)
+                cols = [self[n][a:b] for n in names] if held else \
+                    self._sim.outputs(self.t[a:b], self._X[:, a:b], self._Z[:, a:b], self.p, idx)
+                data = np.vstack([self.t[a:b], *cols]).T
+                if not np.all(np.isfinite(data)):
+                    raise PdbfsError("refusing to write NaN or infinite values to " + str(path))
+                fh.write("".join([row % tuple(r) + "\r\n" for r in data.tolist()]))
+                if progress is not None:
+                    progress(b, n_rows)
         return path
 
     def to_pandas(self, names=None):

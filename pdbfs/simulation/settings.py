@@ -49,6 +49,39 @@ def whole(value, name: str) -> int:
     return int(value)
 
 
+def name_list(value, name: str, example: str = "'oil.pressure'", distinct: bool = True
+              ) -> list[str]:
+    """``value`` as a list of variable or parameter names: one name as a str
+    (never read letter by letter), or a list, tuple or array of str. With
+    ``distinct``, a name listed twice is refused (two columns of one
+    parameter are no two inputs: a derivative would be split between them).
+
+    Parameters
+    ----------
+    value : str or sequence of str
+        What the caller gave.
+    name : str
+        The argument's name, for the message (``inputs``, ``outputs``, ...).
+    example : str
+        A name shown in the message of a refusal.
+    distinct : bool
+        Refuse a name listed twice (parameters as inputs); outputs may repeat.
+    """
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, np.ndarray) and value.ndim == 1:
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        raise ParameterError(f"{name} = {plain(value)}: give a name or a list of names, e.g. "
+                             f"{name}=[{example}]")
+    seen = set()
+    for v in value if distinct else ():
+        if v in seen:
+            raise ParameterError(f"{name}: {v!r} is listed twice")
+        seen.add(v)
+    return list(value)
+
+
 def mapping(value, name: str, example: str = "'hammer.v0': 3.0") -> dict:
     """``value`` as a dict {name: value} (None: empty); anything else is refused."""
     from collections.abc import Mapping

@@ -68,10 +68,10 @@ class Simulator(RunInputs, OnGrid):
     # -- integrators -------------------------------------------------------------
     def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
         """``method``, or for "auto" the one stiffness.auto_method picks
-        for this start and time span (cached: repeated runs pay nothing); in
-        the compiled backend a rig that is not stiff gets the explicit
-        Runge-Kutta method ("erk") instead of Adams, and the modes are the
-        compiled library's."""
+        for this start and time span (cached: repeated runs pay nothing): in
+        the compiled backend the cheapest of "erk", "adams" and "bdf" by its
+        cost estimate (the modes from the compiled library), through CasADi
+        of "adams" and "bdf"."""
         if method != "auto":
             return method
         key = ("auto", backend == "c", np.asarray(p, float).tobytes(),
@@ -80,11 +80,10 @@ class Simulator(RunInputs, OnGrid):
         if found is None:
             # (backend "c" here: run() has refused a DAE rig already)
             lib = self.compiled() if backend == "c" and self.nx else None
-            found = auto_method(self.dae, p, x0, span, lib)
+            found = auto_method(self.dae, p, x0, span, lib, backend)
             if len(self._cache) < self.CACHE_MAX:   # a loop over new parameters: bounded
                 self._cache[key] = found
-        chosen, _, erk = found
-        return "erk" if erk and backend == "c" else chosen
+        return found[0]
 
     def resolve_backend(self, backend: str) -> str:
         """``backend``, or for "auto" the compiled backend where it can be

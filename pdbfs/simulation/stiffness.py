@@ -1,31 +1,25 @@
-"""Which linear multistep method suits a rig: ``method="auto"``.
+"""Which method suits a rig: ``method="auto"``, the cheapest by the cost
+model of pdbfs.native.stiffness (steps the modes allow x the cost of a step).
 
-CVODE's Adams methods take steps no longer than about 1/|lambda| for the
-fastest eigenvalue lambda of the Jacobian; its BDF methods are stable for
-fast *decaying* modes at any step but lose accuracy and stability on fast
-*oscillating* ones (orders 3-5 are not stable near the imaginary axis).
-Impact rigs are mostly the second kind: a chain of masses and stiff
-springs rings at its highest mode, and Adams is the cheaper method there
-(measured on the split piston, N = 10 ... 200: Adams needs 15-30 % fewer
-steps than BDF). A rig is stiff in BDF's sense when a fast mode decays
-without oscillating (|Re lambda| > |Im lambda|) and would force Adams into
-more than ``STIFF_STEPS`` steps over the run.
-
-The eigenvalues are those of d(ode)/dx at the start: dense for small rigs,
-the few of largest modulus (ARPACK) for large ones. A rig whose stiffness
-appears only later (a contact that closes) is judged by its start: pass
-``method=`` to override.
+The modes are the eigenvalues of d(ode)/dx at the start: dense for small
+rigs, the few of largest modulus (ARPACK) for large ones. Impact rigs are
+mostly oscillating chains: a chain of masses and stiff springs rings at its
+highest modes, which every method must resolve, and the explicit method of
+order 8 takes 5-10 times fewer steps than CVODE's (compiled backend). A mode
+that decays fast without oscillating holds the explicit method and Adams to
+short steps but not BDF: that is where BDF is the cheaper method. A rig whose
+stiffness appears only later (a contact that closes) is judged by its start:
+pass ``method=`` to override. Through CasADi the choice is between Adams and
+BDF.
 """
 from __future__ import annotations
 
 import casadi as ca
 import numpy as np
 
-# the thresholds (STIFF_STEPS: a fast decaying mode's Adams steps that make BDF
-# the cheaper method; DENSE_UP_TO: above, only the modes of largest modulus;
-# ERK_RADIANS: the longest run, in radians of the fastest mode, given the
-# explicit method) are shared with the FMU's C
-from pdbfs.native.stiffness import DENSE_UP_TO, ERK_RADIANS, STIFF_STEPS  # noqa: F401
+from pdbfs.native.stiffness import DENSE_UP_TO, ode_instructions, run_costs
+
+METHOD_NAMES = {"erk": "explicit Runge-Kutta 8(5,3)", "adams": "CVODE Adams", "bdf": "CVODE BDF"}
 
 
 def jacobian_function(dae) -> ca.Function:
@@ -60,43 +54,61 @@ def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:
         return np.asarray(err.eigenvalues, complex)
 
 
-def rates(lam) -> tuple[float, float]:
-    """(the largest modulus of the eigenvalues ``lam``, the fastest decay
-    -Re lambda of a mode that does not oscillate, |Re| > |Im|; 0 if none):
-    all the choice below needs of them."""
+def rates(lam) -> tuple[float, float, float]:
+    """(the largest modulus of the eigenvalues ``lam``; the fastest decay
+    -Re lambda of a mode that does not oscillate, |Re| > |Im|; the largest
+    modulus of a mode that does, |Im| >= |Re|; 0 where none): all the choice
+    below needs of them."""
     lam = np.asarray(lam, complex)
-    decaying = lam[np.abs(lam.real) > np.abs(lam.imag)]
-    return float(np.max(np.abs(lam), initial=0.0)), float(np.max(-decaying.real, initial=0.0))
+    decaying = np.abs(lam.real) > np.abs(lam.imag)
+    return (float(np.max(np.abs(lam), initial=0.0)), float(np.max(-lam[decaying].real, initial=0.0)),
+            float(np.max(np.abs(lam[~decaying]), initial=0.0)))
 
 
-def decide(fastest: float, rate: float, t_end: float) -> tuple[str, str, bool]:
-    """(CVODE's method, "adams" or "bdf"; why; whether the explicit method
-    suits the run instead) from the modes' ``rates`` and the run's length."""
-    if rate * t_end > STIFF_STEPS:
-        return "bdf", (f"a mode decays at {rate:.3g} 1/s without oscillating: Adams would need "
-                       f"about {rate * t_end:.3g} steps"), False
-    return ("adams", f"the fastest mode ({fastest:.3g} rad/s) oscillates or is slow: not stiff",
-            fastest * t_end <= ERK_RADIANS)
+def decide(fastest: float, rate: float, osc: float, n: int, instructions: float, t_end: float,
+           methods=("erk", "adams", "bdf")) -> tuple[str, str]:
+    """(the cheapest of ``methods`` for a run of ``t_end`` s, why) from the
+    modes' ``rates``, the state count and the right-hand side's instructions
+    (t_end infinite: a run of unknown length, by the cost of each second)."""
+    cost = run_costs(fastest, rate, osc, n, instructions, t_end)
+    best = min(methods, key=cost.__getitem__)        # (a tie: the first)
+    # (no comprehension, lambda or generator: each is a Python call, counted as above)
+    priced = []
+    for m in methods:
+        priced.append(f"{m} {cost[m]:.3g}")
+    unit = "ns a second" if t_end == float("inf") else "ns"
+    why = (f"the cheapest by the estimate ({', '.join(priced)} {unit}): "
+           f"the fastest mode ({fastest:.3g} rad/s), the fastest oscillating {osc:.3g} rad/s")
+    if rate > 0:
+        why += f", a mode decays at {rate:.3g} 1/s without oscillating"
+    return best, why
 
 
 def choose_method(dae, p, x0, t_end: float, lam=None) -> tuple[str, str]:
     """("adams" or "bdf", why) for integrating ``dae`` over [0, t_end] from x0
-    (``lam``: fast_modes' answer, if at hand)."""
+    through CasADi (``lam``: fast_modes' answer, if at hand)."""
     if not dae.is_ode or dae.x.numel() == 0:
         return "bdf", "a DAE rig (IDAS uses BDF)"
     lam = fast_modes(dae, p, x0) if lam is None else lam
-    return decide(*rates(lam), t_end)[:2]
+    return decide(*rates(lam), dae.x.numel(), ode_instructions(dae), t_end, ("adams", "bdf"))
 
 
-def auto_method(dae, p, x0, t_end: float, lib=None) -> tuple[str, str, bool]:
-    """method="auto" for a run of ``t_end`` from x0: decide()'s answer. The
-    modes come from the compiled library ``lib`` where given (the FMU's C,
-    pdbfs_modes.c: a few microseconds, where CasADi's Jacobian and LAPACK
-    took longer than the run), else from fast_modes."""
-    if lib is not None and lib.nx <= DENSE_UP_TO:     # (a library is of an ODE with states)
-        found = lib.modes(x0, p)
-        if found is not None:
-            return decide(*found, t_end)
-    if not dae.is_ode or dae.x.numel() == 0:
-        return (*choose_method(dae, p, x0, t_end), False)
-    return decide(*rates(fast_modes(dae, p, x0)), t_end)
+def auto_method(dae, p, x0, t_end: float, lib=None, backend: str = "c") -> tuple[str, str]:
+    """method="auto" for a run of ``t_end`` from x0: (the method, why): in the
+    compiled backend (``backend`` "c") the cheapest of "erk", "adams" and
+    "bdf", else of "adams" and "bdf". The modes come from the compiled library
+    ``lib`` where given (pdbfs_modes.c, the FMU's C too: a few microseconds,
+    where CasADi's Jacobian and LAPACK took longer than the run), else from
+    fast_modes."""
+    # (a library is of an ODE with states; casadi's numel is a Python call, and a loop
+    # over new parameters decides at every run: tests/test_run_overhead.py counts them)
+    modes = lib.modes(x0, p) if lib is not None and lib.nx <= DENSE_UP_TO else None
+    if modes is not None:
+        n = lib.nx
+    elif not dae.is_ode or dae.x.numel() == 0:
+        return "bdf", "a DAE rig (IDAS uses BDF)"
+    else:
+        n, modes = dae.x.numel(), rates(fast_modes(dae, p, x0))
+    methods = ("erk", "adams", "bdf") if backend == "c" else ("adams", "bdf")
+    instructions = dae.__dict__.get("_ode_instructions") or ode_instructions(dae)
+    return decide(*modes, n, instructions, t_end, methods)

@@ -16,7 +16,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from .initialize import refuse_solved_start
-from .settings import default_atol
+from .settings import default_atol, name_list
 from .simulator import MAX_NUM_STEPS, Simulator
 from .time_events import breakpoints
 
@@ -33,13 +33,12 @@ def trajectory_function(model, outputs, t_end: float = 0.02, n_out: int = 2001, 
     dae = sim.dae
     grid = sim.grid(t_end, n_out, t_out)
     index = {n: i for i, n in enumerate(dae.y_names)}
-    if isinstance(outputs, str):
-        outputs = [outputs]
+    outputs = name_list(outputs, "outputs", distinct=False)
     missing = [n for n in outputs if n not in index]
     if missing or not outputs:
         raise ParameterError(f"trajectory_function: unknown output(s) {', '.join(missing)} of "
                              f"rig {dae.name}" if missing else "trajectory_function: no outputs")
-    inputs = list(dae.p_names if inputs is None else inputs)
+    inputs = list(dae.p_names) if inputs is None else name_list(inputs, "inputs", "'oil.k'")
     p_index = {n: i for i, n in enumerate(dae.p_names)}
     unknown = [n for n in inputs if n not in p_index]
     if unknown:

@@ -19,7 +19,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, SampleTooSmallWarning, plain
 from pdbfs.simulation.memory import require, table_bytes
-from pdbfs.simulation.settings import mapping, real
+from pdbfs.simulation.settings import mapping, name_list, real
 
 from .sweeps.sampling import Points, _check_range
 from .sweeps import sweep
@@ -211,7 +211,7 @@ def _check_outputs(rig, outputs):
         if rig not in RIGS:
             raise ParameterError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
         rig = RIGS[rig]()
-    outputs = [outputs] if isinstance(outputs, str) else list(outputs)
+    outputs = name_list(outputs, "outputs", "'peak_pressure'", distinct=False)  # (named twice: below)
     if not outputs:
         raise ParameterError("sensitivity: no outputs; name at least one summary value, e.g. "
                              "peak_pressure")

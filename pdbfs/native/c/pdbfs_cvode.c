@@ -346,10 +346,10 @@ int pdbfs_cvode_advance(PdbfsCvode *s, double t_out, double horizon, long max_st
             s->roots++;
         }
         CVodeGetCurrentTime(s->cv, &s->tn);
-        if (s->on_step && s->on_step(s->step_env, tret, N_VGetArrayPointer(s->y))) {
+        flag = s->on_step ? s->on_step(s->step_env, tret, N_VGetArrayPointer(s->y)) : 0;
+        if (flag && flag != PDBFS_STEP_PAUSE)
             say(s, PDBFS_LOG_ERROR, "stopped by the step callback at t = %.10g", tret);
-            return PDBFS_CV_STOPPED;
-        }
+        if (flag) return PDBFS_CV_STOPPED;
     }
     if (s->steps_since_start == 0) {   /* t_out is the (re)start point itself */
         for (i = 0; i < s->nx; i++) x_out[i] = NV_Ith_S(s->y, i);

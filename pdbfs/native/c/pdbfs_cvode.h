@@ -60,6 +60,10 @@
 /* pdbfs_cvode_advance's own failures (CVODE's are its negative flags) */
 #define PDBFS_CV_TOO_MUCH_WORK 3
 #define PDBFS_CV_STOPPED 5        /* the step callback asked to stop */
+/* the step callback's answer that stops pdbfs_cvode_advance without an error
+ * (co-simulation switching methods): s->y is the state at s->tn, where the
+ * step ended, and CVODE's dense output still covers that step */
+#define PDBFS_STEP_PAUSE 2
 
 /* what the log callback is told */
 #define PDBFS_LOG_ERROR 0

@@ -102,6 +102,7 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     s->quiet = -1;
     s->err_prev = 0.0;
     s->kink_steps = 0;
+    s->stiff_steps = 0;
     s->msg[0] = 0;
     memcpy(s->y, x0, sizeof(double) * (size_t)s->nx);
     if (erk_rhs(s, t0, s->y, s->f)) {
@@ -236,6 +237,7 @@ static int step(PdbfsErk *s, double t_out) {
             gb = sw;
         }
     }
+    if (s->stiff_after > 0) s->stiff_steps = h >= s->stiff_h ? s->stiff_steps + 1 : 0;
     if (first >= 0 && th_root < 1.0) {
         /* restart just past the root: the kink is not stepped over.  The step
          * that found it has stages beyond the kink; the step is taken again up
@@ -271,6 +273,7 @@ static int step(PdbfsErk *s, double t_out) {
          * by the step control for that order (factor(), KINK_STEPS) */
         if (s->h > RESTART_STEP * h) s->h = RESTART_STEP * h;
         s->err_prev = 0.0;        /* a fresh start: the errors before the kink say nothing */
+        s->stiff_steps = 0;
         s->kink_steps = KINK_STEPS;
         s->quiet = first;
     } else {
@@ -331,6 +334,11 @@ int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out) 
         if (++n > max_steps) {
             snprintf(s->msg, sizeof s->msg, "%ld steps without reaching t = %.10g", max_steps, t_out);
             return PDBFS_CV_TOO_MUCH_WORK;
+        }
+        if (s->stiff_after > 0 && s->stiff_steps >= s->stiff_after) {
+            snprintf(s->msg, sizeof s->msg, "%d steps in a row of at least %.3g s, held by stability",
+                     s->stiff_steps, s->stiff_h);
+            return PDBFS_ERK_STIFF;
         }
         flag = pdbfs_erk_step_watched(s, t_out);
         if (flag == PDBFS_ERK_AGAIN) continue;

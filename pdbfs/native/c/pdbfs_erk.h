@@ -31,6 +31,10 @@
  * report it as CVODE's CV_ERR_FAILURE (-3), its nearest cause */
 #define PDBFS_ERK_STEP_UNDERFLOW (-30)
 
+/* pdbfs_erk_advance's stop where the steps were held by stability
+ * (PdbfsErk.stiff_after): s->t and s->y are where it stopped, short of t_out */
+#define PDBFS_ERK_STIFF 7
+
 typedef struct {
     int nx, ne;
     int nq;                   /* the last nq states are quadratures: integrals the
@@ -60,6 +64,13 @@ typedef struct {
                                * t_out is reached): on_step finds the step's stages in k
                                * (13 nx, pdbfs_erk_rows) when dense_ready is 0 (sweeps) */
     double err_prev;          /* the error of the step before (step control) */
+    /* stiffness (co-simulation's method "auto"; stiff_after 0: off):
+     * pdbfs_erk_advance stops (PDBFS_ERK_STIFF) once stiff_after steps in a
+     * row were at least stiff_h long, a length at which the fastest mode's
+     * |h lambda| is near the edge of the stability region: steps held by
+     * stability rather than accuracy (a fast mode at rest, a fast decay) */
+    int stiff_after, stiff_steps;
+    double stiff_h;
     int kink_steps;           /* steps after a (re)start at a kink: step control for low order */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
@@ -75,8 +86,9 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
 
 /* Integrate to t_out (at most max_steps steps) and write the state at t_out
  * into x_out (from the dense output).  0, PDBFS_CV_TOO_MUCH_WORK,
- * PDBFS_CV_STOPPED, PDBFS_ERK_STEP_UNDERFLOW, or -3 (the solution stopped
- * being finite); s->t is then the time reached and s->msg says why. */
+ * PDBFS_CV_STOPPED, PDBFS_ERK_STIFF, PDBFS_ERK_STEP_UNDERFLOW, or -3 (the
+ * solution stopped being finite); s->t is then the time reached and s->msg
+ * says why. */
 int pdbfs_erk_advance(PdbfsErk *s, double t_out, long max_steps, double *x_out);
 
 /* One step towards t_out (the dense output is made when the step reaches it),

@@ -171,12 +171,12 @@ size_t pdbfs_modes_work(int n) {
 }
 
 int pdbfs_modes_at(PdbfsEval *ev, int n, double t, const double *x, double *work,
-                   double *fastest, double *rate) {
+                   double *fastest, double *rate, double *osc) {
     const casadi_int *sp = pdbfs_jac_sparsity_out(0);
     const int dense = sp[2] == 1;
     double *nz = work, *a = nz + jac_nnz(n, sp) + 1, *wr = a + (size_t)n * (size_t)n, *wi = wr + n;
     int i, bad = 0;
-    *fastest = *rate = 0.0;
+    *fastest = *rate = *osc = 0.0;
     for (i = 0; i < n * n; i++) a[i] = 0.0;
     if (pdbfs_eval_txp(ev, pdbfs_jac, t, x, nz)) bad = 1;
     for (i = 0; i < n; i++) {
@@ -192,7 +192,11 @@ int pdbfs_modes_at(PdbfsEval *ev, int n, double t, const double *x, double *work
     for (i = 0; i < n; i++) {
         double mod = hypot(wr[i], wi[i]);
         if (mod > *fastest) *fastest = mod;
-        if (fabs(wr[i]) > fabs(wi[i]) && -wr[i] > *rate) *rate = -wr[i];
+        if (fabs(wr[i]) > fabs(wi[i])) {
+            if (-wr[i] > *rate) *rate = -wr[i];
+        } else if (mod > *osc) {
+            *osc = mod;
+        }
     }
     return 0;
 }

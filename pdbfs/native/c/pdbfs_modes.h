@@ -17,10 +17,11 @@ size_t pdbfs_modes_work(int n);
 
 /* The modes of d(ode)/dx at (t, x), n states: *fastest the largest modulus
  * of an eigenvalue, *rate the fastest decay of a mode that does not
- * oscillate (-Re lambda where |Re lambda| > |Im lambda|, else 0).  0; 1
- * when the Jacobian is not finite there (no modes: both 0); -1 when the
+ * oscillate (-Re lambda where |Re lambda| > |Im lambda|, else 0), *osc the
+ * largest modulus of a mode that does (|Im lambda| >= |Re lambda|).  0; 1
+ * when the Jacobian is not finite there (no modes: all 0); -1 when the
  * eigenvalues did not converge.  work: pdbfs_modes_work(n) doubles. */
 int pdbfs_modes_at(PdbfsEval *ev, int n, double t, const double *x, double *work,
-                   double *fastest, double *rate);
+                   double *fastest, double *rate, double *osc);
 
 #endif

@@ -38,7 +38,7 @@
 #define API __attribute__((visibility("default")))
 
 /* version of the calling convention below: the Python side checks it */
-#define PDBFS_BATCH_ABI 9
+#define PDBFS_BATCH_ABI 10
 
 /* return codes (CVODE's own failures return CVODE's negative flag) */
 #define RC_OK 0
@@ -94,7 +94,8 @@ API void pdbfs_batch_sizes(long long *out) {
 
 /* The modes of d(ode)/dx at (t0, x0) with the parameters p (pdbfs_modes.h),
  * for method "auto": out[0] the largest modulus of an eigenvalue, out[1] the
- * fastest decay of a mode that does not oscillate.  pdbfs_modes_at's code
+ * fastest decay of a mode that does not oscillate, out[2] the largest modulus
+ * of a mode that does.  pdbfs_modes_at's code
  * (0; 1: the Jacobian is not finite there; -1: no convergence), or RC_SETUP
  * when out of memory. */
 API int pdbfs_batch_modes(const double *p, const double *x0, double t0, double *out) {
@@ -102,10 +103,10 @@ API int pdbfs_batch_modes(const double *p, const double *x0, double t0, double *
     void *block = pdbfs_eval_alloc(&ev, PDBFS_SZ_ARG, PDBFS_SZ_RES, PDBFS_SZ_IW, PDBFS_SZ_W);
     double *work = malloc(sizeof(double) * pdbfs_modes_work(NX));
     int rc = RC_SETUP;
-    out[0] = out[1] = 0.0;
+    out[0] = out[1] = out[2] = 0.0;
     if (block && work) {
         ev.p = p;
-        rc = pdbfs_modes_at(&ev, NX, t0, x0, work, out, out + 1);
+        rc = pdbfs_modes_at(&ev, NX, t0, x0, work, out, out + 1, out + 2);
     }
     free(work);
     free(block);

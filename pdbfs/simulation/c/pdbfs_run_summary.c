@@ -144,6 +144,8 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
                                   (long)max_num_steps, &reached);
         info[INFO_T] = t[reached - 1];
         if (flag) {
+            /* the time reached is the last accepted step's, not the last output time */
+            if (K->rk.t > info[INFO_T]) info[INFO_T] = K->rk.t;
             rc = flag == -3 || H->bad ? RC_NOT_FINITE : flag == PDBFS_ERK_STEP_UNDERFLOW ? -3 : flag;
             if (err.len && !msg[0]) snprintf(msg, err.len, "%s", K->rk.msg);
             if (H->oom && err.len) snprintf(msg, err.len, "out of memory");
@@ -152,6 +154,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     for (k = 1; k < nt && !rc && !erk; k++) {
         int flag = pdbfs_cvode_advance(&s, t[k], t[nt - 1], (long)max_num_steps, x);
         if (flag) {
+            if (s.tn > info[INFO_T]) info[INFO_T] = s.tn;   /* where CVODE got to */
             rc = H->bad ? RC_NOT_FINITE : flag;
             if (H->oom && err.len) snprintf(msg, err.len, "out of memory");
             if (flag < 0) info[INFO_FLAG] = flag;

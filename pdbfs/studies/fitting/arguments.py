@@ -15,7 +15,7 @@ def check_fit_arguments(*, free, bounds, start, params, starts, t_end, seed=0, s
     else:
         raise ParameterError(f"free = {free!r}: name the free parameters as a list of names "
                              "or one comma-separated string, e.g. free='oil.k,seal.c'")
-    if bounds is not None and not isinstance(bounds, dict) and not (
+    if bounds is not None and not isinstance(bounds, (dict, str)) and not (
             isinstance(bounds, (list, tuple)) and all(isinstance(b, str) for b in bounds)):
         raise ParameterError(f"bounds = {bounds!r}: give a dict {{name: (lo, hi)}} or "
                              "'NAME=LO:HI' strings")

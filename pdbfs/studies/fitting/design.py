@@ -115,6 +115,7 @@ def design(rig, target, *, free, bounds=None, start=None, params=None, signal=No
     if isinstance(target, dict):
         goals = _feature_targets(target)
         horizon = t_end or _horizon(goals, getattr(rig, "default_t_end", 0.02))
+        check_peak_in_pulse(rig, unknowns, params, goals, horizon)
         model = SignalModel(sim, signal, targets, horizon, p0, dt=dt, rtol=rtol, atol=atol,
                             progress=progress)
         prob = FeatureProblem(model, unknowns, goals)
@@ -173,6 +174,46 @@ def _feature_targets(target: dict) -> dict:
         raise ParameterError("no design target: give a curve, or at least one of "
                              + ", ".join(FEATURES))
     return goals
+
+
+def check_peak_in_pulse(rig, unknowns, params, goals, horizon):
+    """Refuse a time of peak that comes after a pulse of the duration asked
+    has ended, wherever the free parameters are within their bounds: the
+    peak lies inside the pulse, which starts by the latest peak the rig
+    has at its bounds' corners (or the ends of each bound, past 3 free
+    parameters). Nothing is refused where a probe has no peak in the horizon."""
+    t_peak, duration = goals.get("time_of_peak"), goals.get("pulse_duration")
+    if t_peak is None or duration is None or t_peak <= duration:
+        return                           # a pulse from the start of the run can hold it
+    from itertools import product
+
+    from pdbfs.errors import PdbfsError
+
+    from ..sweeps import Points, sweep
+    mid = [u.ref for u in unknowns]
+    if len(unknowns) <= 3:
+        rows = [mid] + [list(c) for c in product(*[(u.lo, u.hi) for u in unknowns])]
+    else:
+        rows = [mid] + [mid[:i] + [b] + mid[i + 1:] for i, u in enumerate(unknowns)
+                        for b in (u.lo, u.hi)]
+    X = [[u.rig_value(v) for u, v in zip(unknowns, row)] for row in rows]
+    try:
+        probes = sweep(rig, Points([u.target for u in unknowns], X, {"kind": "design probes"}),
+                       t_end=horizon, params=params, progress=False, workers=1)
+        peaks = probes.values("time_of_peak")
+    except (PdbfsError, KeyError):
+        return                           # the design itself says what is wrong
+    if not np.all(np.isfinite(peaks)):
+        return
+    latest = float(np.max(peaks))
+    if t_peak > latest + 2.0 * duration:
+        free = ", ".join(u.name for u in unknowns)
+        raise ParameterError(
+            f"design targets: time_of_peak = {t_peak:g} s comes after a pulse of "
+            f"pulse_duration = {duration:g} s has ended: with {free} within their bounds "
+            f"rig {probes.rig} peaks by {latest:.4g} s (at the bounds' ends), so its pulse "
+            f"starts by then; ask for a time of peak inside the pulse, or free a parameter "
+            "that delays the blow (a gap, a start position, a drop height)")
 
 
 def _horizon(goals, default):

@@ -78,6 +78,8 @@ def parse_bounds(items) -> dict:
     """{name: (lo, hi)} from ``NAME=LO:HI`` strings (or a dict passed through)."""
     if isinstance(items, dict):
         return {k: tuple(map(float, v)) for k, v in items.items()}
+    if isinstance(items, str):           # one bound, not read letter by letter
+        items = [items]
     out = {}
     for item in items or []:
         name, sep, rng = item.partition("=")

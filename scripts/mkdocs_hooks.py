@@ -1,0 +1,218 @@
+"""MkDocs hooks (mkdocs.yml ``hooks:``): the reference pages made from the
+code itself, so nothing is written twice.
+
+* ``reference/cli.md``: every command and option, from ``pdbfs.cli.build_parser``;
+* ``reference/components.md``: the component catalogue, from each component's
+  own ``Parameter`` declarations, connectors and variables;
+* ``reference/rigs.md``: the rigs ``--rig`` accepts, with their parameters.
+
+The API pages (``::: pdbfs...``) are read by mkdocstrings from the sources.
+pdbfs maps ``pdbfs.components``, ``pdbfs.models`` and ``pdbfs.fmu`` to
+top-level folders (pyproject.toml's package-dir), which static analysis
+cannot follow, so the hook lays out the package as Python sees it (symbolic
+links in a temporary folder) and points mkdocstrings there.
+"""
+from __future__ import annotations
+
+import argparse
+import inspect
+import shutil
+import tempfile
+from pathlib import Path
+
+from mkdocs.plugins import event_priority
+from mkdocs.structure.files import File
+
+ROOT = Path(__file__).resolve().parents[1]
+_STAGE: list[Path] = []
+
+
+@event_priority(100)          # before mkdocstrings makes its handler from the paths
+def on_config(config):
+    stage = Path(tempfile.mkdtemp(prefix="pdbfs-api-"))
+    _STAGE.append(stage)
+    pkg = stage / "pdbfs"
+    pkg.mkdir()
+    for entry in (ROOT / "pdbfs").iterdir():
+        if entry.name != "__pycache__":
+            (pkg / entry.name).symlink_to(entry)
+    for name in ("components", "models", "fmu"):
+        (pkg / name).symlink_to(ROOT / name)
+    python = config.plugins["mkdocstrings"].config["handlers"].setdefault("python", {})
+    python["paths"] = [str(stage)]
+    return config
+
+
+def on_shutdown():
+    for stage in _STAGE:
+        shutil.rmtree(stage, ignore_errors=True)
+
+
+def on_files(files, config):
+    pages = {"reference/cli.md": cli_page, "reference/components.md": components_page,
+             "reference/rigs.md": rigs_page}
+    for uri, make in pages.items():
+        files.append(File.generated(config, uri, content=make()))
+    return files
+
+
+# --- the command line --------------------------------------------------------------------
+
+def _cell(text) -> str:
+    """Text for a Markdown table cell."""
+    return " ".join(str(text).split()).replace("|", "\\|")
+
+
+def _option_row(action) -> str:
+    names = ", ".join(f"`{o}`" for o in action.option_strings) or f"`{action.dest}`"
+    if action.nargs == 0:
+        value = ""
+    elif action.choices:
+        value = " \\| ".join(f"`{c}`" for c in action.choices)
+    else:
+        value = f"`{action.metavar or action.dest.upper()}`"
+    default = action.default
+    shown = "" if default in (None, False, argparse.SUPPRESS) or action.nargs == 0 \
+        else f"`{default}`"
+    return f"| {names} | {value} | {shown} | {_cell(action.help or '')} |"
+
+
+def cli_page() -> str:
+    from pdbfs.cli import build_parser
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    helps = {a.dest: a.help for a in sub._choices_actions}
+    out = ["# Command line", "",
+           "Generated from the command line's own parser: what `pdbfs COMMAND --help` prints, "
+           "as tables. Every command takes `--help`; `pdbfs --version` prints the version.", ""]
+    out += [f"- [`pdbfs {name}`](#pdbfs-{name}): {_cell(helps.get(name, ''))}" for name in sub.choices]
+    for name, p in sub.choices.items():
+        out += ["", f"## `pdbfs {name}` {{#pdbfs-{name}}}", "", _cell(helps.get(name, "")) + ".", ""]
+        if p.description:
+            out += [p.description, ""]
+        usage = p.format_usage().strip().removeprefix("usage: ")
+        out += ["```text", usage, "```", "",
+                "| option | value | default | meaning |", "|---|---|---|---|"]
+        out += [_option_row(a) for a in p._actions if not isinstance(a, argparse._HelpAction)]
+        if p.epilog:
+            out += ["", p.epilog]
+    return "\n".join(out) + "\n"
+
+
+# --- the component catalogue -------------------------------------------------------------
+
+def _number(v) -> str:
+    return f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else str(v)
+
+
+def _limits(decl) -> str:
+    parts = ["> 0"] if decl.positive else []
+    if decl.min is not None:
+        parts.append(f">= {_number(decl.min)}")
+    if decl.max is not None:
+        parts.append(f"<= {_number(decl.max)}")
+    if not decl.tunable:
+        parts.append("fixed")
+    return ", ".join(parts)
+
+
+def declared_parameters(cls) -> dict:
+    """A component class's Parameter declarations, bases first (as Component does)."""
+    from pdbfs import Parameter
+    decls = {}
+    for klass in reversed(cls.__mro__):
+        for name, d in vars(klass).items():
+            if isinstance(d, Parameter):
+                decls[name] = d
+    return decls
+
+
+def _doc(obj) -> str:
+    return inspect.cleandoc(obj.__doc__ or "").split("\n\n")[0].replace("\n", " ")
+
+
+def _options(cls) -> list[str]:
+    """Constructor arguments that are not parameters (structure: laws, flags, sizes)."""
+    try:
+        sig = inspect.signature(cls.__init__)
+    except (TypeError, ValueError):
+        return []
+    return [f"`{p.name}={p.default!r}`" if p.default is not p.empty else f"`{p.name}`"
+            for p in list(sig.parameters.values())[1:]
+            if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
+
+
+def component_section(cls, module: str) -> list[str]:
+    out = ["", f"### {cls.__name__}", "", f"`{module}.{cls.__name__}`: {_doc(cls)}", ""]
+    options = _options(cls)
+    if options:
+        out += ["Options (structure, fixed when the rig is built): " + ", ".join(options) + ".", ""]
+    decls = declared_parameters(cls)
+    if decls:
+        out += ["| parameter | unit | default | limits | description |", "|---|---|---|---|---|"]
+        out += [f"| `{n}` | {_cell(d.unit)} | {_cell(_number(d.default))} | {_limits(d)} | "
+                f"{_cell(d.description)} |" for n, d in decls.items()]
+        out.append("")
+    try:
+        inst = cls()
+    except Exception:  # noqa: BLE001 - a component that needs a size: connectors depend on it
+        return out
+    conns = [f"`{n}` ({type(c).__name__})" for n, c in inst._connectors.items()]
+    if conns:
+        out += ["Connectors: " + ", ".join(conns) + ".", ""]
+    if inst._vars:
+        out += ["| variable | unit | description |", "|---|---|---|"]
+        out += [f"| `{n}` | {_cell(v.decl.unit)} | {_cell(v.decl.description)} |"
+                for n, v in inst._vars.items()]
+        out.append("")
+    return out
+
+
+def components_page() -> str:
+    import pdbfs.components as mech
+    import pdbfs.components.hydraulic as hyd
+    from pdbfs import Component
+    out = ["# Component catalogue", "",
+           "Generated from each component's own declarations: its parameters (name, SI unit, "
+           "default, limits, description), the options its constructor takes, its connectors "
+           "and its variables. `fixed` marks a parameter that cannot change during a run "
+           "(a start value, a mass, an exponent); the rest are tunable. Partial components "
+           "are bases to build new ones on (see the tutorial on building a rig).", ""]
+    for title, mod in (("Translational mechanics", mech), ("Hydraulics", hyd)):
+        classes = [getattr(mod, n) for n in mod.__all__]
+        classes = [c for c in classes if inspect.isclass(c) and issubclass(c, Component)]
+        full = sorted((c for c in classes if not c.__name__.startswith("Partial")),
+                      key=lambda c: c.__name__)
+        partial = sorted((c for c in classes if c.__name__.startswith("Partial")),
+                         key=lambda c: c.__name__)
+        out += [f"## {title}", "", f"`{mod.__name__}`"]
+        for cls in full:
+            out += component_section(cls, mod.__name__)
+        out += ["", f"### Partial bases ({title.lower()})", ""]
+        for cls in partial:
+            out += [f"- `{cls.__name__}`: {_doc(cls)}"]
+        out.append("")
+    return "\n".join(out) + "\n"
+
+
+# --- the rigs ----------------------------------------------------------------------------
+
+def rigs_page() -> str:
+    from pdbfs.models import RIGS
+    out = ["# Rigs", "",
+           "The rigs `--rig NAME` accepts (`pdbfs.models.RIGS`), each built from the component "
+           "library, with every parameter as the rig declares it (`pdbfs params --rig NAME` "
+           "prints the same list).", ""]
+    for name, build in RIGS.items():
+        rig = build()
+        doc = _doc(build) if build.__doc__ and build.__name__ != "<lambda>" else _doc(type(rig))
+        params = rig.parameters()
+        out += [f"## `{name}`", "", f"{doc} (class `{type(rig).__name__}`, "
+                f"{len(params)} parameters)", "",
+                f'??? note "Parameters of {name}"', "",
+                "    | parameter | unit | default | description |", "    |---|---|---|---|"]
+        out += [f"    | `{p.name}` | {_cell(p.unit)} | "
+                f"{_cell(_number(p.value) if isinstance(p.value, (int, float)) else 'computed')} | "
+                f"{_cell(p.description)} |" for p in params]
+        out.append("")
+    return "\n".join(out) + "\n"

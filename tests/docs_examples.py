@@ -1,0 +1,166 @@
+"""The examples of README.md, CONTRIBUTING.md and the docs pages, as the
+tests run them (tests/test_docs.py, test_readme.py, test_readme_commands.py).
+
+A fenced block is one example. ```python blocks run, each page's in order,
+in one namespace, in a temporary folder. ```bash and ```console blocks hold
+commands: every command that starts with ``pdbfs `` runs (continuation
+lines joined, comments and ``$`` prompts removed); in a console block, the
+lines after a command are its output, and an output line starting with
+``pdbfs: error:`` means the page shows the command refused (exit status 2,
+one line on stderr). A block preceded by ``<!-- docs-test: skip: REASON -->``
+does not run.
+"""
+from __future__ import annotations
+
+import re
+import shlex
+import subprocess
+import sys
+import textwrap
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+#: pages outside docs/ that users read
+TOP_PAGES = ("README.md", "CONTRIBUTING.md")
+#: pages the docs build makes from the code (scripts/mkdocs_hooks.py), relative to docs/
+GENERATED = {"reference/cli.md", "reference/components.md", "reference/rigs.md"}
+SKIP = re.compile(r"<!--\s*docs-test:\s*skip:\s*(.*?)\s*-->", re.S)
+
+#: commands a page shows at a size that takes minutes: run here smaller, through the
+#: same code (shown -> run, and why)
+OVERRIDES = {
+    "lhs:100000": ("lhs:64", "100,000 points take about a minute on two cores"),
+    "lhs:2000": ("lhs:64", "the same code path as 2,000 points"),
+    "mc:10000": ("mc:64", "the same code path as 10,000 draws"),
+    "--n 4096": ("--n 8", "N (D + 2) = 20,480 simulations, several minutes"),
+    "design-map --rig paper --x hammer.h=0.1:1.5 --y oil.k=1e8:1e9 --out map":
+        ("design-map --rig paper --x hammer.h=0.1:1.5 --y oil.k=1e8:1e9 --out map --n 5",
+         "the default 21 x 21 map is 441 simulations"),
+    "reproduce --out figures": ("reproduce --out figures --figures fig5",
+                                "every figure takes about 15 s"),
+    "prepare-offline --out carry": ("prepare-offline --out carry --platforms x86_64-linux",
+                                    "CVODE for five platforms takes minutes from an empty cache"),
+}
+#: commands a page shows that fail today through a defect of pdbfs, not of the page:
+#: run, and expected to fail until the defect is fixed (then the test says to remove
+#: the entry)
+_LAZY_STATES = ("a small grid keeps its runs for the overlay plot, and a run whose states are "
+                "made lazily (a lambda) cannot be sent back from a forked worker: a traceback, "
+                "exit status 1")
+KNOWN_FAILURES = {
+    "pdbfs sweep --rig paper --set hammer.v0=1.87,2.73,4.23,5.5 --set seal.c=2.556e4,2.556e5 "
+    "--out grid": _LAZY_STATES,
+    "pdbfs sweep --rig split-piston --set oil.k=1e8:8e8:8 --out stiffness": _LAZY_STATES,
+}
+#: commands that do not end by themselves: their options are parsed only
+PARSE_ONLY = {"app": "a web server that runs until stopped; tests/test_app.py drives it"}
+
+
+def pages() -> list[Path]:
+    """Every page a user reads: README, CONTRIBUTING and the docs pages (not the
+    generated figures' tables)."""
+    docs = sorted(p for p in DOCS.rglob("*.md") if "figures" not in p.parts and "data" not in p.parts)
+    return [ROOT / p for p in TOP_PAGES] + docs
+
+
+def page_id(path: Path) -> str:
+    return path.relative_to(ROOT).as_posix()
+
+
+@dataclass
+class Block:
+    lang: str
+    body: str
+    line: int                       # the fence's line number (1-based)
+    skip: str | None = None         # why it does not run
+    output: list[str] = field(default_factory=list)
+
+
+def blocks(text: str) -> list[Block]:
+    """The fenced blocks of a Markdown text (indented ones dedented)."""
+    out, lines, i = [], text.splitlines(), 0
+    while i < len(lines):
+        m = re.match(r"^(\s*)```(\S*)\s*$", lines[i])
+        if not m:
+            i += 1
+            continue
+        indent, lang, start = m.group(1), m.group(2), i
+        body = []
+        i += 1
+        while i < len(lines) and lines[i].strip() != "```":
+            body.append(lines[i][len(indent):] if lines[i].startswith(indent) else lines[i])
+            i += 1
+        before = "\n".join(lines[max(0, start - 3):start])
+        skip = SKIP.findall(before)
+        out.append(Block(lang, textwrap.dedent("\n".join(body)) + "\n", start + 1,
+                         skip[-1] if skip else None))
+        i += 1
+    return out
+
+
+def python_blocks(text: str) -> list[Block]:
+    return [b for b in blocks(text) if b.lang == "python"]
+
+
+@dataclass
+class Command:
+    line: str                       # as shown (whitespace normalised)
+    refused: bool                   # the page shows it refused (pdbfs: error:)
+    skip: str | None
+
+
+def commands(text: str) -> list[Command]:
+    """The pdbfs commands of a page's bash and console blocks, in order."""
+    out = []
+    for b in blocks(text):
+        if b.lang not in ("bash", "console", "sh", "shell"):
+            continue
+        joined = b.body.replace("\\\n", " ")
+        for raw in joined.splitlines():
+            if b.lang == "console" and not raw.startswith("$ "):
+                if raw.startswith("pdbfs: error:") and out:
+                    out[-1].refused = True
+                continue
+            line = raw[2:] if raw.startswith("$ ") else raw
+            line = re.split(r"\s+#|^\s*#", line)[0].strip()
+            if line.startswith("pdbfs "):
+                out.append(Command(re.sub(r"\s+", " ", line), False, b.skip))
+    return out
+
+
+def as_run(line: str) -> tuple[list[str], list[str]]:
+    """The command's arguments as run here, and the reasons of any size changed."""
+    why = []
+    for shown, (run, reason) in OVERRIDES.items():
+        if shown in line:
+            line, _ = line.replace(shown, run), why.append(reason)
+    return shlex.split(line)[1:], why
+
+
+def pdbfs(args, cwd, timeout=900):
+    """Run the command line as a user would (a new process)."""
+    return subprocess.run([sys.executable, "-m", "pdbfs.cli", *args], capture_output=True,
+                          text=True, cwd=cwd, timeout=timeout)
+
+
+#: what some pages use that arrives with other work on pdbfs: a page that uses one of
+#: them is skipped, saying which, where this pdbfs does not have it yet
+IN_FLIGHT_COMMANDS = ("example-data", "prepare-offline")
+
+
+def missing_features(text: str) -> str | None:
+    """Why a page's examples cannot run with this pdbfs: they use
+    ``pdbfs.example_data`` or a command it does not have yet."""
+    import argparse
+
+    import pdbfs
+    from pdbfs.cli import build_parser
+    if "example_data" in text and not hasattr(pdbfs, "example_data"):
+        return "pdbfs.example_data() is missing in this pdbfs"
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    for name in IN_FLIGHT_COMMANDS:
+        if f"pdbfs {name}" in text and name not in sub.choices:
+            return f"the command `pdbfs {name}` is missing in this pdbfs"
+    return None
