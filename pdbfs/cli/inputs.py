@@ -7,7 +7,6 @@ from pathlib import Path
 import numpy as np
 
 from pdbfs.errors import DataError, ParameterError
-from pdbfs.studies.fitting.traces import _delimiter, _has_header, split_header, to_si
 
 from .common import unique
 
@@ -50,7 +49,9 @@ def read_input(path, name, unit):
     """(t, u) of a CSV file: time in the first column (s, or as its header
     says), the input's values in the second (or in the column named like
     the input), converted to SI by the header's units."""
-    import pandas as pd
+    import pandas as pd        # (here: a run without --input imports neither)
+
+    from pdbfs.studies.fitting.traces import _delimiter, _has_header, split_header, to_si
     where = f"--input {name}: file {str(path)!r}"
     p = Path(path)
     if not p.is_file():
