@@ -198,6 +198,9 @@ class Drive:
             near = np.where(np.abs(grid[k] - b) <= np.abs(grid[k - 1] - b), grid[k], grid[k - 1])
             b = np.unique(np.where(np.abs(near - b) <= tol, near, b))
             b = b[(b > t0) & (b < t1)]
+        if b.size > 1:            # breakpoints closer than a solver can step: one is enough
+            b = b[np.concatenate([[True], np.diff(b) > tol])]
+            b = b[(b - t0 > tol) & (t1 - b > tol)]
         edges = np.concatenate([[t0], b, [t1]])
         return [(a, c, np.concatenate([[a], grid[(grid > a) & (grid < c)], [c]]))
                 for a, c in zip(edges[:-1], edges[1:])]
