@@ -75,6 +75,10 @@ def _check_dae(dae: DAE) -> None:
                          "simplify the rig so that no algebraic variable remains")
     if dae.x.numel() == 0:
         raise ExportError(f"DAE '{dae.name}' has no states: nothing to integrate")
+    if getattr(dae, "inputs", None):
+        raise ExportError(f"rig {dae.name} has inputs ({', '.join(dae.input_names)}): an FMU of "
+                          "a rig with inputs cannot be exported yet; give the signal as a source "
+                          "block (Table, Step, ...) inside the rig to export it")
     for what, expr, info in (("x", dae.x, dae.x_info), ("p", dae.p, dae.params), ("y", dae.y, dae.y_info)):
         if expr.numel() != len(info):
             raise ExportError(f"DAE '{dae.name}': {what} has {expr.numel()} entries but {len(info)} infos")

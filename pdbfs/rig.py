@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     import pandas as pd
     from numpy.typing import ArrayLike
 
-    from pdbfs.modelling import ParamInfo
+    from pdbfs.modelling import InputInfo, ParamInfo
     from pdbfs.simulation import Linearization, Result
 
 
@@ -45,7 +45,8 @@ class Rig(Component):
                  params: Mapping[str, float] | None = None, start: Mapping[str, float] | None = None,
                  rtol: float | None = None, atol: float | None = None, method: str = "auto",
                  max_step: float | None = None, max_num_steps: int = MAX_NUM_STEPS,
-                 backend: str = "auto", initial: str | Sequence[str] | None = None) -> Result:
+                 backend: str = "auto", initial: str | Sequence[str] | None = None,
+                 inputs: Mapping[str, object] | None = None) -> Result:
         """Simulate this rig from t = 0: the same run as ``pdbfs.simulate(rig, ...)``.
 
         Components with a ``check_output(dt_out, params)`` method (an
@@ -82,6 +83,9 @@ class Rig(Component):
             None: the start as declared (free states solved from the initial
             equations); ``"steady"``: every state at rest; a list of state
             names: those at rest.
+        inputs : mapping of str to trace, number or callable, optional
+            Values of the rig's inputs by name (``rig.inputs()``): a trace
+            ``(t, u)``, a number or a function of time; see ``pdbfs.simulate``.
 
         Returns
         -------
@@ -99,7 +103,8 @@ class Rig(Component):
                                     ("start", start), ("rtol", rtol), ("atol", atol),
                                     ("method", method), ("max_step", max_step),
                                     ("max_num_steps", max_num_steps), ("backend", backend),
-                                    ("initial", initial)) if v is not _DEFAULTS[k]}
+                                    ("initial", initial), ("inputs", inputs))
+                  if v is not _DEFAULTS[k]}
         dae = self._compiled or self.compile()       # (no call once compiled: the replay's path)
         checks = (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
         if not kwargs and not checks:
@@ -255,6 +260,12 @@ class Rig(Component):
     def parameters(self) -> list[ParamInfo]:
         """The rig's free parameters (ParamInfo: name, value, unit, description), in the DAE's order."""
         return self.compile().params
+
+    def inputs(self) -> list[InputInfo]:
+        """The rig's inputs (InputInfo: name, unit, description, start), one per
+        Input component: given to a run by ``simulate(..., inputs={name: ...})``,
+        never parameters."""
+        return list(self.compile().inputs)
 
     def _shown(self) -> tuple[str, list[tuple[str, str]]]:
         from pdbfs.errors import PdbfsError

@@ -1,8 +1,8 @@
 """The blocks' declarations: every parameter has a unit and a description,
 the signals are named as in Modelica.Blocks (input ``u``, output ``y``),
 bad constructor arguments and contradicting parameters are refused in one
-line naming the culprit, an Input is a parameter of the rig named by its
-component, and the data a block keeps (a table, a pulse count) reaches
+line naming the culprit, an Input is an input of the rig (not a parameter)
+named by its component, and the data a block keeps (a table, a pulse count) reaches
 the compiled DAE and its disk cache."""
 import inspect
 
@@ -84,6 +84,8 @@ def test_a_block_takes_the_unit_of_its_signals():
     (lambda: B.PID(yMax=1.0), "PID: unknown parameter(s) yMax"),
     (lambda: B.FirstOrder(T=0.0), "FirstOrder.T = 0 s: must be > 0"),
     (lambda: B.Input(description=5), "Input: description = 5 must be text"),
+    (lambda: B.Input(start="high"), "Input: input start = 'high': must be a number"),
+    (lambda: B.Input(start=float("inf")), "Input: input start = inf: must be finite"),
     (lambda: B.Sine(f=float("nan")), "Sine.f = nan: must be finite"),
 ])
 def test_bad_arguments_are_refused_in_one_line(make, culprit):
@@ -145,14 +147,20 @@ def test_inputs_are_named_by_their_components_and_held_at_their_start():
     inputs = [c for c in rig.walk() if getattr(c, "rig_input", False)]
     assert [c.input_name() for c in inputs] == ["inner.command", "gain_cmd"]
     assert [type(c) for c in inputs] == [B.Input, B.Input]
-    params = {p.name: p for p in rig.compile().params}
-    assert params["inner.command.start"].unit == "N"
-    assert params["gain_cmd.start"].description.startswith("Input of the rig")
-    res = rig.simulate(1.0, n_out=3, params={"inner.command.start": 5.0})
+    dae = rig.compile()
+    info = {u.name: u for u in dae.inputs}
+    assert list(info) == ["inner.command", "gain_cmd"]
+    assert (info["inner.command"].unit, info["inner.command"].start) == ("N", 2.0)
+    assert info["gain_cmd"].description.startswith("Input of the rig")
+    # inputs are not parameters: no start parameter, nothing to --set
+    assert not [n for n in dae.p_names if "command" in n or "gain_cmd" in n]
+    res = rig.simulate(1.0, n_out=3, inputs={"inner.command": 5.0})
     assert res["inner.integral.y"][-1] == pytest.approx(5.0, rel=1e-9)
-    assert res["integral.y"][-1] == pytest.approx(-1.0, rel=1e-9)
-    # value() is where the value comes from: today the start parameter itself
-    assert rig.gain_cmd.value() is rig.gain_cmd.start
+    assert res["integral.y"][-1] == pytest.approx(-1.0, rel=1e-9)     # held at its start
+    res = rig.simulate(1.0, n_out=3)
+    assert res["inner.integral.y"][-1] == pytest.approx(2.0, rel=1e-9)
+    with pytest.raises(pdbfs.ParameterError, match="unknown parameter 'gain_cmd.start'"):
+        rig.simulate(1.0, n_out=3, params={"gain_cmd.start": 5.0})
 
 
 def table_rig(values, periods):

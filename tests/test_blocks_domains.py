@@ -92,17 +92,19 @@ def test_a_sine_force_gives_the_full_sine_response(backend, phase):
 def test_an_input_drives_the_rig_at_its_start_value(backend):
     rig = Pushed(B.Input("N", start=3.0, description="Force command"))
     assert rig.src.input_name() == "src" and rig.src.rig_input
-    info = {p.name: p for p in rig.compile().params}["src.start"]
-    assert (info.value, info.unit) == (3.0, "N") and "Force command" in info.description
-    res = rig.simulate(1.0, n_out=501, params={"src.start": 8.0}, backend=backend, **TIGHT)
+    info = rig.compile().inputs[0]
+    assert (info.name, info.start, info.unit) == ("src", 3.0, "N")
+    assert "Force command" in info.description
+    res = rig.simulate(1.0, n_out=501, backend=backend, **TIGHT)
+    assert np.max(np.abs(res["pos.y"] - msd_step(res.t, 3.0, 0.0))) < 1e-7 * (3.0 / K)
+    res = rig.simulate(1.0, n_out=501, inputs={"src": 8.0}, backend=backend, **TIGHT)
     assert np.max(np.abs(res["pos.y"] - msd_step(res.t, 8.0, 0.0))) < 1e-7 * (8.0 / K)
 
 
 def test_the_rig_linearized_in_its_input_is_the_mass_spring_damper():
-    """B and D with respect to the Input (today its start parameter): the
-    force enters der(v) as 1/m; the transfer function to the position is
-    1/(m s^2 + c s + k)."""
-    lin = Pushed(B.Input("N")).linearize(inputs=["src.start"], outputs=["pos.y"])
+    """B and D with respect to the Input: the force enters der(v) as 1/m;
+    the transfer function to the position is 1/(m s^2 + c s + k)."""
+    lin = Pushed(B.Input("N")).linearize(inputs=["src"], outputs=["pos.y"])
     order = [lin.states.index("body.s"), lin.states.index("body.v")]
     A = lin.A[np.ix_(order, order)]
     assert np.allclose(A, [[0.0, 1.0], [-K / M, -C / M]], rtol=1e-12, atol=0)

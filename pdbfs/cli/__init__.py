@@ -1,5 +1,5 @@
-"""Command line: ``pdbfs simulate | params | export-fmu | modes | sweep | sensitivity | reproduce |
-calibrate | design | design-map | app | example-data | prepare-offline``.
+"""Command line: ``pdbfs simulate | params | export-fmu | modes | linearize | sweep |
+sensitivity | reproduce | calibrate | design | design-map | app | example-data | prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -17,11 +17,11 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import (app, calibrate, design, examples, interrupt, modes, offline, reproduce, sensitivity,
-               simulate, sweep)
+from . import (app, calibrate, design, examples, interrupt, linearize, modes, offline, reproduce,
+               sensitivity, simulate, sweep)
 
-COMMANDS = (simulate, modes, sweep, sensitivity, reproduce, calibrate, design, app, examples,
-            offline)
+COMMANDS = (simulate, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, app,
+            examples, offline)
 
 #: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
 DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "

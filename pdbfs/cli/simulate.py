@@ -5,6 +5,7 @@ import json
 
 from .common import (add_output_options, add_rig_options, add_run_options, check_output_file,
                      horizon, parse_sets, prepare_out, print_summary, rig_by_name)
+from .inputs import add_input_option, parse_inputs
 from .modes import add_initial_option, parse_initial, print_initial
 from .progress import Progress
 
@@ -13,14 +14,16 @@ def cmd_simulate(args):
     """pdbfs simulate: one run of a rig, its summary printed (or JSON), results written."""
     rig = rig_by_name(args.rig)
     params = parse_sets(args.set)
+    inputs = parse_inputs(args.input, rig.compile())
     out = prepare_out(args.out)
     # rigs may suggest their own horizon (the drop rig needs about a second)
     t_end, n_out = horizon(args, rig)
     initial = parse_initial(args.initial)
     check_room(out, n_out, rig.compile())
+    extra = {"inputs": inputs} if inputs else {}
     res = rig.simulate(t_end, n_out=n_out, params=params, initial=initial,
                        rtol=args.rtol, atol=args.atol, method=args.method,
-                       backend=args.backend)
+                       backend=args.backend, **extra)
     summary = res.summary()
     if out is not None:                  # files only where --out says
         out.mkdir(parents=True, exist_ok=True)
@@ -88,6 +91,10 @@ def cmd_params(args):
         print(f"{p.name:<22} {p.value:>12.6g}  {p.unit:<10} {p.description}")
     for name, (_, info) in dae.calculated.items():
         print(f"{name:<22} {'(computed)':>12}  {info.unit:<10} {info.description}")
+    if dae.inputs:           # not parameters: given to a run with --input NAME=FILE.csv
+        print(f"\n{'input':<22} {'start':>12}  {'unit':<10} description")
+        for u in dae.inputs:
+            print(f"{u.name:<22} {u.start:>12.6g}  {u.unit:<10} {u.description}")
 
 
 def cmd_export_fmu(args):
@@ -107,6 +114,7 @@ def add_parsers(sub):
     add_rig_options(s)
     add_run_options(s)
     add_initial_option(s)
+    add_input_option(s)
     add_output_options(s, json_help="print the summary, the solver statistics and (if it "
                        "was solved) the start as JSON")
     s.set_defaults(func=cmd_simulate)

@@ -2,6 +2,7 @@
 analysis, and the one CasADi DAE every back end consumes.
 
     symbols.py     Parameter, Variable, State, der(), eq(), time
+    rig_inputs.py  RigInput: an input of the rig, u + du (t - t_ref) in p
     connectors.py  Flange (position across, force through), HydraulicPort (pressure
                    across, volume flow through), signal connectors
     component.py   Component: declare(), equations(), connect(), compile()
@@ -19,9 +20,11 @@ FMUs or studies.
 """
 from .component import Component, switch_times
 from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
-from .dae import DAE, ParamInfo, VarInfo
+from .dae import DAE, InputInfo, ParamInfo, VarInfo
+from .rig_inputs import RigInput
 from .symbols import Parameter, State, Variable, check_value, der, eq, time, within_limits
 
-__all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "ParamInfo", "VarInfo",
+__all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "InputInfo",
+           "ParamInfo", "RigInput", "VarInfo",
            "Parameter", "State", "Variable", "check_value", "der", "eq", "switch_times", "time",
            "within_limits"]

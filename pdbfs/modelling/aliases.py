@@ -28,6 +28,7 @@ from scipy.sparse import csr_matrix
 from pdbfs.errors import ModelError
 
 from .casadi_helpers import subst as _subst
+from .rig_inputs import refuse_second_derivative
 
 
 class Aliases:
@@ -44,6 +45,8 @@ class Aliases:
         self.states_gone: list[tuple] = []   # (FlatVar, replacement, equation's origin)
         self._KV = None
         self.nonzero = nonzero_by({p.name for p in flat.params if p.decl.positive})
+        # an input's slope: its derivative within a segment, not to be differentiated again
+        self.input_slopes = {i.slope.name(): i.name for i in getattr(flat, "inputs", ())}
 
     # -- ranks ------------------------------------------------------------------
     def rank(self, name):
@@ -221,6 +224,7 @@ class Aliases:
         if value.is_symbolic() and value.name() in self.vars:      # the usual u = w
             v = self._with_der(self.vars[value.name()])
             return self.resolve(v.der)
+        refuse_second_derivative(value, self.input_slopes, self.t)
         out = ca.jacobian(value, self.t)
         for s in ca.symvar(value):
             n = s.name()

@@ -16,6 +16,7 @@ import casadi as ca
 from pdbfs.errors import ConnectError, ModelError, ParameterError
 
 from .connectors import Connector
+from .rig_inputs import InputSlot, RigInput
 from .symbols import Parameter, Variable
 
 if TYPE_CHECKING:
@@ -51,6 +52,7 @@ class Component:
         set_(self, "_parent", None)
         set_(self, "_params", {})
         set_(self, "_vars", {})
+        set_(self, "_inputs", {})       # at most one RigInput (rig_inputs.py)
         set_(self, "_connectors", {})
         set_(self, "_children", {})
         set_(self, "_connections", [])
@@ -154,7 +156,13 @@ class Component:
             value.name = name
             self._add_param(name, value, self.__dict__.get("_pending", {}).pop(name, value.default))
             return
-        if isinstance(value, Variable):
+        if isinstance(value, RigInput):    # the rig's input, named by this component
+            if self._inputs:
+                raise ModelError(f"{self.label()}: declares a second input ({name}); a "
+                                 "component holds one (the input is named by it)")
+            slot = self._inputs[name] = InputSlot(value, name)
+            value = slot.expr
+        elif isinstance(value, Variable):
             slot = VarSlot(value, name)
             self._vars[name] = slot
             value = slot.sym

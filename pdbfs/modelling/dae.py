@@ -9,6 +9,13 @@
                                     len(te) events are t - te (time events)
 
 Parameters stay symbolic: changing one never rebuilds anything.
+
+A rig with inputs (``inputs``, rig_inputs.py) has 2 n_u + 1 more entries at
+the end of ``p`` than it has parameters: each input's value at t_ref, then
+each input's slope, then t_ref; input k is u_k(t) = p[u0 + k] + p[du0 + k]
+* (t - p[t_ref]) with (u0, du0, t_ref) = ``input_rows()``. ``p_default()``
+holds every input at its start (slope 0); ``params`` and ``p_names`` list
+the parameters only.
 """
 from __future__ import annotations
 
@@ -32,6 +39,16 @@ class ParamInfo:
     max: float | None = None       # inclusive upper bound
     positive: bool = False         # value must be > 0 (strictly)
     tunable: bool = True           # meaningful to change during a run
+
+
+@dataclass(frozen=True)
+class InputInfo:
+    """One input of the rig (its value and slope are entries of ``p``)."""
+
+    name: str            # the component's dotted path, e.g. "command"
+    unit: str
+    description: str
+    start: float = 0.0   # its value where none is given
 
 
 @dataclass(frozen=True)
@@ -89,6 +106,8 @@ class DAE:
 
     # physical consistency: (expression of p that must be >= 0, (where, text, names))
     conditions: list = field(default_factory=list)
+    # the rig's inputs: their values, slopes and t_ref end p (input_rows())
+    inputs: list[InputInfo] = field(default_factory=list)
 
     def _conditions_function(self):
         conds = getattr(self, "conditions", None) or []
@@ -202,9 +221,34 @@ class DAE:
         """True when no algebraic variable is left (CVODES, or the compiled backend, can run it)."""
         return self.z.numel() == 0
 
+    @property
+    def input_names(self) -> list[str]:
+        """The rig's inputs' names (its Input components' paths), in p's order."""
+        return [u.name for u in self.__dict__.get("inputs", ())]
+
+    def input_rows(self) -> tuple[int, int, int] | None:
+        """(the row of the first input's value in p, of its slope, of t_ref);
+        None for a rig without inputs."""
+        n, m = len(self.params), len(self.__dict__.get("inputs", ()))
+        return (n, n + m, n + 2 * m) if m else None
+
+    def p_row(self, name: str) -> int | None:
+        """The row in p of parameter ``name``, or of input ``name``'s value; None."""
+        names = self.p_names
+        if name in names:
+            return names.index(name)
+        if name in self.input_names:
+            return len(names) + self.input_names.index(name)
+        return None
+
     def p_default(self) -> np.ndarray:
-        """The parameters' default values as a vector (SI units)."""
-        return np.array([p.value for p in self.params], dtype=float)
+        """The parameters' defaults, then (a rig with inputs) each input held
+        at its start: values, slopes 0, t_ref 0."""
+        inputs = self.__dict__.get("inputs", ())
+        values = [p.value for p in self.params]
+        if inputs:
+            values += [u.start for u in inputs] + [0.0] * (len(inputs) + 1)
+        return np.array(values, dtype=float)
 
     @property
     def limits(self) -> list[tuple[VarInfo, str, float]]:

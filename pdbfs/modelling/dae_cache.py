@@ -27,10 +27,10 @@ import casadi as ca
 from pdbfs.files import cache_folder, whole
 
 #: bump when the DAE's pickled form changes
-FORMAT = 1
+FORMAT = 2
 #: the Component attributes the key covers by other means (or that do not matter)
 _INTERNAL = {"_name", "_parent", "_params", "_vars", "_connectors", "_children", "_connections",
-             "_compiled", "_given", "_declaring", "_pending"}
+             "_compiled", "_given", "_declaring", "_pending", "_inputs"}
 
 
 class _NotPlain(Exception):
@@ -94,6 +94,8 @@ def declaration_key(root) -> str | None:
             for name, slot in comp._vars.items():
                 h.update(f"var {name} {type(slot.decl).__name__} "
                          f"{_plain(vars(slot.decl))}\0".encode())
+            for name, slot in comp._inputs.items():
+                h.update(f"input {name} {_plain(vars(slot.decl))}\0".encode())
             for name, c in comp._connectors.items():
                 data = {k: v for k, v in vars(c).items() if k not in ("owner", "name")
                         and not isinstance(v, ca.SX)}

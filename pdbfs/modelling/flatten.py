@@ -15,6 +15,7 @@ import casadi as ca
 
 from .connectors import Flange, HydraulicPort, SignalInput
 from pdbfs.errors import ConnectError, ModelError
+from .rig_inputs import T_REF, input_name
 from .symbols import der_of, time
 
 
@@ -46,6 +47,16 @@ class FlatVar:
 
 
 @dataclass
+class FlatInput:
+    """One input of the rig, flattened: u(t) = value + slope * (t - t_ref) over a segment."""
+
+    name: str             # the input's name: its component's dotted path
+    value: ca.SX          # its value at the segment's start t_ref (named like the input)
+    slope: ca.SX          # its slope over the segment (named der(name))
+    decl: object          # rig_inputs.RigInput: unit, description, start
+
+
+@dataclass
 class FlatSystem:
     """The whole rig flattened: parameters, variables and equations, before simplification."""
 
@@ -60,6 +71,7 @@ class FlatSystem:
     # switch times known in advance (expressions of parameters): time events
     time_events: list[tuple[ca.SX, str]] = field(default_factory=list)
     event_text: dict[str, str] = field(default_factory=dict)   # event name -> what it marks
+    inputs: list[FlatInput] = field(default_factory=list)     # the rig's inputs (rig_inputs.py)
 
 
 def _join(prefix, name):
@@ -106,6 +118,10 @@ def flatten(root) -> FlatSystem:
                          d.start, d.output or d.is_state, 2)
             fv.fixed = getattr(d, "fixed", True)
             fv.limits = (getattr(d, "min", None), getattr(d, "max", None), getattr(d, "beyond", ""))
+        for attr, slot in comp._inputs.items():
+            name = input_name(comp, attr)
+            flat.inputs.append(FlatInput(name, rename(slot.value, name),
+                                         rename(slot.slope, f"der({name})"), slot.decl))
         for c in comp._connectors.values():
             for local_name, sym, unit, desc, _ in c.variables():
                 add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,
@@ -323,6 +339,7 @@ def _check_foreign_symbols(flat):
     """Every symbol in an equation must belong to this rig (or be time)."""
     known = {"time"} | {p.name for p in flat.params} | {v.name for v in flat.vars}
     known |= {f"der({v.name})" for v in flat.vars}
+    known |= {T_REF.name()} | {s.name() for i in flat.inputs for s in (i.value, i.slope)}
     _check_time_events(flat)
     exprs = [e for e, _ in flat.equations] + [e for e, _ in flat.events]
     if not exprs or not {s.name() for s in ca.symvar(ca.vertcat(*exprs))} - known:

@@ -33,6 +33,8 @@ from scipy.sparse.csgraph import maximum_bipartite_matching
 
 from pdbfs.errors import ModelError
 
+from .rig_inputs import refuse_second_derivative
+
 ALIAS_DER = " by alias elimination"
 MAX_LEVEL = 8        # a structurally singular system would be differentiated for ever
 
@@ -119,7 +121,9 @@ class _Pantelides:
         return f"{what} of {self.eqs[root][1]} (index reduction)"
 
     def _diff(self, r):
-        """d/dt of r, through the derivatives of the symbols in it."""
+        """d/dt of r, through the derivatives of the symbols in it (an input's
+        slope is constant over a segment)."""
+        refuse_second_derivative(r, self.al.input_slopes, self.t)
         d = ca.jacobian(r, self.t)
         for s in ca.symvar(r):
             ds = self._derivative_of(s)

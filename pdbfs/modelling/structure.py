@@ -23,7 +23,8 @@ from .blt import solve_blt
 from . import reduced_start
 from .index import overdetermined, reduce_index
 from .initialization import attach_initial
-from .dae import DAE, ParamInfo, VarInfo
+from .dae import DAE, InputInfo, ParamInfo, VarInfo
+from .rig_inputs import T_REF
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
 
@@ -42,7 +43,12 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     starts = [v for v in flat.vars if isinstance(v.start, ca.SX)]
     for v, e in zip(starts, _each([(v.start, None) for v in starts], p_old, p_new)):
         v.start = e
-    p_sym = ca.vertcat(*[p.sym for p in free])
+    # the inputs' values, slopes and t_ref end p (rig_inputs.py); p_val: p's defaults
+    ins = flat.inputs
+    p_sym = ca.vertcat(*[p.sym for p in free], *[i.value for i in ins], *[i.slope for i in ins],
+                       *([T_REF] if ins else []))
+    p_val = [p.value for p in free] + ([i.decl.start for i in ins] + [0.0] * (len(ins) + 1)
+                                       if ins else [])
 
     al = Aliases(flat, t)
     eqs = al.eliminate(eqs)
@@ -66,8 +72,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     try:
         solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
     except ModelError as singular:
-        start = ({v.name: v.start for v in flat.vars if v.start is not None}, p_sym,
-                 [p.value for p in free])
+        start = ({v.name: v.start for v in flat.vars if v.start is not None}, p_sym, p_val)
         reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t, start)
         try:
             if reduced is None:
@@ -97,7 +102,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
     y = done[n_x:n_x + n_y]
     ev = done[n_x + n_y:] if events else ca.SX(0, 1)
     x0 = ca.vertcat(*[_start(v) for v in states]) if states else ca.SX(0, 1)
-    _check_consistent_start(flat, al, states, x0, p_sym, free, final, t)
+    _check_consistent_start(flat, al, states, x0, p_sym, p_val, final, t)
 
     z = ca.vertcat(*z_syms) if z_syms else ca.SX(0, 1)
     by_name = {v.name: v for v in flat.vars}
@@ -113,7 +118,9 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0,
                time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1),
-               conditions=conditions, event_text=dict(flat.event_text))
+               conditions=conditions, event_text=dict(flat.event_text),
+               inputs=[InputInfo(i.name, i.decl.unit, i.decl.description, i.decl.start)
+                       for i in ins])
     reduced_start.record(dae, dropped, constraints)
     reduced_start.check(dae, dae.p_default())
     attach_initial(dae, flat, states, al, lambda e: final(_subst(e, p_old, p_new)))
@@ -165,7 +172,7 @@ def _start(v):
 
 
 # -- alias elimination ---------------------------------------------------------------
-def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
+def _check_consistent_start(flat, al, states, x0, p_sym, p_val, final, t):
     """A state eliminated as an alias must start where its replacement starts
     (checked at the default parameter values)."""
     gone = [(v, where) for v, _, where in al.states_gone if v.is_state or v.start is not None]
@@ -175,7 +182,7 @@ def _check_consistent_start(flat, al, states, x0, p_sym, free, final, t):
     mine = ca.vertcat(*[_start(v) for v, _ in gone])
     theirs = _subst(final(ca.vertcat(*[v.sym for v, _ in gone])), x, x0)
     f = ca.Function("start_check", [t, p_sym], [mine, theirs])
-    a, b = (np.array(r).ravel() for r in f(0.0, [p.value for p in free]))
+    a, b = (np.array(r).ravel() for r in f(0.0, p_val))
     for (v, where), s_mine, s_theirs in zip(gone, a, b):
         if abs(s_mine - s_theirs) > 1e-9 * (1.0 + abs(s_mine)):
             raise ModelError(

@@ -3,10 +3,11 @@
     setup/     what a run is set up from, checked before anything is
                integrated: settings, parameters and start values as vectors,
                the start solved (initial equations, steady state), memory,
-               switch times
+               switch times, the rig's inputs of a run as piecewise-linear traces
     run/       one run: simulate(), the Simulator (CVODES/IDAS through CasADi),
                the compiled backend (one shared library per rig, ctypes), a
-               run replayed, method="auto", what a failure means
+               run replayed, a run with inputs segment by segment,
+               method="auto", what a failure means
     results/   what a run gives: Result, its summary (the compiled run's own,
                or its own solution's), impulses and restitution, peaks and
                crossings on the solution, outputs on a grid, plots

@@ -5,7 +5,8 @@ operating point, with the algebraic variables eliminated:
     A = f_x - f_z g_z^-1 g_x   (and alike for B, C, D)
 
 for a semi-explicit DAE der(x) = f(t, x, z, p), 0 = g(t, x, z, p),
-y = h(t, x, z, p); the inputs u are parameters chosen by name. The
+y = h(t, x, z, p); the inputs u are the rig's inputs (held at their start
+values) or parameters, chosen by name. The
 operating point is the start (``at="start"``), the state at rest
 (``"steady"``, solved as in initialize.py) or the state of a run at a time
 (``at=0.004``). Modes are A's eigenvalues: omega = |lambda| (rad/s),
@@ -25,6 +26,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 
+from ..setup.input_traces import refuse_differentiated
 from .kinks import kinks_at
 from ..setup.settings import name_list
 
@@ -168,9 +170,10 @@ def linearize(model: Component | DAE, at: str | float = "start",
     outputs = name_list(outputs, "outputs", distinct=False) if outputs is not None else \
         [v.name for v in dae.y_info if v.output]
     for n in inputs:
-        if n not in dae.p_names:
-            raise ParameterError(f"linearize: input {n!r} is not a parameter of rig {dae.name}"
-                                 "; `pdbfs params` lists them")
+        if dae.p_row(n) is None:
+            raise ParameterError(f"linearize: input {n!r} is not a parameter of rig {dae.name} "
+                                 "nor one of its inputs; `pdbfs params` lists them")
+    refuse_differentiated(dae, inputs)
     for n in outputs:
         if n not in dae.y_names:
             raise ParameterError(f"linearize: output {n!r} is not a variable of rig {dae.name}")
@@ -228,7 +231,7 @@ def _jacobians(sim, inputs, outputs):
     F = sim._cache.get(key)
     if F is None:
         dae = sim.dae
-        cols = [dae.p_names.index(n) for n in inputs]
+        cols = [dae.p_row(n) for n in inputs]     # a rig's input: its value
         u = ca.vertcat(*[dae.p[i] for i in cols]) if cols else ca.SX(0, 1)
         h = ca.vertcat(*[dae.y[dae.y_names.index(n)] for n in outputs]) if outputs else \
             ca.SX(0, 1)

@@ -24,6 +24,9 @@ def on_grid(sim, grid, x0, p, s: dict, force: str):
     ``grid[0]``, with the run's settings ``s`` (rtol, atol, method,
     max_step, max_num_steps, backend): the impulse (N s) of the output
     ``force`` from grid[0], a row like ``grid``."""
+    split = getattr(sim, "by_segments", None)     # a run with inputs (driven.py): per segment
+    if split is not None:
+        return split(on_grid, grid, x0, p, s, force)
     grid = np.asarray(grid, float)
     if s.get("backend") == "c" and _compiled_force(sim, force):
         # the library integrates the impulse as the state after the rig's (compiled.run)

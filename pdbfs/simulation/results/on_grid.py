@@ -9,6 +9,11 @@ import numpy as np
 from ..setup.vectorize import vectorize
 
 
+def _column(p):
+    """p as one column for every point, or (a run with inputs) one per point."""
+    return p if p.ndim == 2 else p.reshape(-1, 1)
+
+
 class OnGrid:
     """Mixed into Simulator (which has ``dae`` and ``_cache``)."""
 
@@ -22,7 +27,7 @@ class OnGrid:
             fun = ca.Function("out", [dae.t, dae.x, dae.z, dae.p], [y])
             fast = vectorize(fun)
             if fast is not None:
-                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]
+                f = lambda t, X, Z, p: fast(t, X, Z, _column(p))[0]
             else:
                 f = lambda t, X, Z, p: fun.map(len(t))(t.reshape(1, -1), X, Z, p).full()
             self._cache[key] = f
@@ -35,7 +40,7 @@ class OnGrid:
             fun = build()
             fast = vectorize(fun)
             if fast is not None:
-                f = lambda t, X, Z, p: fast(t, X, Z, p.reshape(-1, 1))[0]   # noqa: E731
+                f = lambda t, X, Z, p: fast(t, X, Z, _column(p))[0]   # noqa: E731
             else:
                 f = lambda t, X, Z, p: fun.map(t.shape[1])(t, X, Z, p).full()   # noqa: E731
             self._cache[key] = f

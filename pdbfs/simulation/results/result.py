@@ -223,7 +223,8 @@ class Result(ResultExports):
             return float(self[name][k])        # an output time whose row is at hand
         x, z = self._state_at(t)
         out = self._sim.dae.function("out")
-        return float(out(t, x, z, self.p)[i])
+        at = getattr(self._sim, "p_at", None)        # a run with inputs: theirs at t
+        return float(out(t, x, z, self.p if at is None else at(self.p, t))[i])
 
     @property
     def curves(self) -> Curves:

@@ -97,6 +97,8 @@ def summary_run(res) -> SummaryRun:
     watch = [n for n in (p_name, f_name) if n]
     rows = [dae.y_names.index(n) for n in watch]
     limit = t_end + min(LOOK_AHEAD * t_end, MAX_WINDOWS_AHEAD * WINDOW * h)
+    # a run with inputs is followed only as far as they were given (driven.py)
+    limit = max(t_end, min(limit, getattr(sim, "known_until", np.inf)))
 
     ts, Xs, Zs, Qs = [], [], [], []
     x, t_last = res._X[:, 0], 0.0

@@ -25,7 +25,8 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
              start: Mapping[str, float] | None = None, rtol: float | None = None,
              atol: float | None = None, method: str = "auto", max_step: float | None = None,
              max_num_steps: int = MAX_NUM_STEPS, backend: str = "auto",
-             initial: str | Sequence[str] | None = None) -> Result:
+             initial: str | Sequence[str] | None = None,
+             inputs: Mapping[str, object] | None = None) -> Result:
     """Simulate a rig from t = 0 and return its Result.
 
     Parameters
@@ -77,6 +78,13 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
         solved; the declared initial equations are not used). A list of state
         names: those at rest, the others as declared. The start used is
         ``Result.initial``.
+    inputs : mapping of str to trace, number or callable, optional
+        Values of the rig's inputs (its ``Input`` components, ``rig.inputs()``)
+        by name: a trace ``(t, u)`` of times and values, interpolated linearly,
+        its times breakpoints the solver stops at (a time given twice is a
+        jump), covering [0, t_end]; a number, held; or a function of time,
+        sampled until linear interpolation is within 1e-6 of its largest
+        value. An input not given holds its start value.
 
     Returns
     -------
@@ -92,6 +100,11 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
         The integrator failed; the message says where and why.
     """
     sim = Simulator.of(model)
+    if inputs is not None:
+        from .driven import run_driven
+        return run_driven(sim, inputs, t_end, n_out, t_out=t_out, params=params, start=start,
+                          rtol=rtol, atol=atol, method=method, max_step=max_step,
+                          max_num_steps=max_num_steps, backend=backend, initial=initial)
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,
                    method=method, max_step=max_step, max_num_steps=max_num_steps,
                    backend=backend, initial=initial)

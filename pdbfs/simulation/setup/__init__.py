@@ -13,6 +13,9 @@
     newton.py      one damped Newton run on the start system, where it stopped and why
     start_branches.py  the start across one-sided laws: guesses past their kinks
                    where Newton stops at a singular Jacobian; one solution or a refusal
+    input_traces.py  the rig's inputs of a run (traces, numbers, functions) checked,
+                   piecewise linear: the segments and their entries of p
+    input_function.py  an input given as a function of time, sampled into a trace
     time_events.py switch times a run stops at: integrated from switch to switch
                    (through the Simulator it is given), never stepped over
     vectorize.py   CasADi functions evaluated on whole numpy rows (the checks'

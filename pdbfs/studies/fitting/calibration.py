@@ -21,6 +21,7 @@ import numpy as np
 from pdbfs.errors import DataError, ParameterError, PdbfsError
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.results.reprs import number, table
+from pdbfs.simulation.setup.input_traces import drive_of
 
 from .least_squares import distinct_optima, optimum_of_each_start, solve, statistics
 from .objectives import OFFSET, SHIFT, CurveProblem, offset_unknowns
@@ -122,7 +123,8 @@ def calibrate(rig: Component | DAE | str, trace: str | os.PathLike | Trace | tup
               bounds: Mapping[str, tuple[float, float]] | Sequence[str] | None = None,
               start: Mapping[str, float] | None = None, params: Mapping[str, float] | None = None,
               starts: int = 3, seed: int = 0, rtol: float = 1e-8, atol: float | None = None,
-              dt: float = DT, progress: Callable[[int], object] | None = None) -> Calibration:
+              dt: float = DT, progress: Callable[[int], object] | None = None,
+              inputs: Mapping[str, object] | None = None) -> Calibration:
     """Fit the parameters ``free`` of ``rig`` so that its ``signal`` (default:
     the rig's pressure) matches ``trace`` (a CSV path, a Trace or (t, y)).
 
@@ -136,6 +138,10 @@ def calibrate(rig: Component | DAE | str, trace: str | os.PathLike | Trace | tup
     t_end       simulated horizon (default: the trace's last time, plus the
                 shift's range); one that ends before the trace is refused
     progress    a function called with the number of simulations run so far
+    inputs      the rig's inputs, as simulate takes them (a measured command:
+                {"command": (t, u)}), on the trace's clock: they must cover the
+                simulated horizon; not with fit_offset (the command and the
+                trace share their clock)
     """
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
                                         starts=starts, t_end=t_end, seed=seed, signal=signal)
@@ -151,7 +157,12 @@ def calibrate(rig: Component | DAE | str, trace: str | os.PathLike | Trace | tup
     targets = [u.target for u in unknowns]
     unit = next(v.unit for v in dae.y_info if v.name == signal)
     check_trace_fits(trace, unit, signal, getattr(_rig(rig), "default_t_end", 0.02))
-    done = pulse_end(sim, p0, float(trace.t[-1]))
+    if inputs and fit_offset:
+        raise ParameterError("calibrate: inputs and fit_offset together: the inputs share the "
+                             "trace's clock, so a trigger shift between them is not fitted")
+    if inputs:                 # checked now, over the horizon simulated
+        drive_of(dae, inputs, np.array([0.0, max(float(trace.t[-1]), t_end or 0.0)]))
+    done = pulse_end(sim, p0, float(trace.t[-1]), inputs)
     fine = None if done is None else max(5.0 * done, 0.02)
     # after the pulse, twice the trace's own samples there (a quiet record needs no more)
     coarse = 2 * int(np.sum(trace.t > (fine or 0.0))) + 100
@@ -172,7 +183,8 @@ def calibrate(rig: Component | DAE | str, trace: str | os.PathLike | Trace | tup
     if horizon <= 0:
         raise DataError(f"{trace.source}: every sample lies before the impact (t <= 0)")
     model = SignalModel(sim, signal, targets, max(horizon, t_end or 0.0), p0, dt=dt, rtol=rtol,
-                        atol=atol, fine_until=fine, coarse=coarse, progress=progress)
+                        atol=atol, fine_until=fine, coarse=coarse, progress=progress,
+                        inputs=inputs)
     scale = float(np.max(np.abs(trace.y))) or 1.0
     return _fit(dae.name, signal, unit, model, unknowns, trace, scale, starts, seed)
 

@@ -22,8 +22,10 @@ from scipy.interpolate import CubicHermiteSpline
 
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
+from pdbfs.simulation.analysis.driven_trajectory import driven_columns, driven_states
 from pdbfs.simulation.analysis.trajectory import symbolic_states
 from pdbfs.simulation.setup.initialize import refuse_solved_start
+from pdbfs.simulation.setup.input_traces import drive_of
 from pdbfs.simulation.setup.settings import default_atol
 
 #: spacing of the fine grid, s
@@ -98,23 +100,32 @@ def model_grid(t_end, dt=DT, fine_until=None, coarse=MAX_COARSE) -> np.ndarray:
     return np.concatenate([fine, np.linspace(fine_end, t_end, m + 1)[1:]])
 
 
-def pulse_end(sim, p0, horizon) -> float | None:
+def pulse_end(sim, p0, horizon, inputs=None) -> float | None:
     """Where the rig's pulse ends at the parameters ``p0`` (None if it has no
-    pulse role or does not end within the look-ahead)."""
+    pulse role or does not end within the look-ahead); ``inputs``: the rig's
+    inputs (a Drive's ``given``), as simulate takes them."""
     from pdbfs.simulation.results.summary_run import summary_run
     if not (getattr(sim.dae, "signals", {}) or {}).get("pressure"):
         return None
-    res = sim.run(min(horizon, 0.02), 2001, params=dict(zip(sim.dae.p_names, p0)))
+    params = dict(zip(sim.dae.p_names, p0))
+    if inputs:
+        from pdbfs.simulation.run.driven import run_driven
+        res = run_driven(sim, inputs, min(horizon, 0.02), 2001, params=params)
+    else:
+        res = sim.run(min(horizon, 0.02), 2001, params=params)
     return summary_run(res).t_done
 
 
 class SignalModel:
     """``signal`` of ``rig`` on [0, t_end] as a function of the parameters
-    ``targets`` (values in SI units); the others keep the values of ``p0``."""
+    ``targets`` (values in SI units); the others keep the values of ``p0``;
+    ``inputs``: the rig's inputs (as simulate takes them), each segment of
+    theirs integrated with its own values."""
 
     def __init__(self, sim: Simulator, signal: str, targets: list[str], t_end: float, p0,
                  *, dt: float = DT, rtol: float = 1e-8, atol: float | None = None,
-                 fine_until: float | None = None, coarse: int = MAX_COARSE, progress=None):
+                 fine_until: float | None = None, coarse: int = MAX_COARSE, progress=None,
+                 inputs=None):
         dae = sim.dae
         if not dae.is_ode:
             raise ParameterError(f"rig {dae.name} keeps algebraic variables; fitting needs an "
@@ -136,10 +147,18 @@ class SignalModel:
         # an orifice), whose sensitivities would cost Adams 50x the time
         refuse_solved_start(dae, "calibration and design")
         method = sim.resolve_method("auto", self.p0, sim.start_vector(self.p0), t_end)
-        X, Z = symbolic_states(sim, self.grid, dae.function("start")(p), p, self.p0, rtol,
-                               default_atol(rtol, atol), method, None, targets)
+        drive = drive_of(dae, inputs, self.grid)
+        if drive is None:
+            X, Z = symbolic_states(sim, self.grid, dae.function("start")(p), p, self.p0, rtol,
+                                   default_atol(rtol, atol), method, None, targets)
+            P = ca.repmat(p, 1, n)
+        else:                  # the inputs' segments, each with its inputs as numbers
+            p_start = ca.vertcat(p[:drive.u0], ca.DM(drive.p_at(self.p0, 0.0)[drive.u0:]))
+            X, Z = driven_states(sim, self.grid, dae.function("start")(p_start), p, self.p0,
+                                 drive, rtol, default_atol(rtol, atol), method, None, targets)
+            P = driven_columns(p, drive, self.grid)
         rows = ca.Function("rows", [dae.t, dae.x, dae.z, dae.p], [ca.vertcat(y, ydot)]).map(n)
-        Y = rows(ca.DM(self.grid.reshape(1, -1)), X, Z, ca.repmat(p, 1, n))
+        Y = rows(ca.DM(self.grid.reshape(1, -1)), X, Z, P)
         self._f = ca.Function("signal", [u], [Y])
         self._fj = ca.Function("signal_sens", [u], [Y, ca.jacobian(ca.vec(Y), u)])
         self.evaluations = 0

@@ -20,8 +20,9 @@ import numpy as np
 from pdbfs.errors import ParameterError, PdbfsError
 from pdbfs.modelling import check_value, reduced_start, within_limits
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.setup.initialize import needs_solving
+from pdbfs.simulation.run.driven import run_driven
 from pdbfs.simulation.results.summary import keys_for, summarize
+from pdbfs.simulation.setup.initialize import needs_solving
 
 #: list-valued summary entries (one value per blow) are stored as JSON text; the
 #: blows' count is a column of its own (impact_count). tests/test_every_rig_studies.py
@@ -58,17 +59,22 @@ class Chunk:
 class Runner:
     """Evaluates blocks of points of ``names`` for one rig and settings."""
 
-    def __init__(self, sim: Simulator, names, fixed: dict, settings: Settings):
+    def __init__(self, sim: Simulator, names, fixed: dict, settings: Settings, inputs=None):
         dae = sim.dae
         self.sim, self.names, self.settings = sim, list(names), settings
-        self.columns = [dae.p_names.index(n) for n in self.names]
+        self.inputs = inputs            # the rig's inputs (inputs.SweepInputs), or None
+        swept = inputs.dims if inputs is not None else {}
+        # the parameters among the names: their columns in the block and in p
+        self.pcols = [k for k, n in enumerate(self.names) if n not in swept]
+        self.columns = [dae.p_names.index(self.names[k]) for k in self.pcols]
         self.infos = [dae.params[i] for i in self.columns]
         self.base = sim.param_vector(fixed)
         self.keys = keys_for(dae)
         self.fast = None
-        # the compiled batch starts from the declared starts: not for a solved start
+        # the compiled batch starts from the declared starts: not for a solved start,
+        # nor for inputs that are traces (a run with inputs, segment by segment)
         if settings.backend == "c" and not settings.start and not settings.trajectories \
-                and not needs_solving(dae, None):
+                and not needs_solving(dae, None) and (inputs is None or inputs.constant):
             lib = sim.compiled(settings.method)
             if set(self.keys) <= set(lib.summary_keys):
                 self.fast = lib
@@ -78,13 +84,15 @@ class Runner:
         block = np.atleast_2d(np.asarray(block, dtype=float))
         n = block.shape[0]
         P = np.repeat(self.base[None, :], n, axis=0)
-        P[:, self.columns] = block
+        P[:, self.columns] = block[:, self.pcols]
+        if self.inputs is not None and self.inputs.constant:
+            self.inputs.set_constants(P, self.names, block)
         error = [""] * n
         # each value within its parameter's limits and the components' conditions
         # held, checked a column (a chunk) at a time; a point refused is looked at
         # alone below, for the message naming what is wrong
         fine = np.ones(n, dtype=bool)
-        for j, info in enumerate(self.infos):
+        for j, info in zip(self.pcols, self.infos):
             fine &= within_limits(block[:, j], info)
         if fine.any():
             fine[fine] = self.sim.dae.conditions_hold(P[fine])
@@ -92,7 +100,7 @@ class Runner:
         if getattr(self.sim.dae, "reduced_starts", None):
             alone = range(n)        # a start index reduction computes is checked per point
         for i in alone:
-            for j, info in enumerate(self.infos):
+            for j, info in zip(self.pcols, self.infos):
                 try:
                     check_value(block[i, j], info.name, info)
                 except ParameterError as err:
@@ -110,12 +118,12 @@ class Runner:
         summary = {k: ([""] * n if k in LIST_KEYS else np.full(n, np.nan)) for k in self.keys}
         results = [None] * n if self.settings.trajectories else []
         if self.fast is not None:
-            self._run_fast(P, ok, summary, error)
+            self._run_fast(P, ok, summary, error, block)
         else:
-            self._run_points(P, ok, summary, error, results)
+            self._run_points(P, ok, summary, error, results, block)
         return Chunk(np.asarray(index), block, summary, error, results)
 
-    def _run_fast(self, P, ok, summary, error):
+    def _run_fast(self, P, ok, summary, error, block):
         s = self.settings
         from pdbfs.simulation.run.compiled import RC_FOLLOW, SUMMARY_KEYS
         from pdbfs.simulation.setup import limits
@@ -141,15 +149,20 @@ class Runner:
         if "complete" in summary and s.method != "erk":
             late[rows] |= (codes == 0) & (summary["complete"][rows] == 0)
         if late.any():
-            self._run_points(P, late, summary, error, {})
+            self._run_points(P, late, summary, error, {}, block)
 
-    def _run_points(self, P, ok, summary, error, results):
+    def _run_points(self, P, ok, summary, error, results, block):
         s = self.settings
         for i in np.flatnonzero(ok):
             try:
-                res = self.sim.run(s.t_end, s.n_out, params=dict(zip(self.sim.dae.p_names, P[i])),
-                                   start=dict(s.start) or None, rtol=s.rtol, atol=s.atol,
-                                   method=s.method, max_step=s.max_step, backend=s.backend)
+                args = dict(params=dict(zip(self.sim.dae.p_names, P[i])),
+                            start=dict(s.start) or None, rtol=s.rtol, atol=s.atol,
+                            method=s.method, max_step=s.max_step, backend=s.backend)
+                if self.inputs is None:
+                    res = self.sim.run(s.t_end, s.n_out, **args)
+                else:               # this point's inputs: a run segment by segment
+                    res = run_driven(self.sim, self.inputs.of_point(self.names, block[i]),
+                                     s.t_end, s.n_out, **args)
                 # the complete column says it per point: no warnings (catch_warnings is
                 # process-wide, not per thread: the sweep's threads would let them through)
                 out = summarize(res, warn=False)
@@ -186,11 +199,13 @@ def same_as_result_summary(summary, rows):
 
 
 # -------------------------------------------------------- on Dask workers
-def payload(sim: Simulator, names, fixed, settings: Settings) -> tuple[str, bytes]:
+def payload(sim: Simulator, names, fixed, settings: Settings, inputs=None) -> tuple[str, bytes]:
     """What a worker needs to build the Runner: the DAE (CasADi's pickling),
-    the swept names, the fixed values and the settings; and a key for it."""
+    the swept names, the fixed values, the settings and the inputs (their
+    checked traces); and a key for it."""
+    ins = None if inputs is None else (inputs.fixed, inputs.dims)
     with ca.global_pickle_context():
-        data = pickle.dumps((sim.dae, list(names), dict(fixed), settings))
+        data = pickle.dumps((sim.dae, list(names), dict(fixed), settings, ins))
     return hashlib.sha256(data).hexdigest()[:24], data
 
 
@@ -202,6 +217,8 @@ def run_remote(key: str, data: bytes, index, block) -> Chunk:
     runner = _RUNNERS.get(key)
     if runner is None:
         with ca.global_unpickle_context():
-            dae, names, fixed, settings = pickle.loads(data)
-        runner = _RUNNERS[key] = Runner(Simulator.of(dae), names, fixed, settings)
+            dae, names, fixed, settings, ins = pickle.loads(data)
+        from .inputs import SweepInputs
+        inputs = None if ins is None else SweepInputs(dae, *ins)
+        runner = _RUNNERS[key] = Runner(Simulator.of(dae), names, fixed, settings, inputs)
     return runner.run(index, block)

@@ -31,9 +31,11 @@ import numpy as np
 from pdbfs.errors import ParameterError, missing_extra, plain, require_extra
 from pdbfs.simulation import Result, Simulator
 from pdbfs.simulation.run.backends import backend_for_method
+from pdbfs.simulation.run.driven import Driven
 from pdbfs.simulation.setup.memory import require, run_bytes, table_bytes
 from pdbfs.simulation.setup.settings import default_atol, default_rtol, mapping
 
+from .inputs import split_inputs
 from .sampling import Grid, PointSet
 from .result import SweepResult
 from .runner import Runner, Settings, payload, run_remote
@@ -67,12 +69,18 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
           max_step: float | None = None, backend: str = "auto", workers: int | None = None,
           progress: bool | Callable[[int, int], object] | None = None, client: Client | None = None,
           out: str | os.PathLike | None = None, format: str | None = None,
-          chunk_size: int | None = None, overwrite: bool = False) -> SweepResult:
+          chunk_size: int | None = None, overwrite: bool = False,
+          inputs: Mapping[str, object] | None = None) -> SweepResult:
     """Simulate ``rig`` at every point of ``values`` and summarise each.
 
     rig           a Component, its compiled DAE, or a name from pdbfs.models.RIGS
     values        {parameter name: list of values}, or a PointSet (sampling.py:
-                  Sample("lhs" | "sobol" | "mc", n, ranges=..., dists=...))
+                  Sample("lhs" | "sobol" | "mc", n, ranges=..., dists=...)); an
+                  input of the rig may be a dimension too: {input name: list of
+                  traces (t, u), numbers or functions}, its column the trace's
+                  number in the list (inputs.py)
+    inputs        {input name: trace, number or function}: the rig's inputs at
+                  every point, as in pdbfs.simulate
     grid          dict values: every combination (True) or columns (False)
     trajectories  keep each point's full Result (``point.result``; small sweeps)
     params        parameters fixed for every point
@@ -108,6 +116,7 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
             raise ParameterError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
         rig = RIGS[rig]()
     sim = Simulator.of(rig)
+    values, swept_inputs = split_inputs(sim, values, inputs, t_end, n_out)
     points = values if isinstance(values, PointSet) else Grid(values, zip=not grid)
     fixed = mapping(params, "params")
     clash = sorted(set(fixed) & set(points.names))
@@ -115,7 +124,8 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
         raise ParameterError(f"sweep: {', '.join(clash)} is both swept and fixed in params=")
     info = {p.name: p for p in sim.dae.params}
     # names first: an unknown name is an error of the whole sweep, not of a point
-    sim.param_vector({n: info[n].value if n in info else 0.0 for n in points.names + list(fixed)})
+    named = [n for n in points.names if swept_inputs is None or n not in swept_inputs.dims]
+    sim.param_vector({n: info[n].value if n in info else 0.0 for n in named + list(fixed)})
     p_fixed = sim.param_vector(fixed)
     sim.grid(t_end, n_out)
     sim.check_settings(default_rtol(method, rtol), atol, method, max_step, backend=backend)
@@ -130,7 +140,7 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
         raise ParameterError("sweep: trajectories are kept in memory only (not with client= or out=)")
     settings = Settings(float(t_end), int(n_out), float(rtol), float(atol), method, max_step,
                         backend, tuple(sorted((start or {}).items())), bool(trajectories))
-    runner = Runner(sim, points.names, fixed, settings)
+    runner = Runner(sim, points.names, fixed, settings, swept_inputs)
 
     n = points.n
     if out is None:           # held in memory: refused now if it cannot fit, not at the end
@@ -150,6 +160,8 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
     if out is not None:
         spec = {"rig": sim.dae.name, "dae": _dae_key(sim), "points": points.spec, "fixed": fixed,
                 "settings": settings.__dict__}
+        if swept_inputs is not None:         # a rerun with other traces is another sweep
+            spec["inputs"] = swept_inputs.key()
         store = Store(out, spec, n, chunk_size, format or "parquet", overwrite)
         done = store.done()
         chunks = [c for c in chunks if c[0] not in done]
@@ -203,7 +215,8 @@ def _frame(kept):
 def _execute(client, sim, points, fixed, settings, chunks, finish, runner, workers):
     """Every chunk through ``finish``: on Dask, threads, forked processes or here."""
     if client is not None:
-        return _run_dask(client, sim, points, fixed, settings, chunks, finish), workers
+        return _run_dask(client, sim, points, fixed, settings, chunks, finish,
+                         runner.inputs), workers
     if workers > 1 and runner.fast is not None:
         with ThreadPoolExecutor(workers) as pool:
             submit = lambda cid, a, b: pool.submit(runner.run, np.arange(a, b), points.block(a, b))  # noqa: E731
@@ -288,7 +301,8 @@ def _run_forked(runner, points, chunks, workers, finish) -> str:
 def _rebuild(sim, state):
     if isinstance(state, Result):
         return state
-    return Result.attach(sim, state)
+    drive = state.get("_drive")          # a run with inputs reads through them (driven.py)
+    return Result.attach(sim if drive is None else Driven(sim, drive), state)
 
 
 def _windowed(chunks, submit, result, window, finish):
@@ -309,13 +323,13 @@ def _windowed(chunks, submit, result, window, finish):
                 running[submit(*nxt)] = nxt[0]
 
 
-def _run_dask(client, sim, points, fixed, settings, chunks, finish) -> str:
+def _run_dask(client, sim, points, fixed, settings, chunks, finish, inputs=None) -> str:
     """One task per chunk, a few per worker in flight; the rig travels once
     to every worker (scattered) and is built there once
     (sweep_runner.run_remote keeps it). Tasks of a lost worker are run again
     by Dask on the others."""
     from distributed import as_completed
-    key, data = payload(sim, points.names, fixed, settings)
+    key, data = payload(sim, points.names, fixed, settings, inputs)
     shipped = client.scatter(data, broadcast=True)
     n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
     todo, ids = iter(chunks), {}
