@@ -44,6 +44,11 @@ class Driven:
         return self.base.nx
 
     @property
+    def state(self):
+        """What the simulation layer keeps of the rig (state.py): the same for any inputs."""
+        return self.base.state
+
+    @property
     def known_until(self) -> float:
         """The end of the shortest trace given (inf: every input a number or
         held): the summary does not follow a pulse past it (summary_run.py)."""
