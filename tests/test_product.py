@@ -192,7 +192,7 @@ def test_the_core_dependencies_hold_no_extra():
         assert name not in core, name
     extras = meta["optional-dependencies"]
     assert set(extras["all"][0].split("[")[1].rstrip("]").split(",")) == \
-        {"app", "dask", "parquet", "sensitivity"}
+        {"app", "dask", "parquet", "sensitivity", "control"}
     assert meta["license"] == "BSD-3-Clause" and meta["license-files"] == ["LICENSE"]
     assert "BSD 3-Clause" in (ROOT / "LICENSE").read_text()
 
