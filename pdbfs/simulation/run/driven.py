@@ -44,6 +44,11 @@ class Driven:
         return self.base.nx
 
     @property
+    def state(self):
+        """The rig's simulation state (its result names): the Simulator's, inputs or not."""
+        return self.base.state
+
+    @property
     def known_until(self) -> float:
         """The end of the shortest trace given (inf: every input a number or
         held): the summary does not follow a pulse past it (summary_run.py)."""
