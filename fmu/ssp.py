@@ -70,7 +70,9 @@ def read_interface(fmu: str | os.PathLike) -> FmuInterface:
     try:
         with zipfile.ZipFile(path) as z:
             root = ET.fromstring(z.read("modelDescription.xml"))
-    except (zipfile.BadZipFile, KeyError, ET.ParseError, OSError) as err:
+    except KeyError:
+        raise ExportError(f"{path}: not an FMU: the zip holds no modelDescription.xml") from None
+    except (zipfile.BadZipFile, ET.ParseError, OSError) as err:
         raise ExportError(f"{path}: not an FMU (a zip with modelDescription.xml): {err}") from None
     version = root.get("fmiVersion", "")
     if not version.startswith(("2.", "3.")):
@@ -145,7 +147,10 @@ def check_connections(interfaces: Mapping[str, FmuInterface],
     return out
 
 
-def _check_target(path: Path) -> None:
+def check_ssp_target(path: str | os.PathLike) -> None:
+    """Refuse, before any work, an SSP path that does not end in ``.ssp``,
+    is a folder, or lies in a folder that does not exist."""
+    path = Path(path)
     if path.suffix.lower() != ".ssp":
         raise ExportError(f"{path}: an SSP file's name ends in .ssp; name it e.g. "
                           f"{path.with_suffix('.ssp').name}")
@@ -170,7 +175,7 @@ def export_ssp(path: str | os.PathLike, fmus: Mapping[str, str | os.PathLike], c
     join an output to an input of the same unit, or an input fed twice.
     """
     path = Path(path)
-    _check_target(path)
+    check_ssp_target(path)
     if not isinstance(fmus, Mapping) or not fmus:
         raise ExportError("export_ssp: give the components as a mapping of names to FMU files, e.g. "
                           "{'plant': 'plant.fmu'}")
@@ -260,7 +265,9 @@ def read_ssp(path: str | os.PathLike) -> tuple[dict[str, str], list[tuple[str, s
     try:
         with zipfile.ZipFile(path) as z:
             root = ET.fromstring(z.read("SystemStructure.ssd"))
-    except (zipfile.BadZipFile, KeyError, ET.ParseError, OSError) as err:
+    except KeyError:
+        raise ExportError(f"{path}: not an SSP file: the zip holds no SystemStructure.ssd") from None
+    except (zipfile.BadZipFile, ET.ParseError, OSError) as err:
         raise ExportError(f"{path}: not an SSP file (a zip with SystemStructure.ssd): {err}") from None
     system = root.find("ssd:System", NS)
     if system is None:
