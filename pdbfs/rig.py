@@ -109,23 +109,9 @@ class Rig(Component):
         checks = (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
         if not kwargs and not checks:
             return simulate_own(dae, t_end)      # the rig's own run (its plan replayed)
-        self._check_output(t_end, kwargs)
+        if checks:
+            _check_output(checks, t_end, kwargs)
         return simulate(self, t_end, **kwargs)
-
-    def _check_output(self, t_end, kwargs):
-        checks = self._output_checks()
-        if not checks:
-            return
-        t_out = kwargs.get("t_out")
-        try:
-            dt = float(np.min(np.diff(np.asarray(t_out, float)))) if t_out is not None else \
-                float(t_end) / (int(kwargs.get("n_out", 2001)) - 1)
-        except (TypeError, ValueError, ZeroDivisionError):
-            return                    # bad settings: simulate() says what is wrong
-        if not (np.isfinite(dt) and dt > 0):
-            return
-        for check in checks:
-            check(dt, kwargs.get("params"))
 
     def _output_checks(self) -> list:
         """The components' check_output methods, found once per compiled rig."""
@@ -287,6 +273,21 @@ class Rig(Component):
     def _repr_html_(self) -> str:
         from pdbfs.simulation.results.reprs import table
         return table(*self._shown())
+
+
+def _check_output(checks, t_end, kwargs):
+    """Ask the components' ``check_output`` methods (an ElasticBar's segments
+    against the output step) before a run with these options."""
+    t_out = kwargs.get("t_out")
+    try:
+        dt = float(np.min(np.diff(np.asarray(t_out, float)))) if t_out is not None else \
+            float(t_end) / (int(kwargs.get("n_out", 2001)) - 1)
+    except (TypeError, ValueError, ZeroDivisionError):
+        return                    # bad settings: simulate() says what is wrong
+    if not (np.isfinite(dt) and dt > 0):
+        return
+    for check in checks:
+        check(dt, kwargs.get("params"))
 
 
 #: Rig.simulate's default objects: an option left at its default is not passed on

@@ -136,24 +136,3 @@ def pdbfs(args, cwd, timeout=900):
     """Run the command line as a user would (a new process)."""
     return subprocess.run([sys.executable, "-m", "pdbfs.cli", *args], capture_output=True,
                           text=True, cwd=cwd, timeout=timeout)
-
-
-#: what some pages use that arrives with other work on pdbfs: a page that uses one of
-#: them is skipped, saying which, where this pdbfs does not have it yet
-IN_FLIGHT_COMMANDS = ("example-data", "prepare-offline")
-
-
-def missing_features(text: str) -> str | None:
-    """Why a page's examples cannot run with this pdbfs: they use
-    ``pdbfs.example_data`` or a command it does not have yet."""
-    import argparse
-
-    import pdbfs
-    from pdbfs.cli import build_parser
-    if "example_data" in text and not hasattr(pdbfs, "example_data"):
-        return "pdbfs.example_data() is missing in this pdbfs"
-    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
-    for name in IN_FLIGHT_COMMANDS:
-        if f"pdbfs {name}" in text and name not in sub.choices:
-            return f"the command `pdbfs {name}` is missing in this pdbfs"
-    return None

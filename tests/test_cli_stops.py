@@ -28,10 +28,10 @@ def test_the_summary_grid_never_has_a_one_point_window():
     seen = []
     orig = S._integrate
 
-    def spy(sim, grid, x, p, s):
+    def spy(sim, grid, x, p, s, *rest):
         seen.append(len(grid))
         assert len(grid) >= 2 and grid[-1] > grid[0], f"a window of {len(grid)} point(s)"
-        return orig(sim, grid, x, p, s)
+        return orig(sim, grid, x, p, s, *rest)
     S._integrate = spy
     try:
         # the CasADi backend's summary: its own grid in windows (the compiled

@@ -41,7 +41,7 @@ def test_discard_removes_parts_under_way(tmp_path):
 
 def test_result_csv_failure_leaves_nothing(tmp_path, monkeypatch):
     """The disk fills up after the header: no file under either name."""
-    import pdbfs.simulation.results.result as result_module
+    import pdbfs.simulation.results.exports as result_module   # where Result.to_csv writes
     res = RIGS["paper"]().simulate(t_end=0.002)
     dest = tmp_path / "r.csv"
     writes = []

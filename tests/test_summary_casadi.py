@@ -90,8 +90,12 @@ def test_the_simulation_package_has_no_import_circle():
     graph = {}
     for name, f in files.items():
         deps, pkg = set(), name.split(".")[:-1]
-        for node in ast.walk(ast.parse(f.read_text())):      # function-local imports too
-            if isinstance(node, ast.ImportFrom) and node.level:
+        tree = ast.parse(f.read_text())
+        typing_only = {id(n) for node in ast.walk(tree) if isinstance(node, ast.If)
+                       and "TYPE_CHECKING" in ast.unparse(node.test)
+                       for b in node.body for n in ast.walk(b)}     # annotations only: never run
+        for node in ast.walk(tree):      # function-local imports too
+            if isinstance(node, ast.ImportFrom) and node.level and id(node) not in typing_only:
                 base = pkg[:len(pkg) - node.level + 1] + (node.module.split(".") if node.module else [])
                 for a in node.names:      # a module of the package, else the module imported from
                     whole = ".".join(base + [a.name])

@@ -62,6 +62,25 @@ def test_the_core_install_holds_no_extra(core):
                             "multiprocess", "orjson"}, installed
 
 
+def test_readmes_examples_run_from_the_core(core, tmp_path):
+    """README's Python example and its commands, run as a newcomer would
+    after `pip install pdbfs`: in the installed wheel's environment, from an
+    empty folder, with nothing of the repository at hand."""
+    import docs_examples as D
+    _, bindir = core
+    text = (ROOT / "README.md").read_text()
+    code = "\n".join(b.body for b in D.python_blocks(text) if not b.skip)
+    assert code.strip(), "README has no Python example"
+    r = run([bindir / "python", "-c", code], tmp_path, timeout=900)
+    assert r.returncode == 0, r.stderr[-2000:]
+    shown = [c for c in D.commands(text) if not c.skip and not c.refused]
+    assert shown, "README has no pdbfs command"
+    for c in shown:
+        args, _ = D.as_run(c.line)
+        r = run([bindir / "pdbfs", *args], tmp_path, timeout=900)
+        assert r.returncode == 0, f"{c.line}: {r.stderr[-1000:]}"
+
+
 def test_simulate_export_fmu_and_modes_run_from_the_core(core, tmp_path):
     _, bindir = core
     pdbfs = bindir / "pdbfs"

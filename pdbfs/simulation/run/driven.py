@@ -45,7 +45,7 @@ class Driven:
 
     @property
     def state(self):
-        """The rig's simulation state (its result names): the Simulator's, inputs or not."""
+        """What the simulation layer keeps of the rig (state.py): the same for any inputs."""
         return self.base.state
 
     @property
