@@ -123,3 +123,17 @@ def test_the_controller_output_follows_its_input_directly():
         assert d == pytest.approx(-float(by["pid.k"].start), rel=1e-12)
     finally:
         m.close()
+
+
+def test_event_indicators_list_the_inputs_they_depend_on():
+    """FMI 3.0 lists each event indicator's dependencies: the commanded
+    valve's stops (opening 0 and 1) are crossed by its input."""
+    import xml.etree.ElementTree as ET
+    import zipfile
+    with zipfile.ZipFile(S.fmu_of("plant", 3)) as z:
+        root = ET.fromstring(z.read("modelDescription.xml"))
+    vr = {v.get("name"): v.get("valueReference") for v in root.find("ModelVariables")}
+    deps = {e.get("valueReference"): e.get("dependencies").split() for e in root.find("ModelStructure")
+            if e.tag == "EventIndicator"}
+    assert deps[vr["event.valve.closed"]] == [vr["opening"]] == deps[vr["event.valve.open"]]
+    assert deps[vr["event.chamber.cavitation"]] == [vr["chamber.p_law"]]
