@@ -214,8 +214,10 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     holders are kept after a value given (fmu/rights.py), their texts in
     ``documentation/licenses/`` (``license.txt`` says what is whose). Raises
     ExportError (PlatformError for an unknown platform) before any work is
-    done, and for a DAE with algebraic variables; nothing is left at
-    ``path`` on failure.
+    done, and for a DAE with algebraic variables or one that differentiates
+    an input; nothing is left at ``path`` on failure. Each input of the rig
+    (``dae.inputs``) is an FMU input (held over a co-simulation step, or on
+    the line FMI 2.0's ``fmi2SetRealInputDerivatives`` gives).
     """
     fmi_version = check_fmi_version(fmi_version)
     check_rights(author=author, license=license, copyright=copyright)
