@@ -51,6 +51,9 @@ def test_the_input_is_declared_with_start_unit_description_and_dependencies(vers
         outs = [e for e in root.find("ModelStructure") if e.tag == "Output"]
         assert any(vr in e.get("dependencies").split() for e in outs)
     assert not fmpy.validation.validate_fmu(S.fmu_of("pushed", version))
+    with zipfile.ZipFile(S.fmu_of("pushed", version)) as z:
+        page = z.read("documentation/index.html").decode()
+    assert "<h2>Inputs</h2>" in page and "<td><code>u</code></td><td>N</td>" in page
 
 
 STEP = np.array([(0.0, 0.0), (T_STEP, 0.0), (T_STEP, F), (1.0, F)], dtype=[("time", float), ("u", float)])
