@@ -88,6 +88,7 @@ cosimulation.c        the co-simulation loop, on pdbfs_cvode.c or pdbfs_erk.c
 stiffness.c           solver.method auto: the method that suits the run
 pdbfs_cvode.c/h       CVODE through the rig's non-smooth points (restart at every
                       root of the event indicators, dense output)
+pdbfs_eval.c          the model interface both integrators use
 pdbfs_erk.c/h         explicit Runge-Kutta 8(5,3) with dense output, restarted at
 pdbfs_erk_table.h     every root of the event indicators (its coefficients)
 pdbfs_erk_rk.c, _la.h its step arithmetic, unrolled for the state count of

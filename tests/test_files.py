@@ -90,15 +90,22 @@ def test_ctrl_c_forced_exit_removes_the_part(tmp_path):
         import sys, time
         from pdbfs import files
         from pdbfs.cli import interrupt
+        def stuck():
+            while True:
+                try:
+                    time.sleep(0.05)
+                except KeyboardInterrupt:
+                    pass
         with interrupt.watching():
             with files.whole({str(dest)!r}) as part:
                 part.write_text("half")
-                print("ready", flush=True)
-                while True:
-                    try:
-                        time.sleep(0.05)
-                    except KeyboardInterrupt:
-                        pass
+                # the one Ctrl-C swallowed wherever it lands (also between the loop's
+                # lines, where a loaded machine may hold the process just then)
+                try:
+                    print("ready", flush=True)
+                    stuck()
+                except KeyboardInterrupt:
+                    stuck()
     """)
     p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True)

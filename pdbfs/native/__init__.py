@@ -23,6 +23,7 @@ pdbfs's C, a folder per binary it goes into (codegen.py names the files):
 
     c/shared/           in every binary, the compiled backend's library and every FMU:
       pdbfs_cvode.[ch]  the CVODE driver
+      pdbfs_eval.c      the model interface both drivers use (with CVODE or without)
       pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same
                         interface; its step arithmetic (pdbfs_erk_rk.c, _la.h, _table.h)
                         and its screens for roots from a step's ends (pdbfs_erk_screen.c)

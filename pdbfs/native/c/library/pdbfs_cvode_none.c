@@ -1,7 +1,7 @@
 /* pdbfs_cvode_none: pdbfs_cvode.h's functions for a compiled library built
  * without SUNDIALS (-DPDBFS_NO_CVODE), which runs the explicit method only.
  * The model interface (evaluation, work arrays, the PdbfsCvode the drivers
- * hand to the explicit method) works as in pdbfs_cvode.c; starting CVODE
+ * hand to the explicit method) is pdbfs_eval.c's, as with CVODE; starting CVODE
  * fails with a message, never silently (Python builds the library with
  * CVODE before it asks for Adams or BDF: pdbfs/simulation/compiled.py). */
 #include <math.h>
@@ -11,42 +11,6 @@
 #include "pdbfs_cvode.h"
 
 #define NO_CVODE (-100)
-
-int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
-                    double *out) {
-    double tt = t;
-    ev->arg[0] = &tt;
-    ev->arg[1] = x;
-    ev->arg[2] = v;
-    ev->arg[3] = ev->p;
-    ev->res[0] = out;
-    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
-}
-
-void *pdbfs_eval_alloc(PdbfsEval *ev, long sz_arg, long sz_res, long sz_iw, long sz_w) {
-    /* doubles first, then pointers, then integers: each part stays aligned */
-    size_t nw = (size_t)sz_w + 1, na = (size_t)sz_arg + 1, nr = (size_t)sz_res + 1;
-    char *b = malloc(sizeof(casadi_real) * nw + sizeof(void *) * (na + nr)
-                     + sizeof(casadi_int) * ((size_t)sz_iw + 1));
-    if (!b) return NULL;
-    ev->w = (casadi_real *)b;
-    ev->arg = (const casadi_real **)(b + sizeof(casadi_real) * nw);
-    ev->res = (casadi_real **)(b + sizeof(casadi_real) * nw + sizeof(void *) * na);
-    ev->iw = (casadi_int *)(b + sizeof(casadi_real) * nw + sizeof(void *) * (na + nr));
-    return b;
-}
-
-void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env) {
-    memset(s, 0, sizeof *s);
-    s->nx = nx;
-    s->ne = ne;
-    s->ev = ev;
-    s->ode = pdbfs_ode;
-    s->jac = pdbfs_jac;
-    s->jac_sp = pdbfs_jac_sparsity_out(0);
-    s->log = log;
-    s->env = env;
-}
 
 void pdbfs_cvode_free(PdbfsCvode *s) {
     free(s->jac_nz);

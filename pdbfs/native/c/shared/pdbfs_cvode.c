@@ -30,30 +30,6 @@ static void say(PdbfsCvode *s, int kind, const char *fmt, ...) {
     s->log(s->env, kind, buf);
 }
 
-int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
-                    double *out) {
-    double tt = t;
-    ev->arg[0] = &tt;
-    ev->arg[1] = x;
-    ev->arg[2] = v;
-    ev->arg[3] = ev->p;
-    ev->res[0] = out;
-    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
-}
-
-void *pdbfs_eval_alloc(PdbfsEval *ev, long sz_arg, long sz_res, long sz_iw, long sz_w) {
-    /* doubles first, then pointers, then integers: each part stays aligned */
-    size_t nw = (size_t)sz_w + 1, na = (size_t)sz_arg + 1, nr = (size_t)sz_res + 1;
-    char *b = malloc(sizeof(casadi_real) * nw + sizeof(void *) * (na + nr)
-                     + sizeof(casadi_int) * ((size_t)sz_iw + 1));
-    if (!b) return NULL;
-    ev->w = (casadi_real *)b;
-    ev->arg = (const casadi_real **)(b + sizeof(casadi_real) * nw);
-    ev->res = (casadi_real **)(b + sizeof(casadi_real) * nw + sizeof(void *) * na);
-    ev->iw = (casadi_int *)(b + sizeof(casadi_real) * nw + sizeof(void *) * (na + nr));
-    return b;
-}
-
 static int all_finite(const double *v, long n) {
     long i;
     for (i = 0; i < n; i++)
@@ -128,18 +104,6 @@ static void cv_err(int line, const char *func, const char *file, const char *msg
 }
 
 /* ------------------------------------------------------------- life cycle */
-void pdbfs_cvode_init(PdbfsCvode *s, int nx, int ne, PdbfsEval *ev, pdbfs_log_fn log, void *env) {
-    memset(s, 0, sizeof *s);
-    s->nx = nx;
-    s->ne = ne;
-    s->ev = ev;
-    s->ode = pdbfs_ode;
-    s->jac = pdbfs_jac;
-    s->jac_sp = pdbfs_jac_sparsity_out(0);
-    s->log = log;
-    s->env = env;
-}
-
 void pdbfs_cvode_free(PdbfsCvode *s) {
     if (s->cv) CVodeFree(&s->cv);
     if (s->LS) SUNLinSolFree(s->LS);
