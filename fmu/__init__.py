@@ -5,6 +5,8 @@ validated by fmpy, simulated by any importer.
 
     from pdbfs.fmu import export_fmu
     export_fmu(rig.compile(), "rig.fmu")        # or rig.export_fmu("rig.fmu")
+    export_ssp("loop.ssp", {"plant": "plant.fmu", "controller": "controller.fmu"},
+               [("plant.sensor.y", "controller.measured"), ("controller.pid.y", "plant.opening")])
 
     variables.py    the FMU's variables, value references and model structure
     description.py  modelDescription.xml (FMI 2.0, with <SourceFiles>)
@@ -20,6 +22,9 @@ validated by fmpy, simulated by any importer.
     rights.py       version, author, license and copyright (default: pdbfs's BSD-3-Clause;
                     the user's kept before pdbfs's and CVODES's), documentation/licenses/
     export.py       pdbfs_model.h, compile, zip
+    ssp.py          a system of FMUs connected output to input as an SSP 1.0 file (export_ssp)
+    master.py       a co-simulation master on FMPy that runs such a system (cosimulate):
+                    inputs held over a step, or interpolated (FMI 2.0)
 The FMU's C is pdbfs.native's: native/c/fmu/ holds the generic C of every
 FMU (the life cycle, lifecycle.c, calling down into one wrapper per FMI
 version, fmi2_* and fmi3_*, over the same model code, co-simulation loop and
@@ -31,6 +36,9 @@ May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.
 """
 from .export import check_fmi_version, check_fmu_name, export_fmu
+from .master import CoSimulation, cosimulate
 from .rights import check_rights
+from .ssp import export_ssp, read_interface, read_ssp
 
-__all__ = ["check_fmi_version", "check_fmu_name", "check_rights", "export_fmu"]
+__all__ = ["check_fmi_version", "check_fmu_name", "check_rights", "export_fmu", "export_ssp",
+           "cosimulate", "CoSimulation", "read_interface", "read_ssp"]

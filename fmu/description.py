@@ -26,7 +26,8 @@ def model_text(model: FmuModel) -> str:
     """modelDescription's description: what the rig is (its class docstring), its size."""
     d = model.dae
     what = getattr(d, "description", "") or "A rig built with pdbfs."
-    return f"{what} pdbfs rig '{d.name}': {model.nx} states, {model.np} parameters."
+    ins = f", {model.nu} input{'s' if model.nu != 1 else ''}" if model.nu else ""
+    return f"{what} pdbfs rig '{d.name}': {model.nx} states, {model.npar} parameters{ins}."
 
 
 def _interface(tag: str, attrs: str, source_files) -> list[str]:
@@ -98,7 +99,8 @@ def model_description(model: FmuModel, guid: str, source_files: list[str] | tupl
                      'providesDirectionalDerivative="true"', source_files),
          *_interface("CoSimulation", f'modelIdentifier="{model.ident}" '
                      'canHandleVariableCommunicationStepSize="true" '
-                     'canInterpolateInputs="false" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" '
+                     f'canInterpolateInputs="{str(model.nu > 0).lower()}" maxOutputDerivativeOrder="0" '
+                     'canRunAsynchronuously="false" '
                      'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
                      'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '
                      'providesDirectionalDerivative="true"', source_files),

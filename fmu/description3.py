@@ -97,8 +97,10 @@ def model_description3(model: FmuModel, token: str) -> str:
                  f'variability="continuous" description={quoteattr(_event_text(d, d.event_names[k]))}/>')
     L.append('  </ModelVariables>')
     outputs, derivs, init = model.structure()
-    x_vrs = [model.vr_x + k for k in range(model.nx)]
-    events = _deps(ca.jacobian_sparsity(d.events, d.x), x_vrs) if model.ne else []
+    # an event indicator depends on states and inputs (a commanded valve's stops on its command)
+    knowns = ca.vertcat(d.x, d.p[model.u_rows[0]:model.u_rows[0] + model.nu])
+    vrs = [model.vr_x + k for k in range(model.nx)] + [model.vr_u + k for k in range(model.nu)]
+    events = _deps(ca.jacobian_sparsity(d.events, knowns), vrs) if model.ne else []
 
     def unk(tag, vr, deps):
         return f'    <{tag} valueReference="{vr}" dependencies="{" ".join(map(str, deps))}"/>'

@@ -60,7 +60,8 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
          f"<h1>Rig <code>{e(d.name)}</code></h1>",
          f"<p>{e(getattr(d, 'description', '') or 'A rig built with pdbfs.')}</p>",
          f"<p>An FMI {fmi_version}.0 FMU (Model Exchange and Co-Simulation) exported by pdbfs: a lumped model, "
-         f"{model.nx} states, {model.np} parameters, {model.ne} event indicators (below). Units are SI. "
+         f"{model.nx} states, {model.npar} parameters, {model.nu} inputs, {model.ne} event indicators "
+         "(below). Units are SI. "
          "In Co-Simulation the FMU integrates with CVODE (SUNDIALS) or an explicit Runge-Kutta "
          "method 8(5,3) inside (<code>solver.method</code>; <em>auto</em>, the default, takes the "
          "explicit method where the rig is not stiff over the run), through the event "
@@ -79,6 +80,16 @@ def index_html(model: FmuModel, platforms: list[str], sundials_version: str, cas
         L += ["<h2>Calculated parameters</h2>"]
         L += _table(["name", "unit", "description"],
                     [[f"<code>{e(v.name)}</code>", e(v.unit or ""), e(v.description)] for v in calc])
+    inputs = [v for v in model.vars if v.causality == "input"]
+    if inputs:
+        L += ["<h2>Inputs</h2>",
+              "<p>Set by the importer at any time; Co-Simulation holds each from the communication point "
+              "where it is set, or (FMI 2.0, <code>fmi2SetRealInputDerivatives</code>, first order) runs it "
+              "linearly from there with the slope given. A changed input restarts the solver. Model "
+              "Exchange reads the value set.</p>"]
+        L += _table(["name", "unit", "start", "description"],
+                    [[f"<code>{e(v.name)}</code>", e(v.unit or ""), _num(v.start), e(v.description)]
+                     for v in inputs])
     L += ["<h2>Outputs</h2>"]
     L += _table(["name", "unit", "description"],
                 [[f"<code>{e(v.name)}</code>", e(v.unit or ""), e(v.description)] for v in outputs])

@@ -145,6 +145,10 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          f"#define PDBFS_MODEL_IDENTIFIER {_c_string(model.ident)}",
          f'#define PDBFS_GUID "{guid}"',
          f"#define PDBFS_NX {model.nx}", f"#define PDBFS_NP {model.np}", f"#define PDBFS_NC {model.nc}",
+         f"#define PDBFS_NPAR {model.npar}", f"#define PDBFS_NU {model.nu}",
+         # input k is p[U0 + k] + p[DU0 + k] * (t - p[TREF]) (rig_inputs.py)
+         f"#define PDBFS_P_U0 {model.u_rows[0]}", f"#define PDBFS_P_DU0 {model.u_rows[1]}",
+         f"#define PDBFS_P_TREF {model.u_rows[2]}", f"#define PDBFS_VR_U {model.vr_u}",
          f"#define PDBFS_NY {model.ny}", f"#define PDBFS_NYV {model.nyv}", f"#define PDBFS_NE {model.ne}",
          f"#define PDBFS_NTE {d.time_events.numel()}",   # the first NTE events: t - t_i
          f"#define PDBFS_NCOND {len(d.conditions)}",      # Component.conditions, each >= 0
@@ -164,18 +168,20 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          # solver.method auto (stiffness.c): pdbfs.native.stiffness's cost model
          *c_defines(), f"#define PDBFS_ODE_INSTRUCTIONS {ode_instructions(d)}",
          *sizes_header_lines(work),
-         "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"
-         + pad([p.value for p in d.params], _c_double, "0") + "};",
-         "static const double PDBFS_P_MIN[PDBFS_NP + 1] = {"
+         "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"   # the inputs held at their starts
+         + pad(list(d.p_default()), _c_double, "0") + "};",
+         "static const double PDBFS_P_MIN[PDBFS_NPAR + 1] = {"
          + pad([v.min if v.min is not None else -math.inf for v in model.param_vars], _c_double, "0") + "};",
-         "static const double PDBFS_P_MAX[PDBFS_NP + 1] = {"
+         "static const double PDBFS_P_MAX[PDBFS_NPAR + 1] = {"
          + pad([p.max if p.max is not None else math.inf for p in d.params], _c_double, "0") + "};",
-         "static const char PDBFS_P_POSITIVE[PDBFS_NP + 1] = {"
+         "static const char PDBFS_P_POSITIVE[PDBFS_NPAR + 1] = {"
          + pad([p.positive for p in d.params], lambda b: str(int(b)), "0") + "};",
-         "static const char PDBFS_P_TUNABLE[PDBFS_NP + 1] = {"
+         "static const char PDBFS_P_TUNABLE[PDBFS_NPAR + 1] = {"
          + pad([p.tunable for p in d.params], lambda b: str(int(b)), "0") + "};",
-         "static const char *const PDBFS_P_NAME[PDBFS_NP + 1] = {"
+         "static const char *const PDBFS_P_NAME[PDBFS_NPAR + 1] = {"
          + pad([p.name for p in d.params], _c_string, "0") + "};",
+         "static const char *const PDBFS_U_NAME[PDBFS_NU + 1] = {"
+         + pad(d.input_names, _c_string, "0") + "};",
          "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
          "static const char *const PDBFS_Y_NAME[PDBFS_NYV + 1] = {"
          + pad([d.y_names[i] for i in model.y_exposed], _c_string, "0") + "};",
@@ -208,8 +214,10 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     holders are kept after a value given (fmu/rights.py), their texts in
     ``documentation/licenses/`` (``license.txt`` says what is whose). Raises
     ExportError (PlatformError for an unknown platform) before any work is
-    done, and for a DAE with algebraic variables; nothing is left at
-    ``path`` on failure.
+    done, and for a DAE with algebraic variables or one that differentiates
+    an input; nothing is left at ``path`` on failure. Each input of the rig
+    (``dae.inputs``) is an FMU input (held over a co-simulation step, or on
+    the line FMI 2.0's ``fmi2SetRealInputDerivatives`` gives).
     """
     fmi_version = check_fmi_version(fmi_version)
     check_rights(author=author, license=license, copyright=copyright)

@@ -1,6 +1,11 @@
 """What an FMU of a DAE exposes: its variables (value references,
 causality, variability, units, bounds), the nominal values of its states and
-its model structure (dependencies), derived from the DAE alone."""
+its model structure (dependencies), derived from the DAE alone.
+
+A rig's inputs (``dae.inputs``) are variables of causality ``input``: the
+C writes each one's value and slope into the input entries that end ``p``
+(``dae.input_rows()``); the outputs and derivatives list them among their
+dependencies."""
 from __future__ import annotations
 
 import math
@@ -58,13 +63,15 @@ class _Var:
     nominal: float | None = None
 
 
-def _deps(jac_sparsity: ca.Sparsity, cols_to_index: list[int]) -> list[list[int]]:
+def _deps(jac_sparsity: ca.Sparsity, cols_to_index: list[int | None]) -> list[list[int]]:
     """For each row of a Jacobian's pattern, the sorted indices of the
-    columns it depends on (one pass over the nonzeros)."""
-    out = [[] for _ in range(jac_sparsity.size1())]
+    columns it depends on (one pass over the nonzeros); a column whose index
+    is None (an input's slope, t_ref: no variable) is left out."""
+    out = [set() for _ in range(jac_sparsity.size1())]
     rows, cols = jac_sparsity.get_triplet()
     for r, c in zip(rows, cols):
-        out[r].append(cols_to_index[c])
+        if cols_to_index[c] is not None:
+            out[r].add(cols_to_index[c])
     return [sorted(o) for o in out]
 
 
@@ -75,17 +82,16 @@ def _check_dae(dae: DAE) -> None:
                          "simplify the rig so that no algebraic variable remains")
     if dae.x.numel() == 0:
         raise ExportError(f"DAE '{dae.name}' has no states: nothing to integrate")
-    if getattr(dae, "inputs", None):
-        raise ExportError(f"rig {dae.name} has inputs ({', '.join(dae.input_names)}): an FMU of "
-                          "a rig with inputs cannot be exported yet; give the signal as a source "
-                          "block (Table, Step, ...) inside the rig to export it")
-    for what, expr, info in (("x", dae.x, dae.x_info), ("p", dae.p, dae.params), ("y", dae.y, dae.y_info)):
-        if expr.numel() != len(info):
-            raise ExportError(f"DAE '{dae.name}': {what} has {expr.numel()} entries but {len(info)} infos")
+    _check_inputs(dae)
+    n_u = len(getattr(dae, "inputs", ()))
+    for what, n, info in (("x", dae.x.numel(), dae.x_info), ("p", dae.p.numel() - (2 * n_u + 1 if n_u else 0),
+                                                             dae.params), ("y", dae.y.numel(), dae.y_info)):
+        if n != len(info):
+            raise ExportError(f"DAE '{dae.name}': {what} has {n} entries but {len(info)} infos")
     if dae.events.numel() != len(dae.event_names):
         raise ExportError(f"DAE '{dae.name}': {dae.events.numel()} event indicators but "
                          f"{len(dae.event_names)} names")
-    names = dae.p_names + dae.x_names + [n for n in dae.calculated]
+    names = dae.p_names + dae.x_names + [n for n in dae.calculated] + dae.input_names
     dup = {n for n in names if names.count(n) > 1}
     if dup:
         raise ExportError(f"DAE '{dae.name}': duplicate names {sorted(dup)}")
@@ -100,6 +106,24 @@ def _check_dae(dae: DAE) -> None:
     for n in dae.x_names:
         if n in dae.p_names:
             raise ExportError(f"'{n}' is both a state and a parameter")
+
+
+def _check_inputs(dae: DAE) -> None:
+    """Refuse an input the rig differentiates: an importer gives an input's
+    value only (Model Exchange has no input derivatives; Co-Simulation holds
+    an input over a step unless the importer sets its slope), so the
+    derivative the equations use would be wrong."""
+    rows = dae.input_rows()
+    if rows is None:
+        return
+    # at t = t_ref each input is its value: a slope still there is its derivative, used
+    eqs = ca.substitute(ca.vertcat(dae.ode, dae.y, dae.events), dae.t, dae.p[rows[2]])
+    for k, name in enumerate(dae.input_names):
+        if ca.depends_on(eqs, dae.p[rows[1] + k]):
+            raise ExportError(f"rig {dae.name}: input {name} is differentiated (its rate enters the "
+                              "equations, as a prescribed position's velocity does), but an FMU's "
+                              "importer gives an input's value only; filter it (a FirstOrder or "
+                              "SecondOrder block) or drive a force or pressure instead")
 
 
 def _reduced_start_parameters(dae: DAE) -> dict[str, list[str]]:
@@ -121,8 +145,12 @@ class FmuModel:
         self.stop_time, self.step_size, self.tolerance = stop_time, step_size, tolerance
         #: modelDescription's version, author, license, copyright lines (rights.rights_attrs)
         self.rights: list[str] = []
-        nx, npar = dae.x.numel(), dae.p.numel()
-        self.nx, self.np = nx, npar
+        nx, npar = dae.x.numel(), len(dae.params)
+        # np: all of p (the C's size); npar: the free parameters; nu: the inputs,
+        # whose values, slopes and t_ref end p (u0, du0, t_ref = dae.input_rows())
+        self.nx, self.np, self.npar = nx, dae.p.numel(), npar
+        self.nu = len(getattr(dae, "inputs", ()))
+        self.u_rows = dae.input_rows() or (npar, npar, npar)
         self.calc_names = list(dae.calculated)
         self.calc_expr = ca.vertcat(*[dae.calculated[n][0] for n in self.calc_names]) \
             if self.calc_names else ca.SX(0, 1)
@@ -130,7 +158,7 @@ class FmuModel:
         self.ne = dae.events.numel()
         self.ny = dae.y.numel()
         x_names, p_names = dae.x_names, dae.p_names
-        taken = set(x_names) | set(p_names) | set(self.calc_names)
+        taken = set(x_names) | set(p_names) | set(self.calc_names) | set(dae.input_names)
         # y entries that are states are served by the state variable itself;
         # ones named like a parameter or a calculated parameter are dropped
         self.y_alias_state: dict[int, int] = {}
@@ -157,7 +185,8 @@ class FmuModel:
         self.vr_x = self.vr_c + self.nc
         self.vr_dx = self.vr_x + nx
         self.vr_y = self.vr_dx + nx
-        self.vr_method = self.vr_y + self.nyv
+        self.vr_u = self.vr_y + self.nyv          # the inputs (none: no value references)
+        self.vr_method = self.vr_u + self.nu
         self.vr_maxnumsteps = self.vr_method + 1
         p0 = dae.p_default()
         x0 = np.array(dae.function("start")(p0), dtype=float).ravel()
@@ -206,9 +235,12 @@ class FmuModel:
         V.append(_Var("solver.max_num_steps", self.vr_maxnumsteps, "parameter", "fixed", "exact",
                       "Co-Simulation: most internal solver steps in one fmi2DoStep (more is a solver failure)",
                       type="Integer", start=DEFAULT_MAX_NUM_STEPS, min=1))
+        for k, u in enumerate(getattr(d, "inputs", ())):
+            V.append(_Var(u.name, self.vr_u + k, "input", "continuous", None, u.description or f"input {u.name}",
+                          start=u.start, unit=u.unit))
         p_tunable = [prm.tunable for prm in d.params]
-        jc = _deps(ca.jacobian_sparsity(self.calc_expr, d.p), list(range(self.np))) \
-            if self.nc else None
+        cols = list(range(self.npar)) + [None] * (self.np - self.npar)   # the parameters only
+        jc = _deps(ca.jacobian_sparsity(self.calc_expr, d.p), cols) if self.nc else None
         for k, n in enumerate(self.calc_names):
             vi = d.calculated[n][1]
             dep = jc[k]
@@ -262,9 +294,13 @@ class FmuModel:
     def _find_structure(self):
         d = self.dae
         x_idx = self.x_index
-        p_idx = [self.index[n] for n in d.p_names]
-        jy = _deps(ca.jacobian_sparsity(d.y, d.x), x_idx)
-        jf = _deps(ca.jacobian_sparsity(d.ode, d.x), x_idx)
+        u_idx = [self.index[n] for n in d.input_names]
+        # p's columns: the parameters and the inputs' values are variables (the slopes and t_ref are not)
+        p_idx = [self.index[n] for n in d.p_names] + u_idx + [None] * (self.np - self.npar - self.nu)
+        # outputs and derivatives depend on states and inputs
+        known = ca.vertcat(d.x, d.p[self.u_rows[0]:self.u_rows[0] + self.nu])
+        jy = _deps(ca.jacobian_sparsity(d.y, known), x_idx + u_idx)
+        jf = _deps(ca.jacobian_sparsity(d.ode, known), x_idx + u_idx)
         outputs = []  # (index, deps)
         for k in range(self.nx):
             if self.state_is_output[k]:

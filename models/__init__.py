@@ -8,6 +8,9 @@ from .drop import DROP_SIGNALS, DropRestRig, DropRig, drop_rig
 from .hydraulic_pulse import PULSE_SIGNALS, HydraulicPulseRig, hydraulic_pulse_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
 from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_hydraulic_rig
+from .pulse_control import (LOOP, PID_SIGNALS, TARGET, HydraulicPulsePIDRig, PulseControllerRig,
+                            PulsePlantRig, hydraulic_pulse_pid_rig, pulse_controller_rig,
+                            pulse_plant_rig)
 from .split_piston import SplitPiston, SplitPistonRig, SplitSeal, split_piston_rig
 
 #: contact damping laws offered beside Table 1's D, with the rig-name suffix
@@ -54,10 +57,14 @@ RIGS = {
     "hydraulic-pulse": hydraulic_pulse_rig,
     # ... with a hose and a line that start at the supply pressure (solved)
     "hydraulic-pulse-line": lambda: hydraulic_pulse_rig(line=True),
+    # ... whose valve a PI controller opens to follow a target pulse (closed loop)
+    "hydraulic-pulse-pid": hydraulic_pulse_pid_rig,
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
            "SplitSeal", "SplitPistonRig", "split_piston_rig", "DropRig", "DropRestRig", "drop_rig",
            "DROP_SIGNALS", "BarPistonRig", "bar_piston_rig", "BAR_SIGNALS", "PaperHydraulicRig",
            "paper_hydraulic_rig", "PAPER_HYDRAULIC_SIGNALS", "HydraulicPulseRig",
-           "hydraulic_pulse_rig", "PULSE_SIGNALS"]
+           "hydraulic_pulse_rig", "PULSE_SIGNALS", "HydraulicPulsePIDRig", "PulsePlantRig",
+           "PulseControllerRig", "hydraulic_pulse_pid_rig", "pulse_plant_rig", "pulse_controller_rig",
+           "PID_SIGNALS", "TARGET", "LOOP"]

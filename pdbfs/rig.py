@@ -220,8 +220,10 @@ class Rig(Component):
         Raises
         ------
         ExportError
-            Bad arguments (before any work), a rig with algebraic variables,
-            or a failed build; nothing is left at ``path`` then.
+            Bad arguments (before any work), a rig with algebraic variables
+            or whose equations use an input's rate, or a failed build;
+            nothing is left at ``path`` then. The rig's inputs are the FMU's
+            inputs.
         """
         kwargs = dict(model_identifier=model_identifier, tolerance=tolerance,
                       keep_build_dir=keep_build_dir, cflags=cflags, fmi_version=fmi_version,

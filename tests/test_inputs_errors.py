@@ -58,10 +58,12 @@ def test_the_settings_are_checked_before_the_inputs_and_both_before_any_work():
     assert pdbfs.simulation.Simulator.of(rig)._last_stats == {}     # nothing integrated
 
 
-def test_an_fmu_of_a_rig_with_inputs_is_refused_in_one_line(tmp_path):
+def test_an_fmu_of_a_rig_that_differentiates_an_input_is_refused_in_one_line(tmp_path):
+    """A rig with inputs exports them as FMU inputs (tests/test_fmu_inputs.py);
+    one whose equations use an input's rate cannot, since an importer gives values."""
     with pytest.raises(pdbfs.ExportError) as err:
-        Pushed().export_fmu(tmp_path / "pushed.fmu")
-    assert "rig Pushed has inputs (u)" in str(err.value) and "\n" not in str(err.value)
+        BaseExcited().export_fmu(tmp_path / "base.fmu")
+    assert "input base is differentiated" in str(err.value) and "\n" not in str(err.value)
     assert not list(tmp_path.iterdir())
 
 

@@ -1,5 +1,6 @@
-"""Command line: ``pdbfs simulate | params | export-fmu | modes | linearize | sweep |
-sensitivity | reproduce | calibrate | design | design-map | app | example-data | prepare-offline``.
+"""Command line: ``pdbfs simulate | params | export-fmu | export-ssp | modes | linearize |
+sweep | sensitivity | reproduce | calibrate | design | design-map | app | example-data |
+prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -18,15 +19,15 @@ import warnings
 from pdbfs.errors import PdbfsError
 
 from . import (app, calibrate, design, examples, interrupt, linearize, modes, offline, reproduce,
-               sensitivity, simulate, sweep)
+               sensitivity, simulate, ssp, sweep)
 
-COMMANDS = (simulate, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, app,
+COMMANDS = (simulate, ssp, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, app,
             examples, offline)
 
 #: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
 DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "
                "calibration, design) and export them as FMUs. Commands print their results and "
-               "write files only where --out (or -o) says; export-fmu and reproduce, whose "
+               "write files only where --out (or -o) says; export-fmu, export-ssp and reproduce, whose "
                "results are files, have a default. `pdbfs COMMAND --help` shows a command's "
                "options.")
 

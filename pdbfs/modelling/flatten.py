@@ -122,10 +122,13 @@ def flatten(root) -> FlatSystem:
             name = input_name(comp, attr)
             flat.inputs.append(FlatInput(name, rename(slot.value, name),
                                          rename(slot.slope, f"der({name})"), slot.decl))
+        # a signal output of a block or sensor at the rig's top level is an output
+        # of the rig (an FMU's output, another model's input); an Input's is the input
+        shown = comp._parent is root and not getattr(comp, "rig_input", False)
         for c in comp._connectors.values():
             for local_name, sym, unit, desc, _ in c.variables():
                 add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,
-                        False, 1)
+                        shown and getattr(c, "is_output", False), 1)
 
     # every expression is renamed in one substitution (one per expression
     # would make flattening quadratic in the size of the rig)

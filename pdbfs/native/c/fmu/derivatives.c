@@ -1,6 +1,6 @@
 /* Directional and adjoint derivatives of a pdbfs FMU, for every FMI version:
- * of the state derivatives and the outputs with respect to the states and
- * the tunable parameters, exact, from CasADi's forward (pdbfs_fwd: J v) and
+ * of the state derivatives and the outputs with respect to the states, the
+ * inputs (the entries of their values in p) and the tunable parameters, exact, from CasADi's forward (pdbfs_fwd: J v) and
  * reverse (pdbfs_adj: J^T w) AD of J = d[der(x); y] / d[x; p], one
  * evaluation per call (fmu/derivatives.py). A state as an unknown is its
  * own identity. */
@@ -8,19 +8,20 @@
 
 #include "fmu_instance.h"
 
-#define NQ (NX + NP)    /* the knowns' space: states, then parameters */
+#define NQ (NX + NP)    /* the knowns' space: states, then p (parameters, inputs' entries) */
 #define NF (NX + NYV)   /* the unknowns' space: derivatives, then exposed outputs */
 
 /* a known's place in [x; p], or -1 (logged) */
 static int known_slot(Inst *m, const char *fn, unsigned r) {
     if (r >= PDBFS_VR_X && r < PDBFS_VR_X + NX) return (int)(r - PDBFS_VR_X);
-    if (r - PDBFS_VR_P < (unsigned)NP) {   /* (unsigned: r < PDBFS_VR_P wraps past NP) */
+    if (r >= PDBFS_VR_U && r < PDBFS_VR_U + NU) return NX + PDBFS_P_U0 + (int)(r - PDBFS_VR_U);
+    if (r - PDBFS_VR_P < (unsigned)NPAR) {   /* (unsigned: r < PDBFS_VR_P wraps past NPAR) */
         if (PDBFS_P_TUNABLE[r - PDBFS_VR_P]) return NX + (int)(r - PDBFS_VR_P);
         (void)ERR(m, "%s: parameter %s is fixed: derivatives are with respect to states and tunable parameters",
             fn, PDBFS_P_NAME[r - PDBFS_VR_P]);
         return -1;
     }
-    (void)ERR(m, "%s: value reference %u is not a state or a tunable parameter", fn, r);
+    (void)ERR(m, "%s: value reference %u is not a state, an input or a tunable parameter", fn, r);
     return -1;
 }
 

@@ -70,12 +70,11 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real nominals[
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[]) {
     Inst *m = (Inst *)c;
-    (void)order; (void)value;
     if (fmu_check(m, "fmi2SetRealInputDerivatives", ST_INSTANTIATED | ST_INIT | ST_STEPDONE, fmi2CoSimulation) !=
         fmi2OK)
         return fmi2Error;
-    if (nvr > 0) return ERR(m, "fmi2SetRealInputDerivatives: the model has no inputs (vr %u)", vr ? vr[0] : 0u);
-    return fmi2OK;
+    /* canInterpolateInputs: each input runs linearly from the current communication point */
+    return (fmi2Status)values_set_input_slopes(m, "fmi2SetRealInputDerivatives", vr, nvr, order, value);
 }
 
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,

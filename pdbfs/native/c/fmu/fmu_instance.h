@@ -30,7 +30,7 @@
  * states index reduction made algebraic).
  *
  * Value references (Real): [params | solver.rtol, solver.max_step |
- *   calculated params | states | derivatives | other outputs/locals],
+ *   calculated params | states | derivatives | other outputs/locals | inputs],
  * Integer: solver.method, solver.max_num_steps (after the reals); FMI 3.0
  * adds time and the event indicators after these (pdbfs_model.h defines
  * PDBFS_VR_TIME and PDBFS_VR_E then).
@@ -46,7 +46,9 @@
 
 /* zero-size arrays are not C: every model-sized array is padded by one */
 #define NX PDBFS_NX
-#define NP PDBFS_NP
+#define NP PDBFS_NP       /* all of p: the parameters, then (a rig with inputs) the inputs' entries */
+#define NPAR PDBFS_NPAR   /* the free parameters, p[0 .. NPAR) */
+#define NU PDBFS_NU       /* the inputs: input k is p[U0 + k] + p[DU0 + k] * (t - p[TREF]) */
 #define NC PDBFS_NC
 #define NY PDBFS_NY
 #define NYV PDBFS_NYV
@@ -98,7 +100,7 @@ typedef struct {
     int mode;
     int type;
     double time;
-    double p[NP + 1];
+    double p[NP + 1];        /* parameters, then the inputs' values, slopes and t_ref */
     double rtol;
     double max_step;
     int method;
@@ -198,6 +200,12 @@ int values_get_int(Inst *m, const char *fn, unsigned vr, long long *v);
 int values_check_int(Inst *m, const char *fn, unsigned vr, long long v);
 void values_set_int(Inst *m, unsigned vr, long long v);
 int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n, int allowed);
+/* the inputs' first derivatives (FMI 2.0 Co-Simulation: fmi2SetRealInputDerivatives):
+ * each input then runs linearly from its value at the current time */
+int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[],
+                            const double v[]);
+/* input k's value at the current time */
+double values_input(const Inst *m, int k);
 
 /* snapshot.c: the FMU state */
 int snapshot_get(Inst *m, const char *fn, void **state);

@@ -1,5 +1,6 @@
 /* The FMU state of a pdbfs FMU, for every FMI version: a plain copy of the
- * Snapshot (time, states, parameters, settings); CVODE restarts from a
+ * Snapshot (time, states, parameters, the inputs' values and slopes,
+ * settings); CVODE restarts from a
  * restored state.  A state given back (restored or deserialised) is checked
  * as setting its values would check them: it may come from another process
  * or a corrupted file.
@@ -31,8 +32,9 @@ static int check_snapshot(Inst *m, const Snapshot *s, const char *fn) {
         return ERR(m, "%s: invalid mode %d in the state", fn, s->mode);
     if ((s->mode & (ST_STEPDONE | ST_EVENT | ST_CONT | ST_TERMINATED)) && !s->x_fixed)
         return ERR(m, "%s: a state after initialization without its continuous states", fn);
-    for (k = 0; k < NP; k++)
+    for (k = 0; k < NPAR; k++)
         if (model_check_param(m, k, s->p[k]) != FMU_OK) return ERR(m, "%s: the state's parameters are invalid", fn);
+    if (!fmu_all_finite(s->p + NPAR, NP - NPAR)) return ERR(m, "%s: the state's inputs are not finite", fn);
     /* after initialisation the parameters keep the components' conditions (before: checked on leaving it) */
     if ((s->mode & (ST_STEPDONE | ST_EVENT | ST_CONT | ST_TERMINATED)) && (k = model_failed_condition(m, s->p)) >= 0)
         return ERR(m, "%s: the state's parameters break a condition: %s", fn, PDBFS_COND_TEXT[k]);

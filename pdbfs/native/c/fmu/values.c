@@ -2,18 +2,86 @@
  * parameters (checked against their bounds; fixed ones only before
  * initialisation, tunable ones in event mode or between steps, and then
  * only to values that keep the components' conditions), the solver
- * settings, calculated parameters, states, derivatives, outputs.  A call
+ * settings, calculated parameters, states, derivatives, outputs, and the
+ * inputs (held from the time they are set, or running linearly from there
+ * with the slope FMI 2.0's fmi2SetRealInputDerivatives gives).  A call
  * that is refused changes nothing. */
 #include <math.h>
 #include <stdio.h>
 
 #include "fmu_instance.h"
 
-#define VR_P_END (PDBFS_VR_P + NP)
+#define VR_P_END (PDBFS_VR_P + NPAR)
 #define VR_C_END (PDBFS_VR_C + NC)
 #define VR_X_END (PDBFS_VR_X + NX)
 #define VR_DX_END (PDBFS_VR_DX + NX)
 #define VR_Y_END (PDBFS_VR_Y + NYV)
+#define VR_U_END (PDBFS_VR_U + NU)
+#define IS_INPUT(r) ((r) >= PDBFS_VR_U && (r) < VR_U_END)
+
+/* ------------------------------------------------------------------ inputs */
+
+double values_input(const Inst *m, int k) {
+#if PDBFS_NU > 0
+    const double *p = m->s.p;
+    return p[PDBFS_P_U0 + k] + p[PDBFS_P_DU0 + k] * (m->s.time - p[PDBFS_P_TREF]);
+#else
+    (void)m; (void)k;
+    return 0.0;
+#endif
+}
+
+/* every input's segment made to start now (t_ref = time): the same lines,
+ * so that one input can be given a new value or slope from here */
+static void inputs_from_now(Inst *m) {
+#if PDBFS_NU > 0
+    double *p = m->s.p;
+    int k;
+    if (p[PDBFS_P_TREF] == m->s.time) return;
+    for (k = 0; k < NU; k++) p[PDBFS_P_U0 + k] = values_input(m, k);
+    p[PDBFS_P_TREF] = m->s.time;
+#else
+    (void)m;
+#endif
+}
+
+/* input k from now: ``value``, then ``slope`` (1/s in its unit); 1 if that changes it */
+static int input_set(Inst *m, int k, double value, double slope) {
+#if PDBFS_NU > 0
+    double *p = m->s.p;
+    int changed = p[PDBFS_P_U0 + k] != value || p[PDBFS_P_DU0 + k] != slope;
+    p[PDBFS_P_U0 + k] = value;
+    p[PDBFS_P_DU0 + k] = slope;
+    return changed;
+#else
+    (void)m; (void)k; (void)value; (void)slope;
+    return 0;
+#endif
+}
+
+int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[],
+                            const double v[]) {
+    size_t i;
+    int changed = 0;
+    if (n > 0 && (!vr || !order || !v)) return ERR(m, "%s: NULL argument", fn);
+    for (i = 0; i < n; i++) {
+        if (!IS_INPUT(vr[i])) return ERR(m, "%s: value reference %u is not an input", fn, vr[i]);
+        if (order[i] != 1)
+            return ERR(m, "%s: order %d of input %s: only the first derivative is taken (an input is linear "
+                       "over a communication step)", fn, order[i], PDBFS_U_NAME[vr[i] - PDBFS_VR_U]);
+        if (!isfinite(v[i]))
+            return ERR(m, "%s: the derivative of input %s is %g, not finite", fn, PDBFS_U_NAME[vr[i] - PDBFS_VR_U],
+                       v[i]);
+    }
+    inputs_from_now(m);
+    for (i = 0; i < n; i++) {
+        int k = (int)(vr[i] - PDBFS_VR_U);
+        changed |= input_set(m, k, values_input(m, k), v[i]);
+    }
+    m->derived_ok = 0;
+    if (changed && m->s.mode == ST_STEPDONE) m->need_restart = 1;   /* the right-hand side changed */
+    return FMU_OK;
+}
 
 /* a computed value that is not finite (an importer's state or parameters the
  * model cannot run at) is an error naming it, never returned as OK */
@@ -32,7 +100,7 @@ static int not_finite(Inst *m, const char *fn, unsigned r, double x) {
  * and the solver settings (the rest has initial="calculated") */
 static int has_start(unsigned r) {
     return (r >= PDBFS_VR_P && r < VR_P_END) || r == PDBFS_VR_RTOL || r == PDBFS_VR_MAXSTEP ||
-           r == PDBFS_VR_METHOD || r == PDBFS_VR_MAXNUMSTEPS;
+           r == PDBFS_VR_METHOD || r == PDBFS_VR_MAXNUMSTEPS || IS_INPUT(r);
 }
 
 /* a calculated variable's name for a message: "state hammer.s", ... */
@@ -59,7 +127,7 @@ int values_check_get(Inst *m, const char *fn, const unsigned vr[], size_t n, int
     if (m->s.mode != ST_INSTANTIATED) return FMU_OK;
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
-        int known = r < VR_Y_END;
+        int known = r < VR_U_END;
 #ifdef PDBFS_VR_TIME
         known = known || (r >= PDBFS_VR_TIME && r < PDBFS_VR_E + NE);
 #endif
@@ -97,6 +165,8 @@ int values_get_real(Inst *m, const char *fn, const unsigned vr[], size_t n, doub
             if (!isfinite(v[i]))
                 return ERR(m, "%s: output %s = %g at t=%.17g: check the parameters", fn,
                            PDBFS_Y_NAME[r - PDBFS_VR_Y], v[i], m->s.time);
+        } else if (IS_INPUT(r)) {
+            v[i] = values_input(m, (int)(r - PDBFS_VR_U));
 #ifdef PDBFS_VR_TIME
         } else if (r == PDBFS_VR_TIME) {
             v[i] = m->s.time;
@@ -162,7 +232,7 @@ static int check_tunable_change(Inst *m, const char *fn, const unsigned vr[], si
 
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
     size_t i;
-    int before_init, tunable_ok, changed = 0;
+    int before_init, tunable_ok, changed = 0, params = 0;
     if (fmu_check(m, fn, ST_SET_REAL, -1) != FMU_OK) return FMU_ERROR;
     if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
     before_init = (m->s.mode & (ST_INSTANTIATED | ST_INIT)) != 0;
@@ -180,6 +250,9 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
                 return ERR(m, "%s: tunable parameter %s can only be changed in %s", fn, PDBFS_P_NAME[k],
                            m->s.type == FMU_CS ? "between steps" : "event mode");
             if (model_check_param(m, k, x) != FMU_OK) return FMU_ERROR;
+            params = 1;
+        } else if (IS_INPUT(r)) {
+            if (!isfinite(x)) return ERR(m, "%s: input %s = %g is not finite", fn, PDBFS_U_NAME[r - PDBFS_VR_U], x);
         } else if (r == PDBFS_VR_RTOL || r == PDBFS_VR_MAXSTEP) {
             const char *nm = r == PDBFS_VR_RTOL ? "solver.rtol" : "solver.max_step";
             if (!before_init)
@@ -195,10 +268,13 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
             return ERR(m, "%s: unknown value reference %u", fn, r);
         }
     }
-    if (!before_init && check_tunable_change(m, fn, vr, n, v) != FMU_OK) return FMU_ERROR;
+    if (!before_init && params && check_tunable_change(m, fn, vr, n, v) != FMU_OK) return FMU_ERROR;
+    inputs_from_now(m);
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
-        if (r >= PDBFS_VR_P && r < VR_P_END) {
+        if (IS_INPUT(r)) {   /* held from now (a slope given later makes it a line) */
+            if (input_set(m, (int)(r - PDBFS_VR_U), v[i], 0.0)) changed = 1;
+        } else if (r >= PDBFS_VR_P && r < VR_P_END) {
             if (m->s.p[r - PDBFS_VR_P] != v[i]) changed = 1;
             m->s.p[r - PDBFS_VR_P] = v[i];
         } else if (r == PDBFS_VR_RTOL) {

@@ -1,0 +1,196 @@
+"""A co-simulation master on FMPy's FMU2Slave and FMU3Slave: the FMUs of a
+system (an SSP file, ``ssp.py``) stepped together at a fixed communication
+step, each output fed to the inputs it is connected to at every
+communication point.
+
+At a communication point the master reads the outputs and sets the
+connected inputs, in passes until nothing changes (an output that depends
+directly on an input, as a controller's on its measurement, is read after
+that input is set: no algebraic loop is assumed); then every FMU steps.
+Inputs are held over the step (first order in the step), or, with
+``interpolate=True`` and FMI 2.0 FMUs that can interpolate inputs, run on a
+line whose slope is the connected output's over the step before
+(``fmi2SetRealInputDerivatives``; second order). FMI 3.0 has no call for an
+input's derivative: its inputs are held.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pdbfs.errors import ExportError, SolverError
+
+from .ssp import read_ssp
+
+
+@dataclass
+class CoSimulation:
+    """A co-simulated system's results: the communication points ``t`` (s)
+    and each recorded variable (``"element.variable"``) there, with the
+    step, whether inputs were interpolated, and the FMU calls' wall time."""
+
+    t: np.ndarray
+    values: dict[str, np.ndarray] = field(default_factory=dict)
+    step: float = 0.0
+    interpolated: bool = False
+    seconds: float = 0.0
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name not in self.values:
+            raise KeyError(f"{name!r} was not recorded; recorded: {', '.join(self.values)}")
+        return self.values[name]
+
+
+class _Member:
+    """One FMU of the system, instantiated from its extracted folder."""
+
+    def __init__(self, name: str, folder: str, tolerance: float | None, t0: float, t1: float):
+        from fmpy import read_model_description
+        md = read_model_description(folder)
+        if md.coSimulation is None:
+            raise ExportError(f"component {name}: its FMU offers no Co-Simulation")
+        self.name, self.fmi3 = name, md.fmiVersion.startswith("3")
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.interpolates = bool(getattr(md.coSimulation, "canInterpolateInputs", False)) and not self.fmi3
+        kw = dict(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.coSimulation.modelIdentifier,
+                  instanceName=name)
+        if self.fmi3:
+            from fmpy.fmi3 import FMU3Slave
+            self.fmu = FMU3Slave(**kw)
+            self.fmu.instantiate()
+            self.fmu.enterInitializationMode(tolerance=tolerance, startTime=t0, stopTime=t1)
+        else:
+            from fmpy.fmi2 import FMU2Slave
+            self.fmu = FMU2Slave(**kw)
+            self.fmu.instantiate()
+            self.fmu.setupExperiment(tolerance=tolerance, startTime=t0, stopTime=t1)
+            self.fmu.enterInitializationMode()
+
+    def get(self, names: list[str]) -> list[float]:
+        vrs = [self.vr[n] for n in names]
+        return list(self.fmu.getFloat64(vrs) if self.fmi3 else self.fmu.getReal(vrs))
+
+    def set(self, names: list[str], values: list[float]) -> None:
+        vrs = [self.vr[n] for n in names]
+        if self.fmi3:
+            self.fmu.setFloat64(vrs, values)
+        else:
+            self.fmu.setReal(vrs, values)
+
+    def step(self, t: float, h: float) -> None:
+        self.fmu.doStep(t, h)
+
+    def close(self) -> None:
+        try:
+            self.fmu.terminate()
+        finally:
+            self.fmu.freeInstance()
+
+
+def cosimulate(ssp: str | os.PathLike, step: float, t_end: float | None = None, *,
+               outputs: list[str] | None = None, interpolate: bool = False,
+               tolerance: float | None = None) -> CoSimulation:
+    """Co-simulate the system of the SSP file ``ssp`` from its default start
+    to ``t_end`` (default: its default stop time) at the communication step
+    ``step`` (s), recording ``outputs`` (``"element.variable"``; default:
+    every connected output) at every communication point. ``interpolate``:
+    inputs of FMI 2.0 FMUs that can interpolate run on a line (the slope of
+    the output that feeds them over the step before) instead of being held.
+    ``tolerance``: the FMUs' relative tolerance (default: their own).
+
+    Raises ExportError for a bad system or argument, SolverError where an
+    FMU refuses a call (its log says why).
+    """
+    comps, conns, exp = read_ssp(ssp)
+    t0 = float(exp.get("startTime", 0.0))
+    t1 = float(t_end if t_end is not None else exp.get("stopTime", "nan"))
+    if not (isinstance(step, (int, float)) and not isinstance(step, bool) and 0 < step < float("inf")):
+        raise ExportError(f"step = {step!r}: give a communication step in s > 0")
+    if not np.isfinite(t1) or t1 <= t0:
+        raise ExportError(f"t_end = {t_end!r}: give an end time after the start {t0} s (the SSP file "
+                          "states no stop time)" if not np.isfinite(t1) else f"t_end {t1} s is not after "
+                          f"the start {t0} s")
+    n = int(round((t1 - t0) / step))
+    if n < 1 or abs(n * step - (t1 - t0)) > 1e-9 * max(1.0, abs(t1)):
+        raise ExportError(f"step {step} s does not divide the run {t0}..{t1} s into whole steps")
+    outputs = list(outputs) if outputs is not None else list(dict.fromkeys(f"{a}.{av}" for a, av, _, _ in conns))
+    with tempfile.TemporaryDirectory(prefix="pdbfs-cosim-") as tmp:
+        with zipfile.ZipFile(ssp) as z:
+            z.extractall(tmp)
+        folders = {}
+        for name, source in comps.items():
+            folders[name] = str(Path(tmp) / name)
+            with zipfile.ZipFile(Path(tmp) / source) as z:
+                z.extractall(folders[name])
+        members: dict[str, _Member] = {}
+        try:
+            for name in comps:
+                members[name] = _Member(name, folders[name], tolerance, t0, t1)
+            for o in outputs:
+                e, _, v = o.partition(".")
+                if e not in members or v not in members[e].vr:
+                    raise ExportError(f"output {o!r}: no such variable in the system")
+            return _run(members, conns, outputs, t0, step, n, interpolate)
+        except ExportError:
+            raise
+        except Exception as err:       # an FMU's refusal (fmpy raises it): one line
+            raise SolverError(f"co-simulation of {Path(ssp).name} failed: {err}") from None
+        finally:
+            for m in members.values():
+                try:
+                    m.close()
+                except Exception:      # an instance in error: freed as far as it goes
+                    pass
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _propagate(members, conns) -> dict:
+    """Every connected input set to its output's value, in passes until
+    nothing changes (at most one pass per connection); the values set."""
+    last: dict = {}
+    for _ in range(max(1, len(conns))):
+        changed = False
+        for a, av, b, bv in conns:
+            v = members[a].get([av])[0]
+            if last.get((b, bv)) != v:
+                members[b].set([bv], [v])
+                last[(b, bv)] = v
+                changed = True
+        if not changed:
+            break
+    return last
+
+
+def _run(members, conns, outputs, t0, h, n, interpolate) -> CoSimulation:
+    import time as _time
+    start = _time.perf_counter()
+    _propagate(members, conns)
+    for m in members.values():
+        m.fmu.exitInitializationMode()
+    rec = {o: np.empty(n + 1) for o in outputs}
+    split = [(o, *o.split(".", 1)) for o in outputs]
+
+    def record(i):
+        for o, e, v in split:
+            rec[o][i] = members[e].get([v])[0]
+    prev = None
+    for i in range(n + 1):         # each communication point: inputs set, outputs read, then the step
+        now = _propagate(members, conns)
+        record(i)
+        if i == n:
+            break
+        if interpolate:
+            for (b, bv), v in now.items():
+                if members[b].interpolates:
+                    slope = 0.0 if prev is None else (v - prev[(b, bv)]) / h
+                    members[b].fmu.setRealInputDerivatives([members[b].vr[bv]], [1], [slope])
+        prev = now
+        for m in members.values():
+            m.step(t0 + i * h, h)
+    return CoSimulation(t0 + h * np.arange(n + 1), rec, h, bool(interpolate), _time.perf_counter() - start)
