@@ -76,3 +76,19 @@ def test_a_record_that_fits_keeps_its_numbers(monkeypatch):
     b = rig.simulate(10.0, method="erk", backend="c", params={"hammer.v0": 2.73})
     assert np.array_equal(a["oil.pressure"], b["oil.pressure"])
     assert a.summary() == b.summary()
+
+
+def test_a_ctrl_c_in_the_probe_is_raised_when_the_compiled_call_returns(monkeypatch):
+    """Python's SIGINT handler runs at the first Python the main thread runs,
+    in a long compiled run the record's probe: there ctypes printed the
+    KeyboardInterrupt as an ignored exception, with its traceback, and the run
+    went on. The probe keeps it; the call raises it once back in Python."""
+    import pdbfs.simulation.setup.memory as memory
+
+    def interrupted_here():
+        raise KeyboardInterrupt
+    monkeypatch.setattr(memory, "headroom", interrupted_here)
+    assert memory.PROBE() == -1.0              # through ctypes, as the C calls it
+    with pytest.raises(KeyboardInterrupt):
+        memory.interrupted()
+    memory.interrupted()                       # raised once: nothing kept after

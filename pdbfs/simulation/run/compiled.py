@@ -46,8 +46,7 @@ KEY_ROLES = {"peak_pressure": "pressure", "time_of_peak": "pressure", "pulse_dur
 #: the solver statistics of one run (RunStatus.stats, summaries(with_stats=True))
 STAT_KEYS = ("steps", "rhs_evals", "jac_evals", "root_events", "method", "wall_time")
 
-# return codes of pdbfs_batch_run (native/c/library/pdbfs_batch.c); CVODE failures are its
-# negative flags
+# return codes of pdbfs_batch_run (native/c/library/pdbfs_batch.c; CVODE's flags negative)
 RC_OK, RC_BAD_INPUT, RC_SETUP, RC_TOO_MUCH_WORK, RC_NOT_FINITE = 0, 1, 2, 3, 4
 #: a summary point whose pressure crossings do not alternate (native/c/library/pdbfs_summary.c)
 RC_BAD_CROSSINGS = 6
@@ -333,6 +332,7 @@ class CompiledODE:
                                  float(rtol), float(atol), METHOD_CODES[method],
                                  float(max_step or 0.0), int(max_num_steps), a[2], a[3], MSG_LEN,
                                  a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7] if keep else None)
+        memory.interrupted()             # a Ctrl-C the record's probe kept (setup/memory.py)
         wall = time.perf_counter() - wall
         i = b.info.tolist()
         status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
@@ -365,6 +365,7 @@ class CompiledODE:
                                  METHOD_CODES[method], float(max_step or 0.0), int(max_num_steps),
                                  out.ctypes.data, codes.ctypes.data, msgs, POINT_MSG_LEN,
                                  stats.ctypes.data)
+        memory.interrupted()             # a Ctrl-C the record's probe kept
         if failed < 0:
             raise PdbfsError(f"rig {self.name}: the summary driver refused its input")
         raw, messages, L = msgs.raw, [""] * n, POINT_MSG_LEN    # most points say nothing

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..results import c_summary
 from ..results.result import Result
+from ..setup import memory
 from .compiled import INFO_N, METHOD_CODES, MSG_LEN, POINT_MSG_LEN, SUMMARY_KEYS, _stats, _text
 from .kept import KeptRun
 
@@ -115,6 +116,7 @@ def run(sim, plan: Plan, p=None, x0=None):
         args, shared = args_b, (p, x0)
     wall = time.perf_counter()
     code = lib._run_summary(*args)
+    memory.interrupted()             # a Ctrl-C the record's probe kept
     wall = time.perf_counter() - wall
     a = b.unpack(b.bytes)      # info[0..6], the summary's values, its code, the note's start, handle
     handle = a[-1]

@@ -36,9 +36,32 @@ def headroom() -> float:
         return -1.0
 
 
-#: headroom() as a C function: a compiled run's record of its steps asks it as it
-#: grows (c/pdbfs_record.c) and stops the run before the system would kill it
-PROBE = ctypes.CFUNCTYPE(ctypes.c_double)(lambda: headroom())
+#: a Ctrl-C that landed in the probe, to be raised when the compiled call returns
+_interrupted = []
+
+
+def _probe() -> float:
+    # Python's SIGINT handler runs at the first Python the main thread runs: in a
+    # long compiled run, this callback. Raised here, ctypes would print it as an
+    # ignored exception with a traceback and the run would go on: kept instead,
+    # raised by interrupted() when the call is back in Python.
+    try:
+        return headroom()
+    except KeyboardInterrupt:
+        _interrupted.append(True)
+        return -1.0
+
+
+def interrupted() -> None:
+    """Raise the KeyboardInterrupt a compiled call's probe kept (none: nothing)."""
+    if _interrupted:
+        _interrupted.clear()
+        raise KeyboardInterrupt
+
+
+#: _probe() as a C function: a compiled run's record of its steps asks it as it
+#: grows (native/c/library/pdbfs_record.c) and stops the run before the system would kill it
+PROBE = ctypes.CFUNCTYPE(ctypes.c_double)(_probe)
 
 
 def attach(lib) -> None:
