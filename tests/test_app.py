@@ -241,7 +241,9 @@ def test_design_map_is_the_api_s(server, browser):
     axes = browser.execute_script("const l = document.querySelector('#map .js-plotly-plot').layout;"
                                   "return [l.xaxis.title.text, l.yaxis.title.text];")
     assert axes == ["hammer.h: drop height [m]", "oil.k: oil column stiffness [N/m]"]
-    ticks = [e.text for e in browser.find_elements(By.CSS_SELECTOR, "#map .ytick text")]
+    # read in one script: Plotly may draw the axis again meanwhile (stale elements)
+    ticks = browser.execute_script("return Array.from(document.querySelectorAll("
+                                   "'#map .ytick text')).map(e => e.textContent);")
     assert ticks and not any(t.endswith(("B", "G", "M")) for t in ticks), ticks
 
 
