@@ -116,7 +116,8 @@ def run(sim, plan: Plan, p=None, x0=None):
         args, shared = args_b, (p, x0)
     wall = time.perf_counter()
     code = lib._run_summary(*args)
-    memory.interrupted()             # a Ctrl-C the record's probe kept
+    if memory.kept_interrupt:
+        memory.interrupted()             # a Ctrl-C the record's probe kept
     wall = time.perf_counter() - wall
     a = b.unpack(b.bytes)      # info[0..6], the summary's values, its code, the note's start, handle
     handle = a[-1]

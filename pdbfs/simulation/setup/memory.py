@@ -36,8 +36,9 @@ def headroom() -> float:
         return -1.0
 
 
-#: a Ctrl-C that landed in the probe, to be raised when the compiled call returns
-_interrupted = []
+#: a Ctrl-C that landed in the probe, to be raised when the compiled call returns;
+#: callers test it before calling interrupted() (the default run's path is counted)
+kept_interrupt = []
 
 
 def _probe() -> float:
@@ -48,14 +49,14 @@ def _probe() -> float:
     try:
         return headroom()
     except KeyboardInterrupt:
-        _interrupted.append(True)
+        kept_interrupt.append(True)
         return -1.0
 
 
 def interrupted() -> None:
     """Raise the KeyboardInterrupt a compiled call's probe kept (none: nothing)."""
-    if _interrupted:
-        _interrupted.clear()
+    if kept_interrupt:
+        kept_interrupt.clear()
         raise KeyboardInterrupt
 
 
