@@ -46,18 +46,20 @@ def msd_step(t, F, ts):
                                                  + z / math.sqrt(1 - z * z) * np.sin(wd * tau)))
 
 
-def msd_sine(t, A, f):
-    """x(t) of m x'' + c x' + k x = A sin(2 pi f t), at rest at t = 0: the
-    forced response plus the free one that starts it from rest."""
-    w = 2 * math.pi * f
+def msd_sine(t, A, f, phase=0.0, ts=0.0):
+    """x(t) of m x'' + c x' + k x = A sin(2 pi f (t - ts) + phase) from ts on,
+    at rest until then: the forced response plus the free one that starts
+    it from rest."""
+    w, tau = 2 * math.pi * f, np.clip(t - ts, 0.0, None)
     H = 1.0 / (K - M * w * w + 1j * C * w)
-    xp = lambda s: A * np.imag(H * np.exp(1j * w * s))          # noqa: E731
-    dxp0 = A * np.imag(1j * w * H)
+    xp = lambda s: A * np.imag(H * np.exp(1j * (w * s + phase)))          # noqa: E731
+    dxp0 = A * np.imag(1j * w * H * np.exp(1j * phase))
     sigma = C / (2 * M)
     wd = math.sqrt(K / M - sigma ** 2)
     c1 = -xp(0.0)
     c2 = (sigma * c1 - dxp0) / wd
-    return xp(t) + np.exp(-sigma * t) * (c1 * np.cos(wd * t) + c2 * np.sin(wd * t))
+    x = xp(tau) + np.exp(-sigma * tau) * (c1 * np.cos(wd * tau) + c2 * np.sin(wd * tau))
+    return np.where(t >= ts, x, 0.0)
 
 
 #: the valve's command: open over 4 ms, held 0.5 ms, closed over 2 ms (as PulseValve's times)

@@ -15,56 +15,7 @@ from pdbfs.components import (Damper, Fixed, ForceSensor, Mass, PositionSensor, 
 from pdbfs.components import blocks as B
 from pdbfs.components import hydraulic as H
 
-TIGHT = dict(rtol=1e-10, atol=1e-12)
-BACKENDS = ["c", "casadi"]
-M, C, K = 1.0, 4.0, 400.0          # kg, N.s/m, N/m: lightly damped (zeta 0.1)
-
-
-class Pushed(pdbfs.Rig):
-    """A mass on a spring and damper to the frame, pushed down by the signal
-    of ``source`` through SignalForce."""
-
-    def __init__(self, source, **kw):
-        self._source = source
-        super().__init__(**kw)
-
-    def declare(self):
-        self.frame = Fixed()
-        self.spring = Spring(k=K)
-        self.damper = Damper(c=C)
-        self.body = Mass(m=M)
-        self.push = SignalForce()
-        self.pos = PositionSensor()
-        self.src = self._source
-        self.connect(self.frame.flange, self.spring.flange_a, self.damper.flange_a)
-        self.connect(self.spring.flange_b, self.damper.flange_b, self.body.flange_a,
-                     self.pos.flange)
-        self.connect(self.body.flange_b, self.push.flange)
-        self.connect(self.src.y, self.push.u)
-
-
-def msd_step(t, F, ts):
-    """x(t) of m x'' + c x' + k x = F*H(t - ts), at rest at the start."""
-    wn, z = math.sqrt(K / M), C / (2 * math.sqrt(K * M))
-    wd, tau = wn * math.sqrt(1 - z * z), np.clip(t - ts, 0.0, None)
-    return F / K * (1 - np.exp(-z * wn * tau) * (np.cos(wd * tau)
-                                                 + z / math.sqrt(1 - z * z) * np.sin(wd * tau)))
-
-
-def msd_sine(t, A, f, phase, ts):
-    """x(t) of m x'' + c x' + k x = A sin(2 pi f (t - ts) + phase) from ts on,
-    at rest until then: the forced response plus the free one that starts
-    it from rest."""
-    w, tau = 2 * math.pi * f, np.clip(t - ts, 0.0, None)
-    H = 1.0 / (K - M * w * w + 1j * C * w)
-    xp = lambda s: A * np.imag(H * np.exp(1j * (w * s + phase)))          # noqa: E731
-    dxp0 = A * np.imag(1j * w * H * np.exp(1j * phase))
-    sigma = C / (2 * M)
-    wd = math.sqrt(K / M - sigma ** 2)
-    c1 = -xp(0.0)
-    c2 = (sigma * c1 - dxp0) / wd
-    x = xp(tau) + np.exp(-sigma * tau) * (c1 * np.cos(wd * tau) + c2 * np.sin(wd * tau))
-    return np.where(t >= ts, x, 0.0)
+from input_rigs import BACKENDS, TIGHT, C, K, M, Pushed, msd_sine, msd_step
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -91,20 +42,20 @@ def test_a_sine_force_gives_the_full_sine_response(backend, phase):
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_an_input_drives_the_rig_at_its_start_value(backend):
     rig = Pushed(B.Input("N", start=3.0, description="Force command"))
-    assert rig.src.input_name() == "src" and rig.src.rig_input
+    assert rig.u.input_name() == "u" and rig.u.rig_input
     info = rig.compile().inputs[0]
-    assert (info.name, info.start, info.unit) == ("src", 3.0, "N")
+    assert (info.name, info.start, info.unit) == ("u", 3.0, "N")
     assert "Force command" in info.description
     res = rig.simulate(1.0, n_out=501, backend=backend, **TIGHT)
     assert np.max(np.abs(res["pos.y"] - msd_step(res.t, 3.0, 0.0))) < 1e-7 * (3.0 / K)
-    res = rig.simulate(1.0, n_out=501, inputs={"src": 8.0}, backend=backend, **TIGHT)
+    res = rig.simulate(1.0, n_out=501, inputs={"u": 8.0}, backend=backend, **TIGHT)
     assert np.max(np.abs(res["pos.y"] - msd_step(res.t, 8.0, 0.0))) < 1e-7 * (8.0 / K)
 
 
 def test_the_rig_linearized_in_its_input_is_the_mass_spring_damper():
     """B and D with respect to the Input: the force enters der(v) as 1/m;
     the transfer function to the position is 1/(m s^2 + c s + k)."""
-    lin = Pushed(B.Input("N")).linearize(inputs=["src"], outputs=["pos.y"])
+    lin = Pushed(B.Input("N")).linearize(inputs=["u"], outputs=["pos.y"])
     order = [lin.states.index("body.s"), lin.states.index("body.v")]
     A = lin.A[np.ix_(order, order)]
     assert np.allclose(A, [[0.0, 1.0], [-K / M, -C / M]], rtol=1e-12, atol=0)
