@@ -332,8 +332,7 @@ class CompiledODE:
                                  float(rtol), float(atol), METHOD_CODES[method],
                                  float(max_step or 0.0), int(max_num_steps), a[2], a[3], MSG_LEN,
                                  a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7] if keep else None)
-        if memory.kept_interrupt:
-            memory.interrupted()             # a Ctrl-C the record's probe kept (setup/memory.py)
+        memory.interrupted()             # a Ctrl-C the record's probe kept (setup/memory.py)
         wall = time.perf_counter() - wall
         i = b.info.tolist()
         status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
@@ -366,8 +365,7 @@ class CompiledODE:
                                  METHOD_CODES[method], float(max_step or 0.0), int(max_num_steps),
                                  out.ctypes.data, codes.ctypes.data, msgs, POINT_MSG_LEN,
                                  stats.ctypes.data)
-        if memory.kept_interrupt:
-            memory.interrupted()             # a Ctrl-C the record's probe kept
+        memory.interrupted()             # a Ctrl-C the record's probe kept
         if failed < 0:
             raise PdbfsError(f"rig {self.name}: the summary driver refused its input")
         raw, messages, L = msgs.raw, [""] * n, POINT_MSG_LEN    # most points say nothing

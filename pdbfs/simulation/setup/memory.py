@@ -37,7 +37,7 @@ def headroom() -> float:
 
 
 #: a Ctrl-C that landed in the probe, to be raised when the compiled call returns;
-#: callers test it before calling interrupted() (the default run's path is counted)
+#: the replayed run tests it before calling interrupted(): its path is counted
 kept_interrupt = []
 
 
