@@ -92,3 +92,25 @@ def test_a_ctrl_c_in_the_probe_is_raised_when_the_compiled_call_returns(monkeypa
     with pytest.raises(KeyboardInterrupt):
         memory.interrupted()
     memory.interrupted()                       # raised once: nothing kept after
+
+
+def test_a_ctrl_c_at_the_probes_first_line_is_kept_by_the_cli(monkeypatch):
+    """The handler can run before the probe's ``try`` (at the function's entry,
+    where Python checks for signals): the CLI's handler keeps it there too,
+    and raises everywhere else (test_cli_stops caught the entry once)."""
+    import signal
+
+    import pdbfs.simulation.setup.memory as memory
+    from pdbfs.cli import interrupt
+
+    frames = []
+    monkeypatch.setattr(memory, "headroom", lambda: frames.append(sys._getframe(1)) or 1.0)
+    assert memory.PROBE() == 1.0
+    assert frames[0].f_code is memory._probe.__code__
+    assert interrupt._handler(signal.SIGINT, frames[0]) is None     # kept, not raised
+    with pytest.raises(KeyboardInterrupt):
+        memory.interrupted()
+    memory.interrupted()
+    with pytest.raises(KeyboardInterrupt):
+        interrupt._handler(signal.SIGINT, sys._getframe())
+    memory.interrupted()                       # nothing kept by a raise elsewhere

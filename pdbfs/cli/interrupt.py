@@ -25,6 +25,7 @@ import threading
 from contextlib import contextmanager
 
 from pdbfs import files
+from pdbfs.simulation.setup import memory
 
 #: seconds the main thread has to stop by itself before the process is ended
 GRACE = 1.0
@@ -37,6 +38,10 @@ def _handler(signum, frame):
     # CasADi polls for signals inside its solvers, prints the KeyboardInterrupt
     # and carries on: there the watcher ends the process instead
     if frame is not None and f"{os.sep}casadi{os.sep}" in frame.f_code.co_filename:
+        return
+    # at the entry of a compiled run's memory probe (a ctypes callback) a raise would be
+    # printed as ignored and the run would go on: kept, raised when the call returns
+    if memory.kept_at_probe(frame):
         return
     raise KeyboardInterrupt
 

@@ -53,6 +53,16 @@ def _probe() -> float:
         return -1.0
 
 
+def kept_at_probe(frame) -> bool:
+    """Whether a SIGINT handler called at ``frame`` is at the probe's first
+    line (before its ``try``): then the interrupt is kept, as _probe would
+    keep it, and the handler must return instead of raising."""
+    if frame is None or frame.f_code is not _probe.__code__:
+        return False
+    kept_interrupt.append(True)
+    return True
+
+
 def interrupted() -> None:
     """Raise the KeyboardInterrupt a compiled call's probe kept (none: nothing)."""
     if kept_interrupt:
