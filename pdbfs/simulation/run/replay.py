@@ -116,16 +116,17 @@ def run(sim, plan: Plan, p=None, x0=None):
         args, shared = args_b, (p, x0)
     wall = time.perf_counter()
     code = lib._run_summary(*args)
-    if memory.kept_interrupt:
-        memory.interrupted()             # a Ctrl-C the record's probe kept
     wall = time.perf_counter() - wall
     a = b.unpack(b.bytes)      # info[0..6], the summary's values, its code, the note's start, handle
     handle = a[-1]
     if code or not handle:
         if handle:
             lib._release(handle)
+        memory.interrupted()                          # a Ctrl-C the record's probe kept
         return _general(sim, plan, *shared)           # to say what went wrong
     kept = KeptRun(lib, handle, plan.grid, int(a[1]))
+    if memory.kept_interrupt:        # raised with the record released (KeptRun)
+        memory.interrupted()
     fast = (list(a[_VALUES:_CODE]), a[_CODE], _text(b.note, strip=False) if a[_CODE + 1] else "")
     X, states = sim._kept_or_states(kept, plan.grid)
     stats = _stats(a[1], a[3], a[5], a[2], a[6], wall)
