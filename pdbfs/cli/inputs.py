@@ -52,20 +52,12 @@ def read_input(path, name, unit):
     the input), converted to SI by the header's units."""
     import pandas as pd        # (here: a run without --input imports neither)
 
-    from pdbfs.studies.fitting.traces import _delimiter, _has_header, split_header, to_si
+    from pdbfs.studies.fitting.traces import read_table, split_header, to_si
     where = f"--input {name}: file {str(path)!r}"
     p = Path(path)
     if not p.is_file():
         raise DataError(f"{where}: no such file")
-    sep = _delimiter(p)
-    try:
-        header = 0 if _has_header(p, sep) else None
-        df = pd.read_csv(p, sep=sep, engine="python", skipinitialspace=True, header=header)
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as err:
-        first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise DataError(f"{where}: not a CSV table ({first})") from None
-    if header is None:
-        df.columns = [f"column {j + 1}" for j in range(df.shape[1])]
+    df = read_table(p, where)
     names = [split_header(c)[0] for c in df.columns]
     if df.shape[1] < 2 or len(df) == 0:
         raise DataError(f"{where}: needs a time column and a value column, and rows of data")

@@ -81,15 +81,7 @@ def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None 
         raise DataError(f"{where}: no such file")
     if p.stat().st_size == 0:
         raise DataError(f"{where}: the file is empty")
-    sep = _delimiter(p)
-    try:
-        header = 0 if _has_header(p, sep) else None
-        df = pd.read_csv(p, sep=sep, engine="python", skipinitialspace=True, header=header)
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as err:
-        first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise DataError(f"{where}: not a CSV table ({first})") from None
-    if header is None:
-        df.columns = [f"column {j + 1}" for j in range(df.shape[1])]
+    df = read_table(p, where)
     if df.shape[1] < 2:
         raise DataError(f"{where}: needs two columns, time (s) and the signal; found "
                         f"{df.shape[1]} ({', '.join(map(str, df.columns)) or 'none'})")
@@ -114,6 +106,23 @@ def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None 
     y_factor, y_si = to_si(y_unit, where, df.columns[j])
     trace = check_trace(cols[0] * t_factor, cols[1] * y_factor, where, name=y_name)
     return Trace(trace.t, trace.y, where, y_name, y_si, t_unit or "")
+
+
+def read_table(path: Path, where: str):
+    """The CSV table of ``path`` as a DataFrame: its delimiter sniffed, its
+    header optional (without one, the columns are "column 1", ...); a file
+    that is no table is a DataError naming ``where``."""
+    import pandas as pd
+    sep = _delimiter(path)
+    try:
+        header = 0 if _has_header(path, sep) else None
+        df = pd.read_csv(path, sep=sep, engine="python", skipinitialspace=True, header=header)
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as err:
+        first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+        raise DataError(f"{where}: not a CSV table ({first})") from None
+    if header is None:
+        df.columns = [f"column {j + 1}" for j in range(df.shape[1])]
+    return df
 
 
 def _has_header(path, sep) -> bool:
