@@ -80,11 +80,46 @@ def _option_row(action) -> str:
     return f"| {names} | {value} | {shown} | {_cell(action.help or '')} |"
 
 
+#: a fenced block of shell commands, and a comment that keeps a block from running
+_SHELL = re.compile(r"^```(?:bash|console)\n(.*?)^```", re.S | re.M)
+_SKIPPED = re.compile(r"<!--\s*docs-test:\s*skip:")
+
+
+def command_examples() -> dict[str, tuple[str, str]]:
+    """For each command, the first ``pdbfs COMMAND ...`` line the docs pages
+    show (and the docs tests run: none in a skipped block, none the page shows
+    refused), with the page it is on: command -> (line, page)."""
+    docs = ROOT / "docs"
+    found: dict[str, tuple[str, str]] = {}
+    order = ("getting-started.md", "index.md", "tutorials/", "how-to/", "explanation/")
+    pages = sorted(docs.rglob("*.md"), key=lambda p: (
+        next((i for i, o in enumerate(order) if p.relative_to(docs).as_posix().startswith(o)),
+             len(order)), p))
+    for page in pages:
+        rel = page.relative_to(docs).as_posix()
+        if rel.startswith(("reference/", "figures/")):
+            continue
+        text = page.read_text()
+        for m in _SHELL.finditer(text):
+            if _SKIPPED.search(text[max(0, m.start() - 300):m.start()].rsplit("```", 1)[-1]):
+                continue
+            lines = m.group(1).replace("\\\n", " ").splitlines()
+            for i, raw in enumerate(lines):
+                line = raw[2:] if raw.startswith("$ ") else raw
+                line = re.split(r"\s+#", line)[0].strip()
+                refused = i + 1 < len(lines) and lines[i + 1].startswith("pdbfs: error:")
+                words = line.split()
+                if len(words) > 1 and words[0] == "pdbfs" and not refused:
+                    found.setdefault(words[1], (" ".join(words), rel))
+    return found
+
+
 def cli_page() -> str:
     from pdbfs.cli import build_parser
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     helps = {a.dest: a.help for a in sub._choices_actions}
+    examples = command_examples()
     out = ["# Command line", "",
            "Generated from the command line's own parser: what `pdbfs COMMAND --help` prints, "
            "as tables. Every command takes `--help`; `pdbfs --version` prints the version.", ""]
@@ -94,8 +129,12 @@ def cli_page() -> str:
         if p.description:
             out += [p.description, ""]
         usage = p.format_usage().strip().removeprefix("usage: ")
-        out += ["```text", usage, "```", "",
-                "| option | value | default | meaning |", "|---|---|---|---|"]
+        out += ["```text", usage, "```", ""]
+        if name in examples:
+            line, page = examples[name]
+            out += [f"For example (from [{page.removesuffix('.md')}](../{page})):", "",
+                    "```bash", line, "```", ""]
+        out += ["| option | value | default | meaning |", "|---|---|---|---|"]
         out += [_option_row(a) for a in p._actions if not isinstance(a, argparse._HelpAction)]
         if p.epilog:
             out += ["", p.epilog]

@@ -135,6 +135,22 @@ def test_the_built_site_loads_nothing_from_another_host(site):
     assert "fonts.googleapis" not in (site / "index.html").read_text()
 
 
+def test_every_command_in_the_reference_has_an_example_the_docs_tests_run(site):
+    """Each command's section shows one command line from a docs page (the
+    first there), a line the shell-example test runs on that page."""
+    from pdbfs.cli import build_parser
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    examples = _hooks().command_examples()
+    html = (site / "reference" / "cli" / "index.html").read_text()
+    for name in sub.choices:
+        assert name in examples, f"no docs page shows `pdbfs {name}`"
+        line, page = examples[name]
+        run = [c.line for c in D.commands((D.DOCS / page).read_text()) if not c.skip and not c.refused]
+        assert line in run, (name, page, line)
+        section = html.split(f'id="pdbfs-{name}"', 1)[1].split("<h2", 1)[0]
+        assert "For example" in section and line.split()[1] in section, name
+
+
 def test_the_rigs_page_has_every_rig(site):
     from pdbfs.models import RIGS
     html = (site / "reference" / "rigs" / "index.html").read_text()
