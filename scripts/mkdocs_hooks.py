@@ -184,13 +184,15 @@ def _options(cls) -> list[str]:
             if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
 
 
-#: an equation in a docstring: a ``code span`` with " = " in it
-EQUATION = re.compile(r"``([^`]*? = [^`]*?)``")
+#: a ``code span`` of a docstring
+CODE = re.compile(r"``(.+?)``")
 
 
 def equations_of(cls) -> list[str]:
-    """The equations a component's docstring states, in its order."""
-    return EQUATION.findall(" ".join((cls.__doc__ or "").split()))
+    """The equations a component's docstring states, in its order: its code
+    spans with " = " in them (not a line of Python: ``self.x = ...``)."""
+    spans = CODE.findall(" ".join((cls.__doc__ or "").split()))
+    return list(dict.fromkeys(c for c in spans if " = " in c and not c.startswith("self.")))
 
 
 def component_section(cls, module: str, anchor: str) -> list[str]:
