@@ -36,6 +36,12 @@ def __getattr__(name):
     if name in _STUDIES:
         from . import studies
         return getattr(studies, name)
+    if name == "__version__":          # the installed distribution's, read on first use
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            return version("pdbfs")
+        except PackageNotFoundError:   # run from a source tree that was never installed
+            return "unknown"
     raise AttributeError(f"module 'pdbfs' has no attribute {name!r}")
 
 __all__ = ["Component", "Rig", "Flange", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",

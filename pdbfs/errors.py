@@ -40,7 +40,8 @@ class MissingExtraError(PdbfsError, ImportError):
 EXTRAS = {"app": ("dash", "diskcache", "multiprocess", "orjson"),
           "dask": ("dask", "distributed"),
           "parquet": ("pyarrow",),
-          "sensitivity": ("SALib",)}
+          "sensitivity": ("SALib",),
+          "control": ("control",)}
 
 
 def missing_extra(extra: str) -> str | None:
@@ -62,7 +63,7 @@ def require_extra(extra: str, what: str) -> None:
     Parameters
     ----------
     extra : str
-        A key of :data:`EXTRAS` ("app", "dask", "parquet", "sensitivity").
+        A key of :data:`EXTRAS` ("app", "dask", "parquet", "sensitivity", "control").
     what : str
         The feature that needs it, as the message names it (e.g. "pdbfs app").
     """

@@ -2,8 +2,10 @@
 code itself, so nothing is written twice.
 
 * ``reference/cli.md``: every command and option, from ``pdbfs.cli.build_parser``;
-* ``reference/components.md``: the component catalogue, from each component's
-  own ``Parameter`` declarations, connectors and variables;
+* ``reference/components.md``: the component catalogue, one section per
+  domain (each subpackage of ``pdbfs.components``), from each component's
+  own equations (as its docstring states them), ``Parameter``
+  declarations, connectors and variables;
 * ``reference/rigs.md``: the rigs ``--rig`` accepts, with their parameters.
 
 The API pages (``::: pdbfs...``) are read by mkdocstrings from the sources.
@@ -16,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import inspect
+import re
 import shutil
 import tempfile
 from pathlib import Path
@@ -77,11 +80,46 @@ def _option_row(action) -> str:
     return f"| {names} | {value} | {shown} | {_cell(action.help or '')} |"
 
 
+#: a fenced block of shell commands, and a comment that keeps a block from running
+_SHELL = re.compile(r"^```(?:bash|console)\n(.*?)^```", re.S | re.M)
+_SKIPPED = re.compile(r"<!--\s*docs-test:\s*skip:")
+
+
+def command_examples() -> dict[str, tuple[str, str]]:
+    """For each command, the first ``pdbfs COMMAND ...`` line the docs pages
+    show (and the docs tests run: none in a skipped block, none the page shows
+    refused), with the page it is on: command -> (line, page)."""
+    docs = ROOT / "docs"
+    found: dict[str, tuple[str, str]] = {}
+    order = ("getting-started.md", "index.md", "tutorials/", "how-to/", "explanation/")
+    pages = sorted(docs.rglob("*.md"), key=lambda p: (
+        next((i for i, o in enumerate(order) if p.relative_to(docs).as_posix().startswith(o)),
+             len(order)), p))
+    for page in pages:
+        rel = page.relative_to(docs).as_posix()
+        if rel.startswith(("reference/", "figures/")):
+            continue
+        text = page.read_text()
+        for m in _SHELL.finditer(text):
+            if _SKIPPED.search(text[max(0, m.start() - 300):m.start()].rsplit("```", 1)[-1]):
+                continue
+            lines = m.group(1).replace("\\\n", " ").splitlines()
+            for i, raw in enumerate(lines):
+                line = raw[2:] if raw.startswith("$ ") else raw
+                line = re.split(r"\s+#", line)[0].strip()
+                refused = i + 1 < len(lines) and lines[i + 1].startswith("pdbfs: error:")
+                words = line.split()
+                if len(words) > 1 and words[0] == "pdbfs" and not refused:
+                    found.setdefault(words[1], (" ".join(words), rel))
+    return found
+
+
 def cli_page() -> str:
     from pdbfs.cli import build_parser
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     helps = {a.dest: a.help for a in sub._choices_actions}
+    examples = command_examples()
     out = ["# Command line", "",
            "Generated from the command line's own parser: what `pdbfs COMMAND --help` prints, "
            "as tables. Every command takes `--help`; `pdbfs --version` prints the version.", ""]
@@ -91,8 +129,12 @@ def cli_page() -> str:
         if p.description:
             out += [p.description, ""]
         usage = p.format_usage().strip().removeprefix("usage: ")
-        out += ["```text", usage, "```", "",
-                "| option | value | default | meaning |", "|---|---|---|---|"]
+        out += ["```text", usage, "```", ""]
+        if name in examples:
+            line, page = examples[name]
+            out += [f"For example (from [{page.removesuffix('.md')}](../{page})):", "",
+                    "```bash", line, "```", ""]
+        out += ["| option | value | default | meaning |", "|---|---|---|---|"]
         out += [_option_row(a) for a in p._actions if not isinstance(a, argparse._HelpAction)]
         if p.epilog:
             out += ["", p.epilog]
@@ -142,8 +184,22 @@ def _options(cls) -> list[str]:
             if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
 
 
-def component_section(cls, module: str) -> list[str]:
-    out = ["", f"### {cls.__name__}", "", f"`{module}.{cls.__name__}`: {_doc(cls)}", ""]
+#: a ``code span`` of a docstring
+CODE = re.compile(r"``(.+?)``")
+
+
+def equations_of(cls) -> list[str]:
+    """The equations a component's docstring states, in its order: its code
+    spans with " = " in them (not a line of Python: ``self.x = ...``)."""
+    spans = CODE.findall(" ".join((cls.__doc__ or "").split()))
+    return list(dict.fromkeys(c for c in spans if " = " in c and not c.startswith("self.")))
+
+
+def component_section(cls, module: str, anchor: str) -> list[str]:
+    out = ["", f"### {cls.__name__} {{#{anchor}}}", "", f"`{module}.{cls.__name__}`: {_doc(cls)}", ""]
+    eqs = equations_of(cls)
+    if eqs:
+        out += ["Equations: " + "; ".join(f"`{_cell(e)}`" for e in eqs) + ".", ""]
     options = _options(cls)
     if options:
         out += ["Options (structure, fixed when the rig is built): " + ", ".join(options) + ".", ""]
@@ -168,31 +224,91 @@ def component_section(cls, module: str) -> list[str]:
     return out
 
 
-def components_page() -> str:
-    import pdbfs.components as mech
-    import pdbfs.components.hydraulic as hyd
+def domains() -> list[tuple[str, object]]:
+    """(title, module) of each domain of the component library: every
+    subpackage of ``pdbfs.components`` (a new domain appears by itself),
+    translational mechanics first, the signal blocks last. The title is the
+    first words of the subpackage's docstring."""
+    import importlib
+    import pkgutil
+
+    import pdbfs.components as library
+    names = [m.name for m in pkgutil.iter_modules(library.__path__) if m.ispkg]
+    names.sort(key=lambda n: (n == "blocks", n != "translational", n))
+    out = []
+    for name in names:
+        mod = importlib.import_module(f"{library.__name__}.{name}")
+        first = inspect.cleandoc(mod.__doc__ or name).split("\n\n")[0].replace("\n", " ")
+        title = re.split(r"[:,.(]", first, maxsplit=1)[0].strip()
+        out.append((title, mod))
+    return out
+
+
+def domain_classes(mod) -> list[type]:
+    """The component classes a domain exports (``__all__``), by name."""
     from pdbfs import Component
+    classes = [getattr(mod, n) for n in getattr(mod, "__all__", [])]
+    return sorted((c for c in classes if inspect.isclass(c) and issubclass(c, Component)),
+                  key=lambda c: c.__name__)
+
+
+def is_partial(cls) -> bool:
+    """A base to build components on: a Partial... class, or one of a domain's
+    ``interfaces`` module (the blocks' Block, SO, SISO, MISO)."""
+    return cls.__name__.startswith("Partial") or cls.__module__.endswith(".interfaces")
+
+
+def public_module(cls, mod) -> str:
+    """The shortest import path of ``cls``: ``pdbfs.components`` for what it
+    re-exports (the translational components), else its domain's package."""
+    import pdbfs.components as library
+    return library.__name__ if getattr(library, cls.__name__, None) is cls else mod.__name__
+
+
+def components_page() -> str:
     out = ["# Component catalogue", "",
-           "Generated from each component's own declarations: its parameters (name, SI unit, "
-           "default, limits, description), the options its constructor takes, its connectors "
-           "and its variables. `fixed` marks a parameter that cannot change during a run "
-           "(a start value, a mass, an exponent); the rest are tunable. Partial components "
-           "are bases to build new ones on (see the tutorial on building a rig).", ""]
-    for title, mod in (("Translational mechanics", mech), ("Hydraulics", hyd)):
-        classes = [getattr(mod, n) for n in mod.__all__]
-        classes = [c for c in classes if inspect.isclass(c) and issubclass(c, Component)]
-        full = sorted((c for c in classes if not c.__name__.startswith("Partial")),
-                      key=lambda c: c.__name__)
-        partial = sorted((c for c in classes if c.__name__.startswith("Partial")),
-                         key=lambda c: c.__name__)
-        out += [f"## {title}", "", f"`{mod.__name__}`"]
-        for cls in full:
-            out += component_section(cls, mod.__name__)
-        out += ["", f"### Partial bases ({title.lower()})", ""]
-        for cls in partial:
-            out += [f"- `{cls.__name__}`: {_doc(cls)}"]
+           "Generated from each component's own declarations: its equations (from its "
+           "description), its parameters (name, SI unit, default, limits, description), the "
+           "options its constructor takes, its connectors and its variables. `fixed` marks a "
+           "parameter that cannot change during a run (a start value, a mass, an exponent); the "
+           "rest are tunable. Partial components are bases to build new ones on (see the "
+           "tutorial on building a rig).", ""]
+    sections = domains()
+    out += [f"- [{title}](#{domain_anchor(mod)}): " + ", ".join(
+        f"`{c.__name__}`" for c in domain_classes(mod) if not is_partial(c)) for title, mod in sections]
+    anchors = component_anchors()
+    for title, mod in sections:
+        classes = domain_classes(mod)
+        top = {public_module(c, mod) for c in classes} - {mod.__name__}
+        also = f" (also `{top.pop()}`)" if top else ""
+        out += ["", f"## {title} {{#{domain_anchor(mod)}}}", "", f"`{mod.__name__}`{also}"]
+        for cls in (c for c in classes if not is_partial(c)):
+            out += component_section(cls, public_module(cls, mod), anchors[cls])
+        partial = [c for c in classes if is_partial(c)]
+        if partial:
+            out += ["", f"### Partial bases ({title.lower()})", ""]
+            out += [f"- `{cls.__name__}`: {_doc(cls)}" for cls in partial]
         out.append("")
     return "\n".join(out) + "\n"
+
+
+def domain_anchor(mod) -> str:
+    """A domain's anchor on the catalogue page: its subpackage's name."""
+    return mod.__name__.rsplit(".", 1)[1]
+
+
+def component_anchors() -> dict[type, str]:
+    """Each catalogued component's anchor: its name in lower case, or, for a
+    name another domain has used already, the domain's anchor before it
+    (``hydraulic-pressuresensor``)."""
+    out, used = {}, set()
+    for _, mod in domains():
+        for cls in domain_classes(mod):
+            if not is_partial(cls):
+                name = cls.__name__.lower()
+                out[cls] = name if name not in used else f"{domain_anchor(mod)}-{name}"
+                used.add(name)
+    return out
 
 
 # --- the rigs ----------------------------------------------------------------------------

@@ -10,8 +10,9 @@ source scripts/env.sh
 workers=${PDBFS_TEST_WORKERS:-auto}
 SECONDS=0
 rc=0
-if [ "$workers" = 0 ]; then python -m pytest -q "$@" || rc=$?
-else python -m pytest -q -n "$workers" --dist loadfile "$@" || rc=$?
+# -rs: each skipped test with its reason (a missing tool says which)
+if [ "$workers" = 0 ]; then python -m pytest -q -rs "$@" || rc=$?
+else python -m pytest -q -rs -n "$workers" --dist loadfile "$@" || rc=$?
 fi
 echo "test.sh: the whole suite took $((SECONDS / 60)) min $((SECONDS % 60)) s"
 exit $rc

@@ -71,8 +71,30 @@ class Block:
     output: list[str] = field(default_factory=list)
 
 
+#: a line that includes a file whole (pymdownx.snippets), relative to docs/
+SNIPPET = re.compile(r'^\s*--8<--\s+"([^"]+)"\s*$')
+#: the example scripts the pages include: each runs as a script in the docs tests, at a
+#: smaller size where its full one takes minutes (file -> arguments, and why)
+EXAMPLES = DOCS / "examples"
+EXAMPLE_ARGS = {
+    "calibration_design.py": (["--map-n", "3"], "the 21 x 21 design map is 441 simulations"),
+    "closed_loop.py": (["--steps", "5e-5,2.5e-5"], "five steps down to 3.125 us take minutes"),
+    "hydraulics.py": ([], ""),
+}
+
+
+def _expanded(body: list[str]) -> list[str]:
+    """A block's lines with each snippet line replaced by the file it includes."""
+    out = []
+    for line in body:
+        m = SNIPPET.match(line)
+        out += (DOCS / m.group(1)).read_text().splitlines() if m else [line]
+    return out
+
+
 def blocks(text: str) -> list[Block]:
-    """The fenced blocks of a Markdown text (indented ones dedented)."""
+    """The fenced blocks of a Markdown text (indented ones dedented, included
+    files in them as the page shows them)."""
     out, lines, i = [], text.splitlines(), 0
     while i < len(lines):
         m = re.match(r"^(\s*)```(\S*)\s*$", lines[i])
@@ -87,7 +109,8 @@ def blocks(text: str) -> list[Block]:
             i += 1
         before = "\n".join(lines[max(0, start - 3):start])
         skip = SKIP.findall(before)
-        out.append(Block(lang, textwrap.dedent("\n".join(body)) + "\n", start + 1,
+        body = _expanded(textwrap.dedent("\n".join(body)).splitlines())
+        out.append(Block(lang, "\n".join(body) + "\n", start + 1,
                          skip[-1] if skip else None))
         i += 1
     return out
@@ -130,6 +153,15 @@ def as_run(line: str) -> tuple[list[str], list[str]]:
         if shown in line:
             line, _ = line.replace(shown, run), why.append(reason)
     return shlex.split(line)[1:], why
+
+
+def build_site(out: Path) -> subprocess.CompletedProcess:
+    """`mkdocs build --strict` of the docs into ``out`` (the theme's banner off)."""
+    import os
+    return subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-f",
+                           str(ROOT / "mkdocs.yml"), "-d", str(out)], capture_output=True,
+                          text=True, cwd=ROOT, timeout=600,
+                          env={**os.environ, "NO_MKDOCS_2_WARNING": "1"})
 
 
 def pdbfs(args, cwd, timeout=900):

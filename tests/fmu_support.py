@@ -55,10 +55,56 @@ def built_fmu3(kind: str = "paper") -> str:
     return built_fmu(kind, fmi_version=3)
 
 
+#: what CMake looks for as a C compiler on PATH
+SYSTEM_CCS = ("cc", "gcc", "clang")
+
+
+def system_cc() -> str | None:
+    """The system's C compiler, as CMake would find it ($CC, else cc, gcc or
+    clang on PATH), or None on a machine with none (pip alone)."""
+    import os
+    cc = os.environ.get("CC", "").split()
+    return shutil.which(cc[0]) if cc else next(filter(None, map(shutil.which, SYSTEM_CCS)), None)
+
+
+def cmake_cc(folder, language: str = "cc") -> str | None:
+    """The compiler a CMake source build is to be given for ``language``
+    ("cc" or "c++", which FMPy's CMake project also asks for): None where the
+    system has a C compiler (CMake finds it), else a wrapper script in
+    ``folder`` that runs pdbfs's own ``zig cc`` (``zig c++``) for this machine,
+    with zig's cache where pdbfs keeps it: a machine with pip alone builds
+    the sources too."""
+    if system_cc():
+        return None
+    import shlex
+
+    from pdbfs.native import toolchain
+    env = toolchain.zig_env()
+    cmd = toolchain.compiler()
+    cmd[1] = language                         # zig cc -target ... / zig c++ -target ...
+    wrapper = Path(folder) / f"zig-{language}"
+    wrapper.parent.mkdir(parents=True, exist_ok=True)
+    wrapper.write_text("#!/bin/sh\n" + "".join(
+        f"export {k}={shlex.quote(env[k])}\n" for k in ("ZIG_GLOBAL_CACHE_DIR", "ZIG_LOCAL_CACHE_DIR"))
+        + f'exec {shlex.join(cmd)} "$@"\n')
+    wrapper.chmod(0o755)
+    return str(wrapper)
+
+
+def cmake_env(folder) -> dict:
+    """This environment, with ``CC`` and ``CXX`` set to :func:`cmake_cc`'s
+    wrappers where the system has no C compiler (CMake reads them on its
+    first configure)."""
+    import os
+    cc = cmake_cc(folder)
+    return {**os.environ, **({"CC": cc, "CXX": cmake_cc(folder, "c++")} if cc else {})}
+
+
 def source_build(fmu: str, dest, cflags=()) -> Path:
     """Unzip ``fmu`` into ``dest`` without its binaries and build the binary
     from sources/ as `fmpy compile` does (FMPy's CMake project, the source
-    files the FMU declares); returns ``dest``."""
+    files the FMU declares), with the system's C compiler, else zig cc
+    (:func:`cmake_cc`); returns ``dest``."""
     import zipfile
     from pathlib import Path
 
@@ -68,6 +114,10 @@ def source_build(fmu: str, dest, cflags=()) -> Path:
         z.extractall(dest)
     shutil.rmtree(dest / "binaries", ignore_errors=True)
     opts = {"CMAKE_C_FLAGS:STRING": " ".join(cflags)} if cflags else {}
+    cc = cmake_cc(dest.parent / f"{dest.name}-cc")
+    if cc:
+        opts["CMAKE_C_COMPILER:FILEPATH"] = cc
+        opts["CMAKE_CXX_COMPILER:FILEPATH"] = cmake_cc(dest.parent / f"{dest.name}-cc", "c++")
     build_platform_binary(str(dest.resolve()), build_dir=None, cmake_options=opts or None)
     return dest
 

@@ -8,7 +8,6 @@ here) are Mach-O for the right CPU exporting the FMI functions and importing
 only the system's library, declaring the oldest macOS they can be built for
 and their own name as install name; two exports of one rig are the same
 bytes; bad platform requests are one-line errors that leave nothing behind."""
-import os
 import re
 import shutil
 import subprocess
@@ -27,7 +26,7 @@ from pdbfs.errors import ExportError
 from pdbfs.fmu import export_fmu
 from pdbfs.fmu import platforms as P
 from pdbfs.native import toolchain
-from pdbfs.native.sundials import cache_root
+from windows_python import wine64, wine_env  # noqa: E402
 
 HOST_C = Path(__file__).with_name("c") / "fmi_cs_host.c"
 #: where each FMI version keeps each binary
@@ -39,14 +38,6 @@ SUFFIX = {"x86_64-linux": "so", "aarch64-linux": "so", "x86_64-windows": "dll", 
 QEMU = shutil.which("qemu-aarch64")
 ARM_SYSROOT = Path("/usr/aarch64-linux-gnu")
 _ALL = {}
-
-
-def wine64():
-    """Debian's wine64 loader: /usr/lib/wine/wine64 (package wine64), else on PATH."""
-    for c in ("/usr/lib/wine/wine64", shutil.which("wine64"), shutil.which("wine")):
-        if c and os.access(c, os.X_OK):
-            return c
-    return None
 
 
 def _fmu(fmi_version):
@@ -196,9 +187,7 @@ def _run_under_wine(fmu_path, tmp_path, dll=None, fmi_version=2):
         pytest.skip("wine64 is not installed (apt-get install wine wine64)")
     exe = tmp_path / "host.exe"
     guid, vr = _host(tmp_path, fmu_path, "x86_64-windows", fmi_version, exe)
-    prefix = cache_root() / "wine64-prefix"   # made on Wine's first start (about 10 s), then reused
-    prefix.parent.mkdir(parents=True, exist_ok=True)
-    env = {**os.environ, "WINEPREFIX": str(prefix), "WINEDEBUG": "-all", "WINEDLLOVERRIDES": "mscoree,mshtml="}
+    env = wine_env()
     dll = dll or tmp_path / f"fmu/binaries/{DIRS[fmi_version]['x86_64-windows']}/pdbfs_paper.dll"
     return _peak_of(subprocess.run([wine, str(exe), str(dll), guid, vr, "0.02", "1e-5"],
                                    capture_output=True, text=True, env=env, timeout=300))

@@ -106,9 +106,7 @@ def test_two_source_fmus_loaded_rtld_global_keep_their_models(builds):
 
 
 def test_two_fmus_with_function_prefixes_link_into_one_program(builds, tmp_path):
-    cc = shutil.which("cc") or shutil.which("gcc")
-    if cc is None:
-        pytest.skip("no C compiler")
+    cc = T.system_cc() or T.cmake_cc(tmp_path)          # zig cc where the system has none
     objs = []
     for kind, prefix in zip(KINDS, ("A_", "B_")):
         folder = builds[kind][1]

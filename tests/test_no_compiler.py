@@ -71,6 +71,9 @@ def test_compiled_backend_and_fmu_export_without_compiler_or_apt(bare):
     assert r.returncode == 0, r.stderr[-3000:]
     with zipfile.ZipFile(fmu) as z:
         assert "sources/sundials/LICENSE" in z.namelist()
+    # zig's own cache is in pdbfs's, in the cache folder given, none in the home folder
+    assert (tmp / "cache" / "pdbfs" / "zig").is_dir()
+    assert not (tmp / "cache" / "zig").exists() and not (tmp / "home" / ".cache").exists()
     res = fmpy.simulate_fmu(str(fmu), fmi_type="CoSimulation", stop_time=0.02, output_interval=1e-5,
                             output=["oil.pressure"])
     assert float(np.max(res["oil.pressure"])) == pytest.approx(py["oilpressure_Pa"].max(), rel=1e-5)

@@ -17,8 +17,10 @@ from pathlib import Path
 
 import pytest
 
+import pdbfs
 from pdbfs.native import pipindex
 from pdbfs.native import sundials as S
+from pdbfs.native.toolchain import zig_env
 
 #: an address nothing listens on: the default index (and any proxy) unreachable
 DEAD = "http://127.0.0.1:9"
@@ -47,9 +49,8 @@ def offline(tmp_path, monkeypatch):
     env = {"XDG_CACHE_HOME": str(tmp_path / "cache"), "PIP_CONFIG_FILE": os.devnull,
            "https_proxy": DEAD, "http_proxy": DEAD, "HTTPS_PROXY": DEAD, "HTTP_PROXY": DEAD,
            "no_proxy": "127.0.0.1,localhost", "NO_PROXY": "127.0.0.1,localhost",
-           # zig's own cache (its C libraries per target) kept: only pdbfs's is fresh
-           "ZIG_GLOBAL_CACHE_DIR": os.environ.get("ZIG_GLOBAL_CACHE_DIR")
-           or str(Path.home() / ".cache" / "zig")}
+           # zig's own cache (its C libraries per target) kept where it was: only pdbfs's is fresh
+           "ZIG_GLOBAL_CACHE_DIR": zig_env()["ZIG_GLOBAL_CACHE_DIR"]}
     for k in ("PIP_INDEX_URL", "PIP_EXTRA_INDEX_URL", "PIP_FIND_LINKS", "PIP_NO_INDEX",
               "PDBFS_SUNDIALS_SDIST"):
         monkeypatch.delenv(k, raising=False)
@@ -247,6 +248,85 @@ def test_simulate_gives_up_on_a_silent_index_within_20_s_in_one_line(offline, tm
     assert took < pipindex.DEADLINE + 15, took
 
 
+def test_a_silent_index_is_waited_for_once_then_auto_falls_back_at_once(offline, tmp_path,
+                                                                         monkeypatch):
+    """Behind a black-hole index the first CVODE command waits the deadline
+    out; the next one with backend "auto" falls back to CasADi at once,
+    without asking the index, in one short line saying why and what fixes
+    it; an explicit backend "c" and prepare-offline ask the index again."""
+    silent = Silent()
+    try:
+        env = {**offline, "PIP_INDEX_URL": silent.url}
+        monkeypatch.setenv("PIP_INDEX_URL", silent.url)
+        args = ["simulate", "--method", "bdf", "--json"]
+        first, took1 = cli(args, env, tmp_path)
+        time.sleep(0.5)                           # the last connection accepted, if any
+        asked = len(silent.held)
+        second, took2 = cli(args, env, tmp_path)
+        time.sleep(0.5)
+        assert len(silent.held) == asked >= 1, "the index was asked again"
+        # no fallback where the user asked for the compiled backend: it tries again
+        monkeypatch.setattr(pipindex, "DEADLINE", 1.0)
+        from pdbfs.models import paper_rig
+        with pytest.raises(pdbfs.PdbfsError, match="CVODE"):
+            paper_rig().simulate(0.005, method="bdf", backend="c")
+        time.sleep(0.5)
+        assert len(silent.held) > asked
+        asked = len(silent.held)
+        from pdbfs.cli import main
+        assert main(["prepare-offline", "--platforms", "x86_64-linux", "--out", "carry"]) == 2
+        time.sleep(0.5)
+        assert len(silent.held) > asked
+    finally:
+        silent.close()
+    for r in (first, second):
+        assert r.returncode == 0, r.stderr
+        assert json.loads(r.stdout)["stats"]["backend"] == "casadi"
+        warned = [line for line in r.stderr.splitlines() if line.startswith("pdbfs: warning")]
+        assert len(warned) == 1 and len(warned[0]) < 160, warned
+        assert "CasADi" in warned[0] and "pdbfs prepare-offline" in warned[0], warned[0]
+    assert "unreachable" in first.stderr and " ago" in second.stderr, second.stderr
+    assert "fetching" in first.stderr and "fetching" not in second.stderr
+    assert took1 >= pipindex.DEADLINE and took2 < took1 / 2, (took1, took2)
+
+
+def test_a_remembered_failure_lasts_ten_minutes_for_the_same_index_settings(offline,
+                                                                             monkeypatch,
+                                                                             capsys):
+    monkeypatch.setenv("PIP_INDEX_URL", DEAD + "/simple")
+
+    def attempt() -> tuple[str, bool]:
+        """(the error, whether the index was asked) of a fetch with a fallback at hand"""
+        with S.remembered_failures(), pytest.raises(S.SundialsNotFound) as err:
+            S.find_sundials_sources()
+        return str(err.value), "fetching" in capsys.readouterr().err
+    assert attempt()[1]
+    message, asked = attempt()
+    assert not asked and " ago" in message and "prepare-offline" in message, message
+    monkeypatch.setenv("https_proxy", DEAD + "1")            # other settings: asked again
+    assert attempt()[1]
+    assert not attempt()[1]
+    memo = S._memo_path()
+    kept = json.loads(memo.read_text())
+    memo.write_text(json.dumps({**kept, "at": kept["at"] - S.REMEMBER - 1}))
+    assert attempt()[1]                                      # ten minutes on: asked again
+    assert S.REMEMBER == 600
+
+
+def test_a_fetch_that_succeeds_forgets_the_failure(sdist, offline, monkeypatch):
+    monkeypatch.setenv("PIP_INDEX_URL", DEAD + "/simple")
+    with S.remembered_failures(), pytest.raises(S.SundialsNotFound):
+        S.find_sundials_sources()
+    assert S._memo_path().is_file()
+    index = Index(sdist, json_api=False)
+    try:
+        monkeypatch.setenv("PIP_INDEX_URL", index.url)
+        S.find_sundials_sources()                 # outside the block: asks, finds, forgets
+    finally:
+        index.close()
+    assert not S._memo_path().exists()
+
+
 def test_the_explicit_method_and_casadi_need_no_cvode(offline, tmp_path):
     """A fresh cache, no index reachable: the default run (the explicit method
     on the compiled backend) builds its library without SUNDIALS and gives the
@@ -312,6 +392,7 @@ def test_auto_falls_back_to_casadi_for_cvode_methods_without_the_sources(offline
     assert r.returncode == 0, r.stderr
     warned = [line for line in r.stderr.splitlines() if line.startswith("pdbfs: warning")]
     assert len(warned) == 1 and "simulating with CasADi" in warned[0], r.stderr
+    assert len(warned[0]) < 160 and "pdbfs prepare-offline" in warned[0], warned[0]
     got = json.loads(r.stdout)
     assert got["stats"]["backend"] == "casadi" and got["stats"]["method"].startswith("bdf")
     ref, _ = cli(["simulate", "--method", "bdf", "--backend", "casadi", "--json"], {}, tmp_path)

@@ -41,9 +41,14 @@ def wine64() -> str | None:
 
 
 def wine_env() -> dict:
+    """The environment Wine runs in: its prefix in pdbfs's cache (made on Wine's
+    first start, about 10 s, then reused), no Mono or Gecko to install, and no
+    menu entries or file associations (winemenubuilder) written to the home
+    folder: everything Wine writes stays in the cache folder."""
     prefix = cache_root() / "wine64-prefix"   # shared with the FMU's Wine tests
     prefix.parent.mkdir(parents=True, exist_ok=True)
-    return {**os.environ, "WINEPREFIX": str(prefix), "WINEDEBUG": "-all", "WINEDLLOVERRIDES": "mscoree,mshtml="}
+    return {**os.environ, "WINEPREFIX": str(prefix), "WINEDEBUG": "-all",
+            "WINEDLLOVERRIDES": "mscoree,mshtml=;winemenubuilder.exe=d"}
 
 
 def _pip(*args):

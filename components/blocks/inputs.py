@@ -9,8 +9,8 @@ from .interfaces import SO
 
 
 class Input(SO):
-    """An input of the rig, with the output signal ``y``: ``self.command =
-    Input("1")`` in a rig's ``declare()`` makes the rig's input ``command``
+    """An input of the rig, with the output signal ``y = u(t)``, the value a
+    run gives it: ``self.command = Input("1")`` in a rig's ``declare()`` makes the rig's input ``command``
     (the component's dotted path, ``sub.command`` inside a sub-rig). ``unit``
     is the input's unit, ``start`` its value at the start and wherever no
     other value is given, ``description`` what it is.

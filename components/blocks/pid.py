@@ -39,7 +39,9 @@ class PID(SISO):
         der(xi) = k*u/Ti + (y - v)/(Ni*Ti)
 
     with the tracking time ``Ni*Ti``; inside the limits ``y = v`` and the
-    integral is the plain one. The unlimited controller is ``y = v``.
+    integral is the plain one. The unlimited controller is ``y = v``. In
+    the states, ``v = k*u + xi + k*Nd*(u - xd)``, ``der(xi) = k*u/Ti`` and
+    ``Td*der(xd) = Nd*(u - xd)``.
     """
 
     k = Parameter(1.0, "1", "Gain (unit of y per unit of u)")

@@ -105,7 +105,8 @@ class Sine(PartialSource):
 class Pulse(PartialSource):
     """A train of ``periods`` rectangular pulses: from ``start_time`` on,
     every ``period`` seconds the output rises by ``amplitude`` for ``width``
-    seconds. Each rise and fall is a time event.
+    seconds, ``y = offset + amplitude`` then, ``y = offset`` between. Each
+    rise and fall is a time event.
 
     ``periods`` (a whole number >= 1, a constructor argument: 100 by
     default) bounds the train: after the last period the output stays at

@@ -16,7 +16,8 @@ INTERPOLATIONS = ("linear", "hold")
 
 
 class Table(SO):
-    """The output ``y`` follows a table of ``values`` at ``times`` (s):
+    """The output ``y`` follows a table of ``values`` at ``times`` (s),
+    ``y = interp(t, times, values)``:
     ``interpolation="linear"`` joins the points by straight lines (as
     numpy.interp), ``"hold"`` keeps each value until the next time (a
     staircase, the value at a breakpoint being the new one). Before the

@@ -51,7 +51,8 @@ class Piston(Component):
 
 class Cylinder(Component):
     """A Piston over its own chamber (a Volume with ``swept=True``): the
-    chamber's volume ``V`` (at the start) shrinks as the piston moves in.
+    chamber's volume ``V`` (at the start) shrinks as the piston moves in,
+    ``der(chamber.Vc) = -A*piston.v`` (the piston's speed into it).
     Flange ``flange``, port ``port`` (closable: unconnected, the chamber is
     sealed), ``support`` with ``support=True``; ``law`` as in Volume. The
     chamber's other parameters (``p_vap``, ``dp_cav``, the law's own such as

@@ -42,7 +42,8 @@ class PartialOrifice(PartialTwoPort):
 
 class Orifice(PartialOrifice):
     """A fixed sharp-edged orifice (turbulent), ports ``port_a``,
-    ``port_b``, flow ``q`` from a to b."""
+    ``port_b``, flow ``q`` from a to b: ``q = Cd*A*sqrt(2/rho)*root(dp)``
+    (PartialOrifice's law, fully open)."""
 
 
 class LaminarLeak(PartialTwoPort):

@@ -7,7 +7,8 @@ from .interfaces import PartialOnePort
 
 
 class PressureSensor(PartialOnePort):
-    """Pressure at ``port``, output ``p`` (Pa), also as ``y``."""
+    """Pressure at ``port``, output ``p`` (Pa), also as ``y``: ``p = port.p``,
+    ``port.q = 0``."""
 
     def declare(self):
         super().declare()
@@ -21,7 +22,7 @@ class PressureSensor(PartialOnePort):
 
 class FlowSensor(Component):
     """Flow from ``port_a`` to ``port_b`` (no pressure drop), output ``q``
-    (m3/s), also as ``y``."""
+    (m3/s), also as ``y``: ``q = port_a.q = -port_b.q``, ``port_a.p = port_b.p``."""
 
     def declare(self):
         self.port_a = HydraulicPort()

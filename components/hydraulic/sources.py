@@ -29,8 +29,8 @@ class PartialSource(PartialOnePort):
 
 
 class PressureSource(PartialSource):
-    """A prescribed pressure at ``port``: the parameter ``p`` or
-    ``function(t)``. ``q_out`` is the flow it delivers."""
+    """A prescribed pressure at ``port``, ``port.p = p``: the parameter ``p``
+    or ``function(t)``. ``q_out = -port.q`` is the flow it delivers."""
 
     closable = True
     p = Parameter(10e6, "Pa", "Pressure (absolute)", min=0.0)
@@ -44,7 +44,8 @@ class PressureSource(PartialSource):
 
 
 class Tank(PressureSource):
-    """A reservoir at a fixed pressure ``p`` (atmospheric by default).
+    """A reservoir at a fixed pressure ``p`` (atmospheric by default):
+    ``port.p = p``.
 
     Connector: ``port``; ``q_out`` is the flow it delivers.
     """
@@ -54,7 +55,7 @@ class Tank(PressureSource):
 
 class FlowSource(PartialSource):
     """A prescribed flow ``Q`` delivered into the circuit at ``port``, or
-    ``function(t)``."""
+    ``function(t)``: ``port.q = -Q``."""
 
     Q = Parameter(1e-4, "m3/s", "Flow delivered into the circuit")
 
@@ -68,8 +69,8 @@ class FlowSource(PartialSource):
 
 class SignalPressure(PartialOnePort):
     """A pressure at ``port`` given by the signal input ``u`` (Pa,
-    absolute), as PressureSource prescribes its own; ``q_out`` is the flow
-    it delivers."""
+    absolute), as PressureSource prescribes its own, ``port.p = u``;
+    ``q_out = -port.q`` is the flow it delivers."""
 
     closable = True
 

@@ -28,12 +28,14 @@ class PartialPressureValve(PartialOrifice):
 
 class CheckValve(PartialPressureValve):
     """A check (non-return) valve: flow only from port_a to port_b, once the
-    pressure difference exceeds a small cracking pressure."""
+    pressure difference exceeds a small cracking pressure (PartialPressureValve's
+    law: ``x = smooth_step((dp - p_crack)/dp_open)``)."""
 
 
 class ReliefValve(PartialPressureValve):
     """A pressure relief valve: port_a the protected line, port_b the tank;
-    opens above its setting ``p_crack``."""
+    opens above its setting ``p_crack`` (PartialPressureValve's law:
+    ``x = smooth_step((dp - p_crack)/dp_open)``)."""
 
     p_crack = Parameter(20e6, "Pa", "Cracking (set) pressure difference", min=0.0)
     dp_open = Parameter(2e6, "Pa", "Pressure rise from cracking to fully open (the "
@@ -42,7 +44,8 @@ class ReliefValve(PartialPressureValve):
 
 class TimedValve(PartialOrifice):
     """A valve driven by time: closed until ``t_open``, then opening over
-    ``T_open`` (laws.smooth_step) and staying open: a fast switching valve.
+    ``T_open`` (laws.smooth_step) and staying open: a fast switching valve,
+    the orifice's opening ``x = smooth_step((t - t_open)/T_open)``.
 
     Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
     """
@@ -60,7 +63,8 @@ class TimedValve(PartialOrifice):
 
 class PulseValve(TimedValve):
     """A TimedValve that closes again: starts closing at ``t_close`` and is
-    shut ``T_close`` later (a pulse of flow).
+    shut ``T_close`` later (a pulse of flow), the opening
+    ``x = smooth_step((t - t_open)/T_open)*(1 - smooth_step((t - t_close)/T_close))``.
 
     Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
     """
@@ -85,7 +89,7 @@ class PulseValve(TimedValve):
 class CommandedValve(PartialOrifice):
     """A valve opened by the signal input ``opening`` (1: 0 closed, 1
     fully open, the flow area then ``A``): an orifice of area
-    ``opening*A``. A command outside 0..1 is clamped there (a valve does not
+    ``opening*A``, its opening ``x = min(max(opening, 0), 1)``. A command outside 0..1 is clamped there (a valve does not
     open beyond its stops), each stop an event.
 
     Connectors: ``port_a`` and ``port_b`` (the flow ``q`` goes from a to

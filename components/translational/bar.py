@@ -25,7 +25,8 @@ class BarResolutionWarning(UserWarning):
 
 class ElasticBar(MassChain):
     """A uniform elastic bar of length ``L``, area ``A``, Young's modulus
-    ``E`` and density ``rho``, moving along x (positive down).
+    ``E`` and density ``rho``, moving along x (positive down): ``n`` Masses
+    ``m = rho*A*L/n`` joined by Springs ``k = n*E*A/L``.
 
     Discretisation (cell-centred, as SplitPiston): ``n`` equal segments of
     length h = L/n, each a rigid Mass ``seg{i}`` of rho*A*L/n at its centre;

@@ -17,8 +17,8 @@ if TYPE_CHECKING:
 
 class MassChain(Component):
     """``n`` pieces ``{piece_prefix}{i}`` (i = 1..n, 1 at ``flange_a``), each
-    a Mass of total_mass()/n, joined by Springs ``link{i}`` of
-    n * total_stiffness() (a body of axial stiffness EA/L cut into pieces
+    a Mass ``m = total_mass()/n``, joined by Springs ``link{i}`` of
+    ``k = n*total_stiffness()`` (a body of axial stiffness EA/L cut into pieces
     of length L/n, joined centre to centre). ``flange_b`` is on piece n;
     with ``sides`` a flange ``side{i}`` on each piece takes side forces
     (seal friction). ``s`` is the position of the centre of mass."""

@@ -84,7 +84,8 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
 
 class ImpactContact(PartialCompression):
     """Contact = HertzContact + HuntCrossleyDamper in parallel; the combined
-    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper.
+    force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper: with the
+    default, ``fc = k*d^n + D*d^n*der(d)`` while in contact, at least 0.
 
     Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
     """

@@ -8,8 +8,9 @@ from .interfaces import PartialCompliantWithVelocity
 
 class SealFriction(PartialCompliantWithVelocity):
     """Friction of a seal: viscous ``c*v_rel`` plus an optional Coulomb part
-    ``F_c*tanh(v_rel/v_eps)``, regularised so that it stays smooth.
-    flange_a on the frame, flange_b on the sliding body."""
+    ``F_c*tanh(v_rel/v_eps)``, regularised so that it stays smooth:
+    ``f = c*v_rel + F_c*tanh(v_rel/v_eps)``. flange_a on the frame, flange_b
+    on the sliding body."""
 
     c = Parameter(2.556e4, "N.s/m", "Viscous friction coefficient; the paper's c2", min=0.0)
     F_c = Parameter(0.0, "N", "Coulomb friction force (0: none)", min=0.0)

@@ -6,7 +6,8 @@ from .interfaces import PartialOneFlange, PartialTwoFlanges
 
 class Mass(PartialTwoFlanges):
     """A rigid body sliding along x (positive down), as a point: both flanges
-    sit at its position ``s``.
+    sit at its position ``s``; ``m*der(v) = flange_a.f + flange_b.f`` with
+    ``der(s) = v``.
 
     Connectors: ``flange_a`` (its upper face) and ``flange_b`` (its lower face).
     """
@@ -30,7 +31,7 @@ class Mass(PartialTwoFlanges):
 
 
 class Fixed(PartialOneFlange):
-    """The frame: a flange held at position ``s0``."""
+    """The frame: a flange held at position ``s0``, ``flange.s = s0``."""
 
     s0 = Parameter(0.0, "m", "Position of the frame", tunable=False)
 

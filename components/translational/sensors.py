@@ -15,7 +15,7 @@ if TYPE_CHECKING:
 
 
 class PositionSensor(PartialOneFlange):
-    """Absolute position of a flange, output ``s`` (m).
+    """Absolute position of a flange, output ``s`` (m): ``s = flange.s``.
 
     Connectors: ``flange`` (no force), the signal outputs ``s`` and ``y`` (the same).
     """
@@ -31,7 +31,7 @@ class PositionSensor(PartialOneFlange):
 
 
 class SpeedSensor(PartialOneFlange):
-    """Absolute velocity of a flange, output ``v`` (m/s).
+    """Absolute velocity of a flange, output ``v`` (m/s): ``v = der(flange.s)``.
 
     Connectors: ``flange`` (no force), the signal outputs ``v`` and ``y`` (the same).
     """
@@ -48,7 +48,8 @@ class SpeedSensor(PartialOneFlange):
 
 class ForceSensor(PartialTwoFlanges):
     """Force transmitted between flange_a and flange_b, output ``f`` (N,
-    positive in tension, as ``flange_b.f`` in Modelica), also as ``y``."""
+    positive in tension, as ``flange_b.f`` in Modelica), also as ``y``:
+    ``f = flange_b.f = -flange_a.f``, the flanges at one position."""
 
     def declare(self):
         super().declare()

@@ -15,9 +15,10 @@ if TYPE_CHECKING:
 
 
 class Force(PartialOneFlange):
-    """A prescribed force ``F`` pushing the attached body in +x (down): the
-    parameter ``F``, or ``function(t)`` returning a CasADi expression of time
-    (which may use the component's parameters). ``breakpoints``: the times
+    """A prescribed force ``F`` pushing the attached body in +x (down),
+    ``flange.f = -force`` with ``force = F``: the parameter ``F``, or
+    ``function(t)`` returning a CasADi expression of time (which may use the
+    component's parameters). ``breakpoints``: the times
     (numbers or parameter expressions) at which ``function`` switches; every
     integrator stops there, so that no step jumps over a switch.
 
@@ -45,8 +46,8 @@ class Force(PartialOneFlange):
 
 
 class Gravity(PartialOneFlange):
-    """Weight ``m*g`` of a body, pushing down (+x). Bind ``m`` to the body's
-    mass: ``Gravity(m=rig.hammer.m)``.
+    """Weight ``m*g`` of a body, pushing down (+x): ``flange.f = -m*g``.
+    Bind ``m`` to the body's mass: ``Gravity(m=rig.hammer.m)``.
 
     Connector: ``flange``, on the body.
     """
@@ -60,8 +61,8 @@ class Gravity(PartialOneFlange):
 
 
 class Position(PartialOneFlange):
-    """A prescribed position of the attached flange: the parameter ``s0``, or
-    ``function(t)`` returning a CasADi expression of time. A body driven by
+    """A prescribed position of the attached flange, ``flange.s = s0``: the
+    parameter ``s0``, or ``function(t)`` returning a CasADi expression of time. A body driven by
     it has no motion of its own left (no state). ``breakpoints``: the times
     at which ``function`` switches (as for Force)."""
 
@@ -83,7 +84,8 @@ class Position(PartialOneFlange):
 
 class SignalForce(PartialOneFlange):
     """A force given by the signal input ``u`` (N), pushing the attached body
-    in +x (down) as Force does; ``force`` is the force applied.
+    in +x (down) as Force does; ``force`` is the force applied:
+    ``force = u``, ``flange.f = -force``.
 
     Connectors: ``flange``, on the body pushed, and the signal input ``u``.
     """
@@ -99,7 +101,7 @@ class SignalForce(PartialOneFlange):
 
 class SignalPosition(PartialOneFlange):
     """The position of the attached flange given by the signal input ``u``
-    (m, positive down), as Position prescribes it. A body driven by it has
+    (m, positive down), as Position prescribes it: ``flange.s = u``. A body driven by it has
     no motion of its own left; its velocity and acceleration are the
     signal's derivatives, which the compiler forms by differentiating the
     signal's equations: the signal must be differentiable (a state of a

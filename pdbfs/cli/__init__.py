@@ -35,12 +35,8 @@ DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensi
 def build_parser() -> argparse.ArgumentParser:
     """The ``pdbfs`` argument parser, every command's options included."""
     ap = argparse.ArgumentParser(prog="pdbfs", description=DESCRIPTION)
-    from importlib.metadata import PackageNotFoundError, version
-    try:
-        ver = version("pdbfs")
-    except PackageNotFoundError:
-        ver = "unknown"
-    ap.add_argument("--version", action="version", version=f"pdbfs {ver}",
+    from pdbfs import __version__
+    ap.add_argument("--version", action="version", version=f"pdbfs {__version__}",
                     help="print pdbfs's version and exit")
     sub = ap.add_subparsers(dest="command", required=True, title="commands", metavar="COMMAND")
     for module in COMMANDS:

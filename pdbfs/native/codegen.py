@@ -309,7 +309,7 @@ def run_compiler(cmd: list[str], what: str) -> None:
     """Run the compiler command ``cmd``; a failure is an ExportError naming
     ``what`` was compiled and the compiler's first error."""
     try:
-        r = subprocess.run(cmd, capture_output=True, text=True)
+        r = subprocess.run(cmd, capture_output=True, text=True, env=toolchain.zig_env())
     except OSError as err:
         raise ExportError(f"compiling {what}: could not start the compiler: {err}") from err
     if r.returncode < 0:

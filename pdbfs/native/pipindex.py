@@ -41,7 +41,12 @@ ACCEPT = ("application/vnd.pypi.simple.v1+json, application/vnd.pypi.simple.v1+h
 
 class FetchError(RuntimeError):
     """The file could not be had from any place pip is configured with; the
-    message (one line) names the places and why."""
+    message (one line) names the places and why. ``unreachable``: some place
+    could not be asked (else each answered without the file, or with another hash)."""
+
+    def __init__(self, message: str, unreachable: bool = True):
+        super().__init__(message)
+        self.unreachable = unreachable
 
 
 @dataclass
@@ -58,6 +63,17 @@ class PipSettings:
     def indexes(self) -> list[str]:
         """The index URLs to ask, in order (none with ``--no-index``)."""
         return [] if self.no_index else [self.index_url, *self.extra_index_urls]
+
+    def key(self, environ=None) -> str:
+        """A digest of everything that decides where a fetch goes: these
+        settings and the proxy variables urllib reads (``https_proxy``,
+        ``no_proxy``, ...); equal keys, the same places asked the same way."""
+        environ = os.environ if environ is None else environ
+        proxies = sorted((k.lower(), v) for k, v in environ.items()
+                         if k.lower() in ("http_proxy", "https_proxy", "all_proxy", "no_proxy"))
+        text = json.dumps([self.index_url, self.extra_index_urls, self.find_links, self.no_index,
+                           self.cert, self.proxy, proxies])
+        return hashlib.sha256(text.encode()).hexdigest()
 
 
 def config_files() -> list[Path]:
@@ -246,6 +262,7 @@ def _reason(err: BaseException) -> str:
 def _search(project: str, filename: str, sha256: str, settings: PipSettings, deadline: float,
             tried: list[str], where: list[str]) -> tuple[bytes, str]:
     client = _Client(settings, deadline)
+    unreached = [False]              # some place could not be asked (it may have the file)
     places = [(link, False) for link in settings.find_links] + \
         [(index.rstrip("/") + f"/{project}/", True) for index in settings.indexes]
     for place, is_index in places:
@@ -278,8 +295,9 @@ def _search(project: str, filename: str, sha256: str, settings: PipSettings, dea
             return data, _shown(url)
         except (OSError, ValueError, TimeoutError) as err:
             tried.append(f"{_shown(place)}: {_reason(err)}")
+            unreached[0] = True
     raise FetchError("; ".join(tried) or "pip is configured with no index (--no-index) "
-                     "and no find-links")
+                     "and no find-links", unreachable=unreached[0])
 
 
 def fetch(project: str, filename: str, sha256: str, deadline: float | None = None,
@@ -310,7 +328,7 @@ def fetch(project: str, filename: str, sha256: str, deadline: float | None = Non
         text = str(err) if isinstance(err, FetchError) else f"{where[0]}: {_reason(err)}"
         if time.monotonic() >= end - 0.5:          # ended by the deadline: say so
             text = f"gave up after {limit:g} s: {text}"
-        raise FetchError(text) from None
+        raise FetchError(text, getattr(err, "unreachable", True)) from None
     done = "; ".join(tried)
     raise FetchError(f"no answer within {limit:g} s from {where[0] or 'the index'}"
                      + (f" (before: {done})" if done else ""))

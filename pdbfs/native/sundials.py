@@ -14,7 +14,10 @@ no SUNDIALS code.
   keeps it (``sdist/``, to carry to an offline machine) and extracts only
   those files, with a ``sundials_config.h`` and ``sundials_export.h`` that
   pdbfs writes (no CMake). ``$PDBFS_SUNDIALS_SDIST`` names a local copy of
-  the sdist instead (offline machines).
+  the sdist instead (offline machines). A fetch that failed is remembered in
+  the cache for :data:`REMEMBER` s (for the same index settings), so that a
+  caller with a fallback (:func:`remembered_failures`: backend "auto") falls
+  back at once rather than waiting for a dead index again.
 * :func:`find_sundials` compiles :data:`SUNDIALS_C` once per target with
   the target's compiler (``toolchain.py``: ``zig cc -O2``) into a static
   archive in the cache, under a file lock (any OS), and returns it, saying
@@ -22,14 +25,18 @@ no SUNDIALS code.
 """
 from __future__ import annotations
 
+import contextvars
 import hashlib
 import io
+import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
 import threading
+import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -72,7 +79,12 @@ _EXTRACT = tuple(sorted({"src/" + c.rsplit("/", 1)[0] + "/" for c in SUNDIALS_C}
 
 
 class SundialsNotFound(RuntimeError):
-    """SUNDIALS' sources could not be had (not downloadable, a wrong hash, an unreadable file)."""
+    """SUNDIALS' sources could not be had (not downloadable, a wrong hash, an
+    unreadable file). ``short``: why, in a few words, for a one-line warning."""
+
+    def __init__(self, message: str, short: str = ""):
+        super().__init__(message)
+        self.short = short
 
 
 @dataclass(frozen=True)
@@ -137,6 +149,62 @@ def sdist_path() -> Path:
     return cache_root() / "sdist" / SDIST
 
 
+#: seconds a failed fetch of the sources is remembered (for the same index settings)
+REMEMBER = 600.0
+#: whether a fetch that failed within REMEMBER s is taken as failing again at once
+_TRUST_MEMO: contextvars.ContextVar[bool] = contextvars.ContextVar("pdbfs_sundials_memo",
+                                                                   default=False)
+
+
+@contextmanager
+def remembered_failures():
+    """Within this block a fetch of the sources that failed less than
+    :data:`REMEMBER` s ago, with the same index settings, fails again at once
+    (SundialsNotFound saying when and why) instead of waiting for the index:
+    for a caller with a fallback (backend "auto"). Outside it, a fetch always
+    asks the index again (``pdbfs prepare-offline``, ``backend="c"``)."""
+    token = _TRUST_MEMO.set(True)
+    try:
+        yield
+    finally:
+        _TRUST_MEMO.reset(token)
+
+
+def _span(seconds: float) -> str:
+    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
+
+
+def _memo_path() -> Path:
+    return cache_root() / "sundials-fetch-failed.json"
+
+
+def _remembered(key: str) -> tuple[float, str] | None:
+    """(seconds ago, short reason) of a failed fetch with index settings
+    ``key`` less than REMEMBER s ago, else None."""
+    try:
+        memo = json.loads(_memo_path().read_text())
+        ago = time.time() - float(memo["at"])
+        if memo["key"] == key and 0 <= ago < REMEMBER:
+            return ago, str(memo["short"])
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    return None
+
+
+def _remember(key: str | None, short: str = "") -> None:
+    """Keep a failed fetch (``key``: its index settings) or, with None, forget it."""
+    path = _memo_path()
+    try:
+        if key is None:
+            path.unlink(missing_ok=True)
+            return
+        part = path.with_name(f".{path.name}.{os.getpid()}")
+        part.write_text(json.dumps({"key": key, "at": time.time(), "short": short}))
+        os.replace(part, path)
+    except OSError:
+        pass                       # a cache that cannot be written: every command asks again
+
+
 def _download() -> bytes:
     local = os.environ.get("PDBFS_SUNDIALS_SDIST")
     if local:
@@ -147,15 +215,28 @@ def _download() -> bytes:
     kept = sdist_path()
     if kept.is_file():
         return kept.read_bytes()
+    settings = pipindex.pip_settings()
+    key = settings.key()
+    failed = _remembered(key) if _TRUST_MEMO.get() else None
+    if failed is not None:
+        ago, short = failed
+        raise SundialsNotFound(
+            f"SUNDIALS' sources ({SDIST}) could not be fetched {_span(ago)} ago ({short}); "
+            f"not asked again for {_span(REMEMBER - ago)} (`pdbfs prepare-offline` tries now)",
+            f"{short} {_span(ago)} ago")
     _say(f"fetching SUNDIALS {VERSION}'s sources once: {SDIST} (1.3 MB) from the package "
          "index pip uses")
     try:
-        data, origin = pipindex.fetch(PROJECT, SDIST, SDIST_SHA256)
+        data, origin = pipindex.fetch(PROJECT, SDIST, SDIST_SHA256, settings=settings)
     except pipindex.FetchError as err:
+        short = "package index unreachable" if err.unreachable else \
+            f"no {SDIST} with the pinned hash on the package index"
+        _remember(key, short)
         raise SundialsNotFound(
             f"could not fetch SUNDIALS' sources ({SDIST}) through pip's index: {err}. On a "
             f"machine with access run `pdbfs prepare-offline`, or get the file with `"
-            f"{PIP_DOWNLOAD}` and set PDBFS_SUNDIALS_SDIST to its path") from None
+            f"{PIP_DOWNLOAD}` and set PDBFS_SUNDIALS_SDIST to its path", short) from None
+    _remember(None)
     _say(f"fetched {SDIST} from {origin}")
     try:
         kept.parent.mkdir(parents=True, exist_ok=True)
@@ -220,11 +301,12 @@ def _compile_all(cmd: list[str], sources: SundialsSources, objdir: Path,
                  target: str = "") -> list[Path]:
     done = [0]
     lock = threading.Lock()
+    env = toolchain.zig_env()
 
     def one(rel: str) -> Path:
         obj = objdir / (Path(rel).stem + ".o")
         r = subprocess.run([*cmd, "-c", f"-I{sources.include}", f"-I{sources.src / 'sundials'}", str(sources.src / rel), "-o", str(obj)],
-                           capture_output=True, text=True)
+                           capture_output=True, text=True, env=env)
         if r.returncode != 0:
             raise SundialsNotFound(f"compiling SUNDIALS' {rel} with {Path(cmd[0]).name} failed: "
                                    f"{toolchain.first_error(r.stderr)}")
@@ -258,7 +340,7 @@ def find_sundials(fetch: bool = True, target: str | None = None) -> Sundials:
                     objs = _compile_all(cmd, sources, Path(tmp), target)
                     part = Path(tmp) / lib.name
                     r = subprocess.run([*toolchain.archiver(), "rcs", str(part), *map(str, objs)],
-                                       capture_output=True, text=True)
+                                       capture_output=True, text=True, env=toolchain.zig_env())
                     if r.returncode != 0:
                         raise SundialsNotFound(f"archiving CVODE failed: {toolchain.first_error(r.stderr)}")
                     os.replace(part, lib)

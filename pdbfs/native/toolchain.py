@@ -13,7 +13,8 @@ without one zig writes its own default, macOS 15, into the binary, and every
 older Mac refuses to load it.
 
 For the host's own target a user's ``$CC`` (e.g. ``CC=gcc``) is taken
-instead of zig; ``PDBFS_ZIG`` names a zig executable to use.
+instead of zig; ``PDBFS_ZIG`` names a zig executable to use. zig runs with
+its cache in pdbfs's cache folder (:func:`zig_env`).
 """
 from __future__ import annotations
 
@@ -99,6 +100,19 @@ def compiler(target: str | None = None) -> list[str]:
         raise ToolchainError(f"unknown target '{target}' (known: {', '.join(ZIG_TARGETS)}; "
                              "set CC to build for this machine)")
     return [str(find_zig()), "cc", "-target", ZIG_TARGETS[target]]
+
+
+def zig_env() -> dict[str, str]:
+    """The environment to run the compiler in: this one, with zig's own cache
+    (the C library it builds once per target) in pdbfs's cache folder,
+    ``zig/`` (``$XDG_CACHE_HOME/pdbfs/zig``), unless ``ZIG_GLOBAL_CACHE_DIR``
+    says where; so everything pdbfs writes is in one folder."""
+    from pdbfs.files import cache_folder
+    env = dict(os.environ)
+    if not env.get("ZIG_GLOBAL_CACHE_DIR"):
+        env["ZIG_GLOBAL_CACHE_DIR"] = str(cache_folder() / "zig")
+    env.setdefault("ZIG_LOCAL_CACHE_DIR", env["ZIG_GLOBAL_CACHE_DIR"])
+    return env
 
 
 def archiver() -> list[str]:

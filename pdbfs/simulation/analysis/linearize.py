@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import casadi as ca
 import numpy as np
 
-from pdbfs.errors import ParameterError
+from pdbfs.errors import ParameterError, require_extra
 
 from ..setup.input_traces import refuse_differentiated
 from .kinks import kinks_at
@@ -63,13 +63,17 @@ class Linearization:
         return "\n".join(lines)
 
     def to_control(self) -> control.StateSpace:
-        """A python-control StateSpace (optional dependency: pip install control);
-        its signal names have '_' for '.', which python-control refuses."""
-        try:
-            import control
-        except ImportError:
-            raise ParameterError("to_control() needs python-control: pip install control") \
-                from None
+        """A python-control StateSpace (pdbfs's extra ``[control]``:
+        ``pip install "pdbfs[control]"``); its signal names have '_' for '.',
+        which python-control refuses.
+
+        Raises
+        ------
+        pdbfs.errors.MissingExtraError
+            python-control is not installed (the message names the extra).
+        """
+        require_extra("control", "Linearization.to_control()")
+        import control
         safe = lambda names: [n.replace(".", "_") for n in names]   # noqa: E731 ('.' refused)
         return control.ss(self.A, self.B, self.C, self.D, states=safe(self.states),
                           inputs=safe(self.inputs), outputs=safe(self.outputs))

@@ -1,13 +1,14 @@
 """Which back end runs a run whose method needs CVODE, when "auto" chose the
 compiled one: without CVODE's sources within reach (no network, no
 prepared cache) the compiled library holds the explicit method alone, and
-such a run falls back to CasADi, with the warning "auto" gives whenever the
-compiled backend cannot be had."""
+such a run falls back to CasADi, with one short warning line; a fetch of the
+sources that failed minutes ago is not waited for again (sundials.py)."""
 from __future__ import annotations
 
 import warnings
 
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError
+from pdbfs.native.sundials import SundialsNotFound, remembered_failures
 
 from .compiled import CVODE_METHODS
 
@@ -23,13 +24,20 @@ def backend_for_method(sim, asked: str, backend: str, method: str) -> str:
     if chosen is None:
         chosen = "c"
         try:
-            sim.compiled(method)
+            with remembered_failures():       # a dead index is waited for once, not each run
+                sim.compiled(method)
         except ParameterError:
             raise
         except PdbfsError as err:
-            first = str(err).splitlines()[0] if str(err) else type(err).__name__
-            warnings.warn(f"rig {sim.dae.name}: the compiled backend has no CVODE for method "
-                          f"{method!r} ({first}); simulating with CasADi",
+            cause = err.__cause__
+            if isinstance(cause, SundialsNotFound) and cause.short:
+                why = f"CVODE unavailable ({cause.short}): simulating with CasADi; " \
+                    "run `pdbfs prepare-offline`"
+            else:
+                first = str(err).splitlines()[0] if str(err) else type(err).__name__
+                why = f"the compiled backend has no CVODE for method {method!r} ({first}); " \
+                    "simulating with CasADi"
+            warnings.warn(f"rig {sim.dae.name}: {why}",
                           BackendFallbackWarning, stacklevel=4)
             chosen = "casadi"
         sim._cache["cvode backend"] = chosen

@@ -166,15 +166,11 @@ def fig5(ctx, rep, path):
     ax.plot(res.t * 1e3, res["oil.pressure"] / 1e6, "k", lw=1.6, label="Simulation")
     ax.plot(alt.t * 1e3, alt["oil.pressure"] / 1e6, color="0.55", ls="--", lw=1.1,
             label="Simulation, k2 read as N/m$^{1.5}$")
-    ax.plot([], [], color="tab:red", ls="none", marker="x",
-            label="Experiment (06 Vulcan PDBFS):\nno trace available, not shown")
     ax.set_xlim(0, 14)
     ax.set_ylim(0, 100)
     ax.set_xlabel("Time (ms)")
     ax.set_ylabel("Pressure (MPa)")
-    leg = ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize=8,
-                    frameon=False)
-    leg.get_texts()[-1].set_color("tab:red")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=8, frameon=False)
     _stamp(ax)
     _save(fig, path)
     rep.notes["hertz_oil_peak"] = float(np.max(alt["oil.pressure"]))

@@ -1,8 +1,12 @@
-"""Regenerate the figures and numbers of docs/tutorials/calibrate.md and design.md: one
-calibration (a synthetic Kistler-like trace with trigger delay, sensor offset
-and noise), one design to target features in drop height, one design map.
+"""The figures of the calibration and design tutorials: one calibration (a
+synthetic Kistler-like trace with trigger delay, sensor offset and noise),
+one design to target features in drop height, one design map.
 
-    python scripts/report_calibration_design.py [--out docs/figures]
+    python calibration_design.py [--out figures] [--map-n 21]
+
+writes calibration_fit.png, design_features.png, design_map.png, the trace
+it fitted (kistler_synthetic.csv, the one `pdbfs example-data` ships) and
+the numbers (calibration_design.json) into --out, and prints the reports.
 """
 from __future__ import annotations
 
@@ -34,14 +38,14 @@ def synthetic_trace(path: Path):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="docs/figures")
+    ap.add_argument("--out", default="figures", help="folder of the figures and numbers")
+    ap.add_argument("--map-n", type=int, default=21, help="points per axis of the design map")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     notes = {}
 
-    trace = out.parent / "data" / "kistler_synthetic.csv"
-    trace.parent.mkdir(parents=True, exist_ok=True)
+    trace = out / "kistler_synthetic.csv"
     synthetic_trace(trace)
     t0 = time.perf_counter()
     cal = pdbfs.calibrate(paper_rig(), trace, list(TRUE), fit_offset=True)
@@ -60,11 +64,12 @@ def main(argv=None):
     notes["design"] = des.to_dict()
 
     t0 = time.perf_counter()
-    m = pdbfs.design_map(paper_rig(), x=("hammer.h", 0.1, 1.5), y=("oil.k", 1e8, 1e9), n=21)
+    m = pdbfs.design_map(paper_rig(), x=("hammer.h", 0.1, 1.5), y=("oil.k", 1e8, 1e9),
+                         n=args.map_n)
     notes["map_s"] = time.perf_counter() - t0
     m.plot(out / "design_map.png")
     print(f"design map: {m.x.size} x {m.y.size} points in {notes['map_s']:.1f} s")
-    (out.parent / "data" / "calibration_design.json").write_text(json.dumps(notes, indent=2, default=float) + "\n")
+    (out / "calibration_design.json").write_text(json.dumps(notes, indent=2, default=float) + "\n")
 
 
 if __name__ == "__main__":

@@ -1,9 +1,12 @@
-"""Regenerate the figures and numbers of docs/tutorials/hydraulic-rig.md: the oil column
-of the paper rig with a constant and a pressure-dependent bulk modulus at
-2.73 and 5.5 m/s, and the paper-hydraulic and hydraulic-pulse rigs designed
-to one target curve.
+"""The figures and numbers of the hydraulic tutorial: the oil column of the
+paper rig with a constant and a pressure-dependent bulk modulus at 2.73 and
+5.5 m/s, and the paper-hydraulic and hydraulic-pulse rigs designed to one
+target curve.
 
-    python scripts/report_hydraulics.py [--out docs/figures]
+    python hydraulics.py [--out figures]
+
+writes hydraulic_modulus.png, hydraulic_design.png and the numbers
+(hydraulics.json) into --out, and prints the table of the tutorial.
 """
 from __future__ import annotations
 
@@ -115,8 +118,7 @@ def design_study(out: Path, plt):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="docs/figures", help="folder for the figures (the "
-                    "numbers go to data/ beside it)")
+    ap.add_argument("--out", default="figures", help="folder of the figures and numbers")
     out = Path(ap.parse_args(argv).out)
     out.mkdir(parents=True, exist_ok=True)
     import matplotlib
@@ -128,9 +130,7 @@ def main(argv=None):
     repro = float(np.max(np.abs(a["oil.p"] - b["oil.pressure"])) / np.max(b["oil.pressure"]))
     notes = {"reproduction_max_rel_dev": repro, "modulus": modulus_study(out, plt),
              "design": design_study(out, plt)}
-    data = out.parent / "data"
-    data.mkdir(exist_ok=True)
-    (data / "hydraulics.json").write_text(json.dumps(notes, indent=2, default=float) + "\n")
+    (out / "hydraulics.json").write_text(json.dumps(notes, indent=2, default=float) + "\n")
     print(f"paper-hydraulic vs paper: max |dp| / peak = {repro:.2e}")
     print("| v0 [m/s] | oil column | peak [MPa] | time of peak [ms] | duration [ms] | restitution |")
     print("|---|---|---|---|---|---|")

@@ -1,11 +1,15 @@
-"""Regenerate the figure and numbers of docs/tutorials/closed-loop.md: the
-closed-loop pulse rig (a PI controller opening the valve to follow a target
-pressure pulse) integrated as one rig, and co-simulated as two FMUs (plant
-and controller) connected in an SSP file, by Ecos, libcosim and pdbfs's
-FMPy master; the co-simulation error against the monolithic rig at five
-communication steps, and the order fitted to it.
+"""The figure and numbers of the closed-loop tutorial: the closed-loop pulse
+rig (a PI controller opening the valve to follow a target pressure pulse)
+integrated as one rig, and co-simulated as two FMUs (plant and controller)
+connected in an SSP file, by Ecos, libcosim and pdbfs's FMPy master; the
+co-simulation error against the monolithic rig at each communication step,
+and the order fitted to it.
 
-    python scripts/closed_loop.py [--out docs/figures] [--fmi-version 2]
+    python closed_loop.py [--out figures] [--fmi-version 2] [--steps 5e-5,2.5e-5,...]
+
+writes closed_loop.png and closed_loop.json into --out and prints each
+engine's errors and order. Ecos and libcosim run where ecospy and
+libcosimpy are installed (the tutorial says how), else are left out.
 """
 from __future__ import annotations
 
@@ -23,7 +27,6 @@ from pdbfs.models import LOOP, TARGET, hydraulic_pulse_pid_rig, pulse_controller
 
 T_END = 0.02
 STEPS = (5e-5, 2.5e-5, 1.25e-5, 6.25e-6, 3.125e-6)    # s: communication steps
-SHOWN = 5e-5                                          # the step the pressure plot shows
 
 
 def ecos(ssp: str, h: float):
@@ -80,16 +83,22 @@ def master(ssp: str, h: float, interpolate: bool):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="docs/figures", help="folder of the figure and the numbers")
+    ap.add_argument("--out", default="figures", help="folder of the figure and the numbers")
     ap.add_argument("--fmi-version", type=int, default=2, choices=(2, 3))
+    ap.add_argument("--steps", default=",".join(f"{h:g}" for h in STEPS),
+                    help="communication steps in s, comma-separated (at least two: the order)")
     args = ap.parse_args()
+    steps = tuple(sorted((float(h) for h in args.steps.split(",")), reverse=True))
+    if len(steps) < 2:
+        ap.error("--steps: give at least two communication steps")
+    shown = steps[0]                                  # the step the pressure plot shows
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    grid = np.linspace(0.0, T_END, int(round(T_END / STEPS[-1])) + 1)
+    grid = np.linspace(0.0, T_END, int(round(T_END / steps[-1])) + 1)
     t0 = time.perf_counter()
     mono = hydraulic_pulse_pid_rig().simulate(T_END, t_out=grid, rtol=1e-11, atol=1e-9)
     mono_s = time.perf_counter() - t0
@@ -111,7 +120,7 @@ def main():
             if run is None:
                 continue
             errs, secs = [], []
-            for h in STEPS:
+            for h in steps:
                 t0 = time.perf_counter()
                 r = run(h)
                 if r is None:
@@ -119,10 +128,10 @@ def main():
                 secs.append(time.perf_counter() - t0)
                 t, p = r
                 errs.append(float(np.max(np.abs(p - np.interp(t, grid, p_ref)))))
-                if h == SHOWN:
+                if h == shown:
                     curves[name] = (t, p)
-            if len(errs) == len(STEPS):
-                order = float(np.polyfit(np.log(STEPS), np.log(errs), 1)[0])
+            if len(errs) == len(steps):
+                order = float(np.polyfit(np.log(steps), np.log(errs), 1)[0])
                 rows[name] = {"errors_Pa": errs, "seconds": secs, "order": order}
                 print(f"{name:28s} order {order:.2f}; max error " + ", ".join(
                     f"{e / 1e3:.3g} kPa" for e in errs) + "; " + ", ".join(f"{s:.2f} s" for s in secs))
@@ -132,7 +141,7 @@ def main():
     for name in ("Ecos (held)", "FMPy master (interpolated)"):
         if name in curves:
             ax.plot(curves[name][0] * 1e3, curves[name][1] / 1e6, lw=1,
-                    label=f"two FMUs, {name}, step {SHOWN * 1e6:g} us")
+                    label=f"two FMUs, {name}, step {shown * 1e6:g} us")
     ax.set_xlabel("time [ms]")
     ax.set_ylabel("chamber pressure [MPa]")
     ax.set_title("PI-controlled valve: target and achieved pressure")
@@ -152,9 +161,9 @@ def main():
     styles = {"Ecos (held)": "o-", "libcosim (held)": "x--", "FMPy master (held)": "s-",
               "FMPy master (interpolated)": "^-"}
     for name, row in rows.items():
-        bx.loglog(np.array(STEPS) * 1e6, np.array(row["errors_Pa"]) / 1e6, styles.get(name, "o-"),
+        bx.loglog(np.array(steps) * 1e6, np.array(row["errors_Pa"]) / 1e6, styles.get(name, "o-"),
                   label=f"{name}: order {row['order']:.2f}")
-    bx.set_xticks(np.array(STEPS) * 1e6, [f"{h * 1e6:g}" for h in STEPS])
+    bx.set_xticks(np.array(steps) * 1e6, [f"{h * 1e6:g}" for h in steps])
     bx.minorticks_off()
     bx.set_xlabel("communication step [us]")
     bx.set_ylabel("max |co-simulated - monolithic| [MPa]")
@@ -164,7 +173,7 @@ def main():
     fig.tight_layout()
     fig.savefig(out / "closed_loop.png", dpi=110)
     plt.close(fig)
-    numbers = {"fmi_version": args.fmi_version, "steps_s": list(STEPS), "engines": rows,
+    numbers = {"fmi_version": args.fmi_version, "steps_s": list(steps), "engines": rows,
                "monolithic_seconds": mono_s, "export_seconds": export_s,
                "peak_monolithic_Pa": float(p_ref.max())}
     (out / "closed_loop.json").write_text(json.dumps(numbers, indent=1) + "\n")
