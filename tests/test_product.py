@@ -88,7 +88,7 @@ def test_simulate_with_out_writes_there(tmp_path):
 
 # -- example files ------------------------------------------------------------------------
 def test_example_data_are_the_documented_files():
-    for name in ("kistler_synthetic.csv", "gun_target.csv"):
+    for name in ("kistler_synthetic.csv", "gun_target.csv", "gun_firing.csv"):
         path = pdbfs.example_data(name)
         assert isinstance(path, Path) and path.is_file()
         # the copy the docs' figures were made from, byte for byte
@@ -109,7 +109,8 @@ def test_example_data_command_copies_and_refuses_to_clobber(tmp_path):
     assert files_in(tmp_path) == []
     r = cli("example-data", "--out", "data", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    assert files_in(tmp_path) == ["data", "data/gun_target.csv", "data/kistler_synthetic.csv"]
+    assert files_in(tmp_path) == ["data", "data/gun_firing.csv", "data/gun_target.csv",
+                                  "data/kistler_synthetic.csv"]
     r = cli("example-data", "--out", "data", cwd=tmp_path)   # again: nothing to do
     assert r.returncode == 0 and "already there" in r.stdout
     mine = tmp_path / "data" / "gun_target.csv"
