@@ -150,8 +150,13 @@ def _located_reversals(res, name: str) -> np.ndarray:
     if callable(summary):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            complete = summary().get("complete")
-        if complete is False:
+            s = summary()
+        if s.get("complete") is False:
+            blows = s.get("impact_times") or []
+            if len(blows) > 1:                 # a hammer that strikes again and again
+                raise DataError(f"rig {res.rig}: blow {len(blows)} (at {blows[-1]:.4g} s) is "
+                                f"cut off at t_end = {res.t[-1]:.6g} s: its cycles would be a "
+                                "part of its own; end the run between two blows (t_end, --t-end)")
             raise DataError(f"rig {res.rig}: the pulse is still running at t_end = "
                             f"{res.t[-1]:.6g} s: its cycles would be a part of the blow's; "
                             "simulate longer (t_end, --t-end)")
