@@ -239,3 +239,13 @@ def test_the_docstring_examples_run(module):
     mod = importlib.import_module(f"pdbfs.fatigue.{module}")
     failed, tried = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
     assert tried > 0 and failed == 0
+
+
+def test_the_default_sn_curve_is_the_paris_life_of_a_half_millimetre_flaw():
+    """As its description says: the default breech's S-N life is 5 % short of
+    the Paris-law life of a 0.5 mm flaw growing to 20 mm, at any pressure range."""
+    from pdbfs.fatigue import BREECH_CYLINDER, GUN_STEEL_SN
+    for dp in (50e6, 150e6):
+        sn = GUN_STEEL_SN.cycles_to_failure(BREECH_CYLINDER.bore_hoop_stress(dp))
+        paris = crack_growth_cycles(BREECH_CYLINDER, GUN_STEEL_PARIS, dp, 0.5e-3, 0.02)
+        assert 0.94 < sn / paris < 0.96

@@ -36,13 +36,15 @@ def cmd_fatigue(args):
     if d_blow <= 0 or d_firing <= 0:
         raise DataError(f"the {'blow' if d_blow <= 0 else 'firing'} does no damage: its "
                         "stress ranges are all at or below the S-N curve's endurance limit")
+    summary = res.summary()
     out = {"rig": dae.name, "params": {**{p.name: p.value for p in dae.params}, **params},
            "breech": {"inner_radius": inner, "outer_radius": outer,
                       "bore_factor": cylinder.bore_factor},
            "sn_curve": {"m": breech.curve.m, "stress_range_ref": breech.curve.stress_range_ref,
                         "cycles_ref": breech.curve.cycles_ref,
                         "endurance_limit": breech.curve.endurance_limit},
-           "blow": {"peak_pressure": res.summary()["peak_pressure"], "damage": d_blow},
+           "blow": {"peak_pressure": summary["peak_pressure"], "damage": d_blow,
+                    "impacts": summary.get("impact_count", 1)},
            "firing": {"file": firing_path, "peak_pressure": float(firing[1].max()),
                       "damage": d_firing},
            "blows_per_firing": d_firing / d_blow,
@@ -99,7 +101,8 @@ def _report(out):
     limit = f", endurance limit {c['endurance_limit']:.4g} Pa" if c["endurance_limit"] else ""
     print(f"  S-N curve: m = {c['m']:g}, {c['cycles_ref']:.4g} cycles at a hoop stress range "
           f"of {c['stress_range_ref']:.4g} Pa{limit}")
-    print(f"  {'one blow':<34} peak {bl['peak_pressure']:>12.6g} Pa   damage {bl['damage']:.6g}")
+    blow = "one blow" + (f" ({bl['impacts']} impacts)" if bl["impacts"] > 1 else "")
+    print(f"  {blow:<34} peak {bl['peak_pressure']:>12.6g} Pa   damage {bl['damage']:.6g}")
     print(f"  {'one firing':<34} peak {f['peak_pressure']:>12.6g} Pa   damage {f['damage']:.6g}")
     print(f"  {'blows that stand for one firing':<34} {out['blows_per_firing']:.6g}")
     h = out["equal_height"]

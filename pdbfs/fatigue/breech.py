@@ -23,9 +23,10 @@ from .sn import GUN_STEEL_SN, SNCurve
 if TYPE_CHECKING:
     import pandas as pd
 
-#: an assumed breech of a large-calibre gun (the paper gives none): a chamber of 160 mm
-#: diameter in a wall of radius ratio 2 (its bore's hoop stress 5/3 of the pressure)
 BREECH_CYLINDER = ThickCylinder(inner_radius=0.08, outer_radius=0.16)
+"""An assumed breech of a large-calibre gun (the paper gives no breech's
+dimensions): a chamber of 160 mm diameter in a wall of radius ratio 2, so
+that the bore's hoop stress is 5/3 of the pressure. Give your breech's own."""
 
 
 @dataclass(frozen=True)

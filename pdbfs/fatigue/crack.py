@@ -72,10 +72,11 @@ class ParisLaw:
         return float(r) if r.ndim == 0 else r
 
 
-#: Paris' law of a high-strength Cr-Ni-Mo-V gun steel (of the class of ASTM A723), as
-#: the cannon-fatigue literature gives it: 6.52e-12 m/cycle at 1 MPa*sqrt(m), m = 3
-#: (an engineering estimate: use your steel's own)
 GUN_STEEL_PARIS = ParisLaw(C=6.52e-12 * 1e-6 ** 3, m=3.0)
+"""Paris' law of a high-strength Cr-Ni-Mo-V gun steel (of the class of ASTM
+A723) as the cannon-fatigue literature gives it: 6.52e-12 m per cycle at
+1 MPa*sqrt(m), ``m = 3`` (``C`` = 6.52e-30 in SI). An engineering estimate:
+use your steel's own."""
 
 
 def crack_growth_cycles(cylinder: ThickCylinder, law: ParisLaw, pressure_range: float,

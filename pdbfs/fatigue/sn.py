@@ -125,9 +125,12 @@ class SNCurve:
         return float(np.sum(counts / self.cycles_to_failure(ranges)))
 
 
-#: an engineering estimate for a breech of a high-strength Cr-Ni-Mo-V gun steel (of the
-#: class of ASTM A723), in bore hoop-stress range, no autofrettage: a life governed by the
-#: growth of a crack from a small flaw (the slope of the steel's Paris law, 3; no
-#: endurance limit), at the life Paris' law gives a 0.5 mm flaw at the bore of the default
-#: breech growing to 20 mm. Replace it with the curve of your steel and detail.
 GUN_STEEL_SN = SNCurve(m=3.0, stress_range_ref=70e6, cycles_ref=1e6, endurance_limit=0.0)
+"""An engineering estimate of the S-N curve of a breech of a high-strength
+Cr-Ni-Mo-V gun steel (of the class of ASTM A723), in the range of the bore's
+hoop stress, without autofrettage: ``m = 3``, 1e6 cycles at 70 MPa, no
+endurance limit. A life governed by the growth of a crack from a small flaw
+at the bore: the slope of the steel's Paris law, and about the life
+`GUN_STEEL_PARIS` gives a 0.5 mm flaw growing to 20 mm at the bore of
+`BREECH_CYLINDER` (5 % shorter, whatever the pressure range). Replace it
+with the curve of your steel and detail."""
