@@ -189,11 +189,12 @@ def test_the_core_dependencies_hold_no_extra():
     tomllib = pytest.importorskip("tomllib")           # Python 3.11+
     meta = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     core = " ".join(meta["dependencies"]).lower()
-    for name in ("dash", "dask", "pyarrow", "salib", "diskcache", "multiprocess", "orjson"):
+    for name in ("dash", "dask", "pyarrow", "salib", "diskcache", "multiprocess", "orjson", "nptdms",
+                 "asammdf"):
         assert name not in core, name
     extras = meta["optional-dependencies"]
     assert set(extras["all"][0].split("[")[1].rstrip("]").split(",")) == \
-        {"app", "dask", "parquet", "sensitivity", "control"}
+        {"app", "dask", "parquet", "sensitivity", "control", "lab"}
     assert meta["license"] == "BSD-3-Clause" and meta["license-files"] == ["LICENSE"]
     assert "BSD 3-Clause" in (ROOT / "LICENSE").read_text()
 
