@@ -16,7 +16,7 @@ import numpy as np
 
 from pdbfs.errors import DataError, ParameterError
 
-from .counting import rainflow
+from .counting import cycle_arrays, rainflow
 from .cylinder import ThickCylinder
 from .sn import GUN_STEEL_SN, SNCurve
 
@@ -105,7 +105,8 @@ class Breech:
         float
             The damage (1: failure by Miner's rule).
         """
-        return self.curve.damage(self.stress_cycles(history, signal))
+        ranges, _, counts = cycle_arrays(history, signal)
+        return self.curve.damage({"range": ranges * self.cylinder.bore_factor, "count": counts})
 
     def peak_damage(self, peak_pressure: Any, rest_pressure: Any = 0.0) -> float | np.ndarray:
         """The damage of one cycle from the rest pressure to a peak: a blow

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import math
 
-from pdbfs.errors import ParameterError, plain
+import numpy as np
+
+from pdbfs.errors import DataError, ParameterError, plain
 
 
 def positive(value, name: str, owner: str, zero: bool = False) -> float:
@@ -28,3 +30,21 @@ def real(value, name: str, owner: str) -> float:
     if not math.isfinite(v):
         raise ParameterError(f"{owner}: {name} = {plain(v)} must be a finite number")
     return v
+
+
+def cycles_table(cycles, owner: str) -> tuple[np.ndarray, np.ndarray]:
+    """(ranges, counts) of counted cycles (a table with columns ``range`` and
+    ``count``, as rainflow() gives them), refused unless one count per range,
+    each a finite number, 0 or more."""
+    try:
+        ranges = np.asarray(cycles["range"], dtype=float)
+        counts = np.asarray(cycles["count"], dtype=float)
+    except (KeyError, TypeError, IndexError, ValueError):
+        raise DataError(f"{owner}: give the cycles as a table with columns 'range' and 'count' "
+                        "(as rainflow() gives them)") from None
+    if ranges.shape != counts.shape:
+        raise DataError(f"{owner}: {ranges.size} ranges but {counts.size} counts")
+    for name, v in (("ranges", ranges), ("counts", counts)):
+        if not np.all(np.isfinite(v)) or np.any(v < 0):
+            raise DataError(f"{owner}: the {name} must be finite numbers, 0 or more")
+    return ranges, counts

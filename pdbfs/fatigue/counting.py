@@ -67,11 +67,31 @@ def rainflow(history: Any, signal: str | None = None) -> "pd.DataFrame":
     [0.5, 0.5, 1.0, 0.5, 0.5, 0.5, 0.5]
     """
     import pandas as pd
+    return pd.DataFrame(dict(zip(COLUMNS, cycle_arrays(history, signal))))
+
+
+def cycle_arrays(history: Any, signal: str | None = None) -> tuple[np.ndarray, ...]:
+    """The rainflow cycles of a history as arrays, in the order
+    :func:`rainflow` gives them, without a DataFrame's cost (a campaign
+    counts one blow after another).
+
+    Parameters
+    ----------
+    history : array_like, (t, y), trace or Result
+        As for :func:`rainflow`.
+    signal : str, optional
+        The variable of a Result (default: its one variable in Pa).
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        The cycles' ranges, means and counts (1.0 or 0.5).
+    """
     import rainflow as counter
     y = history_values(history, signal)
     rows = [c[:3] for c in counter.extract_cycles(y.tolist())] if y.size > 1 else []
-    out = pd.DataFrame(rows, columns=list(COLUMNS), dtype=float)
-    return out
+    table = np.asarray(rows, dtype=float).reshape(-1, 3)
+    return table[:, 0], table[:, 1], table[:, 2]
 
 
 def history_values(history: Any, signal: str | None = None) -> np.ndarray:

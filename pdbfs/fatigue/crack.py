@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from pdbfs.errors import DataError, ParameterError
+from pdbfs.errors import ParameterError
 
-from .checks import positive
+from .checks import cycles_table, positive
 from .cylinder import ThickCylinder
 
 #: points at which a geometry function Y(a / W) is checked before the integration
@@ -196,17 +196,7 @@ def equivalent_range(cycles: Any, m: float) -> float:
         negative or not finite.
     """
     m = positive(m, "m", "equivalent_range")
-    try:
-        ranges = np.asarray(cycles["range"], dtype=float)
-        counts = np.asarray(cycles["count"], dtype=float)
-    except (KeyError, TypeError, IndexError):
-        raise DataError("equivalent_range: give the cycles as a table with columns 'range' and "
-                        "'count' (as rainflow() gives them)") from None
-    if ranges.shape != counts.shape or not (np.all(np.isfinite(ranges)) and
-                                            np.all(np.isfinite(counts))) \
-            or np.any(ranges < 0) or np.any(counts < 0):
-        raise DataError("equivalent_range: ranges and counts must be finite numbers, 0 or more, "
-                        "one count per range")
+    ranges, counts = cycles_table(cycles, "equivalent_range")
     total = float(np.sum(counts))
     if total == 0:
         return 0.0

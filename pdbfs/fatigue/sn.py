@@ -7,9 +7,9 @@ from typing import Any
 
 import numpy as np
 
-from pdbfs.errors import DataError, ParameterError
+from pdbfs.errors import ParameterError
 
-from .checks import positive
+from .checks import cycles_table, positive
 
 
 @dataclass(frozen=True)
@@ -107,21 +107,10 @@ class SNCurve:
         Raises
         ------
         pdbfs.DataError
-            For cycles without a ``range`` or a ``count``, or counts that
-            are negative or not finite.
-        pdbfs.ParameterError
-            For a negative or non-finite range.
+            For cycles without a ``range`` or a ``count``, or ranges or
+            counts that are negative or not finite.
         """
-        try:
-            ranges = np.asarray(cycles["range"], dtype=float)
-            counts = np.asarray(cycles["count"], dtype=float)
-        except (KeyError, TypeError, IndexError):
-            raise DataError("SNCurve.damage: give the cycles as a table with columns 'range' "
-                            "and 'count' (as rainflow() gives them)") from None
-        if ranges.shape != counts.shape:
-            raise DataError(f"SNCurve.damage: {ranges.size} ranges but {counts.size} counts")
-        if not np.all(np.isfinite(counts)) or np.any(counts < 0):
-            raise DataError("SNCurve.damage: the counts must be finite numbers, 0 or more")
+        ranges, counts = cycles_table(cycles, "SNCurve.damage")
         return float(np.sum(counts / self.cycles_to_failure(ranges)))
 
 
