@@ -121,3 +121,15 @@ def test_bad_input_is_one_line_with_status_2(capsys, tmp_path, argv, culprit):
     assert code == 2 and culprit in err and err.count("\n") == 1 and not out, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["force.csv", "one_column.csv",
                                                           "untimed.csv"]
+
+
+def test_a_damage_that_does_not_grow_with_the_height_gives_no_height():
+    """The drop rig over a fixed horizon: a higher drop strikes later and its
+    rebounds fall in or out of the run, so the run's damage does not grow
+    with the height; the search says so instead of picking a root."""
+    from pdbfs.models import drop_rig
+    from pdbfs.studies import height_for_damage
+    found = height_for_damage(drop_rig(), 3e-5, heights=(0.2, 0.6), t_end=1.0)
+    assert found.height is None and "does not grow with the drop height" in found.note
+    d = found.damages
+    assert found.parameter == "h" and any(b <= a for a, b in zip(d, d[1:]))
