@@ -11,6 +11,7 @@ The stages, each a package whose docstring says what it may import:
     pdbfs.simulation   SUNDIALS (through CasADi, or compiled) -> Result
     pdbfs.fmu          rig -> C code -> FMU
     pdbfs.studies      sweeps (local or Dask), sensitivity, calibration, design, the paper
+    pdbfs.fatigue      a breech's fatigue from pressure histories (rainflow, S-N, Paris' law)
     pdbfs.cli          the command line, a thin layer over this API
     pdbfs.app          the workbench page in the browser (Dash), another thin layer
 

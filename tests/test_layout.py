@@ -11,7 +11,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 #: package directory -> stage; pdbfs.components, .models and .fmu live at the top
 STAGES = {"pdbfs/modelling": "modelling", "pdbfs/native": "native", "pdbfs/simulation": "simulation",
           "pdbfs/studies": "studies", "pdbfs/cli": "cli", "pdbfs/app": "app", "components": "components",
-          "models": "models", "fmu": "fmu"}
+          "models": "models", "fmu": "fmu", "pdbfs/fatigue": "fatigue"}
 MODULES = {"pdbfs/errors.py": "errors", "pdbfs/files.py": "files", "pdbfs/rig.py": "rig", "pdbfs/__init__.py": "api"}
 #: what each stage may import (besides itself)
 ALLOWED = {
@@ -24,15 +24,19 @@ ALLOWED = {
     "fmu": {"errors", "files", "modelling", "native"},
     "rig": {"errors", "files", "modelling", "simulation", "fmu"},
     "models": {"errors", "files", "modelling", "components", "rig"},
-    "studies": {"errors", "files", "modelling", "simulation", "components", "models", "rig"},
+    "fatigue": {"errors", "files"},
+    "studies": {"errors", "files", "modelling", "simulation", "components", "models", "rig",
+                "fatigue"},
     "cli": {"errors", "files", "modelling", "simulation", "fmu", "studies", "models", "components", "rig",
-            "app"},
-    "app": {"errors", "files", "modelling", "simulation", "studies", "models", "components", "rig"},
+            "app", "fatigue"},
+    "app": {"errors", "files", "modelling", "simulation", "studies", "models", "components", "rig",
+            "fatigue"},
 }
 #: pdbfs.<name> -> stage
 TARGETS = {"modelling": "modelling", "native": "native", "simulation": "simulation",
            "studies": "studies", "cli": "cli", "app": "app", "components": "components",
-           "models": "models", "fmu": "fmu", "errors": "errors", "files": "files", "rig": "rig"}
+           "models": "models", "fmu": "fmu", "errors": "errors", "files": "files", "rig": "rig",
+           "fatigue": "fatigue"}
 MAX_LINES = 400
 
 

@@ -88,7 +88,7 @@ def test_simulate_with_out_writes_there(tmp_path):
 
 # -- example files ------------------------------------------------------------------------
 def test_example_data_are_the_documented_files():
-    for name in ("kistler_synthetic.csv", "gun_target.csv"):
+    for name in ("kistler_synthetic.csv", "gun_target.csv", "gun_firing.csv"):
         path = pdbfs.example_data(name)
         assert isinstance(path, Path) and path.is_file()
         # the copy the docs' figures were made from, byte for byte
@@ -109,7 +109,8 @@ def test_example_data_command_copies_and_refuses_to_clobber(tmp_path):
     assert files_in(tmp_path) == []
     r = cli("example-data", "--out", "data", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    assert files_in(tmp_path) == ["data", "data/gun_target.csv", "data/kistler_synthetic.csv"]
+    assert files_in(tmp_path) == ["data", "data/gun_firing.csv", "data/gun_target.csv",
+                                  "data/kistler_synthetic.csv"]
     r = cli("example-data", "--out", "data", cwd=tmp_path)   # again: nothing to do
     assert r.returncode == 0 and "already there" in r.stdout
     mine = tmp_path / "data" / "gun_target.csv"
@@ -188,11 +189,12 @@ def test_the_core_dependencies_hold_no_extra():
     tomllib = pytest.importorskip("tomllib")           # Python 3.11+
     meta = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     core = " ".join(meta["dependencies"]).lower()
-    for name in ("dash", "dask", "pyarrow", "salib", "diskcache", "multiprocess", "orjson"):
+    for name in ("dash", "dask", "pyarrow", "salib", "diskcache", "multiprocess", "orjson", "nptdms",
+                 "asammdf"):
         assert name not in core, name
     extras = meta["optional-dependencies"]
     assert set(extras["all"][0].split("[")[1].rstrip("]").split(",")) == \
-        {"app", "dask", "parquet", "sensitivity", "control"}
+        {"app", "dask", "parquet", "sensitivity", "control", "lab"}
     assert meta["license"] == "BSD-3-Clause" and meta["license-files"] == ["LICENSE"]
     assert "BSD 3-Clause" in (ROOT / "LICENSE").read_text()
 

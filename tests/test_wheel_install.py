@@ -48,7 +48,8 @@ def test_the_wheel_carries_licence_and_example_data(core):
         meta = z.read(next(n for n in names if n.endswith(".dist-info/METADATA"))).decode()
     assert "License-Expression: BSD-3-Clause" in meta and "License-File: LICENSE" in meta
     assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
-    assert {"pdbfs/data/kistler_synthetic.csv", "pdbfs/data/gun_target.csv"} <= set(names)
+    assert {"pdbfs/data/kistler_synthetic.csv", "pdbfs/data/gun_target.csv",
+            "pdbfs/data/gun_firing.csv"} <= set(names)
     for extra in ("app", "dask", "parquet", "sensitivity", "all"):
         assert f"Provides-Extra: {extra}" in meta
 

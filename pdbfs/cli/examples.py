@@ -1,6 +1,6 @@
 """pdbfs example-data: the example files shipped with pdbfs (a measured-like
-trace to calibrate to, a target pulse to design for), listed or copied to a
-folder."""
+trace to calibrate to, a target pulse to design for, a gun firing to compare
+blows with), listed or copied to a folder."""
 from __future__ import annotations
 
 import shutil

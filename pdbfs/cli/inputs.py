@@ -57,7 +57,7 @@ def read_input(path, name, unit):
     p = Path(path)
     if not p.is_file():
         raise DataError(f"{where}: no such file")
-    df = read_table(p, where)
+    df = read_table(p, where, name)
     names = [split_header(c)[0] for c in df.columns]
     if df.shape[1] < 2 or len(df) == 0:
         raise DataError(f"{where}: needs a time column and a value column, and rows of data")

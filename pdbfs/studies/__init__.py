@@ -7,10 +7,15 @@
                      (traces, free parameters, signal model, features, objectives,
                      least squares, reports)
     paper/           the paper's figures reproduced
+    blows.py         a blow's damage to a breech (pdbfs.fatigue), and the drop height
+                     whose blow does a given damage
+    labfiles.py      measured traces in NI TDMS and ASAM MDF files (pdbfs[lab]), read
+                     as the tables of CSV traces
 
-May import: pdbfs.errors, pdbfs.modelling, pdbfs.simulation, pdbfs.models
-and pdbfs.components. Nothing below imports from here.
+May import: pdbfs.errors, pdbfs.modelling, pdbfs.simulation, pdbfs.models,
+pdbfs.components and pdbfs.fatigue. Nothing below imports from here.
 """
+from .blows import HeightSearch, blow_damage, height_for_damage
 from .fitting import (Calibration, Design, DesignMap, Trace, calibrate, design, design_map,
                       read_trace)
 from .sensitivity import Sensitivity, sensitivity
@@ -18,4 +23,5 @@ from .sweeps import Grid, Points, Sample, SweepPoint, SweepResult, points_of, sw
 
 __all__ = ["sweep", "points_of", "SweepPoint", "SweepResult", "calibrate", "Calibration",
            "design", "Design", "design_map", "DesignMap", "Trace", "read_trace", "Grid", "Sample",
-           "Points", "sensitivity", "Sensitivity"]
+           "Points", "sensitivity", "Sensitivity", "blow_damage", "height_for_damage",
+           "HeightSearch"]

@@ -12,6 +12,8 @@ import numpy as np
 
 from pdbfs.errors import DataError, ParameterError
 
+from ..labfiles import is_lab_file, read_lab_table
+
 #: fewer samples than this cannot carry a pulse, whatever is fitted
 MIN_POINTS = 10
 
@@ -81,7 +83,7 @@ def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None 
         raise DataError(f"{where}: no such file")
     if p.stat().st_size == 0:
         raise DataError(f"{where}: the file is empty")
-    df = read_table(p, where)
+    df = read_table(p, where, signal)
     if df.shape[1] < 2:
         raise DataError(f"{where}: needs two columns, time (s) and the signal; found "
                         f"{df.shape[1]} ({', '.join(map(str, df.columns)) or 'none'})")
@@ -108,11 +110,15 @@ def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None 
     return Trace(trace.t, trace.y, where, y_name, y_si, t_unit or "")
 
 
-def read_table(path: Path, where: str):
+def read_table(path: Path, where: str, signal: str | None = None):
     """The CSV table of ``path`` as a DataFrame: its delimiter sniffed, its
     header optional (without one, the columns are "column 1", ...); a file
-    that is no table is a DataError naming ``where``."""
+    that is no table is a DataError naming ``where``. A TDMS or MDF file is
+    read as the same table (pdbfs.studies.labfiles; the time base of the
+    channel ``signal``)."""
     import pandas as pd
+    if is_lab_file(path):
+        return read_lab_table(path, where, signal)
     sep = _delimiter(path)
     try:
         header = 0 if _has_header(path, sep) else None
