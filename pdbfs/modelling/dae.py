@@ -144,7 +144,8 @@ class DAE:
                 units = {q.name: q.unit for q in self.params}
                 values = ", ".join(f"{n} = {self._value_of(n, p):g} {units.get(n, '')}".rstrip()
                                    for n in names)
-                raise ParameterError(f"{where}: {text} ({values})")
+                raise ParameterError(f"{where}: {text} ({values})" if values else
+                                     f"{where}: {text}")
 
     def _value_of(self, name, p) -> float:
         if name in self.p_names:

@@ -25,6 +25,7 @@ from .index import overdetermined, reduce_index
 from .initialization import attach_initial
 from .dae import DAE, InputInfo, ParamInfo, VarInfo
 from .rig_inputs import T_REF
+from .smoothness import Jumps
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
 
@@ -51,6 +52,9 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                                        if ins else [])
 
     al = Aliases(flat, t)
+    al.jumps = Jumps(t, [(c, w, flat.event_text.get(w, "")) for c, w in switch],
+                     {v.name: v.start for v in flat.vars if v.start is not None}, p_sym,
+                     [p.name for p in free])
     eqs = al.eliminate(eqs)
 
     states = [v for v in flat.vars if v.name not in al.gone
@@ -118,7 +122,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0,
                time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1),
-               conditions=conditions, event_text=dict(flat.event_text),
+               conditions=conditions + al.jumps.conditions, event_text=dict(flat.event_text),
                inputs=[InputInfo(i.name, i.decl.unit, i.decl.description, i.decl.start)
                        for i in ins])
     reduced_start.record(dae, dropped, constraints)

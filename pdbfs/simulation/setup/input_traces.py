@@ -60,16 +60,24 @@ def drive_of(dae, inputs, grid):
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise ParameterError(f"inputs: {plain(name)} is not an input of rig {dae.name} "
                                  f"(its inputs: {', '.join(names)}){hint}")
-    t0, t1 = float(grid[0]), float(grid[-1])
-    traces = []
-    for info in dae.inputs:
-        given = inputs.get(info.name, info.start)
-        traces.append(trace_of(info.name, given, t0, t1, grid))
+    traces = [input_trace(dae, info.name, inputs.get(info.name, info.start), grid)
+              for info in dae.inputs]
     return Drive(dae, traces, {n: v for n, v in inputs.items()})
 
 
+def input_trace(dae, name, given, grid):
+    """(t, u) of the input ``name`` of ``dae`` for a run on ``grid``
+    (trace_of), and refused where it jumps inside the run although the rig
+    differentiates it (refuse_jump)."""
+    t, u = trace_of(name, given, float(grid[0]), float(grid[-1]), grid)
+    if t.size > 2:
+        refuse_jump(dae, name, t, u, float(grid[0]), float(grid[-1]))
+    return t, u
+
+
 def trace_of(name, given, t0, t1, grid):
-    """(t, u) of one input, checked: a held value is one sample."""
+    """(t, u) of one input, checked: a held value is one sample. A trace is
+    given in one layout (``columns``): the pair (t, u), or named columns."""
     if isinstance(given, numbers.Real) and not isinstance(given, (bool, np.bool_)):
         v = float(given)
         if not np.isfinite(v):
@@ -77,27 +85,110 @@ def trace_of(name, given, t0, t1, grid):
         return np.array([t0]), np.array([v])
     if callable(given):
         return sample_callable(name, given, grid)
-    arr = None
-    if isinstance(given, (tuple, list)) and len(given) == 2:
-        arr = given
-    elif hasattr(given, "__array__") and np.ndim(given) == 2 and np.shape(given)[1] == 2:
-        table = np.asarray(given)             # two columns (a numpy array, a DataFrame)
-        arr = (table[:, 0], table[:, 1])
-    if arr is None:
-        shown = f"an array of shape {given.shape}" if isinstance(given, np.ndarray) else \
-            " ".join(plain(given).split())[:60]
-        raise ParameterError(f"inputs: {name} = {shown}: give a trace (t, u) of times and "
-                             "values, a number, or a function of time")
+    t, u = columns(name, given)
+    if t.size == 2 and u.size == 2 and not isinstance(given, (dict, tuple)) and \
+            not hasattr(given, "columns"):
+        # two samples as a list or a 2 x 2 array read as rows (t, u) too
+        rows = (np.array([t[0], u[0]]), np.array([t[1], u[1]]))
+        if _valid(name, t, u, t0, t1) and _valid(name, *rows, t0, t1) and \
+                not (np.array_equal(rows[0], t) and np.array_equal(rows[1], u)):
+            raise ParameterError(
+                f"inputs: {name} = {_shown(given)}: reads both as (t, u) = "
+                f"({plain(t.tolist())}, {plain(u.tolist())}) and as rows (t = "
+                f"{plain(rows[0].tolist())}, u = {plain(rows[1].tolist())}); give a tuple "
+                f"(t, u) or a dict {{'t': [...], '{name}': [...]}}")
+    return check_trace(name, t, u, t0, t1)
+
+
+def columns(name, given):
+    """The times and values of a trace in its one layout: the pair (t, u),
+    two sequences of equal length, times first (a tuple or list of two
+    lists or arrays, or an array of shape (2, n)); or named columns, a dict
+    or a pandas DataFrame with a time column ``t`` or ``time`` and one value
+    column (named like the input, or the only other one). Rows of (t, u) (a
+    list of pairs, an array of shape (n, 2)) are refused, saying how to
+    give them: read as (t, u) they would be another trace."""
+    if isinstance(given, dict) or hasattr(given, "columns"):
+        return _named(name, given)
+    if isinstance(given, np.ndarray) and given.ndim == 2:
+        if given.shape[0] != 2:
+            hint = (f"; for rows of (time, value) give (a[:, 0], a[:, 1])"
+                    if given.shape[1] == 2 else "")
+            raise ParameterError(f"inputs: {name} = an array of shape {given.shape}: give a "
+                                 "trace (t, u), a row of times and a row of values (shape "
+                                 f"(2, n)){hint}")
+        given = (given[0], given[1])
+    if not (isinstance(given, (tuple, list)) and len(given) == 2):
+        if isinstance(given, (tuple, list)) and len(given) > 2 and \
+                all(np.ndim(r) == 1 and np.size(r) == 2 for r in given):
+            raise ParameterError(f"inputs: {name} = {_shown(given)}: {len(given)} rows of "
+                                 "(time, value); a trace is (t, u), the times and the values: "
+                                 "give tuple(zip(*rows))")
+        raise ParameterError(f"inputs: {name} = {_shown(given)}: give a trace (t, u) of times "
+                             "and values, a number, or a function of time")
+    return _numbers(name, given[0], given[1])
+
+
+def _named(name, table):
+    """(t, u) of a dict or DataFrame with named columns."""
+    keys = list(table.keys())
+    time = [k for k in keys if isinstance(k, str) and k.strip().lower() in ("t", "time")]
+    if len(time) != 1:
+        raise ParameterError(f"inputs: {name}: columns {', '.join(map(plain, keys))}: name "
+                             "one time column 't' or 'time' (s)")
+    rest = [k for k in keys if k != time[0]]
+    value = [k for k in rest if k == name or k == name.rsplit(".", 1)[-1]] or \
+        (rest if len(rest) == 1 else [])
+    if len(value) != 1:
+        raise ParameterError(f"inputs: {name}: columns {', '.join(map(plain, keys))}: name the "
+                             f"value column {name!r}, or give only it besides {time[0]!r}")
+    return _numbers(name, table[time[0]], table[value[0]])
+
+
+def _numbers(name, t, u):
+    """Two 1-D float arrays, or the ParameterError saying what they are not."""
     try:
-        t = np.asarray(arr[0], dtype=float)
-        u = np.asarray(arr[1], dtype=float)
+        t = np.asarray(t, dtype=float)
+        u = np.asarray(u, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(f"inputs: {name}: the trace's times and values must be numbers") \
             from None
     if t.ndim != 1 or u.ndim != 1:
         raise ParameterError(f"inputs: {name}: the trace (t, u) takes two lists of numbers, "
                              f"not arrays of shapes {t.shape} and {u.shape}")
-    return check_trace(name, t, u, t0, t1)
+    return t, u
+
+
+def _valid(name, t, u, t0, t1) -> bool:
+    try:
+        check_trace(name, t, u, t0, t1)
+    except ParameterError:
+        return False
+    return True
+
+
+def _shown(given) -> str:
+    if isinstance(given, np.ndarray):
+        return f"an array of shape {given.shape}"
+    return " ".join(plain(given).split())[:60]
+
+
+def refuse_jump(dae, name, t, u, t0, t1) -> None:
+    """A trace that jumps inside the run (a time given twice, the values
+    differing) of an input the rig differentiates (a position it
+    prescribes, whose velocity a damper needs): the jump's impulse would be
+    lost (the slope of each segment is all the rig sees), so it is refused.
+    A kink is fine: the rate jumps, a damper's force with it, no impulse."""
+    d = np.diff(t)
+    at = np.flatnonzero((d == 0) & (u[1:] != u[:-1]) & (t[1:] > t0) & (t[1:] < t1))
+    if not at.size or name not in differentiated(dae):
+        return
+    k = int(at[0])
+    raise ParameterError(
+        f"inputs: {name}: the trace jumps at t = {t[k]:.6g} s (from {u[k]:.6g} to "
+        f"{u[k + 1]:.6g}), but rig {dae.name} differentiates this input (a position it "
+        "prescribes, whose velocity a damper needs): the jump's impulse would be lost; give "
+        "the jump a rise time (two distinct times) or filter the input")
 
 
 def check_trace(name, t, u, t0, t1):
@@ -218,22 +309,29 @@ class Drive:
         return np.concatenate([[1.0], np.where(np.cumsum(flip) % 2, -1.0, 1.0)])
 
 
+def differentiated(dae) -> set:
+    """The names of the inputs whose rate enters the equations (the rig
+    differentiates them: a prescribed position whose velocity a damper
+    needs); made once per DAE and kept with its functions."""
+    def make():
+        rows = dae.input_rows()
+        if rows is None:
+            return frozenset()
+        import casadi as ca
+        # at t = t_ref the inputs' values are u; a slope left there is a derivative used
+        eqs = ca.substitute(ca.vertcat(dae.ode, dae.alg, dae.y), dae.t, dae.p[rows[2]])
+        return frozenset(n for k, n in enumerate(dae.input_names)
+                         if ca.depends_on(eqs, dae.p[rows[1] + k]))
+    return dae.cached("differentiated inputs", make)
+
+
 def refuse_differentiated(dae, names):
-    """Linearization in an input the rig differentiates (its slope enters
-    the equations: a prescribed position whose velocity a damper needs) would
-    leave out the term in its derivative: refused, naming it."""
-    rows = dae.input_rows()
-    if rows is None:
-        return
-    import casadi as ca
-    # at t = t_ref the inputs' values are u; a slope left there is a derivative used
-    eqs = ca.substitute(ca.vertcat(dae.ode, dae.alg, dae.y), dae.t, dae.p[rows[2]])
+    """Linearization in an input the rig differentiates would leave out the
+    term in its derivative: refused, naming it."""
     for name in names:
-        if name in dae.input_names:
-            k = dae.input_names.index(name)
-            if ca.depends_on(eqs, dae.p[rows[1] + k]):
-                raise ParameterError(
-                    f"linearize: input {name} is differentiated by rig {dae.name} (its rate "
-                    "enters the equations, as a prescribed position's velocity does), so B and D "
-                    "would miss the term in its derivative; linearize in a force or pressure "
-                    "input, or filter the input before it prescribes a position")
+        if name in differentiated(dae):
+            raise ParameterError(
+                f"linearize: input {name} is differentiated by rig {dae.name} (its rate "
+                "enters the equations, as a prescribed position's velocity does), so B and D "
+                "would miss the term in its derivative; linearize in a force or pressure "
+                "input, or filter the input before it prescribes a position")
