@@ -26,6 +26,7 @@ from .initialization import attach_initial
 from .dae import DAE, InputInfo, ParamInfo, VarInfo
 from .rig_inputs import T_REF
 from .smoothness import Jumps
+from .symbols import quantity
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
 
@@ -190,8 +191,8 @@ def _check_consistent_start(flat, al, states, x0, p_sym, p_val, final, t):
     for (v, where), s_mine, s_theirs in zip(gone, a, b):
         if abs(s_mine - s_theirs) > 1e-9 * (1.0 + abs(s_mine)):
             raise ModelError(
-                f"{v.name} starts at {s_mine:g} {v.unit}, but {where} ties it to a value "
-                f"that starts at {s_theirs:g} {v.unit}; give rigidly connected bodies "
+                f"{v.name} starts at {quantity(s_mine, v.unit)}, but {where} ties it to a value "
+                f"that starts at {quantity(s_theirs, v.unit)}; give rigidly connected bodies "
                 "consistent start values")
 
 
