@@ -130,7 +130,7 @@ class Commanded(pdbfs.Rig):
 
     def declare(self):
         self.command = B.Input("N", start=2.0, description="Push")
-        self.integral = B.Integrator()
+        self.integral = B.Integrator(unit="N")
         self.connect(self.command.y, self.integral.u)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from pdbfs.errors import ConnectError, ModelError, ParameterError, plain
 
-from .connectors import Connector
+from .connectors import Connector, signal_unit
 from .rig_inputs import InputSlot, RigInput
 from .symbols import Parameter, Variable, described
 
@@ -231,6 +231,12 @@ class Component:
         if len(kinds) > 1:
             desc = ", ".join(f"{c.path()} ({type(c).__name__})" for c in connectors)
             raise ConnectError(f"connect(): incompatible connectors: {desc}")
+        if kinds == {"signal"}:
+            units = {signal_unit(c.unit) for c in connectors}
+            if len(units) > 1:      # the one rule of export-ssp too: "" and "1" alike
+                desc = ", ".join(f"{c.path()} in {signal_unit(c.unit)}" for c in connectors)
+                raise ConnectError(f"connect(): signals of different units: {desc}; join signals "
+                                   "of one unit (a Gain with unit= and input_unit= converts)")
         self._connections.append(tuple(connectors))
         self._changed()
 
