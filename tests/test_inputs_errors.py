@@ -88,7 +88,7 @@ def commanded(monkeypatch):
      "command)"),
     ("command", "--input 'command': expected NAME=FILE.csv or NAME=VALUE"),
     ("command=missing.csv", "--input command: file 'missing.csv': no such file"),
-    ("command=bad.csv", "column 'command [1]', data row 2: 'x' is not a finite number"),
+    ("command=bad.csv", "column command, data row 2: x is not a number"),
     ("command=short.csv", "inputs: command: the trace covers 0 .. 0.01 s, the run 0 .. 0.02 s"),
     ("command=kpa.csv", "column 'command [kPa]' is in kPa, but input command is in 1"),
 ])
