@@ -89,3 +89,32 @@ def test_dimensionless_values_are_shown_without_a_unit():
         B.Gain(k=float("nan"))
     with pytest.raises(pdbfs.ParameterError, match=r"^PID.Nd = -1: must be > 0 \(Derivative"):
         B.PID(kind="PD", Nd=-1.0)
+
+
+class Loop(pdbfs.Rig):
+    """A mass pushed by y = 1 + k2 y (an algebraic loop through an Add)."""
+
+    def __init__(self, k2=1.0, **kw):
+        self._k2 = k2
+        super().__init__(**kw)
+
+    def declare(self):
+        self.one = B.Constant(k=1.0, unit="N")
+        self.add = B.Add(unit="N", k2=self._k2)
+        self.push = SignalForce()
+        self.body = Mass(m=1.0)
+        self.connect(self.one.y, self.add.u1)
+        self.connect(self.add.y, self.add.u2, self.push.u)
+        self.connect(self.body.flange_b, self.push.flange)
+
+
+def test_a_singular_algebraic_loop_is_refused_before_the_run():
+    """y = 1 + y has no solution: it was run and reported as a NaN "check a
+    stiffness or exponent"; y = 1 + y/2 is y = 2."""
+    with pytest.raises(pdbfs.ParameterError) as err:
+        Loop().simulate(0.1)
+    assert str(err.value).startswith("add (Add), equation 1: the algebraic loop through it has "
+                                     "no unique solution") and "add.k2 = 1" in str(err.value)
+    assert Loop(0.5).simulate(0.1)["push.force"][-1] == pytest.approx(2.0, rel=1e-12)
+    with pytest.raises(pdbfs.ParameterError, match="no unique solution"):
+        Loop(0.5).simulate(0.1, params={"add.k2": 1.0})
