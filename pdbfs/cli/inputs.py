@@ -7,6 +7,7 @@ from pathlib import Path
 from pdbfs.errors import DataError, ParameterError
 
 from .common import unique
+from .progress import Progress
 
 
 def add_input_option(s):
@@ -59,7 +60,8 @@ def read_input(path, name, unit):
     p = Path(path)
     if not p.is_file():
         raise DataError(f"{where}: no such file")
-    df = read_table(p, where)
+    with Progress(f"reading {path}", "rows") as progress:     # a long file: said as it goes
+        df = read_table(p, where, progress)
     t, u, _, j, u_si = table_columns(df, where, name if _named(df, name) else None,
                                      f"name one {name!r}", "value")
     if u_si and u_si != unit:

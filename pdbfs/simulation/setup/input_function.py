@@ -34,13 +34,13 @@ def sample_callable(name, f, grid):
     """(t, u): ``f`` sampled on [grid[0], grid[-1]] to CALLABLE_RTOL."""
     grid = np.asarray(grid, float)
     t = np.unique(np.concatenate([grid, np.linspace(grid[0], grid[-1], FIRST + 1)]))
-    span = (float(grid[0]), float(grid[-1]))
-    u = _evaluate(name, f, t, span)
+    run = (float(grid[0]), float(grid[-1]))
+    u = _evaluate(name, f, t, run)
     span = float(t[-1] - t[0])
     todo = np.arange(t.size - 1)           # the intervals to test
     while todo.size:
         mid = 0.5 * (t[todo] + t[todo + 1])
-        um = _evaluate(name, f, mid, span)
+        um = _evaluate(name, f, mid, run)
         scale = max(float(np.max(np.abs(u))), float(np.max(np.abs(um))))
         off = np.abs(um - 0.5 * (u[todo] + u[todo + 1])) > CALLABLE_RTOL * scale
         off &= (t[todo + 1] - t[todo]) > MIN_WIDTH * span

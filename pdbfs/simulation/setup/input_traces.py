@@ -234,7 +234,10 @@ class Drive:
         self.given = given or {}        # what the caller gave, by name (a Result keeps it)
         self.u0, self.du0, self.t_ref = dae.input_rows()
         edges = [t for t, _ in traces if t.size > 1]
-        self.edges = np.unique(np.concatenate(edges)) if edges else np.zeros(0)
+        # sorted already: one trace's times (a jump's twice) need no sort, only their repeats out
+        self.edges = _distinct(edges[0]) if len(edges) == 1 else \
+            np.unique(np.concatenate(edges)) if edges else np.zeros(0)
+        self._segments = None           # (the grid, its Segments): the last grid's, see release
 
     def coefficients(self, t_ref, t_mid):
         """(values at ``t_ref``, slopes), each (inputs x len(t_mid)), of the
@@ -242,21 +245,29 @@ class Drive:
         before a trace's first time or after its last the input is held."""
         t_ref = np.atleast_1d(np.asarray(t_ref, float))
         t_mid = np.atleast_1d(np.asarray(t_mid, float))
-        A = np.empty((len(self.traces), t_mid.size))
-        B = np.zeros_like(A)
+        out = np.empty((2 * len(self.traces), t_mid.size))
+        self._fill(out, t_ref, t_mid)
+        n = len(self.traces)
+        return out[:n], out[n:]
+
+    def _fill(self, out, t_ref, t_mid):
+        """coefficients' rows written into ``out`` (2 inputs x times, or
+        its transpose): one input at a time, so that a long trace's
+        intermediate arrays are never there for all inputs at once."""
+        n = len(self.traces)
         for i, (t, u) in enumerate(self.traces):
             if t.size == 1:
-                A[i] = u[0]
+                out[i], out[n + i] = u[0], 0.0
                 continue
             k = np.searchsorted(t, t_mid, side="right") - 1
             inside = (k >= 0) & (k < t.size - 1)
-            kk = np.clip(k, 0, t.size - 2)
-            slope = np.where(inside, (u[kk + 1] - u[kk]) / np.where(inside, t[kk + 1] - t[kk], 1.0),
-                             0.0)
-            held = np.where(k < 0, u[0], u[-1])
-            A[i] = np.where(inside, u[kk] + slope * (t_ref - t[kk]), held)
-            B[i] = slope
-        return A, B
+            np.clip(k, 0, t.size - 2, out=k)
+            slope = (u[k + 1] - u[k]) / np.where(inside, t[k + 1] - t[k], 1.0)
+            slope[~inside] = 0.0
+            value = u[k] + slope * (t_ref - t[k])
+            outside = ~inside
+            value[outside] = np.where(t_mid[outside] < t[0], u[0], u[-1])
+            out[i], out[n + i] = value, slope
 
     def p_at(self, p, a, c=None) -> np.ndarray:
         """``p`` with the inputs of the segment [a, c] (every input linear
@@ -276,25 +287,51 @@ class Drive:
         P[self.u0:self.du0], P[self.du0:self.t_ref], P[self.t_ref] = A, B, grid
         return P
 
-    def pieces(self, grid):
-        """[(a, c, sub)]: the segments of [grid[0], grid[-1]] between the
-        breakpoints (those within SNAP of an output point moved onto it), each
-        with the output points inside it and its ends (``sub``)."""
+    def segments(self, grid) -> Segments:
+        """The segments of [grid[0], grid[-1]] between the breakpoints (those
+        within SNAP of an output point moved onto it), as arrays: a few
+        numbers per breakpoint, whatever the length of the traces (made
+        once per grid)."""
         grid = np.asarray(grid, float)
+        kept = self._segments
+        if kept is not None and kept[0].shape == grid.shape and np.array_equal(kept[0], grid):
+            return kept[1]
         t0, t1 = float(grid[0]), float(grid[-1])
         tol = SNAP * max(abs(t0), abs(t1))
-        b = self.edges[(self.edges > t0 + tol) & (self.edges < t1 - tol)]
+        b = self.edges[np.searchsorted(self.edges, t0 + tol, side="right"):
+                       np.searchsorted(self.edges, t1 - tol, side="left")]
         if b.size and grid.size > 2:
             k = np.clip(np.searchsorted(grid, b), 1, grid.size - 1)
             near = np.where(np.abs(grid[k] - b) <= np.abs(grid[k - 1] - b), grid[k], grid[k - 1])
-            b = np.unique(np.where(np.abs(near - b) <= tol, near, b))
+            del k
+            b = np.where(np.abs(near - b) <= tol, near, b)
+            del near
+            b = _distinct(b if np.all(b[1:] >= b[:-1]) else np.sort(b))
             b = b[(b > t0) & (b < t1)]
         if b.size > 1:            # breakpoints closer than a solver can step: one is enough
             b = b[np.concatenate([[True], np.diff(b) > tol])]
             b = b[(b - t0 > tol) & (t1 - b > tol)]
         edges = np.concatenate([[t0], b, [t1]])
-        return [(a, c, np.concatenate([[a], grid[(grid > a) & (grid < c)], [c]]))
-                for a, c in zip(edges[:-1], edges[1:])]
+        del b
+        coef = np.empty((edges.size - 1, 2 * len(self.traces)))
+        self._fill(coef.T, edges[:-1], 0.5 * (edges[:-1] + edges[1:]))
+        seg = Segments(edges, coef, grid, self)
+        self._segments = (grid.copy(), seg)
+        return seg
+
+    def release(self) -> None:
+        """Forget the segments made last (a run keeps its Drive: a long
+        trace's segments are a few times its size)."""
+        self._segments = None
+
+    def pieces(self, grid):
+        """(a, c, sub) of each segment in turn: its ends and its grid, the
+        ends and the output points inside (made one at a time)."""
+        grid = np.asarray(grid, float)
+        seg = self.segments(grid)
+        for k in range(seg.count):
+            a, c = seg.edges[k], seg.edges[k + 1]
+            yield a, c, np.concatenate([[a], grid[seg.lo[k]:seg.hi[k]], [c]])
 
     def kink_row(self, grid) -> np.ndarray:
         """A row that changes sign on every output interval holding a
@@ -307,6 +344,55 @@ class Drive:
         hi = np.searchsorted(self.edges, grid[1:], side="right")
         flip = hi > lo                                   # a breakpoint in [t_i, t_i+1]
         return np.concatenate([[1.0], np.where(np.cumsum(flip) % 2, -1.0, 1.0)])
+
+
+class Segments:
+    """The segments of one run's inputs: ``edges`` (count + 1 times),
+    ``coef`` (one row a segment: each input's value at the segment's
+    start, then each input's slope; C order, as the compiled run over the
+    segments reads them), and the output points strictly inside segment
+    k, ``grid[lo[k]:hi[k]]``."""
+
+    def __init__(self, edges, coef, grid, drive):
+        self.edges, self.coef, self._grid = edges, coef, grid
+        self.rows = (drive.u0, drive.du0, drive.t_ref)
+        self.inputs = coef.shape[1] // 2
+        self._lo_hi = None
+
+    @property
+    def lo(self) -> np.ndarray:
+        """The index of the first output point inside each segment."""
+        return self._bounds()[0]
+
+    @property
+    def hi(self) -> np.ndarray:
+        """One past the index of the last output point inside each segment."""
+        return self._bounds()[1]
+
+    def _bounds(self):
+        # made when asked (a run segment by segment from Python): the compiled
+        # run over the segments finds them itself
+        if self._lo_hi is None:
+            self._lo_hi = (np.searchsorted(self._grid, self.edges[:-1], side="right"),
+                           np.searchsorted(self._grid, self.edges[1:], side="left"))
+        return self._lo_hi
+
+    @property
+    def count(self) -> int:
+        """The number of segments."""
+        return self.edges.size - 1
+
+    def p_of(self, p, k) -> np.ndarray:
+        """``p`` with the inputs of segment k (t_ref its start)."""
+        u0, du0, t_ref = self.rows
+        q = np.array(p, dtype=float, copy=True)
+        q[u0:t_ref], q[t_ref] = self.coef[k], self.edges[k]
+        return q
+
+
+def _distinct(t) -> np.ndarray:
+    """A sorted array without its repeats."""
+    return t[np.concatenate([[True], t[1:] != t[:-1]])] if t.size else t
 
 
 def differentiated(dae) -> set:

@@ -171,13 +171,18 @@ def time_column(df, where: str) -> tuple[int, str | None]:
     return i, unit
 
 
-def read_table(path: Path, where: str):
+#: rows a long table is read in at a time, when its reading is shown (read_table's progress)
+CHUNK_ROWS = 1_000_000
+
+
+def read_table(path: Path, where: str, progress=None):
     """The CSV table of ``path`` as a DataFrame: its delimiter sniffed
     (comma, semicolon, tab or spaces), lines starting with ``#`` skipped,
     a compressed file (.gz, .bz2, .xz, .zip) read as it is; its header
     optional (without one the columns are "column 1", ... and
     ``df.attrs["headerless"]`` is True); a file that is no table is a DataError naming
-    ``where``."""
+    ``where``. ``progress`` (a callable of the rows read so far), where
+    given, is called as a long file is read (CHUNK_ROWS at a time)."""
     import pandas as pd
     head = _head_lines(path, where)
     if not head:
@@ -185,8 +190,19 @@ def read_table(path: Path, where: str):
     sep = _delimiter("\n".join(head))
     header = 0 if _has_header(head[0], sep) else None
     try:
-        df = pd.read_csv(path, sep=sep, engine="c", skipinitialspace=True, header=header,
-                         comment="#", skip_blank_lines=True, compression="infer")
+        args = dict(sep=sep, engine="c", skipinitialspace=True, header=header, comment="#",
+                    skip_blank_lines=True, compression="infer")
+        if progress is None:
+            df = pd.read_csv(path, **args)
+        else:
+            parts, rows = [], 0
+            with pd.read_csv(path, chunksize=CHUNK_ROWS, **args) as reader:
+                for part in reader:
+                    parts.append(part)
+                    rows += len(part)
+                    progress(rows)
+            df = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+            del parts
     except (ValueError, pd.errors.ParserError, UnicodeDecodeError, OSError, EOFError) as err:
         first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise DataError(f"{where}: not a CSV table ({first})") from None
