@@ -195,3 +195,9 @@ def test_linearize_refuses_an_output_listed_twice(capsys):
     assert main(["linearize", "--rig", "drop", "--outputs", "hammer.s,hammer.s"]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.strip().endswith("--outputs 'hammer.s,hammer.s': hammer.s is listed twice")
+
+
+def test_rig_linearize_says_it_takes_the_rigs_inputs():
+    doc = pdbfs.Rig.linearize.__doc__
+    assert "Names of the rig's inputs (held at their start values) and of its" in doc
+    assert "Parameter names: the columns" not in doc

@@ -10,10 +10,9 @@ import numpy as np
 import pytest
 
 import pdbfs
-from pdbfs.components import Fixed, Mass, SignalPosition, Spring
 from pdbfs.components import blocks as B
 
-from input_rigs import C, K, M, BaseExcited
+from input_rigs import C, K, M, BaseExcited, ShakenMass, msd_step
 
 DS, TS = 0.01, 0.1          # m, s: the base's jump and its time
 
@@ -94,29 +93,9 @@ def test_the_step_it_used_to_accept_was_10_percent_off_the_impulse_model():
     it cannot pass unseen; a ramp of 1 ns is the impulse model to 9e-9 of DS."""
     res = BaseExcited().simulate(0.6, n_out=601, rtol=1e-10, atol=1e-12,
                                  inputs={"base": ([0.0, TS, TS + 1e-9, 1.0], [0.0, 0.0, DS, DS])})
-    from input_rigs import msd_step
     dropped = msd_step(res.t, K * DS, TS)        # the spring's step, no impulse
     assert np.max(np.abs(dropped - impulse_model(res.t))) > 0.1 * DS
     assert np.max(np.abs(res["body.s"] - impulse_model(res.t))) < 1e-5 * DS
-
-
-class Shaken(pdbfs.Rig):
-    """A mass whose position a source block prescribes."""
-
-    def __init__(self, source, **kw):
-        self._source = source
-        super().__init__(**kw)
-
-    def declare(self):
-        self.base = self._source
-        self.drive = SignalPosition()
-        self.body = Mass(m=2.0)
-        self.spring = Spring(k=1e3)
-        self.frame = Fixed()
-        self.connect(self.base.y, self.drive.u)
-        self.connect(self.drive.flange, self.body.flange_a)
-        self.connect(self.body.flange_b, self.spring.flange_a)
-        self.connect(self.spring.flange_b, self.frame.flange)
 
 
 def test_a_ramp_under_a_prescribed_mass_is_refused():
@@ -124,6 +103,6 @@ def test_a_ramp_under_a_prescribed_mass_is_refused():
     impulse there, and the drive's force would miss m * rate."""
     with pytest.raises(pdbfs.ParameterError, match="base: its signal or its rate jumps at the "
                        "ramp starts"):
-        Shaken(B.Ramp(unit="m", height=DS, duration=0.1, start_time=TS)).simulate(0.3)
-    Shaken(B.Sine(unit="m", amplitude=DS, f=2.0, phase=math.pi / 2,
+        ShakenMass(B.Ramp(unit="m", height=DS, duration=0.1, start_time=TS)).simulate(0.3)
+    ShakenMass(B.Sine(unit="m", amplitude=DS, f=2.0, phase=math.pi / 2,
                   offset=-DS)).simulate(0.3)        # smooth from the start: runs
