@@ -4,8 +4,11 @@ segments a run is integrated over.
 
 An input is given as
 
-* a trace ``(t, u)``: values at times, interpolated linearly; a time given
-  twice is a jump (the value after it holds from that time on). Its times
+* a trace ``(t, u)`` (its one layout, input_layout.py: times first, or
+  named columns): values at times, interpolated linearly; a time given
+  twice is a jump (the value after it holds from that time on; refused
+  inside the run for an input the rig differentiates: its impulse would
+  be lost). Its times
   are breakpoints: the solver stops and restarts at each (time events), so
   a kink or a jump lands exactly, between output points too. The trace must
   cover the run, [0, t_end]: a run does not guess values;
@@ -18,9 +21,11 @@ an input not given holds its ``start`` value. The summary follows a pulse
 past t_end only as far as the traces go (driven.Driven.known_until). Over
 each segment between two breakpoints (of all inputs together) every input
 is u + du (t - t_ref): the DAE's input entries of p
-(pdbfs.modelling.rig_inputs) for that segment are ``Drive.p_at``'s; on an
-output grid, ``Drive.P_on`` gives each point its own (right-continuous: at
-a breakpoint, the segment that starts there).
+(pdbfs.modelling.rig_inputs) for that segment are ``Drive.p_at``'s (of
+every segment at once: ``Drive.segments``, arrays, for the compiled run
+over all of them in one call); on an output grid, ``Drive.P_on`` gives
+each point its own (right-continuous: at a breakpoint, the segment that
+starts there).
 """
 from __future__ import annotations
 
