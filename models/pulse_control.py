@@ -58,7 +58,8 @@ def _declare_controller(rig: Rig) -> None:
     rig.target = B.Table(*TARGET, unit="Pa")
     rig.error = B.Add(k2=-1.0, unit="Pa")
     # gain 8e-8 per Pa: 1/8 open per MPa of error; integral time 0.5 ms
-    rig.pid = B.PID(kind="PI", limited=True, k=8e-8, Ti=5e-4, yMin=0.0, yMax=1.0, Ni=0.5)
+    rig.pid = B.PID(kind="PI", limited=True, k=8e-8, Ti=5e-4, yMin=0.0, yMax=1.0, Ni=0.5,
+                    input_unit="Pa")
     rig.connect(rig.target.y, rig.error.u1)
     rig.connect(rig.error.y, rig.pid.u)
 

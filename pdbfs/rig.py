@@ -138,9 +138,14 @@ class Rig(Component):
             The operating point: the start, every state at rest, or the state
             of a run from the start at this time, s.
         inputs : str or sequence of str, optional
-            Parameter names: the columns of B and D.
+            Names of the rig's inputs (held at their start values) and of its
+            parameters, each once: the columns of B and D. A one-sided law
+            exactly at its kink in one of them (a valve commanded to its
+            closed stop) is taken on the side where the input acts and named
+            in ``kinks``; where both sides act differently it is refused.
         outputs : str or sequence of str, optional
-            Variable names: the rows of C and D (default: the rig's outputs).
+            Variable names, each once: the rows of C and D (default: the
+            rig's outputs).
         params, start, initial
             As in ``simulate``.
         rtol, atol : float

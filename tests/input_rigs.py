@@ -123,12 +123,16 @@ class BaseExcited(pdbfs.Rig):
 
 
 class ShakenMass(pdbfs.Rig):
-    """A mass whose position an input prescribes: its acceleration would be
-    the input's second derivative."""
+    """A mass whose position an input (or the signal of ``source``)
+    prescribes: its acceleration would be the signal's second derivative."""
+
+    def __init__(self, source=None, **kw):
+        self._source = source
+        super().__init__(**kw)
 
     def declare(self):
         from pdbfs.components import SignalPosition
-        self.base = B.Input("m")
+        self.base = self._source if self._source is not None else B.Input("m")
         self.drive = SignalPosition()
         self.body = Mass(m=2.0)
         self.spring = Spring(k=1e3)

@@ -107,7 +107,7 @@ class Pulsed(pdbfs.Rig):
     ({"src.width": 0.6}, "src (Pulse): a pulse would be longer than its period "
                          "(src.width = 0.6 s, src.period = 0.5 s)"),
     ({"control.yMin": 2.0}, "control (PID): the upper output limit is below the lower one "
-                            "(control.yMin = 2 1, control.yMax = 1 1)"),
+                            "(control.yMin = 2, control.yMax = 1)"),
 ])
 def test_contradicting_parameters_are_refused_naming_them(params, culprit):
     with pytest.raises(pdbfs.ParameterError) as err:
@@ -130,7 +130,7 @@ class Commanded(pdbfs.Rig):
 
     def declare(self):
         self.command = B.Input("N", start=2.0, description="Push")
-        self.integral = B.Integrator()
+        self.integral = B.Integrator(unit="N")
         self.connect(self.command.y, self.integral.u)
 
 

@@ -78,7 +78,7 @@ class PositionLoop(pdbfs.Rig):
         self.pos = PositionSensor()
         self.setpoint = B.Step(unit="m", height=0.02, start_time=0.0)
         self.error = B.Add(unit="m", k2=-1.0)
-        self.control = B.PID(kind="P", k=K)
+        self.control = B.PID(kind="P", k=K, unit="N", input_unit="m")
         self.push = SignalForce()
         self.connect(self.frame.flange, self.damper.flange_a)
         self.connect(self.damper.flange_b, self.body.flange_a, self.pos.flange)

@@ -192,5 +192,5 @@ def test_the_static_blocks_pointwise(backend):
 
 def test_limits_the_wrong_way_round_are_refused_naming_them():
     with pytest.raises(pdbfs.ParameterError, match=r"limiter \(Limiter\): the upper bound is "
-                       r"below the lower bound \(limiter.uMin = 2 1, limiter.uMax = 1 1\)"):
+                       r"below the lower bound \(limiter.uMin = 2, limiter.uMax = 1\)"):
         Static().simulate(0.1, params={"limiter.uMin": 2.0})

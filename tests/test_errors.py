@@ -24,7 +24,7 @@ def test_bad_mass_at_construction(value, msg):
     ("oil.k", -1.0, "oil.k = -1 N/m: must be > 0"),
     ("contact.k", math.nan, "contact.k = nan: must be finite"),
     ("seal.c", math.inf, "seal.c = inf: must be finite"),
-    ("oil.n", 0.5, "oil.n = 0.5 1: must be >= 1"),
+    ("oil.n", 0.5, "oil.n = 0.5: must be >= 1"),
 ])
 def test_bad_parameter_values_per_call(name, value, msg):
     with pytest.raises(ParameterError, match=msg.replace("(", r"\(")):

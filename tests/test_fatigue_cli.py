@@ -107,7 +107,7 @@ def test_the_breech_and_the_curve_given_are_used(capsys):
     (["--firing", "missing.csv"], "--firing file 'missing.csv': no such file"),
     (["--firing", "one_column.csv"], "needs two columns, time (s) and the signal"),
     (["--firing", "force.csv"], "is in N, not a pressure"),
-    (["--firing", "untimed.csv"], "must be time"),
+    (["--firing", "untimed.csv"], "no time column"),
     (["--set", "nope=1"], "unknown parameter 'nope'"),
     (["--t-end", "0.004"], "the pulse is still running at t_end = 0.004 s"),
 ])

@@ -35,8 +35,12 @@ GOOD = (np.array([0.0, 0.2, 0.5]), np.array([0.0, 1.0, 1.0]))
     ({"u": True}, "inputs: u = True: give a trace"),
     ({"u": np.zeros((3, 3))}, "inputs: u = an array of shape (3, 3): give a trace"),
     ({"u": (np.zeros((2, 2)), np.zeros((2, 2)))}, "the trace (t, u) takes two lists of numbers"),
-    ({"u": lambda t: 1.0 / 0.0}, "inputs: u(0) raised ZeroDivisionError: float division by zero"),
-    ({"u": lambda t: math.nan}, "inputs: u(0) = nan: must be finite"),
+    ({"u": lambda t: 1.0 / 0.0}, "inputs: u(t) raised ZeroDivisionError at t = 0 s: float "
+                                 "division by zero; sampled over the run, 0 .. 0.5 s"),
+    ({"u": lambda t: math.nan}, "inputs: u(t) = nan at t = 0 s: must be finite; sampled over"),
+    # the time it fails at, said as a time of f (not to be read as the run's length)
+    ({"u": lambda t: 0.0 if t == 0 else 1.0 / 0.0}, "inputs: u(t) raised ZeroDivisionError at "
+                                                   "t = 0.000488281 s"),
 ])
 def test_bad_inputs_are_refused_in_one_line(inputs, culprit):
     with pytest.raises(pdbfs.ParameterError) as err:
@@ -88,7 +92,7 @@ def commanded(monkeypatch):
      "command)"),
     ("command", "--input 'command': expected NAME=FILE.csv or NAME=VALUE"),
     ("command=missing.csv", "--input command: file 'missing.csv': no such file"),
-    ("command=bad.csv", "column 'command [1]', data row 2: 'x' is not a finite number"),
+    ("command=bad.csv", "column command, data row 2: x is not a number"),
     ("command=short.csv", "inputs: command: the trace covers 0 .. 0.01 s, the run 0 .. 0.02 s"),
     ("command=kpa.csv", "column 'command [kPa]' is in kPa, but input command is in 1"),
 ])
@@ -102,3 +106,11 @@ def test_the_command_line_refuses_bad_input_files(commanded, tmp_path, monkeypat
     err = capsys.readouterr().err
     assert code == 2 and culprit in err and err.count("\n") == 1, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_function_that_fails_on_arrays_warns_nothing(recwarn):
+    """numpy's divide-by-zero warning on f's array call is no second message:
+    the refusal names the time."""
+    with pytest.raises(pdbfs.ParameterError, match=r"u\(t\) = inf at t = 0 s: must be finite"):
+        Pushed().simulate(T_END, n_out=11, inputs={"u": lambda t: 1.0 / np.asarray(t)})
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]

@@ -8,9 +8,11 @@ command from a CSV file."""
 import json
 import math
 
+import casadi as ca
 import numpy as np
 import pytest
 
+import pdbfs
 from pdbfs.cli import main
 from pdbfs.components import blocks as B
 from pdbfs.models import RIGS
@@ -132,3 +134,70 @@ def test_pdbfs_simulate_reads_a_command_from_a_csv_file(commanded, tmp_path, cap
     assert main(["params", "--rig", commanded]) in (0, None)
     listing = capsys.readouterr().out
     assert "\ninput " in listing and "command " in listing.split("\ninput ")[1]
+
+
+def test_a_valve_commanded_to_its_closed_stop_is_linearized_on_its_open_side():
+    """At the start the command is 0, the valve at its closed stop: the
+    derivative in the command there is the mean of the two sides' (half the
+    valve's gain, as it was). B is the open side's, K/V Cd A sqrt(2/rho)
+    root(p_s - p), the same as a hair off the stop, and the kink is named
+    with the side taken."""
+    lin = CommandedPulse().linearize("start", inputs=["command"], outputs=["chamber.p"])
+    p = lin.point["chamber.p_law"]
+    b = KB / V * CD * math.sqrt(2.0 / RHO) * A_VALVE * _root(P_SUPPLY - p)
+    assert lin.B[0, 0] == pytest.approx(b, rel=1e-6)
+    off = CommandedPulse(B.Input("1", start=1e-9)).linearize(
+        "start", inputs=["command"], outputs=["chamber.p"])
+    assert lin.B[0, 0] == pytest.approx(off.B[0, 0], rel=1e-6)
+    (kink,) = [k for k in lin.kinks if k.input == "command"]
+    assert kink.law == "valve.closed" and kink.side == "> 0"
+    assert "B and D in command taken on the side where it acts" in str(lin)
+
+
+class Bent(B.SISO):
+    """y = u + max(u, 0): a kink at u = 0 where both sides act, differently."""
+
+    def equations(self):
+        return [self.y.value - (self.u.value + ca.fmax(self.u.value, 0.0))]
+
+    def events(self):
+        return [(self.u.value, "bend", "u = 0")]
+
+
+class BentPush(Pushed):
+    """Pushed, its input through Bent."""
+
+    def declare(self):
+        self.bent = Bent(unit="N")
+        super().declare()
+
+    def connect(self, *connectors):
+        if connectors == (self.u.y, self.push.u):
+            super().connect(self.u.y, self.bent.u)
+            super().connect(self.bent.y, self.push.u)
+            return
+        super().connect(*connectors)
+
+
+def test_a_kink_in_an_input_whose_sides_both_act_is_refused():
+    with pytest.raises(pdbfs.ParameterError) as err:
+        BentPush().linearize("start", inputs=["u"], outputs=["body.s"])
+    assert str(err.value).startswith("linearize: bent.bend (u = 0) is at its kink in input u")
+    assert "\n" not in str(err.value)
+    lin = BentPush(B.Input("N", start=1.0)).linearize("start", inputs=["u"])
+    assert lin.B[lin.states.index("body.v"), 0] == pytest.approx(2.0 / M, rel=1e-12)
+
+
+def test_linearize_refuses_an_output_listed_twice(capsys):
+    with pytest.raises(pdbfs.ParameterError, match="outputs: 'body.s' is listed twice"):
+        Pushed().linearize(inputs=["u"], outputs=["body.s", "body.s"])
+    capsys.readouterr()
+    assert main(["linearize", "--rig", "drop", "--outputs", "hammer.s,hammer.s"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.strip().endswith("--outputs 'hammer.s,hammer.s': hammer.s is listed twice")
+
+
+def test_rig_linearize_says_it_takes_the_rigs_inputs():
+    doc = pdbfs.Rig.linearize.__doc__
+    assert "Names of the rig's inputs (held at their start values) and of its" in doc
+    assert "Parameter names: the columns" not in doc

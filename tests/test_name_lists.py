@@ -36,9 +36,10 @@ def test_linearize_takes_one_name_as_a_str():
     assert np.any(one.C != 0) and np.any(one.D != 0)
 
 
-def test_linearize_allows_an_output_twice():
-    lin = RIG.linearize(0.004, outputs=["oil.pressure", "oil.pressure"])
-    np.testing.assert_array_equal(lin.C[0], lin.C[1])
+def test_linearize_refuses_an_output_twice():
+    """Two rows of one output are no two outputs (as two columns of one input)."""
+    with pytest.raises(ParameterError, match="outputs: 'oil.pressure' is listed twice"):
+        RIG.linearize(0.004, outputs=["oil.pressure", "oil.pressure"])
 
 
 @pytest.mark.parametrize("bad", [3, ["oil.k", 3], {"oil.k": 1}])

@@ -35,7 +35,7 @@ def write(tmp_path, name, text):
 @pytest.mark.parametrize("content, fragments", [
     ("", ("empty",)),
     ("time,pressure\n", ("no data rows",)),
-    ("time,pressure\n0,1\n1,x\n" + "".join(f"{k},1\n" for k in range(2, 20)), ("'x' is not a number",)),
+    ("time,pressure\n0,1\n1,x\n" + "".join(f"{k},1\n" for k in range(2, 20)), ("column pressure, data row 2: x is not a number",)),
     ("time,pressure\n" + "".join(f"{k},1\n" for k in range(12)) + "5,1\n", ("increase strictly", "row 13")),
     ("time,pressure\n" + "".join(f"{k},1\n" for k in range(12)) + "12,nan\n", ("NaN",)),
     ("time,pressure\n0,1\n1,2\n2,3\n", ("3 data rows", "at least 10")),

@@ -12,6 +12,7 @@ class Integrator(SISO):
     """``y = y_start + k * integral of u``: ``der(y) = k*u``."""
 
     k = Parameter(1.0, "1/s", "Integrator gain (unit of y per unit of u and second)")
+    converts = True          # input_unit: u in another unit, k converts
 
     def declare(self):
         super().declare()
@@ -26,6 +27,7 @@ class FirstOrder(SISO):
     """A first-order lag ``k/(T*s + 1)``: ``T*der(y) = k*u - y``."""
 
     k = Parameter(1.0, "1", "Steady-state gain (unit of y per unit of u)")
+    converts = True          # input_unit: u in another unit, k converts
     T = Parameter(1.0, "s", "Time constant", positive=True)
 
     def declare(self):
@@ -44,6 +46,7 @@ class SecondOrder(SISO):
     ``w``, damping ratio ``D``)."""
 
     k = Parameter(1.0, "1", "Steady-state gain (unit of y per unit of u)")
+    converts = True          # input_unit: u in another unit, k converts
     w = Parameter(1.0, "rad/s", "Undamped angular frequency", positive=True)
     D = Parameter(1.0, "1", "Damping ratio", min=0.0)
 

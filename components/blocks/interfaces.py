@@ -4,9 +4,10 @@ several inputs ``u1 .. un`` and one output ``y`` (MISO).
 
 A block's ``unit`` (a constructor argument, "1" by default) is the unit of
 its signals and of the parameters that carry a signal's value (a step's
-height, a limiter's bounds, a start value). pdbfs does not convert or check
-units along a connection: they are labels for the reader, the results and
-the FMU.
+height, a limiter's bounds, a start value). A block with a gain (Gain,
+Integrator, FirstOrder, SecondOrder, PID) may take its input in another
+unit, ``input_unit``: its gain converts. ``connect()`` joins signals of one
+unit only ("1" the same as none); pdbfs converts no unit along a connection.
 """
 from __future__ import annotations
 
@@ -42,12 +43,27 @@ class SO(Block):
 
 
 class SISO(SO):
-    """A block with one input signal ``u`` and one output signal ``y``."""
+    """A block with one input signal ``u`` and one output signal ``y``.
+    ``input_unit`` (where the class ``converts``: a block with a gain) is
+    the unit of ``u``, the output's by default."""
 
     input_description = "Input signal"
+    #: whether ``u`` may be in another unit than ``y`` (the gain converts)
+    converts = False
+
+    def __init__(self, unit: str = "1", input_unit: str | None = None, **params):
+        if input_unit is not None and not self.converts:
+            raise ParameterError(f"{type(self).__name__}: takes its input in the unit of its "
+                                 f"output (unit = {unit!r}); input_unit is for a block with a "
+                                 "gain")
+        if input_unit is not None and (not isinstance(input_unit, str) or not input_unit.strip()):
+            raise ParameterError(f"{type(self).__name__}: input_unit = {input_unit!r} must be a "
+                                 "unit's text, such as 'N', 'Pa' or '1'")
+        self._input_unit = None if input_unit is None else input_unit.strip()
+        super().__init__(unit=unit, **params)
 
     def declare(self):
-        self.u = SignalInput(self._unit, self.input_description)
+        self.u = SignalInput(self._input_unit or self._unit, self.input_description)
         super().declare()
 
 

@@ -11,7 +11,11 @@ from .interfaces import MISO, SISO
 
 
 class Gain(SISO):
-    """``y = k*u``."""
+    """``y = k*u``; ``input_unit`` (the unit of ``u``, the output's by
+    default) makes it a conversion: ``Gain(unit="N", input_unit="Pa",
+    k=area)``."""
+
+    converts = True
 
     k = Parameter(1.0, "1", "Gain (unit of y per unit of u)")
 

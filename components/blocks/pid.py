@@ -45,6 +45,7 @@ class PID(SISO):
     """
 
     k = Parameter(1.0, "1", "Gain (unit of y per unit of u)")
+    converts = True          # input_unit: the control error's (a pressure's for a valve command)
 
     def __init__(self, kind: str = "PID", limited: bool = False, unit: str = "1", **params):
         if kind not in KINDS:
@@ -65,10 +66,10 @@ class PID(SISO):
             self.Td = Parameter(0.1, "s", "Derivative time", positive=True)
             self.Nd = Parameter(10.0, "1", "Derivative filter ratio: the filter's time "
                                 "constant is Td/Nd", positive=True)
-            self.xd_start = self.signal_parameter(0.0, "Start value of the derivative "
-                                                  "filter's state (in the unit of u)",
-                                                  tunable=False)
-            self.xd = State(self._unit, "Control error through the derivative filter",
+            u_unit = self._input_unit or self._unit
+            self.xd_start = Parameter(0.0, u_unit, "Start value of the derivative filter's "
+                                      "state (in the unit of u)", tunable=False)
+            self.xd = State(u_unit, "Control error through the derivative filter",
                             start=self.xd_start)
         if self._limited:
             self.yMax = self.signal_parameter(1.0, "Upper limit of the output")

@@ -104,9 +104,14 @@ class SignalPosition(PartialOneFlange):
     (m, positive down), as Position prescribes it: ``flange.s = u``. A body driven by it has
     no motion of its own left; its velocity and acceleration are the
     signal's derivatives, which the compiler forms by differentiating the
-    signal's equations: the signal must be differentiable (a state of a
-    block, such as a FirstOrder's or SecondOrder's output, or a smooth
-    source: a Sine, not a Step)."""
+    signal's equations: the signal must be continuous (a state of a block,
+    such as a FirstOrder's or SecondOrder's output, a Ramp, a linear Table
+    or trace). A run whose signal jumps there (a Step, a Pulse, a held
+    Table, a trace with a time given twice) is refused, naming the source:
+    the impulse a damper would pass on at the jump cannot be carried. A
+    kink is fine under a damper (its force jumps, no impulse is lost);
+    where a mass's acceleration needs the signal's second derivative, a
+    kink is refused too (an input then cannot drive it: filter it)."""
 
     def declare(self):
         super().declare()

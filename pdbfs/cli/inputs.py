@@ -4,20 +4,22 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from pdbfs.errors import DataError, ParameterError
 
 from .common import unique
+from .progress import Progress
 
 
 def add_input_option(s):
     """Add ``--input NAME=FILE.csv|VALUE`` (the rig's inputs of a run) to the parser ``s``."""
     s.add_argument("--input", action="append", metavar="NAME=FILE.csv|NAME=VALUE",
-                   help="an input of the rig (`pdbfs params` lists them): a CSV file of time "
-                   "and value columns (a header may give units, e.g. time [ms]; a time given "
-                   "twice is a jump), interpolated linearly and covering the run, or a number "
-                   "held throughout (repeatable; an input not given holds its start value)")
+                   help="an input of the rig (`pdbfs params` lists them): a CSV file (.gz, "
+                   ".bz2, .xz, .zip too; # starts a comment line) of a time column, named time "
+                   "or t in a header (the first without one), and a value column (named like "
+                   "the input where there are several); a header may give units, e.g. "
+                   "time [ms]; a time given twice is a jump; interpolated linearly and covering "
+                   "the run; or a number held throughout (repeatable; an input not given holds "
+                   "its start value)")
 
 
 def parse_inputs(items, dae) -> dict | None:
@@ -47,37 +49,28 @@ def parse_inputs(items, dae) -> dict | None:
 
 
 def read_input(path, name, unit):
-    """(t, u) of a CSV file: time in the first column (s, or as its header
-    says), the input's values in the second (or in the column named like
-    the input), converted to SI by the header's units."""
-    import pandas as pd        # (here: a run without --input imports neither)
-
-    from pdbfs.studies.fitting.traces import read_table, split_header, to_si
+    """(t, u) of a CSV file (read_table's: delimiter sniffed, ``#`` comments
+    skipped, compressed files read): the time column named ``time`` or
+    ``t`` in a header (the first column without one), in s or as its header
+    says; the input's values in the only other column, or the one named
+    like the input; converted to SI by the header's units, which must be the
+    input's."""
+    from pdbfs.studies.fitting.traces import read_table, split_header, table_columns
     where = f"--input {name}: file {str(path)!r}"
     p = Path(path)
     if not p.is_file():
         raise DataError(f"{where}: no such file")
-    df = read_table(p, where, name)
-    names = [split_header(c)[0] for c in df.columns]
-    if df.shape[1] < 2 or len(df) == 0:
-        raise DataError(f"{where}: needs a time column and a value column, and rows of data")
-    j = names.index(name, 1) if name in names[1:] else 1 if df.shape[1] == 2 else None
-    if j is None:
-        raise DataError(f"{where}: {df.shape[1] - 1} value columns; name one {name!r}")
-    cols = []
-    for k in (0, j):
-        col = pd.to_numeric(df.iloc[:, k], errors="coerce").to_numpy(dtype=float)
-        bad = np.flatnonzero(~np.isfinite(col))
-        if bad.size:
-            raise DataError(f"{where}: column {df.columns[k]!r}, data row {bad[0] + 1}: "
-                            f"{df.iloc[bad[0], k]!r} is not a finite number")
-        cols.append(col)
-    t_factor, t_si = to_si(split_header(df.columns[0])[1], where, df.columns[0])
-    if t_si not in ("", "s"):
-        raise DataError(f"{where}: the first column {df.columns[0]!r} must be time (s, ms, us)")
-    u_unit = split_header(df.columns[j])[1]
-    u_factor, u_si = to_si(u_unit, where, df.columns[j])
+    with Progress(f"reading {path}", "rows") as progress:     # a long file: said as it goes
+        df = read_table(p, where, progress, name)
+    t, u, _, j, u_si = table_columns(df, where, name if _named(df, name) else None,
+                                     f"name one {name!r}", "value")
     if u_si and u_si != unit:
-        raise DataError(f"{where}: column {df.columns[j]!r} is in {u_unit}, but input {name} is "
+        given = split_header(df.columns[j])[1]
+        raise DataError(f"{where}: column {df.columns[j]!r} is in {given}, but input {name} is "
                         f"in {unit}")
-    return cols[0] * t_factor, cols[1] * u_factor
+    return t, u
+
+
+def _named(df, name) -> bool:
+    from pdbfs.studies.fitting.traces import split_header
+    return any(split_header(c)[0] == name for c in df.columns)

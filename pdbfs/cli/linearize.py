@@ -24,6 +24,9 @@ def names_of(text, option):
     names = [n.strip() for n in text.split(",") if n.strip()]
     if not names:
         raise ParameterError(f"{option} {text!r}: give names, comma-separated")
+    twice = next((n for k, n in enumerate(names) if n in names[:k]), None)
+    if twice is not None:          # a row (column) twice would be no second output (input)
+        raise ParameterError(f"{option} {text!r}: {twice} is listed twice")
     return names
 
 

@@ -12,6 +12,7 @@ analysis, and the one CasADi DAE every back end consumes.
       blt.py         matching, BLT sorting, symbolic solution of linear blocks
       index.py       index reduction to any index (Pantelides, dummy derivatives)
       reduced_start.py  declared starts of states index reduction made algebraic
+      smoothness.py  signals it differentiates must not jump where they switch
     dae.py         the DAE (x, z, p, ode, alg, outputs, events) and its infos
     dae_cache.py   compiled DAEs kept on disk, keyed by the rig's declaration and sources
 
@@ -22,9 +23,10 @@ from .component import Component, switch_times
 from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
 from .dae import DAE, InputInfo, ParamInfo, VarInfo
 from .rig_inputs import RigInput
-from .symbols import Parameter, State, Variable, check_value, der, eq, time, within_limits
+from .symbols import (Parameter, State, Variable, check_value, der, eq, quantity, time,
+                      within_limits)
 
 __all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "InputInfo",
            "ParamInfo", "RigInput", "VarInfo",
-           "Parameter", "State", "Variable", "check_value", "der", "eq", "switch_times", "time",
+           "Parameter", "State", "Variable", "check_value", "der", "eq", "quantity", "switch_times", "time",
            "within_limits"]

@@ -47,6 +47,7 @@ class Aliases:
         self.nonzero = nonzero_by({p.name for p in flat.params if p.decl.positive})
         # an input's slope: its derivative within a segment, not to be differentiated again
         self.input_slopes = {i.slope.name(): i.name for i in getattr(flat, "inputs", ())}
+        self.jumps = None                    # smoothness.Jumps: what is differentiated is tested
 
     # -- ranks ------------------------------------------------------------------
     def rank(self, name):
@@ -225,6 +226,8 @@ class Aliases:
             v = self._with_der(self.vars[value.name()])
             return self.resolve(v.der)
         refuse_second_derivative(value, self.input_slopes, self.t)
+        if self.jumps is not None:     # a replacement may be a derivative already: level unknown
+            self.jumps.look(value, None)
         out = ca.jacobian(value, self.t)
         for s in ca.symvar(value):
             n = s.name()

@@ -16,11 +16,15 @@ from pdbfs.errors import ModelError
 from .casadi_helpers import subst as _subst
 
 
-def solve_blt(eqs, unknowns, labels):
+def solve_blt(eqs, unknowns, labels, pivots=None):
     """Match ``eqs`` ((residual, origin) pairs) to ``unknowns`` (symbols named
     ``labels``) and solve them block by block in BLT order. Returns (solved
     (symbol, expression) pairs, algebraic symbols, their names, their residuals);
-    raises ModelError naming what is under- or over-determined."""
+    raises ModelError naming what is under- or over-determined. ``pivots``
+    (a list), where given, receives (pivot, the equations' origins) of every
+    linear block solved symbolically: its solution divides by the pivot
+    (an algebraic loop y = 1 + k y by 1 - k), which must not be 0."""
+    pivots = [] if pivots is None else pivots
     n_e, n_u = len(eqs), len(unknowns)
     R = ca.vertcat(*[r for r, _ in eqs]) if eqs else ca.SX(0, 1)
     U = ca.vertcat(*unknowns) if unknowns else ca.SX(0, 1)
@@ -74,9 +78,11 @@ def solve_blt(eqs, unknowns, labels):
         blocks = [b for b in order if level[b] == lv]
         single = [b for b in blocks if starts[b + 1] - starts[b] == 1]
         for b in [b for b in blocks if starts[b + 1] - starts[b] > 1]:
-            result[b] = _solve_block(b, rows_of(b), eqs, unknowns, match, labels, known, solved)
+            result[b] = _solve_block(b, rows_of(b), eqs, unknowns, match, labels, known, solved,
+                                     pivots)
         if single:
-            _solve_singles(single, rows_of, eqs, unknowns, match, labels, known, solved, result)
+            _solve_singles(single, rows_of, eqs, unknowns, match, labels, known, solved, result,
+                           pivots)
     z_syms, z_labels, alg = [], [], []
     for b in order:                      # algebraic unknowns in the order of the blocks
         zs, zl, al = result.get(b, ([], [], []))
@@ -94,7 +100,7 @@ def _known_in(R, known):
     return _subst(R, ca.vertcat(*inside), ca.vertcat(*[known[s.name()] for s in inside]))
 
 
-def _solve_block(b, rows, eqs, unknowns, match, labels, known, solved):
+def _solve_block(b, rows, eqs, unknowns, match, labels, known, solved, pivots):
     """One block of several equations: solved if linear (and small), else algebraic."""
     block_u = [unknowns[int(match[i])] for i in rows]
     Rb = _known_in(ca.vertcat(*[eqs[i][0] for i in rows]), known)
@@ -103,6 +109,8 @@ def _solve_block(b, rows, eqs, unknowns, match, labels, known, solved):
     if not ca.depends_on(A, Ub) and len(rows) <= 12:
         rhs = -ca.substitute(Rb, Ub, ca.DM.zeros(len(rows)))
         sol = ca.solve(A, rhs)
+        if len(rows) <= 4:          # (a determinant of more is not worth its expression)
+            pivots.append((ca.det(A), [eqs[i][1] for i in rows]))
         for k in range(len(rows)):
             solved.append((block_u[k], sol[k]))
             known[block_u[k].name()] = sol[k]
@@ -110,7 +118,8 @@ def _solve_block(b, rows, eqs, unknowns, match, labels, known, solved):
     return block_u, [labels[int(match[i])] for i in rows], ca.vertsplit(Rb, 1)
 
 
-def _solve_singles(blocks, rows_of, eqs, unknowns, match, labels, known, solved, result):
+def _solve_singles(blocks, rows_of, eqs, unknowns, match, labels, known, solved, result,
+                   pivots):
     """Blocks of one equation each, independent of each other: solved in bulk
     where linear in their unknown, algebraic where not."""
     rows = [rows_of(b)[0] for b in blocks]
@@ -130,5 +139,7 @@ def _solve_singles(blocks, rows_of, eqs, unknowns, match, labels, known, solved,
             result[b] = ([us[k]], [labels[int(match[rows[k]])]], [Rs[k]])
             continue
         value = sol[k] / diag[k]
+        if not diag[k].is_constant():      # a coefficient of parameters: a loop's 1 - k
+            pivots.append((diag[k], [eqs[rows[k]][1]]))
         solved.append((us[k], value))
         known[us[k].name()] = value

@@ -11,13 +11,16 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+import numbers
+
 import casadi as ca
+import numpy as np
 
-from pdbfs.errors import ConnectError, ModelError, ParameterError
+from pdbfs.errors import ConnectError, ModelError, ParameterError, plain
 
-from .connectors import Connector
+from .connectors import Connector, signal_unit
 from .rig_inputs import InputSlot, RigInput
-from .symbols import Parameter, Variable
+from .symbols import Parameter, Variable, described
 
 if TYPE_CHECKING:
     from .dae import DAE
@@ -126,8 +129,7 @@ class Component:
         if isinstance(value, Parameter):
             raise ParameterError(f"{type(self).__name__}.{name}: pass a value, not a Parameter")
         if not isinstance(value, ca.SX):
-            decl.check(value, f"{type(self).__name__}.{name}")
-            value = float(value)
+            value = self._number(name, decl, value)
         slot = ParamSlot(decl, name, value)
         self._params[name] = slot
         object.__setattr__(self, name, slot.sym)
@@ -145,8 +147,17 @@ class Component:
                 f"{type(self).__name__}: {name} is computed from {', '.join(others)} here "
                 f"and cannot be given; set those instead")
         if not isinstance(value, ca.SX):
-            value = slot.decl.check(value, f"{type(self).__name__}.{name}")
+            value = self._number(name, slot.decl, value)
         slot.value = value
+
+    def _number(self, name, decl, value) -> float:
+        """A parameter's number, checked: a number (not text, not a bool, whose
+        float() would pass) within the declaration's bounds."""
+        where = f"{type(self).__name__}.{name}"
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+            raise ParameterError(f"{where} = {plain(value)}: not a number {described(decl)}; "
+                                 "give a number or an expression of parameters")
+        return decl.check(value, where)
 
     def __setattr__(self, name, value):
         if name.startswith("_"):
@@ -220,6 +231,12 @@ class Component:
         if len(kinds) > 1:
             desc = ", ".join(f"{c.path()} ({type(c).__name__})" for c in connectors)
             raise ConnectError(f"connect(): incompatible connectors: {desc}")
+        if kinds == {"signal"}:
+            units = {signal_unit(c.unit) for c in connectors}
+            if len(units) > 1:      # the one rule of export-ssp too: "" and "1" alike
+                desc = ", ".join(f"{c.path()} in {signal_unit(c.unit)}" for c in connectors)
+                raise ConnectError(f"connect(): signals of different units: {desc}; join signals "
+                                   "of one unit (a Gain with unit= and input_unit= converts)")
         self._connections.append(tuple(connectors))
         self._changed()
 

@@ -5,7 +5,9 @@ force ``f`` (through, N); ``f`` acts on the component the flange belongs to,
 as in Modelica. A ``HydraulicPort`` carries the pressure ``p`` (across, Pa)
 and the volume flow ``q`` (through, m3/s), positive into the component (as
 in Modelica's fluid libraries). Connectors of different domains never meet
-(``connect()`` refuses them). Signal connectors carry one value, no flow.
+(``connect()`` refuses them). Signal connectors carry one value, no flow,
+in a unit: ``connect()`` joins signals of one unit only ("1" for a plain
+number, the same as none), the rule an SSP of FMUs is checked by too.
 
 A physical connector names its ``across`` and ``through`` attributes; the
 compiler makes equal across variables and a zero sum of through variables
@@ -94,6 +96,11 @@ class HydraulicPort(Connector):
         return [("p", self.p, "Pa", "Absolute pressure at the port", False),
                 ("q", self.q, "m3/s", "Volume flow through the port, positive into the component",
                  True)]
+
+
+def signal_unit(unit) -> str:
+    """A signal's unit as connections compare it: "" (none given) is "1"."""
+    return (unit or "").strip() or "1"
 
 
 class _Signal(Connector):

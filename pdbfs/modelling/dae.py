@@ -142,9 +142,11 @@ class DAE:
             if not v >= 0:
                 from pdbfs.errors import ParameterError
                 units = {q.name: q.unit for q in self.params}
-                values = ", ".join(f"{n} = {self._value_of(n, p):g} {units.get(n, '')}".rstrip()
+                from .symbols import quantity
+                values = ", ".join(f"{n} = {quantity(self._value_of(n, p), units.get(n, ''))}"
                                    for n in names)
-                raise ParameterError(f"{where}: {text} ({values})")
+                raise ParameterError(f"{where}: {text} ({values})" if values else
+                                     f"{where}: {text}")
 
     def _value_of(self, name, p) -> float:
         if name in self.p_names:

@@ -110,7 +110,7 @@ class _Pantelides:
                 self.parent.append(i)
                 self.level.append(self.level[i] + 1)
                 self.child.append(None)
-                self.eqs.append((self._diff(r), self._label(i)))
+                self.eqs.append((self._diff(r, self.level[i]), self._label(i)))
 
     def _label(self, i):
         n, root = self.level[i] + 1, i
@@ -120,10 +120,13 @@ class _Pantelides:
             n, f"derivative {n}")
         return f"{what} of {self.eqs[root][1]} (index reduction)"
 
-    def _diff(self, r):
-        """d/dt of r, through the derivatives of the symbols in it (an input's
-        slope is constant over a segment)."""
+    def _diff(self, r, level):
+        """d/dt of r (differentiated ``level`` times already), through the
+        derivatives of the symbols in it (an input's slope is constant over a
+        segment; a switch of time must not jump: smoothness.py)."""
         refuse_second_derivative(r, self.al.input_slopes, self.t)
+        if self.al.jumps is not None:
+            self.al.jumps.look(r, level)
         d = ca.jacobian(r, self.t)
         for s in ca.symvar(r):
             ds = self._derivative_of(s)

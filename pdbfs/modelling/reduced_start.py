@@ -16,6 +16,8 @@ import numpy as np
 
 from pdbfs.errors import ModelError, ParameterError
 
+from .symbols import quantity
+
 
 def record(dae, dropped, constraints):
     """Keep (name, unit, start expression of p) of the dropped states that
@@ -47,6 +49,6 @@ def check(dae, p, error=ModelError):
         b = y[at[name]]
         if np.isfinite(b) and abs(a - b) > 1e-8 * (1.0 + abs(a) + abs(b)):
             raise error(
-                f"{name} starts at {a:g} {unit}, but the constraint that index reduction solves "
-                f"for it ({where}) gives {b:g} {unit} at the start: its start is not free; give "
+                f"{name} starts at {quantity(a, unit)}, but the constraint that index reduction solves "
+                f"for it ({where}) gives {quantity(b, unit)} at the start: its start is not free; give "
                 "start values that satisfy the constraint")

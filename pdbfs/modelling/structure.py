@@ -25,6 +25,8 @@ from .index import overdetermined, reduce_index
 from .initialization import attach_initial
 from .dae import DAE, InputInfo, ParamInfo, VarInfo
 from .rig_inputs import T_REF
+from .smoothness import Jumps
+from .symbols import quantity
 from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
 
@@ -51,6 +53,9 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                                        if ins else [])
 
     al = Aliases(flat, t)
+    al.jumps = Jumps(t, [(c, w, flat.event_text.get(w, "")) for c, w in switch],
+                     {v.name: v.start for v in flat.vars if v.start is not None}, p_sym,
+                     [p.name for p in free])
     eqs = al.eliminate(eqs)
 
     states = [v for v in flat.vars if v.name not in al.gone
@@ -69,15 +74,17 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         labels.append(v.name)
 
     dropped, constraints = [], []        # states made algebraic by index reduction, and why
+    pivots = []                          # what linear blocks solved symbolically divide by
     try:
-        solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels)
+        solved, z_syms, z_labels, alg = solve_blt(eqs, unknowns, labels, pivots)
     except ModelError as singular:
         start = ({v.name: v.start for v in flat.vars if v.start is not None}, p_sym, p_val)
         reduced = reduce_index(eqs, unknowns, labels, states, algebraic, al, t, start)
         try:
             if reduced is None:
                 raise singular
-            solved, z_syms, z_labels, alg = solve_blt(*reduced[:3])
+            pivots.clear()
+            solved, z_syms, z_labels, alg = solve_blt(*reduced[:3], pivots=pivots)
         except ModelError:
             _explain_state_constraint(flat, eqs, unknowns, states)
             raise singular from None
@@ -118,13 +125,60 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
                params=[_param_info(p) for p in free], y_info=[info(v) for v in y_vars],
                event_names=[w for _, w in events], calculated=calculated, z0=z0,
                time_events=ca.vertcat(*[c for c, _ in switch]) if switch else ca.SX(0, 1),
-               conditions=conditions, event_text=dict(flat.event_text),
+               conditions=conditions + al.jumps.conditions + _loops(pivots, free),
+               event_text=dict(flat.event_text),
                inputs=[InputInfo(i.name, i.decl.unit, i.decl.description, i.decl.start)
                        for i in ins])
     reduced_start.record(dae, dropped, constraints)
     reduced_start.check(dae, dae.p_default())
     attach_initial(dae, flat, states, al, lambda e: final(_subst(e, p_old, p_new)))
     return dae
+
+
+def _loops(pivots, free) -> list:
+    """Conditions that the linear blocks solved symbolically (an algebraic
+    loop of blocks, y = 1 + k y) are solvable: a pivot of parameters only
+    that can be 0 (not a product or sum of positive ones, as a mass) must
+    not be (it is divided by: NaN where it is). A pivot that is 0 whatever
+    the parameters is refused now."""
+    names = {p.name for p in free}
+    positive = {p.name for p in free if p.decl.positive}
+    out = []
+    for pivot, where in pivots:
+        what = "; ".join(dict.fromkeys(where))
+        if pivot.is_zero() or (pivot.is_constant() and float(pivot) == 0.0):
+            raise ModelError(f"the equations {what} (an algebraic loop) have no unique solution: "
+                             "break the loop (a FirstOrder block in it)")
+        inside = {s.name() for s in ca.symvar(pivot)}
+        if not inside or not inside <= names:
+            continue                     # of states too: not known before the run
+        if not _can_vanish(pivot, positive):
+            continue                     # a mass, an area's inverse: never 0
+        out.append((ca.fabs(pivot) - 1e-300, (
+            what, "the algebraic loop through it has no unique solution at these values (its "
+            "equations are singular, as y = 1 + y is); change the loop's gains or break it (a "
+            "FirstOrder block in it)", sorted(inside))))
+    return out
+
+
+def _can_vanish(e, positive) -> bool:
+    """Whether the expression ``e`` (of parameters) may be 0: a sum or a
+    difference may cancel, a parameter not declared positive may be 0; a
+    product only through a factor, a quotient through its numerator."""
+    if e.is_constant():
+        return float(e) == 0.0
+    if e.is_symbolic():
+        return e.name() not in positive
+    op = e.op()
+    if op == ca.OP_MUL:
+        return any(_can_vanish(e.dep(k), positive) for k in range(2))
+    if op in (ca.OP_DIV,):
+        return _can_vanish(e.dep(0), positive)
+    if op in (ca.OP_NEG, ca.OP_SQ, ca.OP_SQRT, ca.OP_FABS):
+        return _can_vanish(e.dep(0), positive)
+    if op in (ca.OP_EXP, ca.OP_INV):     # never 0
+        return False
+    return True
 
 
 def _each(items, keys, vals) -> list:
@@ -186,8 +240,8 @@ def _check_consistent_start(flat, al, states, x0, p_sym, p_val, final, t):
     for (v, where), s_mine, s_theirs in zip(gone, a, b):
         if abs(s_mine - s_theirs) > 1e-9 * (1.0 + abs(s_mine)):
             raise ModelError(
-                f"{v.name} starts at {s_mine:g} {v.unit}, but {where} ties it to a value "
-                f"that starts at {s_theirs:g} {v.unit}; give rigidly connected bodies "
+                f"{v.name} starts at {quantity(s_mine, v.unit)}, but {where} ties it to a value "
+                f"that starts at {quantity(s_theirs, v.unit)}; give rigidly connected bodies "
                 "consistent start values")
 
 

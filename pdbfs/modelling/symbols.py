@@ -44,6 +44,19 @@ class Parameter:
         return check_value(value, where, self)
 
 
+def quantity(value, unit: str, fmt: str = "g") -> str:
+    """``value`` with its unit as a message shows it ("0.5 m"); a
+    dimensionless one ("1" or "") bare ("0.5", never "0.5 1")."""
+    text = format(value, fmt) if isinstance(value, (int, float, np.floating)) else str(value)
+    return f"{text} {unit}" if unit and unit != "1" else text
+
+
+def described(spec) -> str:
+    """"(what it is, unit)" of a parameter's declaration, the unit left out where there is none."""
+    return f"({spec.description}, {spec.unit})" if spec.unit and spec.unit != "1" else \
+        f"({spec.description})"
+
+
 def check_value(value, where: str, spec) -> float:
     """Check ``value`` against ``spec`` (anything with unit, description, min,
     max, positive) and return it as a float."""
@@ -51,16 +64,17 @@ def check_value(value, where: str, spec) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"{where} = {plain(value)}: not a number "
-                             f"({spec.description}, {spec.unit})") from None
+        raise ParameterError(f"{where} = {plain(value)}: not a number {described(spec)}") from None
     if not math.isfinite(v):
-        raise ParameterError(f"{where} = {v}: must be finite ({spec.description}, {spec.unit})")
+        raise ParameterError(f"{where} = {v}: must be finite {described(spec)}")
     if spec.positive and v <= 0:
-        raise ParameterError(f"{where} = {v:g} {spec.unit}: must be > 0 ({spec.description})")
+        raise ParameterError(f"{where} = {quantity(v, spec.unit)}: must be > 0 ({spec.description})")
     if spec.min is not None and v < spec.min:
-        raise ParameterError(f"{where} = {v:g} {spec.unit}: must be >= {spec.min:g} ({spec.description})")
+        raise ParameterError(f"{where} = {quantity(v, spec.unit)}: must be >= {spec.min:g} "
+                             f"({spec.description})")
     if spec.max is not None and v > spec.max:
-        raise ParameterError(f"{where} = {v:g} {spec.unit}: must be <= {spec.max:g} ({spec.description})")
+        raise ParameterError(f"{where} = {quantity(v, spec.unit)}: must be <= {spec.max:g} "
+                             f"({spec.description})")
     return v
 
 

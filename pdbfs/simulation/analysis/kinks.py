@@ -11,6 +11,14 @@ side taken and whether the other side's linearization differs, found by
 evaluating the Jacobian just past the kink on both sides, at two distances
 (a law whose slope is continuous there, as Hertz's d^1.5, tends to the
 same Jacobian on both sides as the distance shrinks; a kink keeps its jump).
+
+A law at its kink in an input of the linearization (a valve commanded
+exactly to its closed stop) is not differentiable in that input: the
+derivative there is the mean of the two sides' (half the valve's gain).
+Its columns of B and D are taken one-sided (``input_sides``): on the side
+where the input acts, when on the other it does nothing (a stop); where
+both sides act, differently, no side is right and the linearization is
+refused, naming the law and the input.
 """
 from __future__ import annotations
 
@@ -19,6 +27,8 @@ from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
+
+from pdbfs.errors import ParameterError
 
 AT_KINK = 1e-12      # an indicator is at its kink below this, relative to its terms
 STEP = 1e-9          # how far past the kink the sides are looked at, relative to the states
@@ -43,10 +53,16 @@ class Kink:
     side: str | None
     branch: str | None
     differs: bool
+    #: the input of the linearization the law is at its kink in (its columns of B and
+    #: D are the side ``side``'s), None for a kink in the states
+    input: str | None = None
 
     def __str__(self) -> str:
         head = f"{self.law} = {self.value:g} ({self.description})" if self.description else \
             f"{self.law} = {self.value:g}"
+        if self.input is not None:
+            return (f"{head}: B and D in {self.input} taken on the side where it acts "
+                    f"({self.law} {self.side}); on the other it does nothing")
         if not self.differs:
             return f"{head}: both sides linearize alike"
         if self.branch == "neither":
@@ -60,7 +76,8 @@ class Kink:
     def to_dict(self) -> dict:
         """The kink as plain JSON-ready data."""
         return {"law": self.law, "description": self.description, "value": self.value,
-                "side": self.side, "branch": self.branch, "differs": self.differs}
+                "side": self.side, "branch": self.branch, "differs": self.differs,
+                "input": self.input}
 
 
 def kinks_at(sim, t, x, z, p) -> list:
@@ -165,3 +182,63 @@ def _functions(sim):
              "J": ca.Function("kink_J", args, [ca.jacobian(ca.vertcat(dae.ode, dae.alg), w)])}
         sim._cache["kinks"] = F
     return F
+
+
+def input_sides(sim, t, x, p, inputs, cols, matrices):
+    """(B, D columns replaced, Kinks) for the laws at their kink in one of
+    ``inputs`` (names; ``cols`` their rows of p) at (t, x, p): each such
+    column one-sided, on the side where the input acts (the other gives
+    zero columns); ParameterError where both sides act differently.
+    ``matrices(p)`` gives (B, D) at the parameters p (z solved again)."""
+    dae = sim.dae
+    if not cols or not dae.events.numel():
+        return None, []
+    F = sim._cache.get(("kinks_in", tuple(cols)))
+    if F is None:
+        u = ca.vertcat(*[dae.p[i] for i in cols])
+        F = sim._cache[("kinks_in", tuple(cols))] = ca.Function(
+            "kink_inputs", [dae.t, dae.x, dae.z, dae.p], [dae.events, ca.jacobian(dae.events, u)])
+    z = sim.consistent_start(t, x, p)[0] if not dae.is_ode else np.zeros(0)
+    e, eu = (np.asarray(a, float) for a in F(t, x, z, p))
+    e = e.ravel()
+    n_time = dae.time_events.numel()
+    B = D = None
+    out = []
+    for j, (name, row) in enumerate(zip(inputs, cols)):
+        at = [k for k in range(n_time, len(e)) if eu[k, j] != 0
+              and abs(e[k]) <= AT_KINK * abs(eu[k, j]) * max(abs(p[row]), 1.0)]
+        if not at:
+            continue
+        h = STEP * max(abs(p[row]), 1e-6 if abs(p[row]) == 0 else abs(p[row]))
+        sides = []
+        for sign in (1.0, -1.0):
+            q = np.array(p, float)
+            q[row] += sign * h
+            Bs, Ds = matrices(q)
+            sides.append(np.concatenate([Bs[:, j], Ds[:, j]]))
+        size = max(np.linalg.norm(sides[0]), np.linalg.norm(sides[1]))
+        if np.linalg.norm(sides[0] - sides[1]) <= SAME * max(size, 1e-300):
+            continue                           # the two sides alike: not a kink in this input
+        quiet = [np.linalg.norm(s) <= SAME * size for s in sides]
+        k = at[0]
+        law = dae.event_names[k]
+        if quiet[0] == quiet[1]:
+            raise ParameterError(
+                f"linearize: {law} ({dae.event_text.get(law, 'a one-sided law')}) is at its kink "
+                f"in input {name} here, and B and D differ on its two sides (largest "
+                f"{_largest(sides[0]):.4g} above, {_largest(sides[1]):.4g} below): linearize "
+                f"off the kink (another operating point or start value of {name})")
+        acts = 0 if not quiet[0] else 1
+        if B is None:
+            B0, D0 = matrices(np.array(p, float))
+            B, D = B0.copy(), D0.copy()
+        nb = B.shape[0]
+        B[:, j], D[:, j] = sides[acts][:nb], sides[acts][nb:]
+        sign = (1.0 if acts == 0 else -1.0) * np.sign(eu[k, j])
+        out.append(Kink(law, dae.event_text.get(law, ""), float(e[k]) + 0.0,
+                        "> 0" if sign > 0 else "< 0", "loaded", True, name))
+    return (None if B is None else (B, D)), out
+
+
+def _largest(v) -> float:
+    return float(v[np.argmax(np.abs(v))]) if v.size else 0.0

@@ -27,7 +27,7 @@ import numpy as np
 from pdbfs.errors import ParameterError, require_extra
 
 from ..setup.input_traces import refuse_differentiated
-from .kinks import kinks_at
+from .kinks import input_sides, kinks_at
 from ..setup.settings import name_list
 
 if TYPE_CHECKING:
@@ -162,16 +162,47 @@ def linearize(model: Component | DAE, at: str | float = "start",
               initial: str | Sequence[str] | None = None, rtol: float = 1e-10,
               atol: float = 1e-12) -> Linearization:
     """State-space matrices of a rig at ``at`` ("start", "steady" or a time
-    in s of a run from the start); ``inputs``: parameter names (columns of B
-    and D); ``outputs``: variable names (rows of C and D; default the rig's
-    outputs). ``params``, ``start`` and ``initial`` as in simulate()."""
+    in s of a run from the start, the rig's inputs held at their start
+    values).
+
+    Parameters
+    ----------
+    model : Component or DAE
+        The rig.
+    at : str or float
+        "start", "steady" or a time in s.
+    inputs : str or sequence of str, optional
+        The columns of B and D: names of the rig's inputs and of its
+        parameters, each once. A one-sided law exactly at its kink in one
+        of them (a valve commanded to its closed stop) is taken on the side
+        where the input acts and listed in ``Linearization.kinks``; where
+        both sides act differently the linearization is refused.
+    outputs : str or sequence of str, optional
+        The rows of C and D, variable names, each once (default: the rig's
+        outputs).
+    params, start, initial
+        As in simulate().
+    rtol, atol : float
+        The tolerances of the run to a time ``at``.
+
+    Returns
+    -------
+    Linearization
+
+    Raises
+    ------
+    ParameterError
+        An unknown or repeated name, an input the rig differentiates, a
+        kink in an input whose sides differ, a singular or non-finite
+        result.
+    """
     from ..run.simulator import Simulator
     sim = Simulator.of(model)
     dae = sim.dae
     if isinstance(at, (bool, np.bool_)):       # True is no time (float(True) is 1 s)
         raise ParameterError(f"at={at!r}: give 'start', 'steady' or a time in s")
     inputs = name_list(inputs, "inputs", "'oil.k'") if inputs is not None else []
-    outputs = name_list(outputs, "outputs", distinct=False) if outputs is not None else \
+    outputs = name_list(outputs, "outputs") if outputs is not None else \
         [v.name for v in dae.y_info if v.output]
     for n in inputs:
         if dae.p_row(n) is None:
@@ -183,27 +214,38 @@ def linearize(model: Component | DAE, at: str | float = "start",
             raise ParameterError(f"linearize: output {n!r} is not a variable of rig {dae.name}")
     p = sim.param_vector(params)
     x, t = operating_point(sim, at, p, start, initial, rtol, atol)
-    z = sim.consistent_start(t, x, p)[0] if not dae.is_ode else np.zeros(0)
-    J = _jacobians(sim, tuple(inputs), tuple(outputs))(t, x, z, p)
-    fx, fz, fu, gx, gz, gu, hx, hz, hu = (m.full() for m in J)
-    if dae.z.numel():
-        try:
-            Sx, Su = np.linalg.solve(gz, gx), np.linalg.solve(gz, gu)
-        except np.linalg.LinAlgError:
-            raise ParameterError(f"linearize: the algebraic equations of rig {dae.name} are "
-                                 f"singular at t = {t:g} s (index above 1 there)") from None
-        A, B = fx - fz @ Sx, fu - fz @ Su
-        C, D = hx - hz @ Sx, hu - hz @ Su
-    else:
-        A, B, C, D = fx, fu, hx, hu
+    F = _jacobians(sim, tuple(inputs), tuple(outputs))
+    A, B, C, D = _matrices(sim, F, t, x, p)
+    cols = [dae.p_row(n) for n in inputs]
+    one_sided, input_kinks = input_sides(sim, t, np.asarray(x, float), p, inputs, cols,
+                                         lambda q: _matrices(sim, F, t, x, q)[1::2])
+    if one_sided is not None:
+        B, D = one_sided
     for name, M in (("A", A), ("B", B), ("C", C), ("D", D)):
         if not np.all(np.isfinite(M)):
             raise ParameterError(f"linearize: {name} of rig {dae.name} is not finite at "
                                  f"t = {t:g} s (a power law at zero?)")
     units = {v.name: v.unit for v in dae.x_info}
+    z = sim.consistent_start(t, x, p)[0] if not dae.is_ode else np.zeros(0)
     return Linearization(A, B, C, D, dae.x_names, inputs, outputs, float(t),
                          dict(zip(dae.x_names, np.asarray(x, float).tolist())), units,
-                         kinks_at(sim, t, np.asarray(x, float), z, p))
+                         kinks_at(sim, t, np.asarray(x, float), z, p) + input_kinks)
+
+
+def _matrices(sim, F, t, x, p):
+    """(A, B, C, D) at (t, x, p), the algebraic variables solved for x and
+    eliminated; ``F`` the rig's Jacobians (_jacobians)."""
+    dae = sim.dae
+    z = sim.consistent_start(t, x, p)[0] if not dae.is_ode else np.zeros(0)
+    fx, fz, fu, gx, gz, gu, hx, hz, hu = (m.full() for m in F(t, x, z, p))
+    if not dae.z.numel():
+        return fx, fu, hx, hu
+    try:
+        Sx, Su = np.linalg.solve(gz, gx), np.linalg.solve(gz, gu)
+    except np.linalg.LinAlgError:
+        raise ParameterError(f"linearize: the algebraic equations of rig {dae.name} are "
+                             f"singular at t = {t:g} s (index above 1 there)") from None
+    return fx - fz @ Sx, fu - fz @ Su, hx - hz @ Sx, hu - hz @ Su
 
 
 def operating_point(sim, at, p, start, initial, rtol, atol):

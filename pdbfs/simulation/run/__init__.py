@@ -11,8 +11,9 @@
                    when first read
     compiled_build.py  the compiled library built (zig cc) and cached on disk
     backends.py    "auto" and a CVODE method without CVODE at hand: CasADi, with a warning
-    driven.py      a run with the rig's inputs, segment by segment, and the Simulator
-                   its Result reads through (each point with its own inputs)
+    driven.py      a run with the rig's inputs, segment by segment (the compiled
+                   driver's in one call: native/c/library/pdbfs_segments.c), and the
+                   Simulator its Result reads through (each point with its own inputs)
     block.py       one thread's buffer of the compiled calls' small arguments and answers
     kept.py        a compiled run kept in the library until its states are read
     replay.py      a run again with everything of the run before: its plan,

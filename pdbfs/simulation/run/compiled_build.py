@@ -38,7 +38,7 @@ C_DIR = LIBRARY_C
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
                                      "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
                                      "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
-                                     "pdbfs_run_trajectory.c")) + ERK_DRIVER
+                                     "pdbfs_run_trajectory.c", "pdbfs_segments.c")) + ERK_DRIVER
 #: the CVODE loop's stand-in in a library without CVODE (the explicit method alone)
 NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
     (C_DIR / "pdbfs_cvode_none.c",)
@@ -119,6 +119,14 @@ def header(dae, work) -> str:
         *follow_lines(dae), *sizes_header_lines(work), "#endif", ""])
 
 
+def _of_p(dae) -> list:
+    """The library's functions of p alone, as expressions (fingerprint)."""
+    parts = ([e for e, _ in getattr(dae, "conditions", None) or []],
+             [e for e, _ in (getattr(dae, "calculated", None) or {}).values()],
+             [e for *_, e in getattr(dae, "reduced_starts", None) or []])
+    return [ca.densify(ca.vertcat(*part)) if part else ca.SX(0, 1) for part in parts]
+
+
 def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     """A cheap key of the library of ``dae``, known before any code generation:
     the DAE's expressions (serialised), the functions generated and how
@@ -131,7 +139,10 @@ def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     pick = lambda names: [dae.y[dae.y_names.index(n)] for n in names]   # noqa: E731
     outs = [ca.densify(e) for e in (dae.ode, dae.events, dae.x0, ca.vertcat(*pick(roles)),
                                     ca.vertcat(*pick([force] if force in dae.y_names else [])),
-                                    dae.limits_expr())]
+                                    dae.limits_expr(),
+                                    # of p only, but compiled too: the conditions, the
+                                    # calculated parameters, the reduced states' starts
+                                    *_of_p(dae))]
     f = ca.Function("fingerprint", [dae.t, dae.x, dae.z, dae.p], outs)
     sd = sundials_for(None) if sd is AT_HAND else sd
     host = toolchain.host_target()

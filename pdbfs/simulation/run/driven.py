@@ -14,9 +14,13 @@ by segment too, so that no figure of the run uses an input it was not given.
 """
 from __future__ import annotations
 
+import ctypes
 import time
 
 import numpy as np
+
+from . import compiled as C
+from .failures import compiled_failure
 
 from ..setup import time_events as TE
 from ..setup.initialize import solve_start
@@ -92,8 +96,11 @@ class Driven:
         grid = np.asarray(grid, float)
         X = Z = Q = None
         x, total, stats = np.asarray(x0, float), 0.0, {}
-        for a, c, sub in self.drive.pieces(grid):
-            out = run(sub, x, self.drive.p_at(p, a, c))
+        seg = self.drive.segments(grid)
+        for k in range(seg.count):
+            a, c = seg.edges[k], seg.edges[k + 1]
+            sub = np.concatenate([[a], grid[seg.lo[k]:seg.hi[k]], [c]])
+            out = run(sub, x, seg.p_of(p, k))
             for k in _STAT_SUMS:
                 stats[k] = stats.get(k, 0) + int(self.base._last_stats.get(k, 0))
             at = np.searchsorted(grid, sub)
@@ -113,6 +120,13 @@ class Driven:
     def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
                     summary=False, c_grid=None):
         """As Simulator.integrate_c (states only: no summary of its own)."""
+        grid = np.asarray(grid, float)
+        seg = self.drive.segments(grid)
+        if self.base.nx and seg.count > 1:        # every segment in one call of the driver
+            X = run_segments(self.base, seg, grid, x0, p, rtol, atol, method, max_step,
+                             max_num_steps)
+            return (X, None, None) if summary else X
+
         def run(sub, x, q):
             X = self.base.integrate_c(sub, x, q, rtol, atol, method, max_step, max_num_steps)
             return X, np.zeros((0, sub.size))
@@ -152,6 +166,49 @@ class Driven:
                             quad=True)
 
 
+_SEGMENTS: dict = {}     # library path -> its pdbfs_batch_run_segments (ctypes)
+
+
+def run_segments(sim, seg, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
+    """The states on ``grid`` of a run over the Segments ``seg``, every
+    segment integrated by the compiled driver in one call
+    (native/c/library/pdbfs_segments.c): a trace of millions of samples
+    costs its integration, not a call from Python per sample."""
+    lib = sim.compiled(method)
+    f = _SEGMENTS.get(str(lib.path))
+    if f is None:
+        f = ctypes.CDLL(str(lib.path)).pdbfs_batch_run_segments     # (the library loaded already)
+        vp, ll, d = ctypes.c_void_p, ctypes.c_longlong, ctypes.c_double
+        f.restype = ctypes.c_int
+        f.argtypes = [ll, ll, vp, vp, ll, vp, vp, ll, ll, ll, vp, vp, d, d, ctypes.c_int, d, ll,
+                      vp, ctypes.c_char_p, ll]
+        _SEGMENTS[str(lib.path)] = f
+    x0 = np.ascontiguousarray(x0, dtype=float)
+    p = np.ascontiguousarray(p, dtype=float)
+    grid = np.ascontiguousarray(grid, dtype=float)
+    edges, coef = np.ascontiguousarray(seg.edges), np.ascontiguousarray(seg.coef)
+    X = np.empty((x0.size, grid.size))
+    info = np.zeros(C.INFO_N)
+    msg = ctypes.create_string_buffer(C.MSG_LEN)
+    wall = time.perf_counter()
+    code = f(x0.size, p.size, p.ctypes.data, x0.ctypes.data, seg.count, edges.ctypes.data,
+             coef.ctypes.data, seg.inputs, seg.rows[0], grid.size, grid.ctypes.data,
+             X.ctypes.data, float(rtol), float(atol), C.METHOD_CODES[method],
+             float(max_step or 0.0), int(max_num_steps), info.ctypes.data, msg, C.MSG_LEN)
+    st = C.RunStatus(int(code), float(info[0]), int(info[1]), int(info[2]), int(info[3]),
+                     int(info[4]), msg.value.decode(errors="replace").strip(),
+                     C._stats(info[1], info[3], info[5], info[2], info[6],    # (as lib.run's)
+                              time.perf_counter() - wall))
+    if not st.ok:
+        raise compiled_failure(sim.dae, grid, st)
+    stats = dict(st.stats)
+    stats.pop("wall_time", None)
+    sim._last_stats = stats
+    if not np.isfinite(np.add.reduce(X, axis=None)):
+        sim._check_finite(grid, X)
+    return X
+
+
 def run_driven(sim, inputs, t_end, n_out, *, t_out=None, params=None, start=None, rtol=None,
                atol=None, method="auto", max_step=None, max_num_steps=MAX_NUM_STEPS, backend="auto",
                initial=None):
@@ -181,7 +238,8 @@ def run_driven(sim, inputs, t_end, n_out, *, t_out=None, params=None, start=None
     else:
         X, Z = driven.integrate(grid, x0, p0, rtol, atol, method, max_step, max_num_steps)
     stats = dict(driven._last_stats, wall_time=time.perf_counter() - wall, backend=backend,
-                 segments=len(drive.pieces(grid)))
+                 segments=drive.segments(grid).count)
+    drive.release()
     settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                 "max_num_steps": max_num_steps, "backend": backend}
     res = Result(driven, grid, p0, X, Z, settings, stats, initial=init, own_stats=True)

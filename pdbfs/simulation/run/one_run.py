@@ -80,11 +80,14 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
         ``Result.initial``.
     inputs : mapping of str to trace, number or callable, optional
         Values of the rig's inputs (its ``Input`` components, ``rig.inputs()``)
-        by name: a trace ``(t, u)`` of times and values, interpolated linearly,
-        its times breakpoints the solver stops at (a time given twice is a
-        jump), covering [0, t_end]; a number, held; or a function of time,
-        sampled until linear interpolation is within 1e-6 of its largest
-        value. An input not given holds its start value.
+        by name: a trace ``(t, u)`` of times and values (times first: two
+        sequences, or an array of shape (2, n); or a dict or DataFrame with
+        a ``t`` or ``time`` column and a value column; rows of pairs are
+        refused), interpolated linearly, its times breakpoints the solver
+        stops at (a time given twice is a jump, refused for an input the
+        rig differentiates), covering [0, t_end]; a number, held; or a
+        function of time, sampled until linear interpolation is within 1e-6
+        of its largest value. An input not given holds its start value.
 
     Returns
     -------

@@ -15,6 +15,7 @@
                    where Newton stops at a singular Jacobian; one solution or a refusal
     input_traces.py  the rig's inputs of a run (traces, numbers, functions) checked,
                    piecewise linear: the segments and their entries of p
+    input_layout.py  a trace's one layout: (t, u), or named columns; rows refused
     input_function.py  an input given as a function of time, sampled into a trace
     time_events.py switch times a run stops at: integrated from switch to switch
                    (through the Simulator it is given), never stepped over

@@ -34,12 +34,13 @@ def sample_callable(name, f, grid):
     """(t, u): ``f`` sampled on [grid[0], grid[-1]] to CALLABLE_RTOL."""
     grid = np.asarray(grid, float)
     t = np.unique(np.concatenate([grid, np.linspace(grid[0], grid[-1], FIRST + 1)]))
-    u = _evaluate(name, f, t)
+    run = (float(grid[0]), float(grid[-1]))
+    u = _evaluate(name, f, t, run)
     span = float(t[-1] - t[0])
     todo = np.arange(t.size - 1)           # the intervals to test
     while todo.size:
         mid = 0.5 * (t[todo] + t[todo + 1])
-        um = _evaluate(name, f, mid)
+        um = _evaluate(name, f, mid, run)
         scale = max(float(np.max(np.abs(u))), float(np.max(np.abs(um))))
         off = np.abs(um - 0.5 * (u[todo] + u[todo + 1])) > CALLABLE_RTOL * scale
         off &= (t[todo + 1] - t[todo]) > MIN_WIDTH * span
@@ -57,10 +58,14 @@ def sample_callable(name, f, grid):
     return t, u
 
 
-def _evaluate(name, f, t):
-    """f at the times ``t`` (an array), every value checked finite."""
+def _evaluate(name, f, t, span):
+    """f at the times ``t`` (an array), every value checked finite;
+    ``span`` (t0, t1) the run's, named in a refusal (which says at what
+    time f failed: never to be read as the run's length)."""
+    over = f"; sampled over the run, {span[0]:.6g} .. {span[1]:.6g} s"
     try:
-        v = np.asarray(f(t.copy()), dtype=float)
+        with np.errstate(all="ignore"):          # a 1/t at 0 is named below, not warned
+            v = np.asarray(f(t.copy()), dtype=float)
         ok = v.shape == t.shape
     except Exception:            # noqa: BLE001 -- a scalar function: one time at a time
         ok = False
@@ -68,12 +73,15 @@ def _evaluate(name, f, t):
         v = np.empty(t.size)
         for k, tk in enumerate(t):
             try:
-                v[k] = float(f(float(tk)))
+                with np.errstate(all="ignore"):
+                    v[k] = float(f(float(tk)))
             except Exception as err:   # noqa: BLE001 -- the user's function: named, one line
-                raise ParameterError(f"inputs: {name}({tk:.6g}) raised {type(err).__name__}: "
-                                     f"{str(err).splitlines()[0] if str(err) else ''}"
-                                     .rstrip(": ")) from None
+                what = str(err).splitlines()[0] if str(err) else ""
+                raise ParameterError(f"inputs: {name}(t) raised {type(err).__name__} at "
+                                     f"t = {tk:.6g} s" + (f": {what}" if what else "") + over) \
+                    from None
     bad = np.flatnonzero(~np.isfinite(v))
     if bad.size:
-        raise ParameterError(f"inputs: {name}({t[bad[0]]:.6g}) = {v[bad[0]]}: must be finite")
+        raise ParameterError(f"inputs: {name}(t) = {v[bad[0]]} at t = {t[bad[0]]:.6g} s: must be "
+                             f"finite{over}")
     return v

@@ -14,6 +14,7 @@ import numpy as np
 
 from pdbfs.errors import ParameterError
 from pdbfs.modelling import check_value, reduced_start
+from pdbfs.modelling import quantity
 
 from .initialize import check_initial, needs_solving
 from .memory import require, run_bytes
@@ -60,7 +61,7 @@ class RunInputs:
                     expr, info = dae.calculated[name]
                     if expr.is_constant():       # a number the rig fixes, e.g. a start at rest
                         raise ParameterError(f"{name} is fixed by rig {dae.name} at "
-                                             f"{float(expr):g} {info.unit} and cannot be set")
+                                             f"{quantity(float(expr), info.unit)} and cannot be set")
                     raise ParameterError(f"{name} is computed from other parameters "
                                          "and cannot be set; set those instead")
                 close = difflib.get_close_matches(name, dae.p_names, n=3)

@@ -19,6 +19,7 @@ import re
 import numpy as np
 
 from pdbfs.errors import PdbfsError, SolverError
+from pdbfs.modelling import quantity
 
 #: a compiled run's code for a limit reached (c/pdbfs_record.h RC_LIMIT)
 RC_LIMIT = 8
@@ -44,9 +45,9 @@ def message(dae, j: int, t: float, value: float | None = None) -> str:
         at = bound + value if kind == "min" else bound - value
         side = "minimum" if kind == "min" else "maximum"
         return (f"rig {dae.name}: the solver failed at t = {t:.6g} s as {what} reached its "
-                f"{side} {bound:g} {v.unit} ({at:.3g} {v.unit} there){beyond}")
+                f"{side} {quantity(bound, v.unit)} ({quantity(at, v.unit, '.3g')} there){beyond}")
     verb = "fell below its minimum" if kind == "min" else "rose above its maximum"
-    return (f"rig {dae.name}: {what} {verb} {bound:g} {v.unit} at t = {t:.6g} s, where the run "
+    return (f"rig {dae.name}: {what} {verb} {quantity(bound, v.unit)} at t = {t:.6g} s, where the run "
             f"stops (past it the rig's equations do not hold){beyond}")
 
 

@@ -66,7 +66,8 @@ def name_list(value, name: str, example: str = "'oil.pressure'", distinct: bool 
     example : str
         A name shown in the message of a refusal.
     distinct : bool
-        Refuse a name listed twice (parameters as inputs); outputs may repeat.
+        Refuse a name listed twice (the columns or rows of a linearization);
+        names to show or export may repeat.
     """
     if isinstance(value, str):
         return [value]

@@ -3,6 +3,7 @@ read from a CSV file (units in the header converted to SI, the column chosen
 by name), checked before anything is fitted to them."""
 from __future__ import annotations
 
+import io
 import os
 import re
 from dataclasses import dataclass
@@ -69,101 +70,203 @@ def to_si(unit, where, column) -> tuple[float, str]:
 
 
 def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None = None) -> Trace:
-    """Read a CSV trace: time in the first column, then the signal. The
-    delimiter is sniffed (comma, semicolon, tab or spaces). A header is
-    optional; where it gives units (``time [ms]``, ``oil.pressure [kPa]``)
-    they are converted to SI, and an unknown unit is refused. With more than
-    two columns, ``signal`` names the one to use (pdbfs's own results.csv
-    works: its header is ``name [unit]``). DataError, naming the file, for
-    anything else."""
-    import pandas as pd
+    """Read a CSV trace of a time column and a signal column (read_table's
+    file: delimiter sniffed, ``#`` comment lines skipped, .gz/.bz2/.xz/.zip
+    read as they are). With a header, the time column is the one named
+    ``time`` or ``t`` (``time [ms]``, ``time_s``), wherever it stands;
+    without one, the first. Units in the header (``time [ms]``,
+    ``oil.pressure [kPa]``) are converted to SI, an unknown unit is
+    refused. With more than one other column, ``signal`` names the one to
+    use (pdbfs's own results.csv works: its header is ``name [unit]``).
+    DataError, naming the file, for anything else."""
     p = Path(path)
     where = f"{what} file {str(path)!r}"
     if not p.is_file():
         raise DataError(f"{where}: no such file")
     if p.stat().st_size == 0:
         raise DataError(f"{where}: the file is empty")
-    df = read_table(p, where, signal)
-    if df.shape[1] < 2:
-        raise DataError(f"{where}: needs two columns, time (s) and the signal; found "
-                        f"{df.shape[1]} ({', '.join(map(str, df.columns)) or 'none'})")
-    if len(df) == 0:
-        raise DataError(f"{where}: a header but no data rows")
-    j = _signal_column(df, signal, where)
-    cols = []
-    for k in (0, j):
-        col = pd.to_numeric(df.iloc[:, k], errors="coerce")
-        bad = col.isna() & df.iloc[:, k].notna() & (df.iloc[:, k].astype(str).str.strip() != "")
-        if bad.any():
-            row = int(np.flatnonzero(bad.to_numpy())[0])
-            raise DataError(f"{where}: column {df.columns[k]!r}, data row {row + 1}: "
-                            f"{df.iloc[row, k]!r} is not a number")
-        cols.append(col.to_numpy(dtype=float))
-    t_name, t_unit = split_header(df.columns[0])
-    y_name, y_unit = split_header(df.columns[j])
-    t_factor, t_si = to_si(t_unit, where, df.columns[0])
-    if t_unit is not None and t_si != "s":
-        raise DataError(f"{where}: the first column {df.columns[0]!r} must be time; its unit "
-                        f"{t_unit!r} is not one of time (s, ms, us)")
-    y_factor, y_si = to_si(y_unit, where, df.columns[j])
-    trace = check_trace(cols[0] * t_factor, cols[1] * y_factor, where, name=y_name)
+    df = read_table(p, where, signal=signal)
+    t, y, t_unit, j, y_si = table_columns(df, where, signal, "--signal NAME")
+    y_name = split_header(df.columns[j])[0]
+    trace = check_trace(t, y, where, name=y_name)
     return Trace(trace.t, trace.y, where, y_name, y_si, t_unit or "")
 
 
-def read_table(path: Path, where: str, signal: str | None = None):
-    """The CSV table of ``path`` as a DataFrame: its delimiter sniffed, its
-    header optional (without one, the columns are "column 1", ...); a file
-    that is no table is a DataError naming ``where``. A TDMS or MDF file is
-    read as the same table (pdbfs.studies.labfiles; the time base of the
-    channel ``signal``)."""
+#: a time column's name, its unit in the name's end where the header gives none (time_ms)
+_TIME_NAME = re.compile(r"^(?:t|time)(?:[ _](?P<unit>s|ms|us|µs|μs))?$", re.IGNORECASE)
+
+
+def table_columns(df, where: str, signal: str | None, option: str, kind: str = "signal"):
+    """(t in s, values in SI, the time's unit as the header gave it or None,
+    the value column's index, its SI unit or "") of a table read by
+    read_table: the time column by its name (time_column), the ``kind``
+    column the only other one or the one named ``signal`` (a DataError
+    naming ``option`` where there are several); a cell that is no number
+    is refused, shown as the file has it (NaN and inf are left to the
+    trace's checks)."""
+    import pandas as pd
+    if df.shape[1] < 2:
+        raise DataError(f"{where}: needs two columns, time (s) and the {kind}; found "
+                        f"{df.shape[1]} ({', '.join(map(str, df.columns)) or 'none'})")
+    if len(df) == 0:
+        raise DataError(f"{where}: a header but no data rows")
+    i, t_unit = time_column(df, where)
+    names = [split_header(c)[0] for c in df.columns]
+    rest = [k for k in range(df.shape[1]) if k != i]
+    named = [k for k in rest if signal is not None and names[k] == signal]
+    if named:
+        j = named[0]
+    elif len(rest) == 1:           # the one signal, whatever its name
+        j = rest[0]
+    else:
+        listed = ", ".join(repr(names[k]) for k in rest[:8]) + (", ..." if len(rest) > 8 else "")
+        raise DataError(f"{where}: {len(rest)} {kind} columns ({listed}); name the one to use "
+                        f"({option})" if signal is None else
+                        f"{where}: no column {signal!r} among {listed}")
+    cols = []
+    for k in (i, j):
+        raw = df.iloc[:, k]
+        col = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=float)
+        bad = np.flatnonzero(np.isnan(col) & ~_nan_text(raw))
+        if bad.size:
+            cell = "" if pd.isna(raw.iloc[bad[0]]) else str(raw.iloc[bad[0]]).strip()
+            shown = f"{cell} is not a number" if cell else "an empty cell"
+            raise DataError(f"{where}: column {names[k]}, data row {bad[0] + 1}: {shown}")
+        cols.append(col)
+    t_factor, _ = to_si(t_unit, where, df.columns[i])
+    y_unit = split_header(df.columns[j])[1]
+    y_factor, y_si = to_si(y_unit, where, df.columns[j])
+    return cols[0] * t_factor, cols[1] * y_factor, t_unit, j, y_si
+
+
+def _nan_text(raw) -> np.ndarray:
+    """Where a column's cell says NaN itself (a number, not a typing error)."""
+    if raw.dtype.kind == "f":
+        return np.ones(len(raw), bool)         # parsed as numbers: an empty cell is NaN there
+    text = raw.astype(str).str.strip().str.lower()
+    return text.isin(["nan", "-nan", "+nan"]).to_numpy()
+
+
+def time_column(df, where: str) -> tuple[int, str | None]:
+    """(index, unit as given or None) of a table's time column: the one
+    whose name is ``time`` or ``t`` (``time [ms]``, ``time_ms``); without a
+    header, the first. A header without one is refused (its first column
+    may be anything: a force read as time would be a wrong trace), as is a
+    time column in another unit than a time's."""
+    if df.attrs.get("headerless", False):
+        i, unit = 0, None
+    else:
+        found = []
+        for k, c in enumerate(df.columns):
+            name, unit = split_header(c)
+            m = _TIME_NAME.match(name.strip())
+            if m:
+                found.append((k, unit if unit is not None else m.group("unit")))
+        if len(found) != 1:
+            listed = ", ".join(repr(str(c)) for c in df.columns[:8])
+            raise DataError(f"{where}: {'no' if not found else 'more than one'} time column "
+                            f"among {listed}; name one 'time' (with its unit: 'time [ms]')")
+        i, unit = found[0]
+    if unit is not None and UNITS.get(unit, (0, ""))[1] != "s":
+        raise DataError(f"{where}: the column {str(df.columns[i])!r} must be time; its unit "
+                        f"{unit!r} is not one of time (s, ms, us)")
+    return i, unit
+
+
+#: rows a long table is read in at a time, when its reading is shown (read_table's progress)
+CHUNK_ROWS = 1_000_000
+
+
+def read_table(path: Path, where: str, progress=None, signal: str | None = None):
+    """The CSV table of ``path`` as a DataFrame: its delimiter sniffed
+    (comma, semicolon, tab or spaces), lines starting with ``#`` skipped,
+    a compressed file (.gz, .bz2, .xz, .zip) read as it is; its header
+    optional (without one the columns are "column 1", ... and
+    ``df.attrs["headerless"]`` is True); a file that is no table is a DataError naming
+    ``where``. ``progress`` (a callable of the rows read so far), where
+    given, is called as a long file is read (CHUNK_ROWS at a time). A TDMS
+    or MDF file is read as the same table (pdbfs.studies.labfiles: its time
+    base of the channel ``signal``)."""
     import pandas as pd
     if is_lab_file(path):
         return read_lab_table(path, where, signal)
-    sep = _delimiter(path)
+    head = _head_lines(path, where)
+    if not head:
+        raise DataError(f"{where}: no table in it (only comment or empty lines)")
+    sep = _delimiter("\n".join(head))
+    header = 0 if _has_header(head[0], sep) else None
     try:
-        header = 0 if _has_header(path, sep) else None
-        df = pd.read_csv(path, sep=sep, engine="python", skipinitialspace=True, header=header)
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as err:
+        args = dict(sep=sep, engine="c", skipinitialspace=True, header=header, comment="#",
+                    skip_blank_lines=True, compression="infer")
+        if progress is None:
+            df = pd.read_csv(path, **args)
+        else:
+            parts, rows = [], 0
+            with pd.read_csv(path, chunksize=CHUNK_ROWS, **args) as reader:
+                for part in reader:
+                    parts.append(part)
+                    rows += len(part)
+                    progress(rows)
+            df = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+            del parts
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError, OSError, EOFError) as err:
         first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise DataError(f"{where}: not a CSV table ({first})") from None
     if header is None:
         df.columns = [f"column {j + 1}" for j in range(df.shape[1])]
+    df.attrs["headerless"] = header is None
     return df
 
 
-def _has_header(path, sep) -> bool:
+def _head_lines(path, where, n: int = 50) -> list[str]:
+    """The first ``n`` lines of the file that are neither empty nor
+    comments, decompressed where its name says (.gz, .bz2, .xz, .zip)."""
+    import bz2
+    import gzip
+    import lzma
+    import zipfile
+    suffix = Path(path).suffix.lower()
+    try:
+        if suffix == ".zip":
+            with zipfile.ZipFile(path) as z:
+                names = z.namelist()
+                if len(names) != 1:
+                    raise DataError(f"{where}: a zip file of {len(names)} files; give one CSV")
+                fh = io.TextIOWrapper(z.open(names[0]), errors="replace", newline="")
+                return _first_lines(fh, n)
+        opener = {".gz": gzip.open, ".bz2": bz2.open, ".xz": lzma.open}.get(suffix, open)
+        with opener(path, "rt", errors="replace", newline="") as fh:
+            return _first_lines(fh, n)
+    except (OSError, EOFError, zipfile.BadZipFile, lzma.LZMAError) as err:
+        raise DataError(f"{where}: cannot be read as a {suffix or 'text'} file ({err})") from None
+
+
+def _first_lines(fh, n) -> list[str]:
+    out = []
+    for line in fh:
+        text = line.strip()
+        if text and not text.startswith("#"):
+            out.append(text)
+            if len(out) == n:
+                break
+    return out
+
+
+def _has_header(first: str, sep) -> bool:
     """A first line of numbers only is data, not a header."""
-    with open(path, newline="", errors="replace") as fh:
-        first = fh.readline().strip()
     fields = re.split(sep if sep != r"\s+" else r"\s+", first) if first else []
     try:
-        [float(f) for f in fields if f.strip()]
+        [float(f.strip().strip('"')) for f in fields if f.strip()]
     except ValueError:
         return True
     return not fields
 
 
-def _signal_column(df, signal, where) -> int:
-    """The signal's column: the second of two, or the one named ``signal``."""
-    names = [split_header(c)[0] for c in df.columns]
-    if signal is not None and signal in names[1:]:
-        return names.index(signal, 1)
-    if df.shape[1] == 2:
-        return 1
-    listed = ", ".join(repr(n) for n in names[1:9]) + (", ..." if len(names) > 9 else "")
-    if signal is None:
-        raise DataError(f"{where}: {df.shape[1] - 1} signal columns ({listed}); name the one "
-                        "to use (--signal NAME)")
-    raise DataError(f"{where}: no column {signal!r} among {listed}")
-
-
-def _delimiter(path) -> str:
+def _delimiter(head: str) -> str:
     """Comma, semicolon, tab or spaces, whichever the file's head uses."""
     import csv
-    with open(path, newline="", errors="replace") as fh:
-        head = fh.read(4096)
     try:
-        d = csv.Sniffer().sniff(head, delimiters=",;\t ").delimiter
+        d = csv.Sniffer().sniff(head[:4096], delimiters=",;\t ").delimiter
     except csv.Error:
         return ","
     return r"\s+" if d == " " else d

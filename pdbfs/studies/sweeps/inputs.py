@@ -18,7 +18,7 @@ import hashlib
 import numpy as np
 
 from pdbfs.errors import ParameterError
-from pdbfs.simulation.setup.input_traces import drive_of, trace_of
+from pdbfs.simulation.setup.input_traces import drive_of, input_trace
 
 
 class SweepInputs:
@@ -78,7 +78,7 @@ def split_inputs(sim, values, inputs, t_end, n_out):
     fixed = {}
     if inputs is not None:
         drive_of(dae, inputs, grid)            # the names and the dict, as simulate checks them
-        fixed = {n: _checked(n, v, grid) for n, v in inputs.items()}
+        fixed = {n: _checked(dae, n, v, grid) for n, v in inputs.items()}
     dims = {}
     if isinstance(values, dict):
         for name in [n for n in values if n in names]:
@@ -91,7 +91,7 @@ def split_inputs(sim, values, inputs, t_end, n_out):
                                      "dimension")
             if name in fixed:
                 raise ParameterError(f"sweep: input {name} is both swept and given in inputs=")
-            dims[name] = [_checked(name, v, grid) for v in given]
+            dims[name] = [_checked(dae, name, v, grid) for v in given]
         values = {n: ([float(x) for x in dims[n]] if all(isinstance(x, float) for x in dims[n])
                       else list(range(len(dims[n])))) if n in dims else v
                   for n, v in values.items()}
@@ -100,7 +100,7 @@ def split_inputs(sim, values, inputs, t_end, n_out):
     return values, SweepInputs(dae, fixed, dims)
 
 
-def _checked(name, given, grid):
+def _checked(dae, name, given, grid):
     """A number (float) or a checked trace (t, u) of arrays."""
-    t, u = trace_of(name, given, float(grid[0]), float(grid[-1]), grid)
+    t, u = input_trace(dae, name, given, grid)
     return float(u[0]) if t.size == 1 else (t, u)
