@@ -47,8 +47,9 @@ class ThermalConductor(PartialElement1D):
 class Convection(Component):
     """Heat a surface gives to a fluid by convection, ``Q_flow = Gc*(solid.T -
     fluid.T)``, with the convective conductance ``Gc`` (W/K: the heat transfer
-    coefficient times the wetted area). ``Gc`` is a parameter, or with
-    ``use_input=True`` the signal input ``Gc`` (a flow that changes).
+    coefficient times the wetted area). ``Gc`` is a parameter (W/K, >= 0,
+    default 1), or with ``use_input=True`` the signal input ``Gc`` (a flow
+    that changes).
 
     Connectors: ``solid`` (the surface), ``fluid`` (the fluid far from it),
     and with ``use_input=True`` the signal input ``Gc``.
