@@ -171,7 +171,6 @@ def component_section(cls, module: str) -> list[str]:
 def components_page() -> str:
     import pdbfs.components as mech
     import pdbfs.components.hydraulic as hyd
-    import pdbfs.components.thermal as heat
     from pdbfs import Component
     out = ["# Component catalogue", "",
            "Generated from each component's own declarations: its parameters (name, SI unit, "
@@ -179,8 +178,7 @@ def components_page() -> str:
            "and its variables. `fixed` marks a parameter that cannot change during a run "
            "(a start value, a mass, an exponent); the rest are tunable. Partial components "
            "are bases to build new ones on (see the tutorial on building a rig).", ""]
-    for title, mod in (("Translational mechanics", mech), ("Hydraulics", hyd),
-                       ("Heat transfer", heat)):
+    for title, mod in (("Translational mechanics", mech), ("Hydraulics", hyd)):
         classes = [getattr(mod, n) for n in mod.__all__]
         classes = [c for c in classes if inspect.isclass(c) and issubclass(c, Component)]
         full = sorted((c for c in classes if not c.__name__.startswith("Partial")),

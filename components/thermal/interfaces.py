@@ -55,6 +55,9 @@ class PartialConditionalHeatPort(Component):
     port's, or, without a port, the parameter ``T`` a law declares.
     """
 
+    #: what the heat port is, as the FMU and the results describe it
+    heat_port_description = "Where the dissipated power leaves the component"
+
     def __init__(self, *args, heat_port: bool = False, **params: float | ca.SX):
         self._heat_port = _flag(type(self).__name__, "heat_port", heat_port)
         super().__init__(*args, **params)
@@ -62,7 +65,7 @@ class PartialConditionalHeatPort(Component):
     def declare(self):
         super().declare()
         if self._heat_port:
-            self.heat_port = HeatPort("Where the dissipated power leaves the component")
+            self.heat_port = HeatPort(self.heat_port_description)
             self.loss_power = Variable("W", "Power dissipated, leaving through heat_port",
                                        output=True)
 

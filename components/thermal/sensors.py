@@ -5,7 +5,8 @@ from pdbfs.modelling import Component, HeatPort, SignalOutput, eq
 
 
 class TemperatureSensor(Component):
-    """The temperature of a port, output ``y`` (K); no heat flows into it.
+    """The temperature of a port, output ``y`` (K), taking no heat:
+    ``y = port.T``, ``port.Q_flow = 0``.
 
     Connectors: ``port`` (must be connected) and the signal output ``y``.
     """
@@ -20,7 +21,8 @@ class TemperatureSensor(Component):
 
 class HeatFlowSensor(Component):
     """The heat flow from ``port_a`` to ``port_b``, output ``y`` (W), put in
-    series where the flow is to be measured (both ports at one temperature).
+    series where the flow is to be measured: ``y = port_a.Q_flow``,
+    ``port_a.T = port_b.T``.
 
     Connectors: ``port_a``, ``port_b`` and the signal output ``y``.
     """

@@ -7,7 +7,7 @@ from .interfaces import T_ROOM
 
 class FixedTemperature(Component):
     """A port held at the temperature ``T`` whatever heat flows (a room, a
-    coolant bath, a large frame).
+    coolant bath, a large frame): ``port.T = T``.
 
     Connector: ``port``.
     """
@@ -22,7 +22,8 @@ class FixedTemperature(Component):
 
 
 class PrescribedTemperature(Component):
-    """A port held at the temperature the signal input ``u`` gives (K).
+    """A port held at the temperature the signal input ``u`` gives (K):
+    ``port.T = u``.
 
     Connectors: ``port`` and the signal input ``u``.
     """
@@ -37,7 +38,8 @@ class PrescribedTemperature(Component):
 
 class FixedHeatFlow(Component):
     """A constant heat flow ``Q_flow`` into the component at ``port`` (a
-    heater; negative: a cooler), whatever its temperature.
+    heater; negative: a cooler), whatever its temperature:
+    ``port.Q_flow = -Q_flow``.
 
     Connector: ``port`` (must be connected).
     """
@@ -53,7 +55,7 @@ class FixedHeatFlow(Component):
 
 class PrescribedHeatFlow(Component):
     """The heat flow the signal input ``u`` gives (W) into the component at
-    ``port``.
+    ``port``: ``port.Q_flow = -u``.
 
     Connectors: ``port`` (must be connected) and the signal input ``u``.
     """

@@ -37,6 +37,7 @@ class OilColumn(PartialConditionalHeatPort, PartialCompression):
     stiffness at that temperature.
     """
 
+    heat_port_description = "The oil's temperature (the lossless column passes no heat)"
     k = Parameter(2.228e8, "N/m", "Oil column stiffness (unit N/m^n); the paper's k2",
                   positive=True)
     n = Parameter(1.0, "1", "Force-law exponent: 1 linear (default, fits the paper's "
