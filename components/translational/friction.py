@@ -13,8 +13,9 @@ from .interfaces import PartialCompliantWithVelocity
 
 class SealFriction(PartialConditionalHeatPort, PartialCompliantWithVelocity):
     """Friction of a seal: viscous ``c*v_rel`` plus an optional Coulomb part
-    ``F_c*tanh(v_rel/v_eps)``, regularised so that it stays smooth.
-    flange_a on the frame, flange_b on the sliding body.
+    ``F_c*tanh(v_rel/v_eps)``, regularised so that it stays smooth:
+    ``f = c*v_rel + F_c*tanh(v_rel/v_eps)``. flange_a on the frame, flange_b
+    on the sliding body.
 
     ``heat_port=True``: the power it dissipates, ``f*v_rel``, leaves through
     ``heat_port``. ``viscosity_law="andrade"``: the viscous coefficient
