@@ -6,6 +6,9 @@ declaring parameters, variables and equations on shared partial bases.
                     seal, the oil column, sources, sensors, chains and bars, a cam
     hydraulic/      pdbfs.components.hydraulic: volumes, pistons, orifices,
                     valves, sources, accumulators, sensors
+    thermal/        pdbfs.components.thermal: heat capacitors, conductors,
+                    convection, sources, sensors, temperature laws; the heat
+                    ports of the dissipating components
     blocks/         pdbfs.components.blocks: signals and blocks (inputs of the
                     rig, sources, tables, math, linear dynamics, PID); the
                     translational SignalForce and SignalPosition (here) and the

@@ -8,6 +8,8 @@ from .drop import DROP_SIGNALS, DropRestRig, DropRig, drop_rig
 from .hydraulic_pulse import PULSE_SIGNALS, HydraulicPulseRig, hydraulic_pulse_rig
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
 from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_hydraulic_rig
+from .paper_thermal import (PAPER_THERMAL_SIGNALS, PaperThermalNetwork, PaperThermalRig,
+                            declare_paper_network, paper_thermal_rig)
 from .pulse_control import (LOOP, PID_SIGNALS, TARGET, HydraulicPulsePIDRig, PulseControllerRig,
                             PulsePlantRig, hydraulic_pulse_pid_rig, pulse_controller_rig,
                             pulse_plant_rig)
@@ -59,6 +61,8 @@ RIGS = {
     "hydraulic-pulse-line": lambda: hydraulic_pulse_rig(line=True),
     # ... whose valve a PI controller opens to follow a target pulse (closed loop)
     "hydraulic-pulse-pid": hydraulic_pulse_pid_rig,
+    # the paper rig with its heat: dissipation into oil, piston and breech, temperature laws
+    "paper-thermal": paper_thermal_rig,
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
@@ -67,4 +71,6 @@ __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitP
            "paper_hydraulic_rig", "PAPER_HYDRAULIC_SIGNALS", "HydraulicPulseRig",
            "hydraulic_pulse_rig", "PULSE_SIGNALS", "HydraulicPulsePIDRig", "PulsePlantRig",
            "PulseControllerRig", "hydraulic_pulse_pid_rig", "pulse_plant_rig", "pulse_controller_rig",
+           "PaperThermalRig", "PaperThermalNetwork", "paper_thermal_rig", "declare_paper_network",
+           "PAPER_THERMAL_SIGNALS",
            "PID_SIGNALS", "TARGET", "LOOP"]

@@ -43,9 +43,10 @@ class PaperRig(Rig):
         self.hammer = Mass(m=2948.4, v0=2.73)
         self.piston = Mass(m=241.7)
         self.breech = Mass(m=500.0)
-        self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6)
+        self.contact = ImpactContact(law=self._law, k=5.958e10, n=1.5, D=1.595e6,
+                                     **self.options("contact"))
         self.declare_oil()
-        self.seal = SealFriction(c=2.556e4)
+        self.seal = SealFriction(c=2.556e4, **self.options("seal"))
         self.mount = Spring(k=2.5e10, n=1.0)
         self.connect(self.hammer.flange_b, self.contact.flange_a)
         self.connect(self.contact.flange_b, self.piston.flange_a, self.seal.flange_b)
@@ -53,10 +54,27 @@ class PaperRig(Rig):
         self.connect(self.breech.flange_b, self.mount.flange_a)
         self.connect(self.frame.flange, self.mount.flange_b, self.seal.flange_a)
 
+    def options(self, name: str) -> dict[str, Any]:
+        """Constructor options of the component ``name`` (``"contact"``,
+        ``"seal"``, ``"oil"``) besides the paper's values: none here; a
+        subclass gives heat ports and temperature laws (paper-thermal).
+
+        Parameters
+        ----------
+        name : str
+            The component's name in the rig.
+
+        Returns
+        -------
+        dict
+            Keyword arguments for its constructor.
+        """
+        return {}
+
     # the oil column between piston and breech: a subclass may build it otherwise
     def declare_oil(self) -> None:
         """Declare the oil column ``oil`` (here an OilColumn: the paper's spring k2)."""
-        self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2)
+        self.oil = OilColumn(k=2.228e8, n=1.0, A=2.270e-2, **self.options("oil"))
 
     def connect_oil(self) -> None:
         """Connect ``oil`` between the piston's lower face and the breech."""

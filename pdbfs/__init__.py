@@ -22,7 +22,7 @@ and pdbfs.models (rigs built from it).
 from .errors import (ConnectError, DataError, ExportError, ModelError, ParameterError,
                      PdbfsError, SolverError)
 from .errors import PdbfsWarning, PulseIncompleteWarning, SampleTooSmallWarning
-from .modelling import (DAE, Component, Flange, HydraulicPort, Parameter, ParamInfo, SignalInput,
+from .modelling import (DAE, Component, Flange, HeatPort, HydraulicPort, Parameter, ParamInfo, SignalInput,
                         SignalOutput, State, Variable, VarInfo, der, eq, time)
 from .files import example_data
 from .rig import Rig
@@ -45,7 +45,7 @@ def __getattr__(name):
             return "unknown"
     raise AttributeError(f"module 'pdbfs' has no attribute {name!r}")
 
-__all__ = ["Component", "Rig", "Flange", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",
+__all__ = ["Component", "Rig", "Flange", "HeatPort", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",
            "SampleTooSmallWarning", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
            "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
            "DataError",

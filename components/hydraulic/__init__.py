@@ -8,7 +8,8 @@ ModelingToolkitStandardLibrary's hydraulics.
     laws.py         bulk-modulus laws, regularised root, smooth clamp and step
     volume.py       Volume: compressibility, cavitation, swept walls
     piston.py       Piston (flange + port), Cylinder (a piston over its chamber)
-    resistances.py  Orifice (turbulent), LaminarLeak
+    resistances.py  Orifice (turbulent), LaminarLeak, on PartialDissipativeTwoPort
+                    (heat_port=True: their power dp*q leaves as heat)
     valves.py       CheckValve, ReliefValve, TimedValve, PulseValve, and
                     CommandedValve (its opening a signal input)
     sources.py      Tank, PressureSource, FlowSource, and SignalPressure (a
@@ -20,14 +21,14 @@ An unconnected port is closed (zero flow), allowed only on components where
 that means something (Volume, Cylinder, Accumulator, sources and tanks);
 elsewhere the compiler refuses it.
 
-May import: pdbfs.errors and pdbfs.modelling.
+May import: pdbfs.errors, pdbfs.modelling and pdbfs.components.thermal's interfaces.
 """
 from .accumulator import Accumulator
 from .interfaces import PartialOnePort, PartialTwoPort
 from .laws import (ATMOSPHERE, bulk_modulus_air, bulk_modulus_constant, bulk_modulus_linear,
                    regularised_root, smooth_ramp, smooth_step)
 from .piston import Cylinder, Piston
-from .resistances import LaminarLeak, Orifice, PartialOrifice
+from .resistances import LaminarLeak, Orifice, PartialDissipativeTwoPort, PartialOrifice
 from .sensors import FlowSensor, PressureSensor
 from .sources import FlowSource, PartialSource, PressureSource, SignalPressure, Tank
 from .valves import (CheckValve, CommandedValve, PartialPressureValve, PulseValve, ReliefValve,
@@ -36,7 +37,7 @@ from .volume import BULK_MODULUS_LAWS, Volume
 
 __all__ = ["Accumulator", "PartialOnePort", "PartialTwoPort", "ATMOSPHERE", "bulk_modulus_air",
            "bulk_modulus_constant", "bulk_modulus_linear", "regularised_root", "smooth_ramp",
-           "smooth_step", "Cylinder", "Piston", "LaminarLeak", "Orifice", "PartialOrifice",
+           "smooth_step", "Cylinder", "Piston", "LaminarLeak", "Orifice", "PartialDissipativeTwoPort", "PartialOrifice",
            "FlowSensor", "PressureSensor", "FlowSource", "PartialSource", "PressureSource",
            "SignalPressure", "Tank", "CheckValve", "CommandedValve", "PartialPressureValve", "PulseValve",
            "ReliefValve", "TimedValve", "BULK_MODULUS_LAWS", "Volume"]

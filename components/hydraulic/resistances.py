@@ -3,11 +3,21 @@ import casadi as ca
 
 from pdbfs.modelling import Parameter, eq
 
+from ..thermal.interfaces import PartialConditionalHeatPort
 from .interfaces import PartialTwoPort
 from .laws import regularised_root
 
 
-class PartialOrifice(PartialTwoPort):
+class PartialDissipativeTwoPort(PartialConditionalHeatPort, PartialTwoPort):
+    """A PartialTwoPort that turns the power of its flow, ``dp*q``, into
+    heat: with ``heat_port=True`` it leaves through ``heat_port`` (the oil
+    throttled through an orifice, a valve or a leak warms)."""
+
+    def dissipated_power(self):
+        return self.dp * self.q
+
+
+class PartialOrifice(PartialDissipativeTwoPort):
     """Turbulent flow through an opening: ``q = x*Cd*A*sqrt(2/rho)*root(dp)``
     with ``root`` the regularised square root of laws.regularised_root
     (``dp/(dp^2 + dp_t^2)^(1/4)``: slope ``1/sqrt(dp_t)`` at dp = 0 instead
@@ -17,7 +27,9 @@ class PartialOrifice(PartialTwoPort):
     uses the name ``opening`` for something else, as CommandedValve's
     signal input).
 
-    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b;
+    with ``heat_port=True`` also ``heat_port``, where the power ``dp*q``
+    leaves as heat.
     """
 
     Cd = Parameter(0.7, "1", "Discharge coefficient", positive=True, max=1.0)
@@ -46,10 +58,11 @@ class Orifice(PartialOrifice):
     (PartialOrifice's law, fully open)."""
 
 
-class LaminarLeak(PartialTwoPort):
+class LaminarLeak(PartialDissipativeTwoPort):
     """A laminar leak ``q = G*dp`` (a seal gap, a capillary).
 
-    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+    Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b;
+    with ``heat_port=True`` also ``heat_port`` (the power ``dp*q`` as heat).
     """
 
     G = Parameter(1e-12, "m3/(s.Pa)", "Hydraulic conductance", min=0.0)

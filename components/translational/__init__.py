@@ -11,7 +11,12 @@ Mechanics.Translational): flanges carry a position (across) and a force
     chain.py       masses joined by springs; bar.py: an elastic bar built from it
     constraints.py ideal kinematic constraints (a cam)
 
-May import: pdbfs.errors, pdbfs.modelling and pdbfs.components' laws and functions.
+Dissipating components (Damper, HuntCrossleyDamper, ImpactContact, SealFriction)
+take ``heat_port=True``; the oil column and the seal take temperature laws
+(pdbfs.components.thermal).
+
+May import: pdbfs.errors, pdbfs.modelling and pdbfs.components' laws, functions
+and thermal interfaces and laws.
 """
 from .bar import BarResolutionWarning, ElasticBar, check_bar_resolution
 from .chain import MassChain

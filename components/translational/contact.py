@@ -4,9 +4,10 @@ from __future__ import annotations
 import casadi as ca
 
 from pdbfs.errors import ParameterError
-from pdbfs.modelling import Parameter, Variable, eq
+from pdbfs.modelling import HeatPort, Parameter, Variable, eq
 
 from ..functions import positive_power
+from ..thermal.interfaces import PartialConditionalHeatPort, _flag
 from .interfaces import PartialCompression, PartialCompliantWithVelocity
 from ..laws import DAMPING_LAWS
 
@@ -33,7 +34,7 @@ class HertzContact(PartialCompression):
         return [(self.d, "indentation", "contact onset or separation")]
 
 
-class HuntCrossleyDamper(PartialCompliantWithVelocity):
+class HuntCrossleyDamper(PartialConditionalHeatPort, PartialCompliantWithVelocity):
     """The dissipative part of an impact, ``fc = D*d^n*der(d)`` while in
     contact. Beside a HertzContact of stiffness ``k`` it is clamped at
     ``-k*d^n`` so that the combined force never pulls.
@@ -41,6 +42,10 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     Give ``D`` directly, or ``law=`` one of 'lankarani-nikravesh',
     'hunt-crossley', 'flores' with parameters ``e`` (restitution) and
     ``v_impact``: ``D`` is then computed from them and ``k``.
+
+    ``heat_port=True``: the power it dissipates, ``fc*der(d)`` (the
+    hysteresis loop's energy, and while the force is limited the elastic
+    energy it then takes), leaves through ``heat_port``.
 
     Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
     """
@@ -51,12 +56,13 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
     n = Parameter(1.5, "1", "Indentation exponent", min=1.0, tunable=False)
     gap = Parameter(0.0, "m", "Clearance, as in HertzContact", tunable=False)
 
-    def __init__(self, law: str | None = None, **params: float | ca.SX):
+    def __init__(self, law: str | None = None, heat_port: bool = False,
+                 **params: float | ca.SX):
         if law is not None and law not in DAMPING_LAWS:
             raise ParameterError(f"HuntCrossleyDamper: unknown damping law {law!r}; "
                                  f"choose one of {', '.join(DAMPING_LAWS)}")
         self._law = law
-        super().__init__(**params)
+        super().__init__(heat_port=heat_port, **params)
 
     def declare(self):
         super().declare()
@@ -68,6 +74,9 @@ class HuntCrossleyDamper(PartialCompliantWithVelocity):
             self.v_impact = Parameter(2.73, "m/s", "Impact velocity the law is tuned for",
                                       positive=True)
             self.bind("D", DAMPING_LAWS[self._law](self.k, self.e, self.v_impact))
+
+    def dissipated_power(self):
+        return self.f * self.v_rel
 
     def equations(self):
         dn = positive_power(self.d, self.n)
@@ -87,6 +96,10 @@ class ImpactContact(PartialCompression):
     force ``fc`` never pulls. ``law`` as in HuntCrossleyDamper: with the
     default, ``fc = k*d^n + D*d^n*der(d)`` while in contact, at least 0.
 
+    ``heat_port=True``: the damping's dissipated power, ``loss_power``,
+    leaves through ``heat_port`` (the Hertz part stores and returns its
+    energy).
+
     Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
     """
 
@@ -95,15 +108,21 @@ class ImpactContact(PartialCompression):
     gap = HertzContact.gap
     D = HuntCrossleyDamper.D
 
-    def __init__(self, law: str | None = None, **params: float | ca.SX):
+    def __init__(self, law: str | None = None, heat_port: bool = False,
+                 **params: float | ca.SX):
         self._law = law
+        self._heat_port = _flag("ImpactContact", "heat_port", heat_port)
         super().__init__(**params)
 
     def declare(self):
         super().declare()
         self.hertz = HertzContact(k=self.k, n=self.n, gap=self.gap)
         self.damping = HuntCrossleyDamper(law=self._law, k=self.k, n=self.n, gap=self.gap,
-                                          D=self.D)
+                                          D=self.D, heat_port=self._heat_port)
+        if self._heat_port:
+            self.heat_port = HeatPort("Where the damping's dissipated power leaves the contact")
+            self.loss_power = Variable("W", "Power dissipated, leaving through heat_port",
+                                       output=True)
         if self._law is not None:
             # expose e and v_impact here; D becomes a calculated parameter
             self.e = Parameter(0.95, "1", "Coefficient of restitution", min=0.0, max=1.0,
@@ -115,10 +134,13 @@ class ImpactContact(PartialCompression):
             self.bind("D", self.damping.D)
         self.connect(self.flange_a, self.hertz.flange_a, self.damping.flange_a)
         self.connect(self.flange_b, self.hertz.flange_b, self.damping.flange_b)
+        if self._heat_port:
+            self.connect(self.heat_port, self.damping.heat_port)
 
     def equations(self):
         # the composite's own flange forces come from the connections
-        return [eq(self.s_rel, self.flange_b.s - self.flange_a.s),
-                eq(self.f, self.hertz.f + self.damping.f),
-                eq(self.fc, -self.f),
-                eq(self.d, self.hertz.d)]
+        eqs = [eq(self.s_rel, self.flange_b.s - self.flange_a.s),
+               eq(self.f, self.hertz.f + self.damping.f),
+               eq(self.fc, -self.f),
+               eq(self.d, self.hertz.d)]
+        return eqs + ([eq(self.loss_power, self.damping.loss_power)] if self._heat_port else [])

@@ -6,6 +6,7 @@ import casadi as ca
 from pdbfs.modelling import Parameter, eq
 
 from ..functions import signed_power
+from ..thermal.interfaces import PartialConditionalHeatPort
 from .interfaces import PartialCompliant, PartialCompliantWithVelocity
 
 
@@ -35,14 +36,18 @@ class Spring(PartialCompliant):
                  "the compression-only spring engages or goes slack")] if self._compression_only else []
 
 
-class Damper(PartialCompliantWithVelocity):
+class Damper(PartialConditionalHeatPort, PartialCompliantWithVelocity):
     """Linear viscous damper ``f = c*v_rel``.
 
     Connectors: ``flange_a`` and ``flange_b``; ``v_rel`` is flange_b's
-    velocity less flange_a's.
+    velocity less flange_a's. With ``heat_port=True`` the power it
+    dissipates, ``c*v_rel^2``, leaves through ``heat_port``.
     """
 
     c = Parameter(1.0, "N.s/m", "Damping coefficient", min=0.0)
+
+    def dissipated_power(self):
+        return self.f * self.v_rel
 
     def equations(self):
         return super().equations() + [eq(self.f, self.c * self.v_rel)]

@@ -4,7 +4,8 @@ analysis, and the one CasADi DAE every back end consumes.
     symbols.py     Parameter, Variable, State, der(), eq(), time
     rig_inputs.py  RigInput: an input of the rig, u + du (t - t_ref) in p
     connectors.py  Flange (position across, force through), HydraulicPort (pressure
-                   across, volume flow through), signal connectors
+                   across, volume flow through), HeatPort (temperature across, heat
+                   flow through), signal connectors
     component.py   Component: declare(), equations(), connect(), compile()
     flatten.py     a component tree -> one flat list of symbols and equations
     structure.py   flat equations -> DAE: parameter bindings, then
@@ -20,13 +21,13 @@ May import: pdbfs.errors only. Nothing here knows about solvers, C code,
 FMUs or studies.
 """
 from .component import Component, switch_times
-from .connectors import Flange, HydraulicPort, SignalInput, SignalOutput
+from .connectors import Flange, HeatPort, HydraulicPort, SignalInput, SignalOutput
 from .dae import DAE, InputInfo, ParamInfo, VarInfo
 from .rig_inputs import RigInput
 from .symbols import (Parameter, State, Variable, check_value, der, eq, quantity, time,
                       within_limits)
 
-__all__ = ["Component", "Flange", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "InputInfo",
+__all__ = ["Component", "Flange", "HeatPort", "HydraulicPort", "SignalInput", "SignalOutput", "DAE", "InputInfo",
            "ParamInfo", "RigInput", "VarInfo",
            "Parameter", "State", "Variable", "check_value", "der", "eq", "quantity", "switch_times", "time",
            "within_limits"]

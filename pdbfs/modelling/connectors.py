@@ -4,7 +4,9 @@ A translational ``Flange`` carries the position ``s`` (across, m) and the cut
 force ``f`` (through, N); ``f`` acts on the component the flange belongs to,
 as in Modelica. A ``HydraulicPort`` carries the pressure ``p`` (across, Pa)
 and the volume flow ``q`` (through, m3/s), positive into the component (as
-in Modelica's fluid libraries). Connectors of different domains never meet
+in Modelica's fluid libraries). A ``HeatPort`` carries the temperature ``T``
+(across, K) and the heat flow ``Q_flow`` (through, W, positive into the
+component), as Modelica.Thermal.HeatTransfer. Connectors of different domains never meet
 (``connect()`` refuses them). Signal connectors carry one value, no flow,
 in a unit: ``connect()`` joins signals of one unit only ("1" for a plain
 number, the same as none), the rule an SSP of FMUs is checked by too.
@@ -101,6 +103,36 @@ class HydraulicPort(Connector):
 def signal_unit(unit) -> str:
     """A signal's unit as connections compare it: "" (none given) is "1"."""
     return (unit or "").strip() or "1"
+
+
+class HeatPort(Connector):
+    """Thermal port: temperature ``T`` (K), heat flow ``Q_flow`` (W,
+    positive into the component).
+
+    Left unconnected, a port is insulated: zero heat flow, as in Modelica.
+    That keeps the component determined only where its port's temperature
+    follows from its own equations (a heat capacitor, a conductor's far
+    end, a fixed temperature); a component declares it with
+    ``insulable=True``, and an unconnected port that is not is refused by
+    the compiler (a ConnectError naming it): a dissipating component's heat
+    would have nowhere to go, a sensor would read nothing.
+    """
+
+    kind = "thermal"
+    across, through = "T", "Q_flow"
+
+    def __init__(self, description: str = "", *, insulable: bool = False):
+        super().__init__(description)
+        self.insulable = insulable
+
+    def _make_symbols(self):
+        self.T = ca.SX.sym(f"{self.name}.T")
+        self.Q_flow = ca.SX.sym(f"{self.name}.Q_flow")
+
+    def variables(self):
+        return [("T", self.T, "K", "Temperature at the port", False),
+                ("Q_flow", self.Q_flow, "W", "Heat flow through the port, positive into the "
+                 "component", True)]
 
 
 class _Signal(Connector):

@@ -5,7 +5,8 @@ sets become equal across variables and a zero sum of flows (inside connectors
 count +1, a composite's own connectors seen from inside count -1, as in
 Modelica), for every physical domain alike (a connector names its across
 and through variables); a flange in no inside connection set gets zero
-force, a hydraulic port zero flow (closed) where its component allows it.
+force, a hydraulic port zero flow (closed) and a heat port zero heat flow
+(insulated) where its component allows it.
 """
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from dataclasses import dataclass, field
 
 import casadi as ca
 
-from .connectors import Flange, HydraulicPort, SignalInput
+from .connectors import Flange, HeatPort, HydraulicPort, SignalInput
 from pdbfs.errors import ConnectError, ModelError
 from .rig_inputs import T_REF, input_name
 from .symbols import der_of, time
@@ -269,6 +270,14 @@ def _connection_equations(root, flat, later):
                         "port is closed (zero flow) only on chambers and tanks, which makes no "
                         "sense here: connect it (e.g. to a Tank)")
                 later.equation(flat.equations, c.q, f"{c.path()} is unconnected: closed, zero flow")
+            elif isinstance(c, HeatPort):
+                if not c.insulable:
+                    raise ConnectError(
+                        f"heat port {c.path()} of {comp.label()} is not connected; connect it "
+                        "(e.g. to a HeatCapacitor or a FixedTemperature), or build the "
+                        "component without its heat port")
+                later.equation(flat.equations, c.Q_flow,
+                               f"{c.path()} is unconnected: insulated, zero heat flow")
             elif isinstance(c, SignalInput) and comp is not root:
                 raise ConnectError(f"signal input {c.path()} is not connected")
 
