@@ -36,9 +36,9 @@ from ..results.summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary
 
 C_DIR = LIBRARY_C
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
-                                     "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
-                                     "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
-                                     "pdbfs_run_trajectory.c")) + ERK_DRIVER
+                                     "pdbfs_record.h", "pdbfs_record_pool.c", "pdbfs_pulse.c",
+                                     "pdbfs_pulse.h", "pdbfs_batch_erk.c", "pdbfs_erk_grid.c",
+                                     "pdbfs_run_summary.c", "pdbfs_run_trajectory.c")) + ERK_DRIVER
 #: the CVODE loop's stand-in in a library without CVODE (the explicit method alone)
 NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
     (C_DIR / "pdbfs_cvode_none.c",)
