@@ -190,11 +190,12 @@ def usual_values(dae) -> dict[int, float]:
 
 
 #: pow for the exponents the laws use most (a Hertz contact's 1.5, a linear
-#: law's 1, and 0 and 0.5 in their derivatives): libm's general pow was a
-#: quarter of a compiled run's time.  The same value as pow to an ulp (x
-#: sqrt(x): two roundings; 0, 1 and 2: exact) and the same special cases
-#: (x < 0, NaN and -inf go to pow; pow(x, 0) is 1 for every x, NaN
-#: included); static, so that an FMU exports nothing more (fmu/symbols.py)
+#: law's 1, and 0 and 0.5 in their derivatives, a cubic law's 3): libm's
+#: general pow was a quarter of a compiled run's time.  The same value as pow
+#: to an ulp (x sqrt(x): two roundings; 0, 1 and 2: exact), to two for 3
+#: (x*x*x, for results not below the smallest normal number), and the same
+#: special cases (x < 0, NaN and -inf go to pow; pow(x, 0) is 1 for every x,
+#: NaN included); static, so that an FMU exports nothing more (fmu/symbols.py)
 POW_HELPER = """
 /* pdbfs (native/codegen.py): pow without libm's general case for common exponents */
 static double pdbfs_pow(double x, double y) {
@@ -209,6 +210,8 @@ static double pdbfs_pow(double x, double y) {
   } else if (y == 0.5) {
     if (x > 0) return sqrt(x);
     if (x == 0) return 0.0;           /* +-0: pow gives +0 (sqrt(-0) is -0) */
+  } else if (y == 3.0) {
+    return x * x * x;                 /* +-0, +-inf and NaN as pow */
   }
   return pow(x, y);
 }
