@@ -71,7 +71,12 @@ def _sqrt(a: float) -> float:
 
 
 def _floor_ceil(f):
-    return lambda a: a if math.isnan(a) or math.isinf(a) or a == 0 else float(f(a))
+    def g(a):
+        if math.isnan(a) or math.isinf(a) or a == 0:
+            return a
+        r = float(f(a))
+        return math.copysign(r, a) if r == 0 else r      # ceil(-0.5) is -0
+    return g
 
 
 def _truth(a: float) -> bool:
