@@ -118,9 +118,10 @@ def header(dae, work) -> str:
 
 def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     """A cheap key of the library of ``dae``, known before any code generation:
-    the DAE's expressions (serialised), the functions generated and how
-    (codegen.py, straight.py), the drivers' text, the compiler command and the
-    SUNDIALS archives. Equal fingerprints give the same
+    the DAE's expressions (serialised), the parameter values the straight-line
+    C is specialised for (specialise.worth_fixing), the functions generated
+    and how (codegen.py, straight.py), the drivers' text, the compiler command
+    and the SUNDIALS archives. Equal fingerprints give the same
     library; a change anywhere gives another (at worst a rebuild)."""
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
@@ -137,7 +138,7 @@ def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
                  "\0".join(FUNCTIONS), "\0".join(STRAIGHT),
                  *(Path(m.__file__).read_text() for m in (codegen, straight, specialise)),
                  f"nte {dae.time_events.numel()}", "\0".join(roles), *follow_lines(dae),
-                 repr(sorted(usual_values(dae).items())),
+                 repr(sorted(specialise.worth_fixing(f, 3, usual_values(dae)).items())),
                  *(p.read_text() for p in (*DRIVERS, *_cvode_files(sd))),
                  "\0".join(_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")], sd, host)),
                  _archives_stamp(sd)):
