@@ -31,8 +31,9 @@ import casadi as ca
 from pdbfs.errors import ExportError
 from pdbfs.files import whole
 from pdbfs.modelling import DAE
-from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FMU_C, FUNCS, check_compiler_memory,
-                                  erk_size_header, generate, sizes_header_lines)
+from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FMU_C, FUNCS, STRAIGHT,
+                                  check_compiler_memory, erk_size_header, generate,
+                                  sizes_header_lines, usual_values)
 from pdbfs.native.stiffness import c_defines, ode_instructions
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
@@ -232,7 +233,8 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     with tempfile.TemporaryDirectory(prefix="pdbfs-fmu-") as tmp:
         src = Path(tmp) / "sources"
         src.mkdir()
-        work = generate(model.functions(), src)
+        # the inner loop's functions as the compiled backend's library has them
+        work = generate(model.functions(), src, straight=STRAIGHT, values=usual_values(model.dae))
         hdr_dir = _fmi_header_dir(fmi_version)
         for h in VERSION_HEADERS[fmi_version]:
             shutil.copy2(hdr_dir / h, src / h)

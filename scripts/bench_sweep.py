@@ -14,13 +14,19 @@ second on this machine, in one run:
     python scripts/bench_sweep.py --peers [--points 1000] [--rounds 3]
 
 ``--peers``: the sweep of issue 23 (hammer.v0 in [1.5, 5.5] x oil.k in
-[1e8, 5e8], peak pressure only), in one process, interleaved rounds, every
-peak against a tight reference (numbalsoda DOP853 at rtol 1e-13 on a 1 us
-grid, Hermite-refined): pdbfs.sweep with default settings, pdbfs.sweep with
-backend "c", method "adams" (compiled CVODE) (both taking their column of
-peaks, ``SweepResult.values``), numbalsoda DOP853 at rtol
-1e-8 in a numba ``prange`` loop (same cores), diffrax Dopri8 ``jit(vmap)``
-if installed, scipy solve_ivp DOP853 point by point (on a tenth of the points).
+[1e8, 5e8], peak pressure only), in one process, interleaved rounds (CPU
+time of the process, every thread's), every peak against a tight reference
+(numbalsoda DOP853 at rtol 1e-13 on a 1 us grid, Hermite-refined; without
+numbalsoda the hand-written C at rtol 1e-13): pdbfs.sweep with default
+settings, pdbfs.sweep with backend "c", method "adams" (compiled CVODE)
+(both taking their column of peaks, ``SweepResult.values``), the paper's
+equations written by hand in C (hand_dop853.c, gcc -O2: bench_hand.py) in
+an OpenMP loop (same cores) at the loosest tolerance whose median peak
+error is no larger than pdbfs's, numbalsoda DOP853 at rtol 1e-8 in a numba
+``prange`` loop (same cores), diffrax Dopri8 ``jit(vmap)`` if installed,
+scipy solve_ivp DOP853 point by point (on a tenth of the points). The
+target (pdbfs.sweep within 1.2x of the hand-written C's loop) is printed
+with its measured ratio; the exit status is 1 when it is missed.
 
 ``--memory N`` also runs N points (and N/10) to disk and prints the peak
 resident memory of both: a sweep streams its chunks, so it does not grow.
@@ -82,11 +88,12 @@ def rss_mb() -> float:
 
 
 def peers(n, rounds):
-    """The sweep of issue 23 against numbalsoda, diffrax and scipy (see the module doc)."""
+    """The sweep of issue 23 against the hand-written C, numbalsoda, diffrax
+    and scipy (see the module doc); the exit status of the target."""
     sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import bench_hand
     import bench_peers as bp
-    rng = np.random.default_rng(1)
-    V, K = rng.uniform(1.5, 5.5, n), rng.uniform(1e8, 5e8, n)
+    V, K = bench_hand.sweep_points(n)
     T = np.linspace(0.0, 0.02, 2001)
     rig = paper_rig()
     values = {"hammer.v0": V.tolist(), "oil.k": K.tolist()}
@@ -94,9 +101,17 @@ def peers(n, rounds):
     def pdbfs_sweep(**kw):
         # the column of peaks, as numbalsoda's loop returns its array
         return pdbfs.sweep(rig, values, grid=False, progress=False, **kw).values("peak_pressure")
+    ref, who = bench_hand.tight_peaks(TABLE1, V, K)
+    rtol, err, want = bench_hand.matched_rtol(TABLE1, pdbfs_sweep(), V, K, ref)
+    hand = bench_hand.load()
+    loop = "OpenMP" if hand.openmp else "pthreads"
+    print(f"hand-written C at rtol {rtol:g}: median peak error {err:.1e}, pdbfs's default "
+          f"{want:.1e} (reference: {who})")
     runs = {"pdbfs.sweep, default settings": lambda: pdbfs_sweep(),
             "pdbfs.sweep, backend c, method adams": lambda: pdbfs_sweep(backend="c",
-                                                                       method="adams")}
+                                                                       method="adams"),
+            f"hand-written C DOP853 rtol {rtol:g}, {loop} ({CORES} cores)":
+                hand.sweep(TABLE1, V, K, rtol=rtol)}
     nb = bp.numbalsoda_sweep(T, TABLE1, V, K)
     if nb is None:
         print("note: numbalsoda not installed (pip install numbalsoda; needs gfortran): skipped")
@@ -121,28 +136,28 @@ def peers(n, rounds):
         return np.array(out)
     runs["scipy solve_ivp DOP853, point by point"] = scipy_points
     points = {k: (m if k.startswith("scipy") else n) for k in runs}
-    fine = np.linspace(0.0, 0.02, 20001)
-    tight = bp.numbalsoda_sweep(fine, TABLE1, V, K, rtol=1e-13, atol=1e-16)
-    if tight is None:
-        raise SystemExit("the tight reference needs numbalsoda")
-    ref = tight()
     peaks = {k: f() for k, f in runs.items()}        # warm up (JIT, library), and the answers
     times = {k: [] for k in runs}
     names = list(runs)
     for r in range(rounds):
         for k in names[r % len(names):] + names[:r % len(names)]:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             runs[k]()
-            times[k].append((time.perf_counter() - t0) / points[k])
+            times[k].append((time.process_time() - t0) / points[k])
     base = float(np.median(times[names[0]]))
     w = max(map(len, names))
     print(f"sweep of {n} points, hammer.v0 in [1.5, 5.5] x oil.k in [1e8, 5e8], peak pressure; "
-          f"{CORES} cores, {rounds} interleaved rounds")
-    print(f"{'contender':<{w}} {'us/point':>9} {'vs default':>11} {'worst peak error':>17}")
+          f"{CORES} cores, {rounds} interleaved rounds, CPU time")
+    print(f"{'contender':<{w}} {'us/point':>9} {'vs default':>11} {'median peak error':>18} "
+          f"{'worst':>8}")
     for k in names:
         t = float(np.median(times[k]))
-        err = np.max(np.abs(peaks[k] - ref[:points[k]]) / ref[:points[k]])
-        print(f"{k:<{w}} {t * 1e6:9.1f} {t / base:10.2f}x {err:17.1e}")
+        e = np.abs(peaks[k] - ref[:points[k]]) / ref[:points[k]]
+        print(f"{k:<{w}} {t * 1e6:9.1f} {t / base:10.2f}x {np.median(e):18.1e} {e.max():8.1e}")
+    hand_name = next(k for k in names if k.startswith("hand-written"))
+    return bench_hand.check_targets([(f"{n}-point sweep: pdbfs.sweep / hand-written C in an "
+                                      f"{loop} loop", base / float(np.median(times[hand_name])),
+                                      1.2)])
 
 
 def main(argv=None):
@@ -193,4 +208,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

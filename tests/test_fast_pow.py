@@ -1,6 +1,6 @@
 """The generated C's pow (pdbfs.native.codegen.fast_pow, issue 23): a
-contact law's exponent 1.5 (and 0, 0.5, 1, 2) without libm's general pow,
-the same value to an ulp and the same special cases as pow, everything
+contact law's exponent 1.5 (and 0, 0.5, 1, 2, 3) without libm's general pow,
+the same value to an ulp (two for 3) and the same special cases as pow, everything
 else passed to pow; compiled with the backend's own compiler."""
 import ctypes
 import math
@@ -66,3 +66,15 @@ def test_within_an_ulp_of_pow(both, y):
     for x in xs:
         got, want = helper(float(x), y), libm(float(x), y)
         assert got == want or abs(got - want) <= math.ulp(want), (x, y, got, want)
+
+
+def test_a_cube_within_two_ulp_of_pow(both):
+    """x^3 as x*x*x: two roundings, both signs, wherever the cube is a normal number"""
+    helper, libm = both
+    rng = np.random.default_rng(4)
+    xs = 10.0 ** rng.uniform(-100, 100, 4000) * rng.choice([-1.0, 1.0], 4000)
+    worst = 0.0
+    for x in xs:
+        got, want = helper(float(x), 3.0), libm(float(x), 3.0)
+        worst = max(worst, abs(got - want) / math.ulp(want))
+    assert worst <= 2.0, worst

@@ -114,3 +114,48 @@ def test_a_ctrl_c_at_the_probes_first_line_is_kept_by_the_cli(monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         interrupt._handler(signal.SIGINT, sys._getframe())
     memory.interrupted()                       # nothing kept by a raise elsewhere
+
+
+def _minor_faults():
+    import resource
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
+def test_the_next_run_writes_into_the_record_the_run_before_released():
+    """A run's record (about 40 MB for 5 s of the paper rig: past glibc's mmap
+    threshold) goes back to the library when its Result goes, and the next
+    run of the rig records into it: it takes no fresh pages (each page of a
+    fresh mapping is a page fault), where a record freed at every run took
+    one per page."""
+    rig = paper_rig()
+    first = rig.simulate(5.0)
+    pages = 8 * 100 * first.stats["steps"] / 4096          # a step's record: 100+ doubles
+    assert pages > 8000, first.stats                        # past 32 MB
+    del first
+    faults = []
+    for _ in range(3):
+        before = _minor_faults()
+        res = rig.simulate(5.0)
+        assert res.summary()["peak_pressure"] > 0
+        del res
+        faults.append(_minor_faults() - before)
+    assert max(faults) < 0.1 * pages, (faults, pages)
+
+
+def test_the_records_kept_for_unread_states_are_bounded(monkeypatch):
+    """Results whose states were never read keep their runs' records, up to
+    KEPT_BYTES for a library: past it the oldest have their states made (the
+    numbers they would have made when read) and their records freed."""
+    from pdbfs.simulation import Simulator
+    from pdbfs.simulation.run import kept
+    rig = paper_rig()
+    one = rig.simulate()
+    lib = Simulator.of(rig).compiled()
+    monkeypatch.setattr(kept, "KEPT_BYTES", 2e6)
+    results = [rig.simulate() for _ in range(40)]           # ~0.2 MB each
+    unread = [r for r in (w() for w in lib.kept.runs) if r is not None and r._made is None]
+    size = max(r.nbytes for r in unread)
+    assert 2 <= len(unread) and sum(r.nbytes for r in unread) <= 2e6 + size
+    assert len(unread) < 20                                  # the others' states made
+    for r in results[:3] + results[-3:]:                     # made then, and made now
+        assert np.array_equal(r["oil.pressure"], one["oil.pressure"])

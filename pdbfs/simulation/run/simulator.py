@@ -365,12 +365,10 @@ class Simulator(RunInputs, OnGrid):
         return (X, fast, None) if summary else X
 
     def _kept_or_states(self, kept, grid):
-        """(None, a function making the states when first read) of a kept run
-        while its record is smaller than a few grids of states; else (the
-        states, made now: a long run's record is freed, None)."""
-        if kept.nbytes <= 4 * 8 * self.nx * grid.size:
-            return None, lambda: self._kept_states(kept, grid)
-        return self._kept_states(kept, grid), None
+        """(None, a function making the states when first read) of a kept
+        run, whatever the size of its record: a summary alone never makes
+        them (the library bounds the records it keeps, kept.py)."""
+        return None, lambda: self._kept_states(kept, grid)
 
     def _kept_states(self, kept, grid):
         """The states of a kept run on its grid (integrate_c), checked as a run's."""

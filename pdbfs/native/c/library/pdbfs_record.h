@@ -120,4 +120,11 @@ void pdbfs_summary_settings(PdbfsCvodeSettings *set, int method, int erk, double
 /* the history's arrays, freed (the History itself is the caller's) */
 void pdbfs_free_history(History *H);
 
+/* a new record (arrays NULL, H->rk set) starts with the memory of the record
+ * a run of this library released last, if any (pdbfs_record_pool.c) */
+void pdbfs_record_adopt(History *H);
+
+/* the record's arrays kept for the next run (not freed up to a size); NULL after */
+void pdbfs_record_release(History *H);
+
 #endif

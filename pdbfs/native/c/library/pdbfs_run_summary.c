@@ -42,7 +42,7 @@ static void keep_error(void *env, int kind, const char *text) {
 void pdbfs_kept_free(Kept *K) {
     if (!K) return;
     pdbfs_erk_free(&K->rk);
-    pdbfs_free_history(&K->H);
+    pdbfs_record_release(&K->H);     /* its memory for the next run */
     free(K->work);
     free(K->mem);
     free(K);
@@ -128,6 +128,7 @@ API int pdbfs_run_summary(const double *p, const double *x0, long long nt, const
     H->cv = &s;
     H->set = &refine;
     H->rk = erk ? &K->rk : NULL;    /* refinements on its dense output */
+    pdbfs_record_adopt(H);          /* the memory of the record a run before released */
 
     for (i = 0; i < PDBFS_NX; i++) x[i] = x0[i];
     for (i = PDBFS_NX; i < NXQ; i++) x[i] = 0.0;

@@ -282,6 +282,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     H.cv = &s;
     H.set = erk ? &refine : &set;
     H.rk = erk ? &rk : NULL;    /* refinements on its dense output */
+    pdbfs_record_adopt(&H);     /* the memory of the record a run before released */
     for (i = 0; i < NXQ; i++) atolv[i] = i < PDBFS_NX ? atol : 1e300;   /* impulses: no error test */
     pdbfs_summary_settings(&set, method, erk, rtol, atolv, max_step, t_end);
     /* after an 8th-order pass, the refinements' CVODE (Adams, a cold start
@@ -366,7 +367,7 @@ API long long pdbfs_summary_batch(long long n, long long np, const double *P, do
     }
     pdbfs_cvode_free(&s);
     pdbfs_erk_free(&rk);
-    pdbfs_free_history(&H);
+    pdbfs_record_release(&H);
     free(atolv);
     free(work);
     return failed;
