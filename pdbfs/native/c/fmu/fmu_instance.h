@@ -91,6 +91,14 @@ typedef enum {
 
 #define SNAP_MAGIC 0x70646266u /* "pdbf" */
 
+/* why co-simulation restarts its solver (Inst.need_restart): afresh (a new
+ * run, a state set, a failure), or because an input or a tunable parameter
+ * changed between steps, a jump of the right-hand side in a smooth solution
+ * (cosimulation.c: the explicit method keeps its step size across it, and
+ * auto's switching takes the explicit method there, as at an event) */
+#define RESTART_FRESH 1
+#define RESTART_CHANGED 2
+
 /* Everything that is the FMU state: plain data, copied by GetFMUstate and
  * serialised byte for byte. */
 typedef struct {
@@ -142,7 +150,7 @@ struct Inst {
     PdbfsErk rk;             /* the explicit Runge-Kutta method (rk.y: allocated) */
     double atol[NX + 1];     /* absolute tolerances (the explicit method keeps a pointer) */
     double t_break;          /* the explicit method stops and restarts here (a time event) */
-    int need_restart;        /* restart the solver from (time, x) before integrating */
+    int need_restart;        /* restart the solver from (time, x) before integrating: RESTART_* */
     /* solver.method auto in co-simulation: switching between the explicit
      * method and BDF as the run goes (stiffness.c, cosimulation.c) */
     int switching;           /* on: auto chose one of the two */

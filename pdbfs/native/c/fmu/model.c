@@ -77,7 +77,7 @@ void model_defaults(Inst *m) {
     for (i = 0; i < NX; i++) m->s.x[i] = 0.0;
     m->s.mode = ST_INSTANTIATED;
     m->derived_ok = 0;
-    m->need_restart = 1;
+    m->need_restart = RESTART_FRESH;
     m->ev.p = m->s.p;
     m->ev.arg = m->arg;
     m->ev.res = m->res;

@@ -78,7 +78,7 @@ int snapshot_set(Inst *m, const char *fn, const void *state) {
     if (check_snapshot(m, s, fn) != FMU_OK) return FMU_ERROR;
     memcpy(&m->s, s, sizeof(Snapshot));
     m->derived_ok = 0;
-    m->need_restart = 1;
+    m->need_restart = RESTART_FRESH;
     return FMU_OK;
 }
 

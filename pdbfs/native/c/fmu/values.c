@@ -79,7 +79,7 @@ int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t
         changed |= input_set(m, k, values_input(m, k), v[i]);
     }
     m->derived_ok = 0;
-    if (changed && m->s.mode == ST_STEPDONE) m->need_restart = 1;   /* the right-hand side changed */
+    if (changed && m->s.mode == ST_STEPDONE && !m->need_restart) m->need_restart = RESTART_CHANGED;
     return FMU_OK;
 }
 
@@ -285,7 +285,7 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
         }
     }
     m->derived_ok = 0;
-    if (changed && !before_init) m->need_restart = 1; /* restart: the right-hand side changed */
+    if (changed && !before_init && !m->need_restart) m->need_restart = RESTART_CHANGED;
     return FMU_OK;
 }
 
