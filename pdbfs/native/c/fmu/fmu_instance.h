@@ -122,6 +122,8 @@ typedef struct {
     double t_stop;
     double x[NX + 1];
     int x_fixed;             /* x holds the state (else x0(p) on demand) */
+    double slope_time[NU + 1]; /* when each input's slope was last given (-INFINITY: never): a value
+                              * set at that same time keeps it (values.c) */
 } Snapshot;
 
 typedef struct Inst Inst;

@@ -75,6 +75,7 @@ void model_defaults(Inst *m) {
     m->s.time = 0.0;
     m->s.x_fixed = 0;
     for (i = 0; i < NX; i++) m->s.x[i] = 0.0;
+    for (i = 0; i < NU; i++) m->s.slope_time[i] = -INFINITY;
     m->s.mode = ST_INSTANTIATED;
     m->derived_ok = 0;
     m->need_restart = RESTART_FRESH;

@@ -4,8 +4,9 @@
  * only to values that keep the components' conditions), the solver
  * settings, calculated parameters, states, derivatives, outputs, and the
  * inputs (held from the time they are set, or running linearly from there
- * with the slope FMI 2.0's fmi2SetRealInputDerivatives gives).  A call
- * that is refused changes nothing. */
+ * with the slope FMI 2.0's fmi2SetRealInputDerivatives gives, in either
+ * order at one communication point; setting an input to the value it has
+ * changes nothing).  A call that is refused changes nothing. */
 #include <math.h>
 #include <stdio.h>
 
@@ -59,6 +60,22 @@ static int input_set(Inst *m, int k, double value, double slope) {
 #endif
 }
 
+/* input k set to ``value`` now: the value it has changes nothing (a line
+ * stays a line); another value keeps a slope given at this same time (a
+ * master may give slope and value in either order), else the input is held
+ * from now (a slope given at an earlier communication point belonged to the
+ * value of then). 1 if that changes it */
+static int input_value(Inst *m, int k, double value) {
+    double slope;
+    if (value == values_input(m, k)) return 0;
+#if PDBFS_NU > 0
+    slope = m->s.slope_time[k] == m->s.time ? m->s.p[PDBFS_P_DU0 + k] : 0.0;
+#else
+    slope = 0.0;
+#endif
+    return input_set(m, k, value, slope);
+}
+
 int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[],
                             const double v[]) {
     size_t i;
@@ -77,6 +94,7 @@ int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t
     for (i = 0; i < n; i++) {
         int k = (int)(vr[i] - PDBFS_VR_U);
         changed |= input_set(m, k, values_input(m, k), v[i]);
+        m->s.slope_time[k] = m->s.time;
     }
     m->derived_ok = 0;
     if (changed && m->s.mode == ST_STEPDONE && !m->need_restart) m->need_restart = RESTART_CHANGED;
@@ -272,8 +290,8 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
     inputs_from_now(m);
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
-        if (IS_INPUT(r)) {   /* held from now (a slope given later makes it a line) */
-            if (input_set(m, (int)(r - PDBFS_VR_U), v[i], 0.0)) changed = 1;
+        if (IS_INPUT(r)) {
+            if (input_value(m, (int)(r - PDBFS_VR_U), v[i])) changed = 1;
         } else if (r >= PDBFS_VR_P && r < VR_P_END) {
             if (m->s.p[r - PDBFS_VR_P] != v[i]) changed = 1;
             m->s.p[r - PDBFS_VR_P] = v[i];
