@@ -230,20 +230,16 @@ class Rig(Component):
                       platforms=platforms, author=author, license=license, copyright=copyright,
                       **{k: v for k, v in (("stop_time", stop_time), ("step_size", step_size))
                          if v is not None})
-        from pathlib import Path
-
-        from pdbfs.errors import ExportError
-        from pdbfs.fmu import check_fmi_version, check_fmu_name, check_rights, export_fmu
+        from pdbfs.fmu import check_experiment, check_fmi_version, check_fmu_name, check_rights, export_fmu
         check_fmi_version(kwargs.get("fmi_version", 2))   # before the rig is compiled
-        check_rights(**{k: kwargs.get(k) for k in ("author", "license", "copyright")})
-        if Path(path).is_dir():
-            raise ExportError(f"{path}: is a folder; name the FMU file to write")
-        check_fmu_name(path)
-        dae = self.compile()
-        t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
+        t_end = getattr(self, "default_t_end", 0.02)      # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)
-        kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))
-        return export_fmu(dae, path, **kwargs)
+        if isinstance(kwargs["stop_time"], (int, float)):   # (else refused just below)
+            kwargs.setdefault("step_size", kwargs["stop_time"] / (int(getattr(self, "default_n_out", 2001)) - 1))
+        check_experiment(kwargs["stop_time"], kwargs.get("step_size"), tolerance)
+        check_rights(**{k: kwargs.get(k) for k in ("author", "license", "copyright")})
+        check_fmu_name(path)
+        return export_fmu(self.compile(), path, **kwargs)
 
     def parameters(self) -> list[ParamInfo]:
         """The rig's free parameters (ParamInfo: name, value, unit, description), in the DAE's order."""
