@@ -84,8 +84,15 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          "static const char *const PDBFS_U_NAME[PDBFS_NU + 1] = {"
          + pad(d.input_names, _c_string, "0") + "};",
          "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
+         # each exposed y's row among the outputs' time derivatives (pdbfs_yder), -1: not an output
+         f"#define PDBFS_NYO {len(model.y_outputs)}",
+         "static const int PDBFS_YO_ROW[PDBFS_NYV + 1] = {"
+         + pad([model.y_outputs.index(i) if i in model.y_outputs else -1 for i in model.y_exposed], str, "0")
+         + "};",
          "static const char *const PDBFS_Y_NAME[PDBFS_NYV + 1] = {"
          + pad([d.y_names[i] for i in model.y_exposed], _c_string, "0") + "};",
+         "static const char PDBFS_X_OUTPUT[PDBFS_NX + 1] = {"    # a state that is an output
+         + pad(model.state_is_output, lambda b: str(int(b)), "0") + "};",
          "static const char *const PDBFS_X_NAME[PDBFS_NX + 1] = {" + pad(d.x_names, _c_string, "0") + "};",
          "static const double PDBFS_X_NOMINAL[PDBFS_NX + 1] = {"
          + pad(model.x_nominal, _c_double, "0") + "};",

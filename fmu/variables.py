@@ -22,7 +22,7 @@ from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
 from pdbfs.native.tolerances import RTOL_MAX, RTOL_MIN
 
 from . import units as _units
-from .derivatives import derivative_functions
+from .derivatives import derivative_functions, output_derivative_function
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
 #: solver.method's items (name, value, description): the pdbfs.SolverMethod type of
@@ -173,6 +173,8 @@ class FmuModel:
                 self.y_exposed.append(i)
                 seen.add(vi.name)
         self.nyv = len(self.y_exposed)
+        #: the exposed entries of y that are outputs (their time derivatives: pdbfs_yder)
+        self.y_outputs = [i for i in self.y_exposed if dae.y_info[i].output]
         self.state_is_output = [False] * nx
         for i, k in self.y_alias_state.items():
             if dae.y_info[i].output:
@@ -204,7 +206,7 @@ class FmuModel:
     def functions(self) -> list[ca.Function]:
         """The CasADi functions the FMU's C code is generated from: the model's and its derivatives'."""
         return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr) + \
-            derivative_functions(self.dae, self.y_exposed)
+            derivative_functions(self.dae, self.y_exposed) + [output_derivative_function(self.dae, self.y_outputs)]
 
     # -- variables --------------------------------------------------------------
     def _build_variables(self) -> None:

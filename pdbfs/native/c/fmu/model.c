@@ -32,6 +32,7 @@ static const char *mode_name(int mode) {
     case ST_STEPDONE: return "step complete";
     case ST_TERMINATED: return "terminated";
     case ST_ERROR: return "error";
+    case ST_INTERMEDIATE: return "intermediate update";
     default: return "unknown";
     }
 }

@@ -132,6 +132,11 @@ static void calculated_name(char *buf, size_t size, unsigned r) {
     else snprintf(buf, size, "the variable of value reference %u", r);
 }
 
+int values_intermediate(unsigned r) {
+    if (r >= PDBFS_VR_X && r < VR_X_END) return PDBFS_X_OUTPUT[r - PDBFS_VR_X];
+    return r >= PDBFS_VR_Y && r < VR_Y_END && PDBFS_YO_ROW[r - PDBFS_VR_Y] >= 0;
+}
+
 /* May ``vr`` be read now? The FMI state tables allow no reading in
  * Instantiated (FMI 2.0), or there only the start values that
  * modelDescription.xml declares (FMI 3.0, ``starts``): everything else is
@@ -140,8 +145,16 @@ static void calculated_name(char *buf, size_t size, unsigned r) {
 int values_check_get(Inst *m, const char *fn, const unsigned vr[], size_t n, int starts) {
     size_t i;
     char name[160];
-    if (fmu_check(m, fn, starts ? ST_ANY : ST_ANY & ~ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
+    if (fmu_check(m, fn, starts ? ST_ANY | ST_INTERMEDIATE : ST_ANY & ~ST_INSTANTIATED, -1) != FMU_OK)
+        return FMU_ERROR;
     if (n > 0 && !vr) return ERR(m, "%s: NULL argument", fn);
+    if (m->s.mode == ST_INTERMEDIATE) {   /* inside fmi3DoStep: the outputs only */
+        for (i = 0; i < n; i++)
+            if (!values_intermediate(vr[i]))
+                return ERR(m, "%s: value reference %u is not an output: in an intermediate update only the "
+                           "outputs (intermediateUpdate=\"true\") are read", fn, vr[i]);
+        return FMU_OK;
+    }
     if (m->s.mode != ST_INSTANTIATED) return FMU_OK;
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
