@@ -93,7 +93,7 @@ static int bdf_watch(void *env, double t, const double *x) {
 static int intermediate_update(Inst *m, double t, const double *x, double step_from) {
     double saved_time = m->s.time, saved_x[NX + 1], when = t, lo;
     int ask;
-    if (!(t > m->t_seen && t < m->t_end)) return 0;
+    if (!(t > m->t_seen && t < (m->early ? m->t_early : m->t_end))) return 0;   /* (none past the return) */
     memcpy(saved_x, m->s.x, sizeof(double) * NX);
     m->s.time = t;
     memcpy(m->s.x, x, sizeof(double) * NX);
@@ -112,15 +112,17 @@ static int intermediate_update(Inst *m, double t, const double *x, double step_f
     return 1;
 }
 
-/* after each of CVODE's steps: the intermediate update, auto's watch of BDF */
+/* after each of CVODE's steps: auto's watch of BDF (every step, so that an
+ * early return changes no switch), the intermediate update */
 static int cvode_step(void *env, double t, const double *x) {
     Inst *m = (Inst *)env;
     double hu = 0.0;
+    int watched = m->watch_bdf ? bdf_watch(env, t, x) : 0;
     if (m->host.intermediate) {
         CVodeGetLastStep(m->solver.cv, &hu);
         if (intermediate_update(m, t, x, m->solver.tn - hu)) return PDBFS_STEP_PAUSE;
     }
-    return m->watch_bdf ? bdf_watch(env, t, x) : 0;
+    return watched;
 }
 
 /* after each of the explicit method's steps (its dense output made) */
