@@ -83,6 +83,13 @@ def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], ex
          + pad([p.name for p in d.params], _c_string, "0") + "};",
          "static const char *const PDBFS_U_NAME[PDBFS_NU + 1] = {"
          + pad(d.input_names, _c_string, "0") + "};",
+         # the range where the signals an input drives do not clamp it (a valve's stops), and those signals
+         "static const double PDBFS_U_MIN[PDBFS_NU + 1] = {"
+         + pad([-math.inf if lo is None else lo for lo, _, _, _ in model.input_spans], _c_double, "0") + "};",
+         "static const double PDBFS_U_MAX[PDBFS_NU + 1] = {"
+         + pad([math.inf if hi is None else hi for _, hi, _, _ in model.input_spans], _c_double, "0") + "};",
+         "static const char *const PDBFS_U_CLAMP[PDBFS_NU + 1] = {"
+         + pad([" and ".join(by) for *_, by in model.input_spans], _c_string, "0") + "};",
          "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
          # each exposed y's row among the outputs' time derivatives (pdbfs_yder), -1: not an output
          f"#define PDBFS_NYO {len(model.y_outputs)}",

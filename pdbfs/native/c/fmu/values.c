@@ -261,9 +261,20 @@ static int check_tunable_change(Inst *m, const char *fn, const unsigned vr[], si
                "parameters keep their values", fn, what, m->s.time);
 }
 
+/* an input set outside the range where the signals it drives take it as it
+ * is: said in the log (a warning), the value kept (the model clamps it) */
+static int clamped_warning(Inst *m, const char *fn, int k, double v) {
+    if (v >= PDBFS_U_MIN[k] && v <= PDBFS_U_MAX[k]) return FMU_OK;
+    fmu_log(m, FMU_WARNING, "logStatusWarning", "%s: input %s = %g at t=%.17g is %s %g: %s clamps it there, so it "
+            "acts as %g", fn, PDBFS_U_NAME[k], v, m->s.time, v < PDBFS_U_MIN[k] ? "below its min" : "above its max",
+            v < PDBFS_U_MIN[k] ? PDBFS_U_MIN[k] : PDBFS_U_MAX[k], PDBFS_U_CLAMP[k],
+            v < PDBFS_U_MIN[k] ? PDBFS_U_MIN[k] : PDBFS_U_MAX[k]);
+    return FMU_WARNING;
+}
+
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
     size_t i;
-    int before_init, tunable_ok, changed = 0, params = 0;
+    int before_init, tunable_ok, changed = 0, params = 0, status = FMU_OK;
     if (fmu_check(m, fn, ST_SET_REAL, -1) != FMU_OK) return FMU_ERROR;
     if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
     before_init = (m->s.mode & (ST_INSTANTIATED | ST_INIT)) != 0;
@@ -304,7 +315,10 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
         if (IS_INPUT(r)) {
-            if (input_value(m, (int)(r - PDBFS_VR_U), v[i])) changed = 1;
+            if (input_value(m, (int)(r - PDBFS_VR_U), v[i])) {
+                changed = 1;
+                if (clamped_warning(m, fn, (int)(r - PDBFS_VR_U), v[i]) != FMU_OK) status = FMU_WARNING;
+            }
         } else if (r >= PDBFS_VR_P && r < VR_P_END) {
             if (m->s.p[r - PDBFS_VR_P] != v[i]) changed = 1;
             m->s.p[r - PDBFS_VR_P] = v[i];
@@ -317,7 +331,7 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
     }
     m->derived_ok = 0;
     if (changed && !before_init && !m->need_restart) m->need_restart = RESTART_CHANGED;
-    return FMU_OK;
+    return status;
 }
 
 /* solver.method and solver.max_num_steps, one at a time (the wrapper loops:
