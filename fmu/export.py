@@ -158,23 +158,60 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0 (the same
     wrapper design, model code and co-simulation loop).
 
-    ``platforms``: the binaries to build (FMI 3.0 platform tuples such as
-    ``"x86_64-windows"``, the aliases ``"linux64"``/``"win64"``, or ``"all"``;
-    a list or a comma-separated string); default: the host's platform
-    (``platforms.default_platforms()``). ``model_identifier`` defaults
-    to the DAE's name made a C identifier. ``stop_time``, ``step_size`` and
-    ``tolerance`` go to DefaultExperiment (the tolerance is also the default
-    of ``solver.rtol``). ``author``, ``license`` and ``copyright`` go to
-    modelDescription.xml as given (the FMU is its user's model); by default
-    no author, and pdbfs's BSD-3-Clause licence and copyright; pdbfs's C
-    wrapper's and the embedded SUNDIALS CVODES's BSD-3-Clause terms and
-    holders are kept after a value given (fmu/rights.py), their texts in
-    ``documentation/licenses/`` (``license.txt`` says what is whose). Raises
-    ExportError (PlatformError for an unknown platform) before any work is
-    done, and for a DAE with algebraic variables or one that differentiates
-    an input; nothing is left at ``path`` on failure. Each input of the rig
-    (``dae.inputs``) is an FMU input (held over a co-simulation step, or on
-    the line FMI 2.0's ``fmi2SetRealInputDerivatives`` gives).
+    Parameters
+    ----------
+    dae : DAE
+        The compiled rig (``rig.compile()``); a pure ODE.
+    path : str or os.PathLike
+        The FMU file to write (``.fmu``); written whole or not at all.
+    model_identifier : str, optional
+        The C identifier of the binary (default: the DAE's name made one).
+    stop_time, step_size : float
+        DefaultExperiment's stop time and communication step, s: a finite
+        stop time > 0, a step in (0, stop_time].
+    tolerance : float
+        DefaultExperiment's relative tolerance, also ``solver.rtol``'s
+        default, in [1e-15, 0.1].
+    keep_build_dir : str or os.PathLike, optional
+        A folder to copy the generated C and the build into.
+    cflags : list of str, optional
+        Extra flags for the C compiler.
+    fmi_version : {2, 3}
+        FMI 2.0 or 3.0.
+    platforms : str or list of str, optional
+        The binaries to build: FMI 3.0 platform tuples such as
+        ``"x86_64-windows"``, the aliases ``"linux64"``/``"win64"``, or
+        ``"all"``, as a list or a comma-separated string; default: the
+        host's (``platforms.default_platforms()``).
+    author, license, copyright : str, optional
+        Written to modelDescription.xml as given (the FMU is its user's
+        model); by default no author, and pdbfs's BSD-3-Clause licence and
+        copyright. pdbfs's C wrapper's and the embedded SUNDIALS CVODES's
+        BSD-3-Clause terms and holders are kept after a value given, their
+        texts in ``documentation/licenses/``.
+
+    Returns
+    -------
+    pathlib.Path
+        The FMU written.
+
+    Raises
+    ------
+    ExportError
+        One line, before any work, for a bad argument (PlatformError for an
+        unknown platform); also for a DAE with algebraic variables or one
+        that differentiates an input, and for a failed build. Nothing is
+        left at ``path`` on failure, and no build folder in any case (Ctrl-C
+        included).
+
+    Notes
+    -----
+    Each input of the rig (``dae.inputs``) is an FMU input, held over a
+    co-simulation step or on the line FMI 2.0's
+    ``fmi2SetRealInputDerivatives`` gives, with the ``min``, ``max`` and
+    ``nominal`` of the signals it drives. Co-simulation gives the outputs'
+    first and second time derivatives, and (FMI 3.0) intermediate updates
+    and early return.
     """
     fmi_version = check_fmi_version(fmi_version)
     stop_time, step_size, tolerance = check_experiment(stop_time, step_size, tolerance)

@@ -105,18 +105,39 @@ class _Member:
 def cosimulate(ssp: str | os.PathLike, step: float, t_end: float | None = None, *,
                outputs: list[str] | None = None, interpolate: bool = False,
                tolerance: float | None = None) -> CoSimulation:
-    """Co-simulate the system of the SSP file ``ssp`` from its default start
-    to ``t_end`` (default: its default stop time) at the communication step
-    ``step`` (s), recording ``outputs`` (``"element.variable"``; default:
-    every connected output) at every communication point. ``interpolate``:
-    inputs of FMI 2.0 FMUs that can interpolate run on a line instead of
-    being held, its slope the feeding output's derivative at the
-    communication point where its FMU gives it, else that output's slope
-    over the step before.
-    ``tolerance``: the FMUs' relative tolerance (default: their own).
+    """Co-simulate the system of the SSP file ``ssp`` at a fixed communication step.
 
-    Raises ExportError for a bad system or argument, SolverError where an
-    FMU refuses a call (its log says why).
+    Parameters
+    ----------
+    ssp : str or os.PathLike
+        The SSP file (``export_ssp``).
+    step : float
+        The communication step, s (> 0, dividing the run into whole steps).
+    t_end : float, optional
+        The end, s (default: the SSP file's default stop time); the run
+        starts at its default start.
+    outputs : list of str, optional
+        The variables recorded at every communication point
+        (``"element.variable"``; default: every connected output).
+    interpolate : bool
+        Inputs of FMI 2.0 FMUs that can interpolate run on a line instead
+        of being held, its slope the feeding output's derivative at the
+        communication point where its FMU gives it, else that output's
+        slope over the step before.
+    tolerance : float, optional
+        The FMUs' relative tolerance (default: their own).
+
+    Returns
+    -------
+    CoSimulation
+        The communication points and the recorded variables there.
+
+    Raises
+    ------
+    ExportError
+        A bad system or argument.
+    SolverError
+        Where an FMU refuses a call (its log says why).
     """
     comps, conns, exp = read_ssp(ssp)
     t0 = float(exp.get("startTime", 0.0))

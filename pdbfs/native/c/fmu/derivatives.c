@@ -39,6 +39,7 @@ static int unknown_slot(Inst *m, const char *fn, unsigned r) {
     return -1;
 }
 
+/* f(t, x, z, p[, seed]) at the current time and state into out */
 static int eval(Inst *m, pdbfs_casadi_fn f, const double *seed, double *out) {
     double t = m->s.time;
     m->arg[0] = &t;
@@ -124,15 +125,7 @@ int deriv_outputs(Inst *m, const char *fn, const unsigned vr[], size_t n, const 
             st = ERR(m, "%s: order %d: the first and second derivatives are given "
                      "(maxOutputDerivativeOrder=2)", fn, order[i]);
     }
-    if (st == FMU_OK) {
-        double t = m->s.time;
-        m->arg[0] = &t;
-        m->arg[1] = model_x(m);
-        m->arg[2] = NULL;
-        m->arg[3] = m->s.p;
-        m->res[0] = d;
-        if (pdbfs_yder(m->arg, m->res, m->iw, m->w, 0)) st = ERR(m, "%s: evaluation failed", fn);
-    }
+    if (st == FMU_OK && eval(m, pdbfs_yder, NULL, d)) st = ERR(m, "%s: evaluation failed", fn);
     for (i = 0; i < n && st == FMU_OK; i++) {
         v[i] = d[(order[i] - 1) * NQO + rows[i]];
         if (!isfinite(v[i]))
