@@ -194,10 +194,11 @@ class Rig(Component):
             The C identifier of the FMU's binary (default: the rig's name).
         stop_time, step_size : float, optional
             The DefaultExperiment, s (default: the rig's own experiment,
-            ``default_t_end`` and ``default_n_out``, else 0.02 s in 2000 steps).
+            ``default_t_end`` and ``default_n_out``, else 0.02 s in 2000
+            steps): a finite stop time > 0, a step in (0, stop_time].
         tolerance : float
             The DefaultExperiment's relative tolerance, also the default of
-            the FMU's ``solver.rtol``.
+            the FMU's ``solver.rtol``, in [1e-15, 0.1].
         keep_build_dir : str or os.PathLike, optional
             A folder to keep the generated C sources and build files in.
         cflags : list of str, optional
