@@ -21,7 +21,8 @@ validated by fmpy, simulated by any importer.
     documentation.py documentation/index.html
     rights.py       version, author, license and copyright (default: pdbfs's BSD-3-Clause;
                     the user's kept before pdbfs's and CVODES's), documentation/licenses/
-    export.py       pdbfs_model.h, compile, zip
+    header.py       pdbfs_model.h: sizes, value references, the parameter table
+    export.py       the export: checks, C sources, compile, zip
     ssp.py          a system of FMUs connected output to input as an SSP 1.0 file (export_ssp)
     master.py       a co-simulation master on FMPy that runs such a system (cosimulate):
                     inputs held over a step, or interpolated (FMI 2.0)
@@ -35,10 +36,10 @@ backend (pdbfs_cvode.c, pdbfs_erk.c).
 May import: pdbfs.errors, pdbfs.modelling (the DAE), pdbfs.native (C code
 generation, CVODE). Never the simulation or the studies.
 """
-from .export import check_fmi_version, check_fmu_name, export_fmu
+from .export import check_experiment, check_fmi_version, check_fmu_name, export_fmu
 from .master import CoSimulation, cosimulate
 from .rights import check_rights
 from .ssp import export_ssp, read_interface, read_ssp
 
-__all__ = ["check_fmi_version", "check_fmu_name", "check_rights", "export_fmu", "export_ssp",
+__all__ = ["check_experiment", "check_fmi_version", "check_fmu_name", "check_rights", "export_fmu", "export_ssp",
            "cosimulate", "CoSimulation", "read_interface", "read_ssp"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 from xml.sax.saxutils import quoteattr
 
 from . import units as _units
+from .derivatives import OUTPUT_DERIVATIVE_ORDER
 from .variables import SOLVER_METHODS, FmuModel
 
 
@@ -99,7 +100,8 @@ def model_description(model: FmuModel, guid: str, source_files: list[str] | tupl
                      'providesDirectionalDerivative="true"', source_files),
          *_interface("CoSimulation", f'modelIdentifier="{model.ident}" '
                      'canHandleVariableCommunicationStepSize="true" '
-                     f'canInterpolateInputs="{str(model.nu > 0).lower()}" maxOutputDerivativeOrder="0" '
+                     f'canInterpolateInputs="{str(model.nu > 0).lower()}" '
+                     f'maxOutputDerivativeOrder="{OUTPUT_DERIVATIVE_ORDER}" '
                      'canRunAsynchronuously="false" '
                      'canGetAndSetFMUstate="true" canSerializeFMUstate="true" '
                      'canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false" '

@@ -11,6 +11,7 @@ import casadi as ca
 
 from pdbfs.errors import ExportError
 
+from .derivatives import OUTPUT_DERIVATIVE_ORDER
 from .description import LOG_CATEGORIES, _x, model_text, type_attrs, unit_lines
 from .variables import SOLVER_METHODS, FmuModel, _deps
 
@@ -52,6 +53,8 @@ def _variable(v, vr_of_index) -> str:
          f'causality="{v.causality}"', f'variability="{v.variability}"']
     if v.initial:
         a.append(f'initial="{v.initial}"')
+    if v.causality == "output":   # read in the importer's intermediate updates inside fmi3DoStep
+        a.append('intermediateUpdate="true"')
     a += type_attrs(v)
     if v.derivative is not None:
         a.append(f'derivative="{vr_of_index(v.derivative)}"')
@@ -76,8 +79,9 @@ def model_description3(model: FmuModel, token: str) -> str:
          '  variableNamingConvention="structured">',
          f'  <ModelExchange modelIdentifier="{model.ident}" {caps} needsCompletedIntegratorStep="false"/>',
          f'  <CoSimulation modelIdentifier="{model.ident}" {caps} canHandleVariableCommunicationStepSize="true" '
-         'maxOutputDerivativeOrder="0" hasEventMode="false" providesIntermediateUpdate="false" '
-         'mightReturnEarlyFromDoStep="false"/>',
+         f'maxOutputDerivativeOrder="{OUTPUT_DERIVATIVE_ORDER}" hasEventMode="false" '
+         'providesIntermediateUpdate="true" mightReturnEarlyFromDoStep="false" '
+         'canReturnEarlyAfterIntermediateUpdate="true"/>',
          '  <UnitDefinitions>', *unit_lines(model), '  </UnitDefinitions>',
          '  <TypeDefinitions>',
          '    <EnumerationType name="pdbfs.SolverMethod" description="Co-Simulation integration method">',

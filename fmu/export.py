@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import hashlib
 import math
+import numbers
 import os
 import re
 import shutil
 import sys
-import tempfile
+import threading
 from concurrent.futures import ThreadPoolExecutor
 import uuid
 import warnings
@@ -29,23 +30,22 @@ from pathlib import Path
 import casadi as ca
 
 from pdbfs.errors import ExportError
-from pdbfs.files import whole
+from pdbfs.files import scratch_folder, whole
 from pdbfs.modelling import DAE
 from pdbfs.native.codegen import (CVODE_DRIVER, ERK_DRIVER, ERK_SIZE_HEADER, FMU_C, FUNCS, STRAIGHT,
-                                  check_compiler_memory, erk_size_header, generate,
-                                  sizes_header_lines, usual_values)
-from pdbfs.native.stiffness import c_defines, ode_instructions
+                                  check_compiler_memory, erk_size_header, generate, usual_values)
 from pdbfs.native.sundials import SundialsNotFound, find_sundials_sources
 
 from . import description3
 from .description import model_description
 from .documentation import index_html
+from .header import model_header
 from .platforms import PLATFORMS, build_binary, platform_sundials, resolve_platforms, universal_macho
 from .rights import (LICENSE_ENTRY, LICENSE_IN_FMU, PDBFS_LICENSE_IN_FMU, check_rights, license_txt,
                      pdbfs_license_text, rights_attrs)
 from .sources import LICENSE, SRC_DIR, add_sundials, readme_txt
 from .symbols import make_private
-from .variables import DEFAULT_MAX_NUM_STEPS, RTOL_MAX, RTOL_MIN, FmuModel
+from .variables import RTOL_MAX, RTOL_MIN, FmuModel
 
 C_DIR = FMU_C
 #: the FMI versions pdbfs writes
@@ -104,14 +104,43 @@ def check_fmi_version(fmi_version: int) -> int:
     return int(fmi_version)
 
 
-def _c_double(v: float) -> str:
-    if math.isinf(v):
-        return "INFINITY" if v > 0 else "(-INFINITY)"
-    return repr(float(v))
+def check_experiment(stop_time: float, step_size: float, tolerance: float) -> tuple[float, float, float]:
+    """DefaultExperiment's stop time and step size (s) and its tolerance
+    checked before any work: a finite stop time after the start (0 s), a
+    step in (0, stop time], a tolerance solver.rtol accepts ([1e-15, 0.1]).
 
+    Parameters
+    ----------
+    stop_time, step_size : float
+        s.
+    tolerance : float
+        Relative tolerance, 1.
 
-def _c_string(s: str) -> str:
-    return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    Returns
+    -------
+    tuple of float
+        (stop_time, step_size, tolerance).
+
+    Raises
+    ------
+    ExportError
+        One line naming the first value that is wrong.
+    """
+    def number(name: str, v) -> float:
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+            raise ExportError(f"{name} = {v!r}: give a finite number")
+        return float(v)
+    stop, step, tol = number("stop_time", stop_time), number("step_size", step_size), \
+        number("tolerance", tolerance)
+    if not stop > 0:
+        raise ExportError(f"stop_time = {stop!r} s: the default experiment ends after its start (0 s)")
+    if not 0 < step <= stop:
+        raise ExportError(f"step_size = {step!r} s: the default communication step is > 0 and at most "
+                          f"the stop time ({stop!r} s)")
+    if not RTOL_MIN <= tol <= RTOL_MAX:
+        raise ExportError(f"tolerance = {tol!r}: a relative tolerance in [{RTOL_MIN:g}, {RTOL_MAX:g}] "
+                          "(it is also solver.rtol's default)")
+    return stop, step, tol
 
 
 def _identifier(name: str) -> str:
@@ -119,78 +148,6 @@ def _identifier(name: str) -> str:
     if not ident or ident[0].isdigit():
         ident = "m_" + ident
     return ident
-
-
-def _reduced_lines(d) -> list[str]:
-    """The states index reduction made algebraic whose start is declared
-    (pdbfs_reduced gives the declared starts): where each is in y, its name
-    and unit, and the constraint that computes them, for the check at
-    initialisation (model.c, as pdbfs.modelling.reduced_start)."""
-    rs = getattr(d, "reduced_starts", None) or []
-    by = "; ".join(getattr(d, "reduced_by", None) or []) or "a constraint"
-    strings = lambda seq: ", ".join([_c_string(s) for s in seq] + ['""'])  # noqa: E731
-    return [f"#define PDBFS_NRS {len(rs)}",
-            "static const int PDBFS_RS_Y[PDBFS_NRS + 1] = {"
-            + ", ".join([str(d.y_names.index(n)) for n, _, _ in rs] + ["0"]) + "};",
-            f"static const char *const PDBFS_RS_NAME[PDBFS_NRS + 1] = {{{strings(n for n, _, _ in rs)}}};",
-            f"static const char *const PDBFS_RS_UNIT[PDBFS_NRS + 1] = {{{strings(u for _, u, _ in rs)}}};",
-            f"#define PDBFS_RS_BY {_c_string(by)}"]
-
-
-def model_header(model: FmuModel, guid: str, work: tuple[int, int, int, int], extra: tuple[str, ...] = ()) -> str:
-    """pdbfs_model.h: sizes, value references and the parameter table for the C files."""
-    d = model.dae
-    pad = lambda seq, fmt, empty: ", ".join(fmt(v) for v in seq) if seq else empty  # noqa: E731
-    L = [f"/* generated by pdbfs.fmu for rig '{d.name}': sizes, value references, parameters */",
-         "#ifndef PDBFS_MODEL_H", "#define PDBFS_MODEL_H", "#include <math.h>",
-         f"#define PDBFS_MODEL_IDENTIFIER {_c_string(model.ident)}",
-         f'#define PDBFS_GUID "{guid}"',
-         f"#define PDBFS_NX {model.nx}", f"#define PDBFS_NP {model.np}", f"#define PDBFS_NC {model.nc}",
-         f"#define PDBFS_NPAR {model.npar}", f"#define PDBFS_NU {model.nu}",
-         # input k is p[U0 + k] + p[DU0 + k] * (t - p[TREF]) (rig_inputs.py)
-         f"#define PDBFS_P_U0 {model.u_rows[0]}", f"#define PDBFS_P_DU0 {model.u_rows[1]}",
-         f"#define PDBFS_P_TREF {model.u_rows[2]}", f"#define PDBFS_VR_U {model.vr_u}",
-         f"#define PDBFS_NY {model.ny}", f"#define PDBFS_NYV {model.nyv}", f"#define PDBFS_NE {model.ne}",
-         f"#define PDBFS_NTE {d.time_events.numel()}",   # the first NTE events: t - t_i
-         f"#define PDBFS_NCOND {len(d.conditions)}",      # Component.conditions, each >= 0
-         "static const char *const PDBFS_COND_TEXT[PDBFS_NCOND + 1] = {"
-         + ", ".join([_c_string(f"{w}: {text} ({', '.join(names)})")
-                      for _, (w, text, names) in d.conditions] + ['""']) + "};",
-         *_reduced_lines(d),
-         f"#define PDBFS_VR_P {model.vr_p}", f"#define PDBFS_VR_RTOL {model.vr_rtol}",
-         f"#define PDBFS_VR_MAXSTEP {model.vr_maxstep}", f"#define PDBFS_VR_C {model.vr_c}",
-         f"#define PDBFS_VR_X {model.vr_x}", f"#define PDBFS_VR_DX {model.vr_dx}",
-         f"#define PDBFS_VR_Y {model.vr_y}", f"#define PDBFS_VR_METHOD {model.vr_method}",
-         f"#define PDBFS_VR_MAXNUMSTEPS {model.vr_maxnumsteps}",
-         f"#define PDBFS_DEFAULT_MAXNUMSTEPS {DEFAULT_MAX_NUM_STEPS}",
-         f"#define PDBFS_DEFAULT_RTOL {_c_double(model.tolerance)}",
-         f"#define PDBFS_RTOL_MIN {_c_double(RTOL_MIN)}", f"#define PDBFS_RTOL_MAX {_c_double(RTOL_MAX)}",
-         "#define PDBFS_DEFAULT_MAXSTEP 0.0", "#define PDBFS_DEFAULT_METHOD 0",   # auto
-         # solver.method auto (stiffness.c): pdbfs.native.stiffness's cost model
-         *c_defines(), f"#define PDBFS_ODE_INSTRUCTIONS {ode_instructions(d)}",
-         *sizes_header_lines(work),
-         "static const double PDBFS_P_DEFAULT[PDBFS_NP + 1] = {"   # the inputs held at their starts
-         + pad(list(d.p_default()), _c_double, "0") + "};",
-         "static const double PDBFS_P_MIN[PDBFS_NPAR + 1] = {"
-         + pad([v.min if v.min is not None else -math.inf for v in model.param_vars], _c_double, "0") + "};",
-         "static const double PDBFS_P_MAX[PDBFS_NPAR + 1] = {"
-         + pad([p.max if p.max is not None else math.inf for p in d.params], _c_double, "0") + "};",
-         "static const char PDBFS_P_POSITIVE[PDBFS_NPAR + 1] = {"
-         + pad([p.positive for p in d.params], lambda b: str(int(b)), "0") + "};",
-         "static const char PDBFS_P_TUNABLE[PDBFS_NPAR + 1] = {"
-         + pad([p.tunable for p in d.params], lambda b: str(int(b)), "0") + "};",
-         "static const char *const PDBFS_P_NAME[PDBFS_NPAR + 1] = {"
-         + pad([p.name for p in d.params], _c_string, "0") + "};",
-         "static const char *const PDBFS_U_NAME[PDBFS_NU + 1] = {"
-         + pad(d.input_names, _c_string, "0") + "};",
-         "static const int PDBFS_Y_INDEX[PDBFS_NYV + 1] = {" + pad(model.y_exposed, str, "0") + "};",
-         "static const char *const PDBFS_Y_NAME[PDBFS_NYV + 1] = {"
-         + pad([d.y_names[i] for i in model.y_exposed], _c_string, "0") + "};",
-         "static const char *const PDBFS_X_NAME[PDBFS_NX + 1] = {" + pad(d.x_names, _c_string, "0") + "};",
-         "static const double PDBFS_X_NOMINAL[PDBFS_NX + 1] = {"
-         + pad(model.x_nominal, _c_double, "0") + "};",
-         *extra, "#endif", ""]
-    return "\n".join(L)
 
 
 def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier: str | None = None, *,
@@ -202,35 +159,73 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
     ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0 (the same
     wrapper design, model code and co-simulation loop).
 
-    ``platforms``: the binaries to build (FMI 3.0 platform tuples such as
-    ``"x86_64-windows"``, the aliases ``"linux64"``/``"win64"``, or ``"all"``;
-    a list or a comma-separated string); default: the host's platform
-    (``platforms.default_platforms()``). ``model_identifier`` defaults
-    to the DAE's name made a C identifier. ``stop_time``, ``step_size`` and
-    ``tolerance`` go to DefaultExperiment (the tolerance is also the default
-    of ``solver.rtol``). ``author``, ``license`` and ``copyright`` go to
-    modelDescription.xml as given (the FMU is its user's model); by default
-    no author, and pdbfs's BSD-3-Clause licence and copyright; pdbfs's C
-    wrapper's and the embedded SUNDIALS CVODES's BSD-3-Clause terms and
-    holders are kept after a value given (fmu/rights.py), their texts in
-    ``documentation/licenses/`` (``license.txt`` says what is whose). Raises
-    ExportError (PlatformError for an unknown platform) before any work is
-    done, and for a DAE with algebraic variables or one that differentiates
-    an input; nothing is left at ``path`` on failure. Each input of the rig
-    (``dae.inputs``) is an FMU input (held over a co-simulation step, or on
-    the line FMI 2.0's ``fmi2SetRealInputDerivatives`` gives).
+    Parameters
+    ----------
+    dae : DAE
+        The compiled rig (``rig.compile()``); a pure ODE.
+    path : str or os.PathLike
+        The FMU file to write (``.fmu``); written whole or not at all.
+    model_identifier : str, optional
+        The C identifier of the binary (default: the DAE's name made one).
+    stop_time, step_size : float
+        DefaultExperiment's stop time and communication step, s: a finite
+        stop time > 0, a step in (0, stop_time].
+    tolerance : float
+        DefaultExperiment's relative tolerance, also ``solver.rtol``'s
+        default, in [1e-15, 0.1].
+    keep_build_dir : str or os.PathLike, optional
+        A folder to copy the generated C and the build into.
+    cflags : list of str, optional
+        Extra flags for the C compiler.
+    fmi_version : {2, 3}
+        FMI 2.0 or 3.0.
+    platforms : str or list of str, optional
+        The binaries to build: FMI 3.0 platform tuples such as
+        ``"x86_64-windows"``, the aliases ``"linux64"``/``"win64"``, or
+        ``"all"``, as a list or a comma-separated string; default: the
+        host's (``platforms.default_platforms()``).
+    author, license, copyright : str, optional
+        Written to modelDescription.xml as given (the FMU is its user's
+        model); by default no author, and pdbfs's BSD-3-Clause licence and
+        copyright. pdbfs's C wrapper's and the embedded SUNDIALS CVODES's
+        BSD-3-Clause terms and holders are kept after a value given, their
+        texts in ``documentation/licenses/``.
+
+    Returns
+    -------
+    pathlib.Path
+        The FMU written.
+
+    Raises
+    ------
+    ExportError
+        One line, before any work, for a bad argument (PlatformError for an
+        unknown platform); also for a DAE with algebraic variables or one
+        that differentiates an input, and for a failed build. Nothing is
+        left at ``path`` on failure, and no build folder in any case (Ctrl-C
+        included).
+
+    Notes
+    -----
+    Each input of the rig (``dae.inputs``) is an FMU input, held over a
+    co-simulation step or on the line FMI 2.0's
+    ``fmi2SetRealInputDerivatives`` gives, with the ``min``, ``max`` and
+    ``nominal`` of the signals it drives. Co-simulation gives the outputs'
+    first and second time derivatives, and (FMI 3.0) intermediate updates
+    and early return.
     """
     fmi_version = check_fmi_version(fmi_version)
+    stop_time, step_size, tolerance = check_experiment(stop_time, step_size, tolerance)
     check_rights(author=author, license=license, copyright=copyright)
     plats = resolve_platforms(platforms)
     ident = model_identifier or _identifier(dae.name)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", ident):
         raise ExportError(f"model_identifier '{ident}' is not a C identifier")
-    path = Path(path)
     _check_target(path)
+    path = Path(path)
     model = FmuModel(dae, ident, stop_time, step_size, tolerance)
     what = f"the FMU binary of rig {model.dae.name}"
-    with tempfile.TemporaryDirectory(prefix="pdbfs-fmu-") as tmp:
+    with scratch_folder("pdbfs-fmu-") as tmp:
         src = Path(tmp) / "sources"
         src.mkdir()
         # the inner loop's functions as the compiled backend's library has them
@@ -268,14 +263,23 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
         check_compiler_memory(src / f"{FUNCS}.c", what)
         binaries, slices = {}, {}
 
-        def build(name: str) -> Path:
+        failed = threading.Event()     # a build failed or was interrupted: start no other
+
+        def build(name: str) -> Path | None:
+            if failed.is_set():
+                return None
             out = Path(tmp) / "build" / name / f"{ident}{PLATFORMS[name].suffix}"
             out.parent.mkdir(parents=True, exist_ok=True)
-            # the binary links the platform's CVODE archive: CVODE's names as built there
-            return build_binary(name, [src / c for c in own_c], [src], out, what,
-                                [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
+            try:
+                # the binary links the platform's CVODE archive: CVODE's names as built there
+                return build_binary(name, [src / c for c in own_c], [src], out, what,
+                                    [*(cflags or []), "-DPDBFS_PREBUILT_CVODE"], sds[name])
+            except BaseException:
+                failed.set()
+                raise
         done = 0
-        with ThreadPoolExecutor(max_workers=min(len(plats), os.cpu_count() or 1)) as pool:
+        pool = ThreadPoolExecutor(max_workers=min(len(plats), os.cpu_count() or 1))
+        try:
             for name, built in zip(plats, pool.map(build, plats)):
                 done += 1
                 if len(plats) > 1:       # minutes the first time: each platform said as it ends
@@ -283,6 +287,8 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
                           file=sys.stderr, flush=True)
                 arc = f"binaries/{BINARY_DIRS[fmi_version][name]}/{ident}{PLATFORMS[name].suffix}"
                 slices.setdefault(arc, []).append(built)
+        finally:       # a failure or Ctrl-C: no platform's build starts after it
+            pool.shutdown(wait=True, cancel_futures=True)
         for arc, built in slices.items():   # FMI 2.0's darwin64: one universal binary of both Macs
             out = Path(tmp) / arc
             out.parent.mkdir(parents=True, exist_ok=True)
@@ -315,19 +321,23 @@ def _describer(model: FmuModel, fmi_version: int, source_files: list[str]):
 
 
 def check_fmu_name(path: str | os.PathLike) -> None:
-    """Refuse a file name that does not end in ``.fmu``: the FMI standard
-    names an FMU so, and tools look for it by that extension."""
+    """Refuse an FMU file name that is empty, a folder, or does not end in
+    ``.fmu`` (the FMI standard names an FMU so, and tools look for it by
+    that extension): an ExportError in one line."""
+    if not str(os.fspath(path)).strip():
+        raise ExportError("the FMU's file name is empty: name the file to write, e.g. rig.fmu")
     path = Path(path)
+    if path.is_dir():
+        raise ExportError(f"{path} is a folder: give the FMU's file name (e.g. {path / 'pdbfs.fmu'})")
     if path.suffix.lower() != ".fmu":
         raise ExportError(f"{path}: an FMU's file name ends in .fmu (the FMI standard's "
                           f"extension); name it e.g. {path.with_suffix('.fmu').name}")
 
 
-def _check_target(path: Path) -> None:
+def _check_target(path: str | os.PathLike) -> None:
     """Refuse, before any work, an FMU path that cannot be written."""
-    if path.is_dir():
-        raise ExportError(f"{path} is a folder: give the FMU's file name (e.g. {path / 'pdbfs.fmu'})")
     check_fmu_name(path)
+    path = Path(path)
     probe = path.with_name(path.name + ".part")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

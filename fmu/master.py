@@ -9,9 +9,11 @@ directly on an input, as a controller's on its measurement, is read after
 that input is set: no algebraic loop is assumed); then every FMU steps.
 Inputs are held over the step (first order in the step), or, with
 ``interpolate=True`` and FMI 2.0 FMUs that can interpolate inputs, run on a
-line whose slope is the connected output's over the step before
-(``fmi2SetRealInputDerivatives``; second order). FMI 3.0 has no call for an
-input's derivative: its inputs are held.
+line (``fmi2SetRealInputDerivatives``; second order) whose slope is the
+connected output's time derivative at the communication point where its
+FMU gives it (``maxOutputDerivativeOrder`` >= 1: pdbfs's FMUs, from the
+model's own derivatives), else the output's slope over the step before.
+FMI 3.0 has no call for an input's derivative: its inputs are held.
 """
 from __future__ import annotations
 
@@ -58,6 +60,7 @@ class _Member:
         self.name, self.fmi3 = name, md.fmiVersion.startswith("3")
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         self.interpolates = bool(getattr(md.coSimulation, "canInterpolateInputs", False)) and not self.fmi3
+        self.derivatives = int(getattr(md.coSimulation, "maxOutputDerivativeOrder", 0) or 0) >= 1
         kw = dict(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.coSimulation.modelIdentifier,
                   instanceName=name)
         if self.fmi3:
@@ -83,6 +86,12 @@ class _Member:
         else:
             self.fmu.setReal(vrs, values)
 
+    def rates(self, names: list[str]) -> list[float]:
+        """The outputs' first time derivatives now (the FMU's own)."""
+        vrs = [self.vr[n] for n in names]
+        get = self.fmu.getOutputDerivatives if self.fmi3 else self.fmu.getRealOutputDerivatives
+        return list(get(vrs, [1] * len(vrs)))
+
     def step(self, t: float, h: float) -> None:
         self.fmu.doStep(t, h)
 
@@ -96,16 +105,39 @@ class _Member:
 def cosimulate(ssp: str | os.PathLike, step: float, t_end: float | None = None, *,
                outputs: list[str] | None = None, interpolate: bool = False,
                tolerance: float | None = None) -> CoSimulation:
-    """Co-simulate the system of the SSP file ``ssp`` from its default start
-    to ``t_end`` (default: its default stop time) at the communication step
-    ``step`` (s), recording ``outputs`` (``"element.variable"``; default:
-    every connected output) at every communication point. ``interpolate``:
-    inputs of FMI 2.0 FMUs that can interpolate run on a line (the slope of
-    the output that feeds them over the step before) instead of being held.
-    ``tolerance``: the FMUs' relative tolerance (default: their own).
+    """Co-simulate the system of the SSP file ``ssp`` at a fixed communication step.
 
-    Raises ExportError for a bad system or argument, SolverError where an
-    FMU refuses a call (its log says why).
+    Parameters
+    ----------
+    ssp : str or os.PathLike
+        The SSP file (``export_ssp``).
+    step : float
+        The communication step, s (> 0, dividing the run into whole steps).
+    t_end : float, optional
+        The end, s (default: the SSP file's default stop time); the run
+        starts at its default start.
+    outputs : list of str, optional
+        The variables recorded at every communication point
+        (``"element.variable"``; default: every connected output).
+    interpolate : bool
+        Inputs of FMI 2.0 FMUs that can interpolate run on a line instead
+        of being held, its slope the feeding output's derivative at the
+        communication point where its FMU gives it, else that output's
+        slope over the step before.
+    tolerance : float, optional
+        The FMUs' relative tolerance (default: their own).
+
+    Returns
+    -------
+    CoSimulation
+        The communication points and the recorded variables there.
+
+    Raises
+    ------
+    ExportError
+        A bad system or argument.
+    SolverError
+        Where an FMU refuses a call (its log says why).
     """
     comps, conns, exp = read_ssp(ssp)
     t0 = float(exp.get("startTime", 0.0))
@@ -167,6 +199,29 @@ def _propagate(members, conns) -> dict:
     return last
 
 
+def _slopes(members, conns, now: dict, prev: dict | None, h: float) -> None:
+    """Each input that can interpolate given its line's slope: the connected
+    output's derivative where its FMU gives it (in passes, as the values: a
+    derivative that depends on an input's slope is read after it is set),
+    else the output's change over the step before divided by h."""
+    last: dict = {}
+    for _ in range(max(1, len(conns))):
+        changed = False
+        for a, av, b, bv in conns:
+            if not members[b].interpolates:
+                continue
+            if members[a].derivatives:
+                slope = members[a].rates([av])[0]
+            else:
+                slope = 0.0 if prev is None else (now[(b, bv)] - prev[(b, bv)]) / h
+            if last.get((b, bv)) != slope:
+                members[b].fmu.setRealInputDerivatives([members[b].vr[bv]], [1], [slope])
+                last[(b, bv)] = slope
+                changed = True
+        if not changed:
+            break
+
+
 def _run(members, conns, outputs, t0, h, n, interpolate) -> CoSimulation:
     import time as _time
     start = _time.perf_counter()
@@ -186,10 +241,7 @@ def _run(members, conns, outputs, t0, h, n, interpolate) -> CoSimulation:
         if i == n:
             break
         if interpolate:
-            for (b, bv), v in now.items():
-                if members[b].interpolates:
-                    slope = 0.0 if prev is None else (v - prev[(b, bv)]) / h
-                    members[b].fmu.setRealInputDerivatives([members[b].vr[bv]], [1], [slope])
+            _slopes(members, conns, now, prev, h)
         prev = now
         for m in members.values():
             m.step(t0 + i * h, h)

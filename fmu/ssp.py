@@ -64,7 +64,11 @@ class FmuInterface:
 def read_interface(fmu: str | os.PathLike) -> FmuInterface:
     """The inputs, outputs and units of the FMU at ``fmu`` (its
     modelDescription.xml); an ExportError in one line if it is not an FMU."""
+    if not str(os.fspath(fmu)).strip():
+        raise ExportError("an FMU's file name is empty: name the FMU file")
     path = Path(fmu)
+    if path.is_dir():
+        raise ExportError(f"{path} is a folder, not an FMU file: name the .fmu file")
     if not path.is_file():
         raise ExportError(f"{path}: no such FMU file")
     try:

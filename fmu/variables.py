@@ -22,7 +22,7 @@ from pdbfs.native.codegen import FUNCTION_NAMES, model_functions
 from pdbfs.native.tolerances import RTOL_MAX, RTOL_MIN
 
 from . import units as _units
-from .derivatives import derivative_functions
+from .derivatives import derivative_functions, output_derivative_function
 
 DEFAULT_MAX_NUM_STEPS = 10_000_000
 #: solver.method's items (name, value, description): the pdbfs.SolverMethod type of
@@ -126,6 +126,44 @@ def _check_inputs(dae: DAE) -> None:
                               "SecondOrder block) or drive a force or pressure instead")
 
 
+def input_spans(dae: DAE) -> list[tuple[float | None, float | None, float | None, list[str]]]:
+    """Per input of the rig: (min, max, nominal, the signals that clamp it)
+    from the signal inputs it drives directly (an entry of y that is the
+    input itself, as a valve's ``valve.opening``): the range none of them
+    clamps (the largest min, the smallest max), their nominal; without one,
+    the magnitude of the input's start (None: 0)."""
+    rows = dae.input_rows()
+    out = []
+    for k, u in enumerate(getattr(dae, "inputs", ())):
+        expr = dae.p[rows[0] + k] + dae.p[rows[1] + k] * (dae.t - dae.p[rows[2]])
+        lo = hi = nominal = None
+        by = []
+        for j, vi in enumerate(dae.y_info):
+            span = getattr(vi, "span", (None, None, None))
+            if span == (None, None, None) or not ca.is_equal(dae.y[j], expr, 3):
+                continue
+            if span[0] is not None:
+                lo = span[0] if lo is None else max(lo, span[0])
+            if span[1] is not None:
+                hi = span[1] if hi is None else min(hi, span[1])
+            if span[0] is not None or span[1] is not None:
+                by.append(vi.name)
+            nominal = nominal or span[2]
+        if lo is not None and hi is not None and not lo < hi:
+            raise ExportError(f"rig {dae.name}: input {u.name} drives {' and '.join(by)}, which clamp it to "
+                              "ranges that do not overlap")
+        if (lo is not None and u.start < lo) or (hi is not None and u.start > hi):
+            raise ExportError(f"rig {dae.name}: input {u.name} starts at {u.start:g}, outside "
+                              f"[{_bound(lo, '-inf')}, {_bound(hi, 'inf')}] where {' and '.join(by)} clamps it: "
+                              "give it a start in that range")
+        out.append((lo, hi, nominal or (abs(u.start) or None), by))
+    return out
+
+
+def _bound(v: float | None, none: str) -> str:
+    return none if v is None else f"{v:g}"
+
+
 def _reduced_start_parameters(dae: DAE) -> dict[str, list[str]]:
     """Parameter name -> the states index reduction made algebraic whose
     declared start it enters (their starts are checked, not free)."""
@@ -173,6 +211,8 @@ class FmuModel:
                 self.y_exposed.append(i)
                 seen.add(vi.name)
         self.nyv = len(self.y_exposed)
+        #: the exposed entries of y that are outputs (their time derivatives: pdbfs_yder)
+        self.y_outputs = [i for i in self.y_exposed if dae.y_info[i].output]
         self.state_is_output = [False] * nx
         for i, k in self.y_alias_state.items():
             if dae.y_info[i].output:
@@ -204,7 +244,7 @@ class FmuModel:
     def functions(self) -> list[ca.Function]:
         """The CasADi functions the FMU's C code is generated from: the model's and its derivatives'."""
         return model_functions(self.dae, FUNCTION_NAMES, self.calc_expr) + \
-            derivative_functions(self.dae, self.y_exposed)
+            derivative_functions(self.dae, self.y_exposed) + [output_derivative_function(self.dae, self.y_outputs)]
 
     # -- variables --------------------------------------------------------------
     def _build_variables(self) -> None:
@@ -235,9 +275,12 @@ class FmuModel:
         V.append(_Var("solver.max_num_steps", self.vr_maxnumsteps, "parameter", "fixed", "exact",
                       "Co-Simulation: most internal solver steps in one fmi2DoStep (more is a solver failure)",
                       type="Integer", start=DEFAULT_MAX_NUM_STEPS, min=1))
-        for k, u in enumerate(getattr(d, "inputs", ())):
-            V.append(_Var(u.name, self.vr_u + k, "input", "continuous", None, u.description or f"input {u.name}",
-                          start=u.start, unit=u.unit))
+        self.input_spans = input_spans(d)
+        for k, (u, (lo, hi, nominal, by)) in enumerate(zip(getattr(d, "inputs", ()), self.input_spans)):
+            desc = (u.description or f"input {u.name}") + \
+                (f" ({' and '.join(by)} clamps it to [{_bound(lo, '-inf')}, {_bound(hi, 'inf')}])" if by else "")
+            V.append(_Var(u.name, self.vr_u + k, "input", "continuous", None, desc, start=u.start, unit=u.unit,
+                          min=lo, max=hi, nominal=nominal))
         p_tunable = [prm.tunable for prm in d.params]
         cols = list(range(self.npar)) + [None] * (self.np - self.npar)   # the parameters only
         jc = _deps(ca.jacobian_sparsity(self.calc_expr, d.p), cols) if self.nc else None

@@ -3,8 +3,11 @@
 Every file pdbfs writes for a user (CSV, PNG, JSON, sweep chunks) is written
 under a hidden part name beside its destination and renamed onto it only
 once complete, so a failure or Ctrl-C never leaves a half-written file under
-the real name. Parts still open when the process is ended on purpose (the
-CLI's Ctrl-C watcher, pdbfs.cli.interrupt) are removed by :func:`discard`.
+the real name. Work folders in the temporary directory (an FMU's build,
+:func:`scratch_folder`) are removed when their block ends, however it ends.
+Parts and work folders still there when the process is ended on purpose
+(the CLI's Ctrl-C watcher, pdbfs.cli.interrupt) are removed by
+:func:`discard`.
 
 Also where pdbfs keeps files of its own: its cache folder
 (:func:`cache_folder`) and the example files shipped in the package
@@ -13,11 +16,14 @@ Also where pdbfs keeps files of its own: its cache folder
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
 import threading
 from contextlib import contextmanager
 from pathlib import Path
 
 _open: set[Path] = set()
+_scratch: set[Path] = set()
 _lock = threading.Lock()
 
 
@@ -48,6 +54,35 @@ def whole(path):
             pass
 
 
+@contextmanager
+def scratch_folder(prefix: str):
+    """Yield a new folder in the temporary directory, named ``prefix`` and
+    random letters; it is removed when the block ends, whether it ends
+    normally, by an error or by Ctrl-C (a second Ctrl-C during the removal
+    included: the removal is finished first), or by :func:`discard` when the
+    process is ended before that."""
+    folder = Path(tempfile.mkdtemp(prefix=prefix))
+    with _lock:
+        _scratch.add(folder)
+    try:
+        yield folder
+    finally:
+        interrupted = []
+        main = threading.current_thread() is threading.main_thread()
+        if main:
+            import signal
+            old = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(signum))
+        try:
+            shutil.rmtree(folder, ignore_errors=True)
+            with _lock:
+                _scratch.discard(folder)
+        finally:
+            if main:
+                signal.signal(signal.SIGINT, old)
+        if interrupted:
+            raise KeyboardInterrupt
+
+
 def cache_folder() -> Path:
     """pdbfs's cache folder, not made here: ``$XDG_CACHE_HOME/pdbfs`` on
     Linux (default ``~/.cache/pdbfs``), the platform's user cache elsewhere."""
@@ -63,14 +98,17 @@ def write_text(path, text: str) -> Path:
 
 
 def discard():
-    """Remove the parts of writes still under way (before a forced exit)."""
+    """Remove the parts of writes still under way and the work folders of
+    :func:`scratch_folder` (before a forced exit)."""
     with _lock:
-        parts = list(_open)
+        parts, folders = list(_open), list(_scratch)
     for part in parts:
         try:
             part.unlink()
         except OSError:
             pass
+    for folder in folders:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def save_figure(fig, path, **savefig_kw) -> Path:

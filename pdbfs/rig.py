@@ -199,10 +199,11 @@ class Rig(Component):
             The C identifier of the FMU's binary (default: the rig's name).
         stop_time, step_size : float, optional
             The DefaultExperiment, s (default: the rig's own experiment,
-            ``default_t_end`` and ``default_n_out``, else 0.02 s in 2000 steps).
+            ``default_t_end`` and ``default_n_out``, else 0.02 s in 2000
+            steps): a finite stop time > 0, a step in (0, stop_time].
         tolerance : float
             The DefaultExperiment's relative tolerance, also the default of
-            the FMU's ``solver.rtol``.
+            the FMU's ``solver.rtol``, in [1e-15, 0.1].
         keep_build_dir : str or os.PathLike, optional
             A folder to keep the generated C sources and build files in.
         cflags : list of str, optional
@@ -235,20 +236,16 @@ class Rig(Component):
                       platforms=platforms, author=author, license=license, copyright=copyright,
                       **{k: v for k, v in (("stop_time", stop_time), ("step_size", step_size))
                          if v is not None})
-        from pathlib import Path
-
-        from pdbfs.errors import ExportError
-        from pdbfs.fmu import check_fmi_version, check_fmu_name, check_rights, export_fmu
+        from pdbfs.fmu import check_experiment, check_fmi_version, check_fmu_name, check_rights, export_fmu
         check_fmi_version(kwargs.get("fmi_version", 2))   # before the rig is compiled
-        check_rights(**{k: kwargs.get(k) for k in ("author", "license", "copyright")})
-        if Path(path).is_dir():
-            raise ExportError(f"{path}: is a folder; name the FMU file to write")
-        check_fmu_name(path)
-        dae = self.compile()
-        t_end = float(getattr(self, "default_t_end", 0.02))   # the rig's own experiment
+        t_end = getattr(self, "default_t_end", 0.02)      # the rig's own experiment
         kwargs.setdefault("stop_time", t_end)
-        kwargs.setdefault("step_size", t_end / (int(getattr(self, "default_n_out", 2001)) - 1))
-        return export_fmu(dae, path, **kwargs)
+        if isinstance(kwargs["stop_time"], (int, float)):   # (else refused just below)
+            kwargs.setdefault("step_size", kwargs["stop_time"] / (int(getattr(self, "default_n_out", 2001)) - 1))
+        check_experiment(kwargs["stop_time"], kwargs.get("step_size"), tolerance)
+        check_rights(**{k: kwargs.get(k) for k in ("author", "license", "copyright")})
+        check_fmu_name(path)
+        return export_fmu(self.compile(), path, **kwargs)
 
     def parameters(self) -> list[ParamInfo]:
         """The rig's free parameters (ParamInfo: name, value, unit, description), in the DAE's order."""

@@ -117,3 +117,63 @@ def libcosim_run(ssp: str, h: float, t_end: float = T_END):
     assert ex.simulate_until(n * ns)
     tp, _, vals = obs.time_series_real_samples(idx, vr, from_step=0, sample_count=n + 10)
     return np.array(tp) * 1e-9, np.array(vals)
+
+
+def _member_functions(kind: str, output: str):
+    """The rig of ``kind`` ("plant", "controller") as plain functions for
+    scipy: (x0, right-hand side f(t, x, u), output(t, x, u)), its one input
+    ``u`` held."""
+    import casadi as ca
+    rig = {"plant": pulse_plant_rig, "controller": pulse_controller_rig}[kind]()
+    dae = rig.compile()
+    row = dae.input_rows()[0]
+    p = dae.p_default()
+    u = ca.SX.sym("u")
+    pu = ca.vertcat(dae.p[:row], u, dae.p[row + 1:])
+    sub = lambda e: ca.substitute(e, dae.p, pu)  # noqa: E731
+    rest = [v for i, v in enumerate(p) if i != row]
+    others = ca.vertcat(*[dae.p[i] for i in range(dae.p.numel()) if i != row])
+    f = ca.Function("f", [dae.t, dae.x, u, others], [sub(dae.ode)])
+    y = ca.Function("y", [dae.t, dae.x, u, others], [sub(dae.y[dae.y_names.index(output)])])
+    x0 = np.array(dae.function("start")(p), float).ravel()
+    return (x0, lambda t, x, v: np.array(f(t, x, v, rest), float).ravel(),
+            lambda t, x, v: float(y(t, x, v, rest)))
+
+
+def held_reference(h: float, scheme: str = "jacobi", t_end: float = T_END):
+    """The closed loop co-simulated as a master does it, each FMU's step
+    integrated by scipy (DOP853, rtol 1e-12): inputs held over each
+    communication step of h, set at each communication point from the
+    outputs there; ``scheme`` "jacobi" (Ecos, libcosim: every output read
+    before any input is set, so the controller's command is computed from
+    the measurement of the step before) or "passes" (pdbfs's master: the
+    measurement set first, the controller's command read after it). The
+    plant's pressure at the communication points (Pa), independent of
+    pdbfs's solvers."""
+    from scipy.integrate import solve_ivp
+    key = ("held", h, scheme, t_end)
+    if key in _CACHE:
+        return _CACHE[key]
+    from pdbfs.components.hydraulic import ATMOSPHERE
+    xp, fp, yp = _member_functions("plant", "sensor.y")
+    xc, fc, yc = _member_functions("controller", "pid.y")
+    opening, measured = 0.0, ATMOSPHERE          # the inputs' starts
+    n = int(round(t_end / h))
+    out = np.empty(n + 1)
+    for k in range(n + 1):
+        t = k * h
+        pressure = yp(t, xp, opening)
+        command = yc(t, xc, measured if scheme == "jacobi" else pressure)
+        out[k] = pressure
+        if k == n:
+            break
+        measured, opening = pressure, command
+        for x, f, v, put in ((xp, fp, opening, 0), (xc, fc, measured, 1)):
+            s = solve_ivp(lambda tt, xx, f=f, v=v: f(tt, xx, v), (t, t + h), x, method="DOP853", rtol=1e-12,
+                          atol=1e-12 * np.maximum(np.abs(x), 1e-3))
+            if put == 0:
+                xp = s.y[:, -1]
+            else:
+                xc = s.y[:, -1]
+    _CACHE[key] = out
+    return out

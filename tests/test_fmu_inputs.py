@@ -17,7 +17,7 @@ import pytest
 from fmpy.fmi2 import FMU2Slave
 
 import ssp_support as S
-from input_rigs import BaseExcited, msd_sine, msd_step
+from input_rigs import BaseExcited, msd_ramp, msd_sine, msd_step
 
 F, T_STEP, A, FREQ = 10.0, 0.1, 5.0, 3.0      # N, s, N, Hz
 SCALE = F / 400.0                              # the step's static deflection (m)
@@ -156,6 +156,29 @@ def test_an_input_reads_back_its_value_and_its_line():
             s.s.setRealInputDerivatives(vr, order, [1.0])
     assert s.get("u") == [1.0]                   # refused: nothing changed
     s.close()
+
+
+@pytest.mark.parametrize("calls", ["value, slope, value", "slope, value", "value, slope"])
+def test_a_slope_given_at_a_communication_point_is_kept_by_a_value_set_there(calls):
+    """A master may give an input's slope before its value, or set the value
+    again after the slope: at one communication point the order does not
+    matter, and the force ramps as the closed form says (before, a value set
+    after the slope dropped it: the force was held, 4e-4 m off)."""
+    rate, h = 2000.0, 0.01                       # N/s, s
+    s = Slave(f"order{calls}")
+    u, err = s.vr["u"], 0.0
+    for i in range(20):
+        t = i * h
+        for call in calls.split(", "):
+            if call == "value":
+                s.s.setReal([u], [rate * t])
+            else:
+                s.s.setRealInputDerivatives([u], [1], [rate])
+        s.s.doStep(t, h)
+        assert s.get("u")[0] == pytest.approx(rate * (t + h), rel=1e-14)
+        err = max(err, abs(s.get("body.s")[0] - msd_ramp(t + h, rate, 0.0)))
+    s.close()
+    assert err < 1e-9 * rate * 20 * h / 400.0, err
 
 
 def test_an_input_set_unchanged_does_not_restart_the_solver():

@@ -98,7 +98,8 @@ class CommandedValve(PartialOrifice):
 
     def declare(self):
         super().declare()
-        self.opening = SignalInput("1", "Commanded opening, 0 closed to 1 fully open")
+        self.opening = SignalInput("1", "Commanded opening, 0 closed to 1 fully open", min=0.0, max=1.0,
+                                   nominal=1.0)
 
     def open_fraction(self):
         return ca.fmin(ca.fmax(self.opening.value, 0.0), 1.0)

@@ -99,7 +99,9 @@ def cmd_params(args):
 
 def cmd_export_fmu(args):
     """pdbfs export-fmu: write a rig's FMU."""
+    from pdbfs.fmu import check_fmu_name
     rig = rig_by_name(args.rig)
+    check_fmu_name(args.output)        # (an empty name is not the current folder)
     check_output_file(args.output)
     version = int(args.fmi_version) if args.fmi_version in ("2", "3") else args.fmi_version  # else refused
     path = rig.export_fmu(args.output, fmi_version=version, platforms=args.platforms, author=args.author,

@@ -17,7 +17,11 @@ per connection set, whatever the domain.
 """
 from __future__ import annotations
 
+import math
+
 import casadi as ca
+
+from pdbfs.errors import ModelError
 
 
 class Connector:
@@ -151,7 +155,26 @@ class _Signal(Connector):
 
 
 class SignalInput(_Signal):
-    """A real-valued input signal; must be connected to a SignalOutput."""
+    """A real-valued input signal; must be connected to a SignalOutput.
+
+    ``min`` and ``max`` (numbers, in ``unit``) declare the range the
+    component uses the value in, where it clamps the value beyond (a valve's
+    stops: an opening of 5 acts as 1); ``nominal`` (> 0) its typical
+    magnitude. An FMU whose input drives this signal declares them for
+    that input and says in its log when an input set is clamped.
+    """
+
+    def __init__(self, unit: str = "1", description: str = "", *, min: float | None = None,
+                 max: float | None = None, nominal: float | None = None):
+        super().__init__(unit, description)
+        for what, v in (("min", min), ("max", max), ("nominal", nominal)):
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)):
+                raise ModelError(f"SignalInput {description!r}: {what} = {v!r} must be a finite number")
+        if min is not None and max is not None and not min < max:
+            raise ModelError(f"SignalInput {description!r}: min = {min!r} must be below max = {max!r}")
+        if nominal is not None and not nominal > 0:
+            raise ModelError(f"SignalInput {description!r}: nominal = {nominal!r} must be > 0")
+        self.span = tuple(None if v is None else float(v) for v in (min, max, nominal))
 
 
 class SignalOutput(_Signal):

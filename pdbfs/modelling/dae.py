@@ -63,6 +63,8 @@ class VarInfo:
     min: float | None = None
     max: float | None = None
     beyond: str = ""       # what leaving them means, for the run's error
+    # a signal input's (min, max, nominal): the range its component clamps it to, its magnitude
+    span: tuple = (None, None, None)
 
 
 @dataclass

@@ -45,6 +45,7 @@ class FlatVar:
     der: ca.SX | None = None
     fixed: bool = True    # start is fixed (False: a guess, solved at initialization)
     limits: tuple = (None, None, "")   # (min, max, beyond) of the declaration
+    span: tuple = (None, None, None)   # (min, max, nominal) a SignalInput declares (clamped beyond)
 
 
 @dataclass
@@ -128,8 +129,9 @@ def flatten(root) -> FlatSystem:
         shown = comp._parent is root and not getattr(comp, "rig_input", False)
         for c in comp._connectors.values():
             for local_name, sym, unit, desc, _ in c.variables():
-                add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,
-                        shown and getattr(c, "is_output", False), 1)
+                fv = add_var(_join(_join(prefix, c.name), local_name), sym, unit, desc, False, None,
+                             shown and getattr(c, "is_output", False), 1)
+                fv.span = getattr(c, "span", fv.span)
 
     # every expression is renamed in one substitution (one per expression
     # would make flattening quadratic in the size of the rig)

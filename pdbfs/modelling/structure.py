@@ -117,7 +117,7 @@ def simplify(flat: FlatSystem, name: str) -> DAE:
         if z_syms else ca.SX(0, 1)
     alg_expr = final(ca.vertcat(*alg)) if alg else ca.SX(0, 1)
 
-    info = lambda v: VarInfo(v.name, v.unit, v.description, v.output, *v.limits)
+    info = lambda v: VarInfo(v.name, v.unit, v.description, v.output, *v.limits, span=v.span)
     dae = DAE(name=name, t=t, x=x, z=z, p=p_sym, ode=ode, alg=alg_expr, x0=x0, y=y,
                events=ev, x_info=[info(v) for v in states],
                z_info=[VarInfo(n, by_name[n].unit if n in by_name else "",

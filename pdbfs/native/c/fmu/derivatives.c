@@ -1,9 +1,14 @@
 /* Directional and adjoint derivatives of a pdbfs FMU, for every FMI version:
  * of the state derivatives and the outputs with respect to the states, the
- * inputs (the entries of their values in p) and the tunable parameters, exact, from CasADi's forward (pdbfs_fwd: J v) and
- * reverse (pdbfs_adj: J^T w) AD of J = d[der(x); y] / d[x; p], one
- * evaluation per call (fmu/derivatives.py). A state as an unknown is its
- * own identity. */
+ * inputs (the entries of their values in p) and the tunable parameters,
+ * exact, from CasADi's forward (pdbfs_fwd: J v) and reverse (pdbfs_adj:
+ * J^T w) AD of J = d[der(x); y] / d[x; p], one evaluation per call
+ * (fmu/derivatives.py). A state as an unknown is its own identity.
+ *
+ * And the outputs' (and states') first and second time derivatives along
+ * the solution at the current time (co-simulation's output derivatives),
+ * from pdbfs_yder: d/dt = partial d/dt + d/dx der(x), the inputs' slopes in
+ * the partial derivative, twice. */
 #include <math.h>
 
 #include "fmu_instance.h"
@@ -34,6 +39,7 @@ static int unknown_slot(Inst *m, const char *fn, unsigned r) {
     return -1;
 }
 
+/* f(t, x, z, p[, seed]) at the current time and state into out */
 static int eval(Inst *m, pdbfs_casadi_fn f, const double *seed, double *out) {
     double t = m->s.time;
     m->arg[0] = &t;
@@ -95,4 +101,38 @@ int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, 
         if (!isfinite(sens[i])) return ERR(m, "%s: the derivative is not finite at t=%.17g", fn, m->s.time);
     }
     return FMU_OK;
+}
+
+#define NQO (NX + PDBFS_NYO)   /* pdbfs_yder's rows of one order: states, then outputs */
+
+/* v[i] = the order[i]-th time derivative (1 or 2) of the state or output vr[i] now */
+int deriv_outputs(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[], double v[]) {
+    double d[2 * NQO + 1];
+    int row[64], *rows = row, st = FMU_OK;
+    size_t i;
+    if (fmu_check(m, fn, ST_STEPDONE | ST_TERMINATED | ST_INTERMEDIATE, FMU_CS) != FMU_OK) return FMU_ERROR;
+    if (n == 0) return FMU_OK;
+    if (!vr || !order || !v) return ERR(m, "%s: NULL argument", fn);
+    if (n > sizeof row / sizeof row[0] && !(rows = (int *)m->host.alloc(n, sizeof(int))))
+        return ERR(m, "%s: out of memory", fn);
+    for (i = 0; i < n && st == FMU_OK; i++) {
+        unsigned r = vr[i];
+        if (r >= PDBFS_VR_X && r < PDBFS_VR_X + NX) rows[i] = (int)(r - PDBFS_VR_X);
+        else if (r >= PDBFS_VR_Y && r < PDBFS_VR_Y + NYV && PDBFS_YO_ROW[r - PDBFS_VR_Y] >= 0)
+            rows[i] = NX + PDBFS_YO_ROW[r - PDBFS_VR_Y];
+        else st = ERR(m, "%s: value reference %u is not an output or a state", fn, r);
+        if (st == FMU_OK && order[i] != 1 && order[i] != 2)
+            st = ERR(m, "%s: order %d: the first and second derivatives are given "
+                     "(maxOutputDerivativeOrder=2)", fn, order[i]);
+    }
+    if (st == FMU_OK && eval(m, pdbfs_yder, NULL, d)) st = ERR(m, "%s: evaluation failed", fn);
+    for (i = 0; i < n && st == FMU_OK; i++) {
+        v[i] = d[(order[i] - 1) * NQO + rows[i]];
+        if (!isfinite(v[i]))
+            st = ERR(m, "%s: derivative %d of %s is %g at t=%.17g (the solution is not smooth enough there)", fn,
+                     order[i], rows[i] < NX ? PDBFS_X_NAME[rows[i]] : PDBFS_Y_NAME[vr[i] - PDBFS_VR_Y], v[i],
+                     m->s.time);
+    }
+    if (rows != row) m->host.free(rows);
+    return st;
 }

@@ -29,8 +29,21 @@ static fmi3Instance refuse(fmi3InstanceEnvironment env, fmi3LogMessageCallback l
     return NULL;
 }
 
+/* the importer's intermediate update, in Intermediate Update Mode: the
+ * outputs may be read, no input set (intermediateVariableSetRequested false),
+ * the step accepted; 1 where it asks to return early, at *early_time */
+static int intermediate_hook(const Inst *m, double t, int can_return_early, double *early_time) {
+    fmi3IntermediateUpdateCallback update = (fmi3IntermediateUpdateCallback)m->host.update;
+    fmi3Boolean asked = fmi3False;
+    fmi3Float64 when = t;
+    update(m->host.env, t, fmi3False, fmi3True, fmi3True, can_return_early ? fmi3True : fmi3False, &asked, &when);
+    *early_time = when;
+    return asked ? 1 : 0;
+}
+
 static fmi3Instance instantiate(const char *fn, int type, fmi3String name, fmi3String token, fmi3Boolean logging,
-                                fmi3InstanceEnvironment env, fmi3LogMessageCallback log) {
+                                fmi3InstanceEnvironment env, fmi3LogMessageCallback log,
+                                fmi3IntermediateUpdateCallback update, fmi3Boolean early_allowed) {
     FmuHost host = {0};
     Inst *m;
     char msg[256];
@@ -47,6 +60,11 @@ static fmi3Instance instantiate(const char *fn, int type, fmi3String name, fmi3S
     host.hook = log_hook;
     host.logger = (void (*)(void))log;
     host.env = env;
+    if (update) {
+        host.update = (void (*)(void))update;
+        host.intermediate = intermediate_hook;
+        host.early_allowed = early_allowed ? 1 : 0;
+    }
     m = fmu_new(name, type, &host, logging);
     if (!m) {
         snprintf(msg, sizeof msg, "%s: out of memory", fn);
@@ -61,7 +79,7 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String in
                                           fmi3LogMessageCallback logMessage) {
     (void)resourcePath; (void)visible;
     return instantiate("fmi3InstantiateModelExchange", FMU_ME, instanceName, instantiationToken, loggingOn,
-                       instanceEnvironment, logMessage);
+                       instanceEnvironment, logMessage, NULL, fmi3False);
 }
 
 fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String instantiationToken,
@@ -72,16 +90,23 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
                                          fmi3InstanceEnvironment instanceEnvironment,
                                          fmi3LogMessageCallback logMessage,
                                          fmi3IntermediateUpdateCallback intermediateUpdate) {
-    (void)resourcePath; (void)visible; (void)earlyReturnAllowed; (void)requiredIntermediateVariables;
-    (void)intermediateUpdate;
+    size_t i;
+    char msg[256];
+    (void)resourcePath; (void)visible;
     if (eventModeUsed)
         return refuse(instanceEnvironment, logMessage,
                       "fmi3InstantiateCoSimulation: the FMU has no event mode (hasEventMode=false)");
-    if (nRequiredIntermediateVariables > 0)
-        return refuse(instanceEnvironment, logMessage,
-                      "fmi3InstantiateCoSimulation: the FMU provides no intermediate update");
+    if (nRequiredIntermediateVariables > 0 && !requiredIntermediateVariables)
+        return refuse(instanceEnvironment, logMessage, "fmi3InstantiateCoSimulation: NULL argument");
+    for (i = 0; i < nRequiredIntermediateVariables; i++)
+        if (!values_intermediate(requiredIntermediateVariables[i])) {
+            snprintf(msg, sizeof msg, "fmi3InstantiateCoSimulation: value reference %u is not an intermediate "
+                     "variable: the outputs are read in intermediate updates, no input is set there",
+                     requiredIntermediateVariables[i]);
+            return refuse(instanceEnvironment, logMessage, msg);
+        }
     return instantiate("fmi3InstantiateCoSimulation", FMU_CS, instanceName, instantiationToken, loggingOn,
-                       instanceEnvironment, logMessage);
+                       instanceEnvironment, logMessage, intermediateUpdate, earlyReturnAllowed);
 }
 
 fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3String instantiationToken,
@@ -135,7 +160,7 @@ static int check_sizes(Inst *m, const char *fn, size_t nvr, size_t nv, int allow
 fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 values[],
                           size_t nValues) {
     Inst *m = (Inst *)instance;
-    if (check_sizes(m, "fmi3GetFloat64", nvr, nValues, ST_ANY) != FMU_OK) return fmi3Error;
+    if (check_sizes(m, "fmi3GetFloat64", nvr, nValues, ST_ANY | ST_INTERMEDIATE) != FMU_OK) return fmi3Error;
     return values_get_real(m, "fmi3GetFloat64", vr, nvr, values, 1);
 }
 

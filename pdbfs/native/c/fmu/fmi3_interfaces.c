@@ -1,7 +1,8 @@
 /* The Model Exchange and Co-Simulation calls of FMI 3.0 on the
  * version-neutral model_exchange.c and cosimulation.c (the same CVODE loop
  * as FMI 2.0).  Co-Simulation has no event mode: fmi3DoStep integrates
- * through the rig's events itself. */
+ * through the rig's events itself, calling the importer's intermediate
+ * update after each internal step, and returns early where it asks. */
 #include <math.h>
 
 #include "fmi3Functions.h"
@@ -102,28 +103,30 @@ fmi3Status fmi3EnterStepMode(fmi3Instance instance) {
     return ERR(m, "fmi3EnterStepMode: the FMU has no event mode (hasEventMode=false)");
 }
 
+_Static_assert(sizeof(fmi3Int32) == sizeof(int), "an order is an int");
+
 fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
                                     const fmi3Int32 orders[], fmi3Float64 values[], size_t nValues) {
     Inst *m = (Inst *)instance;
-    (void)vr; (void)orders; (void)values; (void)nValues;
-    if (fmu_check(m, "fmi3GetOutputDerivatives", ST_ANY, FMU_CS) != FMU_OK) return fmi3Error;
-    if (nvr > 0) return ERR(m, "fmi3GetOutputDerivatives: not provided (maxOutputDerivativeOrder=0)");
-    return fmi3OK;
+    const char *fn = "fmi3GetOutputDerivatives";
+    if (fmu_check(m, fn, ST_STEPDONE | ST_TERMINATED | ST_INTERMEDIATE, FMU_CS) != FMU_OK) return fmi3Error;
+    if (nValues != nvr) return ERR(m, "%s: nValues = %zu, expected %zu (all variables are scalars)", fn, nValues, nvr);
+    return (fmi3Status)deriv_outputs(m, fn, vr, nvr, (const int *)orders, values);
 }
 
 fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 t, fmi3Float64 h, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
                       fmi3Boolean *eventHandlingNeeded, fmi3Boolean *terminateSimulation, fmi3Boolean *earlyReturn,
                       fmi3Float64 *lastSuccessfulTime) {
     Inst *m = (Inst *)instance;
-    int st;
+    int st, early = 0;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (fmu_check(m, "fmi3DoStep", ST_STEPDONE, FMU_CS) != FMU_OK) return fmi3Error;
     if (!eventHandlingNeeded || !terminateSimulation || !earlyReturn || !lastSuccessfulTime)
         return ERR(m, "fmi3DoStep: NULL argument");
-    st = cosim_do_step(m, "fmi3DoStep", t, h);
+    st = cosim_do_step(m, "fmi3DoStep", t, h, &early);
     *eventHandlingNeeded = fmi3False;
     *terminateSimulation = fmi3False;
-    *earlyReturn = fmi3False;
+    *earlyReturn = early ? fmi3True : fmi3False;   /* (asked in an intermediate update) */
     *lastSuccessfulTime = m->s.time;
     return (fmi3Status)st;
 }

@@ -78,7 +78,8 @@ typedef enum {
     ST_CONT = 1 << 3,        /* ME */
     ST_STEPDONE = 1 << 4,    /* CS */
     ST_TERMINATED = 1 << 5,
-    ST_ERROR = 1 << 6
+    ST_ERROR = 1 << 6,
+    ST_INTERMEDIATE = 1 << 7 /* CS, FMI 3.0: inside fmi3DoStep, the importer's intermediate update */
 } Mode;
 
 #define ST_ANY (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEPDONE | ST_TERMINATED | ST_ERROR)
@@ -90,6 +91,14 @@ typedef enum {
 #define ST_SET_DISCRETE (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_STEPDONE)
 
 #define SNAP_MAGIC 0x70646266u /* "pdbf" */
+
+/* why co-simulation restarts its solver (Inst.need_restart): afresh (a new
+ * run, a state set, a failure), or because an input or a tunable parameter
+ * changed between steps, a jump of the right-hand side in a smooth solution
+ * (cosimulation.c: the explicit method keeps its step size across it, and
+ * auto's switching takes the explicit method there, as at an event) */
+#define RESTART_FRESH 1
+#define RESTART_CHANGED 2
 
 /* Everything that is the FMU state: plain data, copied by GetFMUstate and
  * serialised byte for byte. */
@@ -114,6 +123,8 @@ typedef struct {
     double t_stop;
     double x[NX + 1];
     int x_fixed;             /* x holds the state (else x0(p) on demand) */
+    double slope_time[NU + 1]; /* when each input's slope was last given (-INFINITY: never): a value
+                              * set at that same time keeps it (values.c) */
 } Snapshot;
 
 typedef struct Inst Inst;
@@ -127,6 +138,15 @@ typedef struct {
     void (*hook)(const Inst *m, int status, const char *category, const char *message);
     void (*logger)(void);
     void *env;
+    /* FMI 3.0 co-simulation: the importer's intermediate update (NULL: none),
+     * called after each internal step inside a DoStep at the step's end t
+     * (Intermediate Update Mode: the outputs readable there); 1 where the
+     * importer asks to return early, at *early_time (s). ``update``: the
+     * importer's callback as the wrapper keeps it; ``early_allowed``: the
+     * importer allows an early return (earlyReturnAllowed) */
+    int (*intermediate)(const Inst *m, double t, int can_return_early, double *early_time);
+    void (*update)(void);
+    int early_allowed;
 } FmuHost;
 
 struct Inst {
@@ -142,7 +162,7 @@ struct Inst {
     PdbfsErk rk;             /* the explicit Runge-Kutta method (rk.y: allocated) */
     double atol[NX + 1];     /* absolute tolerances (the explicit method keeps a pointer) */
     double t_break;          /* the explicit method stops and restarts here (a time event) */
-    int need_restart;        /* restart the solver from (time, x) before integrating */
+    int need_restart;        /* restart the solver from (time, x) before integrating: RESTART_* */
     /* solver.method auto in co-simulation: switching between the explicit
      * method and BDF as the run goes (stiffness.c, cosimulation.c) */
     int switching;           /* on: auto chose one of the two */
@@ -155,6 +175,11 @@ struct Inst {
     int switch_pending;      /* BDF paused at t_switch (x_switch) to switch, past the last
                               * communication point: its dense output serves up to there */
     double t_switch, x_switch[NX + 1];
+    /* a DoStep's intermediate updates (host.intermediate): its end, the last
+     * point reported, and an early return asked for (early: to t_early) */
+    double t_end, t_seen, t_early;
+    int early;
+    int watch_bdf;           /* CVODE's steps watched for auto's switch back (bdf_watch) */
     /* CasADi work memory */
     PdbfsEval ev;
     const double *arg[PDBFS_SZ_ARG + 1];
@@ -200,6 +225,8 @@ int values_get_int(Inst *m, const char *fn, unsigned vr, long long *v);
 int values_check_int(Inst *m, const char *fn, unsigned vr, long long v);
 void values_set_int(Inst *m, unsigned vr, long long v);
 int values_none(Inst *m, const char *fn, const unsigned vr[], size_t n, int allowed);
+/* an intermediate variable (FMI 3.0: intermediateUpdate="true"): an output */
+int values_intermediate(unsigned vr);
 /* the inputs' first derivatives (FMI 2.0 Co-Simulation: fmi2SetRealInputDerivatives):
  * each input then runs linearly from its value at the current time */
 int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[],
@@ -234,6 +261,10 @@ int deriv_forward(Inst *m, const char *fn, const unsigned unknown[], size_t nu, 
 int deriv_adjoint(Inst *m, const char *fn, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
                   const double seed[], double sens[]);
 
+/* derivatives.c: the order[i]-th time derivative (1 or 2) of the output or state vr[i] now,
+ * along the solution (co-simulation) */
+int deriv_outputs(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[], double v[]);
+
 /* stiffness.c: solver.method "auto" resolved for a run of ``span`` s from
  * (time, x, p) (INFINITY: a run of unknown length): METHOD_ERK, METHOD_ADAMS
  * or METHOD_BDF, the reason in why; sets switching and lambda_ref */
@@ -242,6 +273,8 @@ int stiffness_choose(Inst *m, double span, char *why, size_t n);
 /* cosimulation.c */
 int cosim_start(Inst *m);
 void cosim_free(Inst *m);
-int cosim_do_step(Inst *m, const char *fn, double t, double h);
+/* one communication step from t to t + h; *early (may be NULL): it ended short of
+ * t + h where the importer asked (intermediate update), at m->s.time */
+int cosim_do_step(Inst *m, const char *fn, double t, double h, int *early);
 
 #endif

@@ -103,11 +103,11 @@ int fmu_exit_init(Inst *m, const char *fn) {
         m->derived_ok = 0;
         return FMU_ERROR;
     }
-    m->need_restart = 1;
+    m->need_restart = RESTART_FRESH;
     m->s.method_used = m->s.method == METHOD_AUTO ? METHOD_BDF : m->s.method;   /* (Model Exchange: unused) */
     m->switching = 0;        /* (auto's switching: stiffness_choose) */
     if (m->s.type == FMU_CS && m->s.method == METHOD_AUTO) {
-        char why[256];
+        char why[640];
         /* the run: to the stop time, else of unknown length (no length assumed) */
         double span = m->s.stop_defined ? m->s.t_stop - m->s.t_start : INFINITY;
         m->s.method_used = stiffness_choose(m, span, why, sizeof why);

@@ -32,6 +32,7 @@ static const char *mode_name(int mode) {
     case ST_STEPDONE: return "step complete";
     case ST_TERMINATED: return "terminated";
     case ST_ERROR: return "error";
+    case ST_INTERMEDIATE: return "intermediate update";
     default: return "unknown";
     }
 }
@@ -75,9 +76,10 @@ void model_defaults(Inst *m) {
     m->s.time = 0.0;
     m->s.x_fixed = 0;
     for (i = 0; i < NX; i++) m->s.x[i] = 0.0;
+    for (i = 0; i < NU; i++) m->s.slope_time[i] = -INFINITY;
     m->s.mode = ST_INSTANTIATED;
     m->derived_ok = 0;
-    m->need_restart = 1;
+    m->need_restart = RESTART_FRESH;
     m->ev.p = m->s.p;
     m->ev.arg = m->arg;
     m->ev.res = m->res;

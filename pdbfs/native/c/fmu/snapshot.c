@@ -35,6 +35,9 @@ static int check_snapshot(Inst *m, const Snapshot *s, const char *fn) {
     for (k = 0; k < NPAR; k++)
         if (model_check_param(m, k, s->p[k]) != FMU_OK) return ERR(m, "%s: the state's parameters are invalid", fn);
     if (!fmu_all_finite(s->p + NPAR, NP - NPAR)) return ERR(m, "%s: the state's inputs are not finite", fn);
+    for (k = 0; k < NU; k++)
+        if (isnan(s->slope_time[k]) || s->slope_time[k] > s->time)
+            return ERR(m, "%s: invalid input slope times in the state", fn);
     /* after initialisation the parameters keep the components' conditions (before: checked on leaving it) */
     if ((s->mode & (ST_STEPDONE | ST_EVENT | ST_CONT | ST_TERMINATED)) && (k = model_failed_condition(m, s->p)) >= 0)
         return ERR(m, "%s: the state's parameters break a condition: %s", fn, PDBFS_COND_TEXT[k]);
@@ -78,7 +81,7 @@ int snapshot_set(Inst *m, const char *fn, const void *state) {
     if (check_snapshot(m, s, fn) != FMU_OK) return FMU_ERROR;
     memcpy(&m->s, s, sizeof(Snapshot));
     m->derived_ok = 0;
-    m->need_restart = 1;
+    m->need_restart = RESTART_FRESH;
     return FMU_OK;
 }
 

@@ -4,8 +4,9 @@
  * only to values that keep the components' conditions), the solver
  * settings, calculated parameters, states, derivatives, outputs, and the
  * inputs (held from the time they are set, or running linearly from there
- * with the slope FMI 2.0's fmi2SetRealInputDerivatives gives).  A call
- * that is refused changes nothing. */
+ * with the slope FMI 2.0's fmi2SetRealInputDerivatives gives, in either
+ * order at one communication point; setting an input to the value it has
+ * changes nothing).  A call that is refused changes nothing. */
 #include <math.h>
 #include <stdio.h>
 
@@ -59,6 +60,22 @@ static int input_set(Inst *m, int k, double value, double slope) {
 #endif
 }
 
+/* input k set to ``value`` now: the value it has changes nothing (a line
+ * stays a line); another value keeps a slope given at this same time (a
+ * master may give slope and value in either order), else the input is held
+ * from now (a slope given at an earlier communication point belonged to the
+ * value of then). 1 if that changes it */
+static int input_value(Inst *m, int k, double value) {
+    double slope;
+    if (value == values_input(m, k)) return 0;
+#if PDBFS_NU > 0
+    slope = m->s.slope_time[k] == m->s.time ? m->s.p[PDBFS_P_DU0 + k] : 0.0;
+#else
+    slope = 0.0;
+#endif
+    return input_set(m, k, value, slope);
+}
+
 int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t n, const int order[],
                             const double v[]) {
     size_t i;
@@ -77,9 +94,10 @@ int values_set_input_slopes(Inst *m, const char *fn, const unsigned vr[], size_t
     for (i = 0; i < n; i++) {
         int k = (int)(vr[i] - PDBFS_VR_U);
         changed |= input_set(m, k, values_input(m, k), v[i]);
+        m->s.slope_time[k] = m->s.time;
     }
     m->derived_ok = 0;
-    if (changed && m->s.mode == ST_STEPDONE) m->need_restart = 1;   /* the right-hand side changed */
+    if (changed && m->s.mode == ST_STEPDONE && !m->need_restart) m->need_restart = RESTART_CHANGED;
     return FMU_OK;
 }
 
@@ -114,6 +132,11 @@ static void calculated_name(char *buf, size_t size, unsigned r) {
     else snprintf(buf, size, "the variable of value reference %u", r);
 }
 
+int values_intermediate(unsigned r) {
+    if (r >= PDBFS_VR_X && r < VR_X_END) return PDBFS_X_OUTPUT[r - PDBFS_VR_X];
+    return r >= PDBFS_VR_Y && r < VR_Y_END && PDBFS_YO_ROW[r - PDBFS_VR_Y] >= 0;
+}
+
 /* May ``vr`` be read now? The FMI state tables allow no reading in
  * Instantiated (FMI 2.0), or there only the start values that
  * modelDescription.xml declares (FMI 3.0, ``starts``): everything else is
@@ -122,8 +145,16 @@ static void calculated_name(char *buf, size_t size, unsigned r) {
 int values_check_get(Inst *m, const char *fn, const unsigned vr[], size_t n, int starts) {
     size_t i;
     char name[160];
-    if (fmu_check(m, fn, starts ? ST_ANY : ST_ANY & ~ST_INSTANTIATED, -1) != FMU_OK) return FMU_ERROR;
+    if (fmu_check(m, fn, starts ? ST_ANY | ST_INTERMEDIATE : ST_ANY & ~ST_INSTANTIATED, -1) != FMU_OK)
+        return FMU_ERROR;
     if (n > 0 && !vr) return ERR(m, "%s: NULL argument", fn);
+    if (m->s.mode == ST_INTERMEDIATE) {   /* inside fmi3DoStep: the outputs only */
+        for (i = 0; i < n; i++)
+            if (!values_intermediate(vr[i]))
+                return ERR(m, "%s: value reference %u is not an output: in an intermediate update only the "
+                           "outputs (intermediateUpdate=\"true\") are read", fn, vr[i]);
+        return FMU_OK;
+    }
     if (m->s.mode != ST_INSTANTIATED) return FMU_OK;
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
@@ -230,9 +261,20 @@ static int check_tunable_change(Inst *m, const char *fn, const unsigned vr[], si
                "parameters keep their values", fn, what, m->s.time);
 }
 
+/* an input set outside the range where the signals it drives take it as it
+ * is: said in the log (a warning), the value kept (the model clamps it) */
+static int clamped_warning(Inst *m, const char *fn, int k, double v) {
+    if (v >= PDBFS_U_MIN[k] && v <= PDBFS_U_MAX[k]) return FMU_OK;
+    fmu_log(m, FMU_WARNING, "logStatusWarning", "%s: input %s = %g at t=%.17g is %s %g: %s clamps it there, so it "
+            "acts as %g", fn, PDBFS_U_NAME[k], v, m->s.time, v < PDBFS_U_MIN[k] ? "below its min" : "above its max",
+            v < PDBFS_U_MIN[k] ? PDBFS_U_MIN[k] : PDBFS_U_MAX[k], PDBFS_U_CLAMP[k],
+            v < PDBFS_U_MIN[k] ? PDBFS_U_MIN[k] : PDBFS_U_MAX[k]);
+    return FMU_WARNING;
+}
+
 int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, const double v[]) {
     size_t i;
-    int before_init, tunable_ok, changed = 0, params = 0;
+    int before_init, tunable_ok, changed = 0, params = 0, status = FMU_OK;
     if (fmu_check(m, fn, ST_SET_REAL, -1) != FMU_OK) return FMU_ERROR;
     if (n > 0 && (!vr || !v)) return ERR(m, "%s: NULL argument", fn);
     before_init = (m->s.mode & (ST_INSTANTIATED | ST_INIT)) != 0;
@@ -272,8 +314,11 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
     inputs_from_now(m);
     for (i = 0; i < n; i++) {
         unsigned r = vr[i];
-        if (IS_INPUT(r)) {   /* held from now (a slope given later makes it a line) */
-            if (input_set(m, (int)(r - PDBFS_VR_U), v[i], 0.0)) changed = 1;
+        if (IS_INPUT(r)) {
+            if (input_value(m, (int)(r - PDBFS_VR_U), v[i])) {
+                changed = 1;
+                if (clamped_warning(m, fn, (int)(r - PDBFS_VR_U), v[i]) != FMU_OK) status = FMU_WARNING;
+            }
         } else if (r >= PDBFS_VR_P && r < VR_P_END) {
             if (m->s.p[r - PDBFS_VR_P] != v[i]) changed = 1;
             m->s.p[r - PDBFS_VR_P] = v[i];
@@ -285,8 +330,8 @@ int values_set_real(Inst *m, const char *fn, const unsigned vr[], size_t n, cons
         }
     }
     m->derived_ok = 0;
-    if (changed && !before_init) m->need_restart = 1; /* restart: the right-hand side changed */
-    return FMU_OK;
+    if (changed && !before_init && !m->need_restart) m->need_restart = RESTART_CHANGED;
+    return status;
 }
 
 /* solver.method and solver.max_num_steps, one at a time (the wrapper loops:
