@@ -1,11 +1,14 @@
 """Rigs built from the component library. ``RIGS`` maps the names the
-command line accepts (``--rig NAME``) to functions that build them.
+command line accepts (``--rig NAME``) to functions that build them;
+``rig_from`` (loading.py) builds one of them, or a user's own rig named as
+``FILE.py:NAME`` or ``MODULE:NAME``.
 
 May import: pdbfs.errors, pdbfs.modelling, pdbfs.components and pdbfs.rig.
 """
 from .bar_piston import BAR_SIGNALS, BarPistonRig, bar_piston_rig
 from .drop import DROP_SIGNALS, DropRestRig, DropRig, drop_rig
 from .hydraulic_pulse import PULSE_SIGNALS, HydraulicPulseRig, hydraulic_pulse_rig
+from .loading import rig_description, rig_from
 from .paper import PAPER_SIGNALS, PaperRig, paper_rig
 from .paper_hydraulic import PAPER_HYDRAULIC_SIGNALS, PaperHydraulicRig, paper_hydraulic_rig
 from .pulse_control import (LOOP, PID_SIGNALS, TARGET, HydraulicPulsePIDRig, PulseControllerRig,
@@ -59,6 +62,31 @@ RIGS = {
     "hydraulic-pulse-line": lambda: hydraulic_pulse_rig(line=True),
     # ... whose valve a PI controller opens to follow a target pulse (closed loop)
     "hydraulic-pulse-pid": hydraulic_pulse_pid_rig,
+    # ... its plant alone: the valve's opening is an input (--input opening=FILE.csv)
+    "hydraulic-pulse-plant": pulse_plant_rig,
+}
+
+#: each rig in a line, as `pdbfs rigs` lists them (a rig without one: its docstring's first lines)
+DESCRIPTIONS = {
+    "paper": "the paper's rig (Table 1): hammer, piston on an oil column, breech on its mount",
+    "paper-ln": "paper with the Lankarani-Nikravesh contact damping (D from contact.e and hammer.v0)",
+    "paper-hc": "paper with the Hunt-Crossley contact damping (D from contact.e and hammer.v0)",
+    "paper-flores": "paper with the Flores contact damping (D from contact.e and hammer.v0)",
+    "split-piston": "paper with the piston and its seal split into 4 masses",
+    "bar-piston": "paper with the piston an elastic steel bar of 30 segments",
+    "drop": "paper with gravity: the hammer dropped from hammer.h, striking again and again",
+    "drop-rest": "drop with the hammer resting on the piston: the start solved at static equilibrium",
+    "paper-hydraulic": "paper with its oil column made of hydraulic components (a piston and a volume)",
+    "paper-hydraulic-oil": "paper-hydraulic with a bulk modulus growing with pressure, in a "
+                           "chamber that shrinks with the stroke",
+    "hydraulic-pulse": "a breech chamber filled through a fast valve from an accumulator: a pulse "
+                       "without a hammer",
+    "hydraulic-pulse-line": "hydraulic-pulse with a hose and a line that start at the supply "
+                            "pressure (solved)",
+    "hydraulic-pulse-pid": "hydraulic-pulse whose valve a PI controller opens so that the pressure "
+                           "follows a 90 MPa target pulse",
+    "hydraulic-pulse-plant": "the plant of hydraulic-pulse-pid alone: its input opening commands "
+                             "the valve, sensor.y is the measured pressure",
 }
 
 __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitPiston",
@@ -67,4 +95,4 @@ __all__ = ["PaperRig", "paper_rig", "PAPER_SIGNALS", "RIGS", "LAW_RIGS", "SplitP
            "paper_hydraulic_rig", "PAPER_HYDRAULIC_SIGNALS", "HydraulicPulseRig",
            "hydraulic_pulse_rig", "PULSE_SIGNALS", "HydraulicPulsePIDRig", "PulsePlantRig",
            "PulseControllerRig", "hydraulic_pulse_pid_rig", "pulse_plant_rig", "pulse_controller_rig",
-           "PID_SIGNALS", "TARGET", "LOOP"]
+           "PID_SIGNALS", "TARGET", "LOOP", "rig_from", "rig_description", "DESCRIPTIONS"]
