@@ -90,6 +90,8 @@ EXAMPLES = {
     "kistler_synthetic.csv": "a measured-like pressure trace of the paper rig (time_s, "
                              "pressure_Pa; 10 us sampling, noise, offset): pdbfs calibrate --trace",
     "gun_target.csv": "a target pressure pulse (time [s], pressure [Pa]): pdbfs design --target",
+    "valve_opening.csv": "a valve command (time [ms], opening 0 to 1): pdbfs simulate --rig "
+                         "hydraulic-pulse-plant --input opening=valve_opening.csv",
 }
 
 
@@ -100,8 +102,10 @@ def example_data(name: str) -> Path:
     ----------
     name : str
         One of :data:`EXAMPLES`: ``"kistler_synthetic.csv"`` (a measured-like
-        pressure trace of the paper rig, for calibration) or
-        ``"gun_target.csv"`` (a target pulse, for design).
+        pressure trace of the paper rig, for calibration),
+        ``"gun_target.csv"`` (a target pulse, for design) or
+        ``"valve_opening.csv"`` (a valve command, an input of the rig
+        ``hydraulic-pulse-plant``).
 
     Returns
     -------
