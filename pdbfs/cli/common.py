@@ -4,7 +4,6 @@ folders checked before any work, printing a summary."""
 from __future__ import annotations
 
 import argparse
-import re
 import tempfile
 from pathlib import Path
 

@@ -146,11 +146,9 @@ def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
     points on [0, t_end]; a run longer than T_END_MAX or points closer than
     MIN_SPACING are refused."""
     if t_out is None:
-        if not (np.isfinite(real(t_end, "t_end")) and t_end > 0):
-            raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
+        check_t_end(t_end)
         if whole(n_out, "n_out") < 2:
             raise ParameterError(f"n_out = {n_out}: need at least 2 output points")
-        _check_end(float(t_end), "t_end")
         spacing = float(t_end) / (int(n_out) - 1)
         if spacing < MIN_SPACING:
             raise ParameterError(f"t_end = {t_end:g} s with n_out = {n_out}: output points "
@@ -166,7 +164,8 @@ def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
         raise ParameterError(f"t_out: must be one row of times, not an array of shape {g.shape}")
     if g.size < 2 or g[0] != 0.0 or not np.all(np.diff(g) > 0) or not np.all(np.isfinite(g)):
         raise ParameterError("t_out must start at 0 and increase strictly, with 2+ points")
-    _check_end(float(g[-1]), "t_out's last time")
+    if g[-1] > T_END_MAX:
+        raise ParameterError(f"t_out ends at {g[-1]:g} s, {_too_long}")
     k = int(np.argmin(np.diff(g)))
     if g[k + 1] - g[k] < MIN_SPACING:
         raise ParameterError(f"t_out: {g[k]:.17g} and {g[k + 1]:.17g} s are {g[k + 1] - g[k]:.2g} s "
@@ -175,8 +174,32 @@ def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
     return g
 
 
-def _check_end(t_end: float, name: str) -> None:
-    if t_end > T_END_MAX:
-        raise ParameterError(f"{name} = {t_end:g} s: longer than {T_END_MAX:.2g} s (about "
-                             f"{T_END_MAX / 3.156e7:.0f} years), beyond which double precision "
-                             f"resolves times more coarsely than {TIME_RESOLUTION:g} s")
+def check_t_end(t_end, name: str = "t_end") -> float:
+    """``t_end`` as a float: a time in s from MIN_SPACING to T_END_MAX, else a
+    ParameterError naming ``name``.
+
+    Parameters
+    ----------
+    t_end : float
+        A run's horizon, s.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+        ``t_end``.
+    """
+    t = real(t_end, name)
+    if not (np.isfinite(t) and t > 0):
+        raise ParameterError(f"{name} = {t_end}: must be a positive time in s")
+    if t < MIN_SPACING:
+        raise ParameterError(f"{name} = {t:g} s: shorter than {MIN_SPACING:g} s, shorter than "
+                             "anything a rig does")
+    if t > T_END_MAX:
+        raise ParameterError(f"{name} = {t:g} s: {_too_long}")
+    return t
+
+
+_too_long = (f"longer than {T_END_MAX:.2g} s (about {T_END_MAX / 3.156e7:.0f} years), beyond "
+             f"which double precision resolves times more coarsely than {TIME_RESOLUTION:g} s")
