@@ -3,13 +3,9 @@
 platform), and how to carry it to a machine without network."""
 from __future__ import annotations
 
-import hashlib
-import os
 import shutil
 import sys
-from pathlib import Path
 
-from pdbfs.errors import ParameterError
 from pdbfs.files import whole
 
 from .common import prepare_out
@@ -22,7 +18,6 @@ def _size(folder) -> float:
 def cmd_prepare_offline(args):
     """pdbfs prepare-offline: fetch the sources, build CVODE, say how to carry the cache."""
     from pdbfs.fmu.platforms import prepare_offline
-    check_sdist_variable()
     out = prepare_out(args.out) if args.out else None
 
     def say(k, n, text):
@@ -44,27 +39,6 @@ def cmd_prepare_offline(args):
     print(f"  copy {sdist or 'the sdist PDBFS_SUNDIALS_SDIST named'} there and set "
           "PDBFS_SUNDIALS_SDIST to its path (CVODE is then compiled there, once per platform).")
     return 0
-
-
-def check_sdist_variable():
-    """PDBFS_SUNDIALS_SDIST, where set, names the pinned sdist: a missing or
-    other file is refused (the cache may not need it, but the user meant it)."""
-    from pdbfs.native import sundials as S
-    local = os.environ.get("PDBFS_SUNDIALS_SDIST")
-    if not local:
-        return
-    where = f"PDBFS_SUNDIALS_SDIST={local}"
-    path = Path(local)
-    if not path.is_file():
-        raise ParameterError(f"{where}: " + ("is a folder" if path.is_dir() else "no such file")
-                             + f"; name the file {S.SDIST}, or unset the variable")
-    try:
-        digest = hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError as err:
-        raise ParameterError(f"{where}: {err.strerror or err}") from None
-    if digest != S.SDIST_SHA256:
-        raise ParameterError(f"{where}: not {S.SDIST} (its SHA-256 is {digest[:16]}..., the "
-                             f"pinned one {S.SDIST_SHA256[:16]}...)")
 
 
 def add_parsers(sub):
