@@ -1,6 +1,6 @@
-"""A rig from its name: one of :data:`RIGS`, or a user's own rig named by
-where it is defined, ``FILE.py:NAME`` or ``MODULE:NAME`` (what ``--rig``
-takes in every command and in the workbench).
+"""A user's own rig, named by where it is defined: ``FILE.py:NAME`` or
+``MODULE:NAME`` (what ``--rig`` takes, beside the names of RIGS, in every
+command and in the workbench; :func:`pdbfs.models.rig_from`).
 
 NAME is a Rig subclass (built with no arguments) or a function returning
 a rig: each use builds a new one. Everything that can go wrong in finding
@@ -25,22 +25,18 @@ from pdbfs.rig import Rig
 FORMS = "FILE.py:NAME or MODULE:NAME (NAME a Rig class or a function returning a rig)"
 
 
-def rig_from(spec: str, where: str = "rig") -> Rig:
-    """A new rig: ``RIGS[spec]()``, or the user's rig ``spec`` names.
+def user_rig(spec: str, where: str, names) -> Rig:
+    """A new rig of the user's, as ``spec`` names it (``FILE.py:NAME`` or
+    ``MODULE:NAME``; :func:`pdbfs.models.rig_from` says how).
 
     Parameters
     ----------
     spec : str
-        A name of :data:`pdbfs.models.RIGS` (``"paper"``), or a user's rig:
-        ``"path/to/file.py:NAME"`` (the file is imported as a module, its
-        folder first on ``sys.path`` so that it can import its neighbours;
-        ``:NAME`` may be left out where the file defines one Rig class) or
-        ``"package.module:NAME"`` (imported as Python does, the current
-        folder included). NAME is a Rig subclass or a function returning
-        a rig; a dotted NAME (``factories.small``) is followed attribute by
-        attribute.
+        Where the rig is defined and its name there.
     where : str
         How messages name what gave ``spec`` (``"--rig"`` on the command line).
+    names : sequence of str
+        The shipped rigs' names, offered by the message of an unknown name.
 
     Returns
     -------
@@ -50,28 +46,17 @@ def rig_from(spec: str, where: str = "rig") -> Rig:
     Raises
     ------
     ParameterError
-        An unknown name, a file or module that is missing or fails to import,
-        a NAME it does not define, something that is not a rig, a builder
-        that raises: one line naming which.
-
-    Examples
-    --------
-    >>> from pdbfs.models import rig_from
-    >>> rig_from("hydraulic-pulse-plant").inputs()[0].name
-    'opening'
+        One line naming what is wrong.
     """
-    from . import RIGS
     if not isinstance(spec, str) or not spec.strip():
-        raise ParameterError(f"{where} {spec!r}: give a rig name ({', '.join(RIGS)}) or {FORMS}")
-    if spec in RIGS:
-        return RIGS[spec]()
+        raise ParameterError(f"{where} {spec!r}: give a rig name ({', '.join(names)}) or {FORMS}")
     head, colon, name = spec.rpartition(":")
     if not colon or not _is_name(name):         # no :NAME (or a Windows drive's colon)
         head, name = spec, ""
     shown = f"{where} {spec}"
     if not _is_file(head):
         if not name:
-            raise ParameterError(f"unknown rig {spec!r}; choose one of {', '.join(RIGS)}, or "
+            raise ParameterError(f"unknown rig {spec!r}; choose one of {', '.join(names)}, or "
                                  f"give {FORMS}")
         module = _import_module(head, shown)
     else:
@@ -81,24 +66,19 @@ def rig_from(spec: str, where: str = "rig") -> Rig:
     return _build(module, name, shown)
 
 
-def rig_description(name: str, rig: Rig | None = None) -> str:
-    """A rig's description in one line: :data:`DESCRIPTIONS`'s, else the
-    first paragraph of its builder's docstring, else of its class's.
+def first_paragraph(build, rig: Rig) -> str:
+    """The first paragraph of ``build``'s docstring in one line (a lambda's:
+    of ``rig``'s class's).
 
     Parameters
     ----------
-    name : str
-        The rig's name in :data:`RIGS`, or a user's rig as :func:`rig_from` takes it.
-    rig : Rig, optional
-        The rig (built here when not given and needed).
+    build : callable or None
+        What built the rig (None: a rig of the user's).
+    rig : Rig
+        The rig it built.
     """
-    from . import DESCRIPTIONS, RIGS
-    if name in DESCRIPTIONS:
-        return DESCRIPTIONS[name]
-    build = RIGS.get(name)
     doc = build.__doc__ if build is not None and build.__name__ != "<lambda>" else None
-    if not doc:
-        doc = type(rig if rig is not None else rig_from(name)).__doc__
+    doc = doc or type(rig).__doc__
     return " ".join(inspect.cleandoc(doc or "").split("\n\n")[0].split())
 
 

@@ -21,7 +21,10 @@ class Once(argparse._StoreAction):
     without a word (repeatable options are ``append`` and check their names)."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        given = namespace.__dict__.setdefault("_given", {})
+        given = getattr(namespace, "_given", None)      # what this parse was given so far
+        if given is None:
+            given = {}
+            setattr(namespace, "_given", given)
         if self.dest in given:
             name = max(self.option_strings, key=len) if self.option_strings else self.dest
             raise ParameterError(twice(name, given[self.dest], values))
