@@ -112,7 +112,7 @@ def summary_run(res) -> SummaryRun:
         if listed_until is not None and t_done is not None:
             end = min(end, listed_until)
         if grid[-1] >= end - 1e-6 * h:   # a grid point a rounding error short of the end is the end
-            grid = np.append(grid[:1], np.append(grid[1:][grid[1:] < end - 1e-6 * h], end))
+            grid = np.append(grid[grid < end - 1e-6 * h], end)
         own = t_last == 0.0 and np.array_equal(grid, res.t)
         if own:
             X, Z = res._X, res._Z                                 # the caller's own run

@@ -30,9 +30,10 @@ ATOL_MIN = 1e-30
 #: resolution of t_end): the longest run, T_END_MAX, is about 140 years
 TIME_RESOLUTION = 1e-6
 T_END_MAX = TIME_RESOLUTION / float(np.finfo(float).eps)
-#: the closest output points, s: a femtosecond, shorter than anything a rig does
-#: (and far from where the arithmetic of times breaks down)
-MIN_SPACING = 1e-15
+#: the closest output points (and the shortest run), s: CasADi's integrators do not
+#: integrate between output times closer than 1e-9 s (they copy the state over),
+#: and a nanosecond is shorter than anything a rig does
+MIN_SPACING = 1e-9
 
 
 def default_rtol(method: str, rtol=None) -> float:
@@ -152,8 +153,8 @@ def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
         spacing = float(t_end) / (int(n_out) - 1)
         if spacing < MIN_SPACING:
             raise ParameterError(f"t_end = {t_end:g} s with n_out = {n_out}: output points "
-                                 f"{spacing:.2g} s apart, closer than {MIN_SPACING:g} s (shorter "
-                                 "than anything a rig does); give a longer horizon or fewer points")
+                                 f"{spacing:.2g} s apart, closer than {MIN_SPACING:g} s (the "
+                                 "integrators' resolution); give a longer horizon or fewer points")
         return np.linspace(0.0, float(t_end), int(n_out))
     try:
         g = np.asarray(t_out, dtype=float)
@@ -169,8 +170,7 @@ def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
     k = int(np.argmin(np.diff(g)))
     if g[k + 1] - g[k] < MIN_SPACING:
         raise ParameterError(f"t_out: {g[k]:.17g} and {g[k + 1]:.17g} s are {g[k + 1] - g[k]:.2g} s "
-                             f"apart, closer than {MIN_SPACING:g} s (shorter than anything a rig "
-                             "does)")
+                             f"apart, closer than {MIN_SPACING:g} s (the integrators' resolution)")
     return g
 
 
@@ -194,8 +194,8 @@ def check_t_end(t_end, name: str = "t_end") -> float:
     if not (np.isfinite(t) and t > 0):
         raise ParameterError(f"{name} = {t_end}: must be a positive time in s")
     if t < MIN_SPACING:
-        raise ParameterError(f"{name} = {t:g} s: shorter than {MIN_SPACING:g} s, shorter than "
-                             "anything a rig does")
+        raise ParameterError(f"{name} = {t:g} s: shorter than {MIN_SPACING:g} s (the "
+                             "integrators' resolution)")
     if t > T_END_MAX:
         raise ParameterError(f"{name} = {t:g} s: {_too_long}")
     return t
