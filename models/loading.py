@@ -26,27 +26,18 @@ FORMS = "FILE.py:NAME or MODULE:NAME (NAME a Rig class or a function returning a
 
 
 def user_rig(spec: str, where: str, names) -> Rig:
-    """A new rig of the user's, as ``spec`` names it (``FILE.py:NAME`` or
-    ``MODULE:NAME``; :func:`pdbfs.models.rig_from` says how).
+    """A new rig of the user's, built as ``spec`` (``FILE.py:NAME`` or
+    ``MODULE:NAME``) says, or a ParameterError of one line naming what is
+    wrong: :func:`pdbfs.models.rig_from` for a name that is not a shipped one.
 
     Parameters
     ----------
     spec : str
         Where the rig is defined and its name there.
     where : str
-        How messages name what gave ``spec`` (``"--rig"`` on the command line).
+        What gave ``spec``, as messages name it.
     names : sequence of str
         The shipped rigs' names, offered by the message of an unknown name.
-
-    Returns
-    -------
-    Rig
-        A new rig.
-
-    Raises
-    ------
-    ParameterError
-        One line naming what is wrong.
     """
     if not isinstance(spec, str) or not spec.strip():
         raise ParameterError(f"{where} {spec!r}: give a rig name ({', '.join(names)}) or {FORMS}")

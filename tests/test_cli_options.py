@@ -5,8 +5,6 @@ message that misled: an option given twice (the last won), absurd numbers
 cache said it was ready); and the start messages of --initial, once up to
 570 characters."""
 import argparse
-import subprocess
-import sys
 
 import pytest
 
@@ -14,21 +12,7 @@ from pdbfs.cli import build_parser
 from pdbfs.cli.common import Once
 from pdbfs.models import RIGS, paper_rig
 
-
-def cli(*args, cwd, env=None, timeout=300):
-    import os
-    return subprocess.run([sys.executable, "-m", "pdbfs.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=timeout,
-                          env=None if env is None else {**os.environ, **env})
-
-
-def one_line(r, *words):
-    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("pdbfs: error: "), r.stderr
-    for w in words:
-        assert w in lines[0], (w, lines[0])
-    return lines[0]
+from cli_support import cli, one_line
 
 
 # -- given twice ------------------------------------------------------------------------

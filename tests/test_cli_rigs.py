@@ -14,6 +14,8 @@ import pdbfs
 from pdbfs.cli import build_parser, main
 from pdbfs.models import RIGS
 
+from cli_support import cli, one_line
+
 OSCILLATOR = '''
 import pdbfs
 from pdbfs.components import Fixed, Mass, Spring
@@ -49,20 +51,6 @@ def wrong():
 answer = 42
 built = Oscillator()
 '''
-
-
-def cli(*args, cwd, timeout=300):
-    return subprocess.run([sys.executable, "-m", "pdbfs.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=timeout)
-
-
-def one_line(r, *words):
-    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("pdbfs: error: "), r.stderr
-    for w in words:
-        assert w in lines[0], (w, lines[0])
-    return lines[0]
 
 
 @pytest.fixture
