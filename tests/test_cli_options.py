@@ -1,6 +1,7 @@
 """Options the command line once took without a word or answered with a
 message that misled: an option given twice (the last won), absurd numbers
-(ending in a solver's generic failure or a C driver's "2 output times"),
+(ending in a solver's generic failure, a C driver's "2 output times", or
+CasADi's integrators copying the state over an interval shorter than 1e-9 s),
 --out '' (the current folder), a PDBFS_SUNDIALS_SDIST naming no file (the
 cache said it was ready); and the start messages of --initial, once up to
 570 characters."""
@@ -130,18 +131,21 @@ def test_prepare_offline_refuses_a_sdist_variable_naming_no_sdist(value, words, 
 
 
 # -- --initial's messages ---------------------------------------------------------------
-STEADY_FAILS = [n for n in RIGS if n not in ("drop", "drop-rest")]
-
-
-@pytest.mark.parametrize("rig", STEADY_FAILS)
-def test_a_start_that_is_not_determined_says_so_in_a_short_line(rig):
+@pytest.mark.parametrize("rig", list(RIGS))
+def test_a_start_that_cannot_be_solved_says_so_in_a_short_line(rig):
     """Every shipped rig that cannot start 'steady' (a body free to lie
     anywhere, an accumulator's oil volume that no rate fixes) says which
-    states are left free, in one line of about 160 characters."""
+    states are left free, in one line of about 160 characters; the rigs
+    that can (the drop rigs, at rest on their mounts) do."""
     from pdbfs.errors import ModelError
     from pdbfs.models import rig_from
-    with pytest.raises(ModelError) as e:
+    try:
         rig_from(rig).simulate(0.001, n_out=3, initial="steady")
-    msg = str(e.value)
-    assert "\n" not in msg and "is not determined" in msg and " free (" in msg, msg
-    assert len(msg) <= 175, (len(msg), msg)
+    except ModelError as e:
+        msg = str(e)
+        assert "\n" not in msg and len(msg) <= 175, (len(msg), msg)
+        assert rig not in ("drop", "drop-rest"), msg
+        if rig in ("paper", "bar-piston", "hydraulic-pulse", "hydraulic-pulse-line"):
+            assert "is not determined" in msg and " free (" in msg, msg
+    else:
+        assert rig not in ("paper", "bar-piston", "hydraulic-pulse", "hydraulic-pulse-line")
