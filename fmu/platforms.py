@@ -140,6 +140,7 @@ def prepare_offline(platforms, say=None) -> dict:
     steps = 1 + len(names)
     say = say or (lambda k, n, text: None)
     try:
+        S.check_sdist_variable()         # named by the user: used, or refused
         say(1, steps, f"SUNDIALS {S.VERSION}'s sources ({S.SDIST})")
         src = S.find_sundials_sources()
         for k, name in enumerate(names, 2):

@@ -130,6 +130,8 @@ EXAMPLES = {
     "gun_target.csv": "a target pressure pulse (time [s], pressure [Pa]): pdbfs design --target",
     "gun_firing.csv": "the chamber pressure of one firing of a large-calibre gun, synthetic "
                       "(time [s], pressure [Pa]): pdbfs fatigue --firing",
+    "valve_opening.csv": "a valve command (time [ms], opening 0 to 1): pdbfs simulate --rig "
+                         "hydraulic-pulse-plant --input opening=valve_opening.csv",
 }
 
 
@@ -141,9 +143,10 @@ def example_data(name: str) -> Path:
     name : str
         One of :data:`EXAMPLES`: ``"kistler_synthetic.csv"`` (a measured-like
         pressure trace of the paper rig, for calibration),
-        ``"gun_target.csv"`` (a target pulse, for design) or
+        ``"gun_target.csv"`` (a target pulse, for design),
         ``"gun_firing.csv"`` (a synthetic chamber-pressure trace of one gun
-        firing, for fatigue).
+        firing, for fatigue) or ``"valve_opening.csv"`` (a valve command, an
+        input of the rig ``hydraulic-pulse-plant``).
 
     Returns
     -------

@@ -314,18 +314,23 @@ def component_anchors() -> dict[type, str]:
 # --- the rigs ----------------------------------------------------------------------------
 
 def rigs_page() -> str:
-    from pdbfs.models import RIGS
+    from pdbfs.models import RIGS, rig_description
     out = ["# Rigs", "",
            "The rigs `--rig NAME` accepts (`pdbfs.models.RIGS`), each built from the component "
-           "library, with every parameter as the rig declares it (`pdbfs params --rig NAME` "
-           "prints the same list).", ""]
+           "library, with its inputs and every parameter as the rig declares it (`pdbfs rigs` "
+           "and `pdbfs params --rig NAME` print the same). `--rig` also takes a rig of your "
+           "own: `FILE.py:NAME` or `MODULE:NAME`.", ""]
     for name, build in RIGS.items():
         rig = build()
-        doc = _doc(build) if build.__doc__ and build.__name__ != "<lambda>" else _doc(type(rig))
         params = rig.parameters()
-        out += [f"## `{name}`", "", f"{doc} (class `{type(rig).__name__}`, "
-                f"{len(params)} parameters)", "",
-                f'??? note "Parameters of {name}"', "",
+        doc = _cell(rig_description(name, rig))
+        out += [f"## `{name}`", "", f"{doc[:1].upper()}{doc[1:]} (class `{type(rig).__name__}`, "
+                f"{len(params)} parameters).", ""]
+        inputs = rig.inputs()
+        if inputs:
+            out += ["Inputs: " + "; ".join(f"`{u.name}` ({_cell(u.unit)}): {_cell(u.description)}"
+                                           for u in inputs) + ".", ""]
+        out += [f'??? note "Parameters of {name}"', "",
                 "    | parameter | unit | default | description |", "    |---|---|---|---|"]
         out += [f"    | `{p.name}` | {_cell(p.unit)} | "
                 f"{_cell(_number(p.value) if isinstance(p.value, (int, float)) else 'computed')} | "

@@ -110,7 +110,7 @@ def test_example_data_command_copies_and_refuses_to_clobber(tmp_path):
     r = cli("example-data", "--out", "data", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert files_in(tmp_path) == ["data", "data/gun_firing.csv", "data/gun_target.csv",
-                                  "data/kistler_synthetic.csv"]
+                                  "data/kistler_synthetic.csv", "data/valve_opening.csv"]
     r = cli("example-data", "--out", "data", cwd=tmp_path)   # again: nothing to do
     assert r.returncode == 0 and "already there" in r.stdout
     mine = tmp_path / "data" / "gun_target.csv"

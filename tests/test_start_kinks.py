@@ -124,10 +124,9 @@ def test_only_starts_without_solution_or_with_many_are_refused():
         Falling().simulate(0.001, initial="steady")
     assert "\n" not in str(e.value)
     # the paper rig has no gravity: at rest, the hammer may lie anywhere above the piston
-    with pytest.raises(ModelError, match=r"not determined.*not fix hammer\.s") as e:
+    with pytest.raises(ModelError, match=r"not determined.* leave hammer\.s, piston\.s free") as e:
         paper_rig().linearize("steady")
-    assert "\n" not in str(e.value)
-    assert "contact.hertz.indentation" in str(e.value)
+    assert "\n" not in str(e.value) and len(str(e.value)) < 160
     init = Between().simulate(0.001, n_out=3, initial="steady").initial
     assert abs(init["body.s"]) < 1e-15 and abs(init["body.v"]) < 1e-15
 
@@ -137,15 +136,16 @@ def test_initial_states_that_cannot_fix_themselves_say_which_would():
     with pytest.raises(ModelError) as e:
         paper_rig().simulate(0.001, initial=["breech.s"])
     msg = str(e.value)
-    assert "not on breech.s" in msg and "start breech.v at rest too" in msg and "\n" not in msg
+    assert "der(breech.s) = 0 leaves breech.s free" in msg and msg.endswith(
+        "; start breech.v at rest too") and "\n" not in msg and len(msg) < 160
     # der(breech.v) = 0 does not depend on breech.v (nothing on the breech
     # depends on its velocity), but on the positions of the breech and the piston
     with pytest.raises(ModelError) as e:
         paper_rig().simulate(0.001, initial=["piston.v", "breech.v"])
     msg = str(e.value)
     assert "touching nothing" not in msg
-    assert "depends on piston.s, breech.s, not on breech.v" in msg
-    assert "start breech.s at rest too" in msg
+    assert "der(breech.v) = 0 leaves breech.v free" in msg
+    assert msg.endswith("; start breech.s at rest too") and len(msg) < 160
     # the advice works: the breech on its mount under the weights above it
     rig = drop_rig()
     P = {p.name: p.value for p in rig.compile().params}

@@ -162,7 +162,7 @@ def fmu(set_progress, _n, settings):
     wb = workbench(settings["rig"])
     try:
         with tempfile.TemporaryDirectory(prefix="pdbfs-app-") as tmp:
-            path = Path(tmp) / f"{wb.name}.fmu"
+            path = Path(tmp) / f"{wb.file_name}.fmu"
             with_progress(set_progress, "building the FMU", lambda report: wb.fmu(settings["values"], path))
             return dcc.send_bytes(path.read_bytes(), path.name), None
     except (PdbfsError, RuntimeError) as err:

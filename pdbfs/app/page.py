@@ -6,12 +6,11 @@ from __future__ import annotations
 
 from dash import dcc, html
 
-from pdbfs.models import RIGS
 
 from .controls import KEY, START_GROUP
 from .numbers import DERIVED_DIGITS, GIVEN_DIGITS, MARK_DIGITS, number
 from .traces import MAX_UPLOAD
-from .workbench import METHODS, Control, Workbench
+from .workbench import METHODS, Control, Workbench, rig_names
 
 FIELD = {"width": "7.5em", "fontFamily": "monospace"}
 MSG = {"color": "#b00020", "fontSize": "12px", "minHeight": "0"}
@@ -212,7 +211,7 @@ def layout(wb: Workbench):
     settings = initial_settings(wb)
     head = html.Div([
         html.H2("pdbfs workbench", style={"margin": "0 12px 0 0"}),
-        _labelled("rig", dcc.Dropdown(id="rig", options=list(RIGS), value=wb.name, clearable=False,
+        _labelled("rig", dcc.Dropdown(id="rig", options=rig_names(), value=wb.name, clearable=False,
                                       style={"minWidth": "12em"})),
         html.Span(id="rig-note", style={"fontSize": "13px", "color": "#8a5a00"}),
         html.Span(id="backend", children=f"backend: {wb.backend_note}",

@@ -18,7 +18,7 @@ from pdbfs.errors import ParameterError
 
 from . import browser, interact, jobs, traces
 from .page import layout
-from .workbench import workbench
+from .workbench import offer, workbench
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
@@ -30,6 +30,7 @@ def create_app(rig: str = "paper", cache_dir=None):
     import diskcache
     from dash import Dash, DiskcacheManager
 
+    offer(rig)                               # a user's rig (FILE.py:NAME) on the page too
     wb = workbench(rig)                      # bad rig names fail here, before serving
     if cache_dir is None:
         cache_dir = tempfile.mkdtemp(prefix="pdbfs-app-cache-")

@@ -16,7 +16,7 @@ import numpy as np
 
 from pdbfs.components.laws import impact_velocity
 from pdbfs.errors import ParameterError, PdbfsError
-from pdbfs.models import RIGS
+from pdbfs.models import RIGS, rig_from
 from pdbfs.simulation import SUMMARY_UNITS, Simulator
 
 from . import traces
@@ -24,8 +24,8 @@ from .controls import (LOG_UNITS, Control, control_of, drop_height, linear_range
                        parse_number)
 from .numbers import short_description
 
-__all__ = ["Workbench", "workbench", "Control", "LOG_UNITS", "METHODS", "drop_height",
-           "parse_number", "control_of"]
+__all__ = ["Workbench", "workbench", "offer", "rig_names", "Control", "LOG_UNITS", "METHODS",
+           "drop_height", "parse_number", "control_of"]
 
 #: the integrator's methods the page offers (rig.simulate's ``method``)
 METHODS = ("auto", "adams", "bdf")
@@ -33,6 +33,20 @@ METHODS = ("auto", "adams", "bdf")
 MAX_T_END = 50
 #: runs whose curves and summary are kept, per rig (pins and undo are not run again)
 KEEP_OUTCOMES = 12
+#: the user's rigs (FILE.py:NAME, MODULE:NAME) the server was started with: a page
+#: offers these besides RIGS and loads no other (no name from a browser imports a file)
+_OFFERED: list = []
+
+
+def offer(spec: str) -> None:
+    """Let the page load the user's rig ``spec`` (``FILE.py:NAME``), as ``pdbfs app --rig`` does."""
+    if spec not in RIGS and spec not in _OFFERED:
+        _OFFERED.append(spec)
+
+
+def rig_names() -> list[str]:
+    """The rigs a page offers: pdbfs's, then the user's it was started with."""
+    return list(RIGS) + _OFFERED
 
 
 class Workbench:
@@ -40,10 +54,10 @@ class Workbench:
     session state, only the compiled rig and its settings' defaults."""
 
     def __init__(self, rig_name: str):
-        if rig_name not in RIGS:
-            raise ParameterError(f"unknown rig {rig_name!r}; choose one of {', '.join(RIGS)}")
+        if rig_name not in rig_names():
+            raise ParameterError(f"unknown rig {rig_name!r}; choose one of {', '.join(rig_names())}")
         self.name = rig_name
-        self.rig = RIGS[rig_name]()
+        self.rig = rig_from(rig_name, "--rig")
         self.dae = self.rig.compile()
         self.sim = Simulator.of(self.dae)
         self.t_end = float(getattr(self.rig, "default_t_end", 0.02))
@@ -105,6 +119,12 @@ class Workbench:
         hidden = set() if parts else set(self.parts)
         out = [(g, [c for c in cs if c.name not in hidden]) for g, cs in self.groups]
         return [(g, cs) for g, cs in out if cs]
+
+    @property
+    def file_name(self) -> str:
+        """The rig's name in names of files: its --rig name, or for a rig of
+        the user's (``FILE.py:NAME``) the rig's own."""
+        return self.name if self.name in RIGS else self.dae.name
 
     def label(self, name: str) -> str:
         """A parameter as the page names it: ``oil.k: oil column stiffness``."""
@@ -297,7 +317,7 @@ class Workbench:
 
     def fmu(self, settings: dict, path) -> Path:
         """The rig's FMU with the settings as its parameters' start values."""
-        rig = RIGS[self.name]()
+        rig = rig_from(self.name, "--rig")
         defaults = {p.name: p.value for p in self.dae.params}
         for name, value in self.params(settings).items():
             if value != defaults[name]:

@@ -1,5 +1,5 @@
 """Command line: ``pdbfs simulate | params | export-fmu | export-ssp | modes | linearize |
-sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | app | example-data |
+sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | app | rigs | example-data |
 prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
@@ -19,10 +19,11 @@ import warnings
 from pdbfs.errors import PdbfsError
 
 from . import (app, calibrate, design, examples, fatigue, interrupt, linearize, modes, offline,
-               reproduce, sensitivity, simulate, ssp, sweep)
+               reproduce, rigs, sensitivity, simulate, ssp, sweep)
+from .common import Parser, in_option_words
 
 COMMANDS = (simulate, ssp, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, fatigue,
-            app, examples, offline)
+            app, rigs, examples, offline)
 
 #: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
 DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "
@@ -34,7 +35,7 @@ DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensi
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``pdbfs`` argument parser, every command's options included."""
-    ap = argparse.ArgumentParser(prog="pdbfs", description=DESCRIPTION)
+    ap = Parser(prog="pdbfs", description=DESCRIPTION)
     from pdbfs import __version__
     ap.add_argument("--version", action="version", version=f"pdbfs {__version__}",
                     help="print pdbfs's version and exit")
@@ -60,7 +61,11 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line with ``argv`` (default: sys.argv); returns the exit status."""
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)
+    except PdbfsError as err:            # an option given twice (common.Once)
+        print(f"pdbfs: error: {err}", file=sys.stderr)
+        return 2
     warnings.showwarning = _show_warning
     # the page's server stops on Ctrl-C its own way
     watch = interrupt.watching() if args.command != "app" else contextlib.nullcontext()
@@ -68,7 +73,7 @@ def main(argv: list[str] | None = None) -> int:
         with watch:
             status = args.func(args)
     except PdbfsError as err:
-        print(f"pdbfs: error: {plain_text(err)}", file=sys.stderr)
+        print(f"pdbfs: error: {in_option_words(plain_text(err), args)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as stop:  # Ctrl-C: one line, what was kept (a sweep says more)
         interrupt.done()

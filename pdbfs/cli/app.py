@@ -16,7 +16,9 @@ def cmd_app(args):
 def add_parsers(sub):
     """Add the ``app`` command to the subparsers ``sub``."""
     s = sub.add_parser("app", help="serve the rig workbench (a page in the browser)")
-    s.add_argument("--rig", default="paper", help="rig shown first (default: paper)")
+    s.add_argument("--rig", default="paper", metavar="RIG",
+                   help="rig shown first: a name of `pdbfs rigs` (default: paper), or a rig of your "
+                   "own, FILE.py:NAME or MODULE:NAME (offered beside the shipped ones)")
     s.add_argument("--port", type=int, default=8050, help="port (default 8050)")
     s.add_argument("--host", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1: this machine only)")

@@ -7,7 +7,8 @@ from pathlib import Path
 from pdbfs.errors import ParameterError
 from pdbfs.files import write_text
 
-from .common import parse_sets, prepare_out, rig_by_name
+from .common import add_rig_options, parse_sets, prepare_out, rig_by_name
+from .inputs import add_input_option, parse_inputs
 from .progress import Progress
 
 
@@ -33,12 +34,13 @@ def cmd_calibrate(args):
         raise ParameterError(f"--seed {args.seed}: only the extra starts of --starts 2 or more "
                              "are drawn at random; the one start is the rig's values")
     rig = rig_by_name(args.rig)
+    inputs = parse_inputs(args.input, rig.compile())
     prepare_out(args.out)                  # before the fit: no work lost on a bad --out
     with Progress("calibrating", "simulations") as progress:
         cal = calibrate(rig, args.trace, free_list(args.free), signal=args.signal,
                         fit_offset=args.fit_offset, t_end=args.t_end, bounds=args.bounds,
                         params=parse_sets(args.set), starts=args.starts, seed=args.seed or 0,
-                        progress=progress)
+                        progress=progress, inputs=inputs)
     wrote = write_outputs(args.out, "calibration", cal) if args.out else []
     if args.json:
         print(json.dumps(cal.to_dict()))
@@ -52,7 +54,7 @@ def add_parsers(sub):
     """Add the ``calibrate`` command to the subparsers ``sub``."""
     s = sub.add_parser("calibrate", help="fit a rig's unknown parameters to a measured trace "
                        "(CSV: time in s, signal in SI units)")
-    s.add_argument("--rig", default="paper", help="rig name (default: paper)")
+    add_rig_options(s, sets=False)
     s.add_argument("--trace", required=True, metavar="FILE.csv",
                    help="the measured trace: a header, then time (s) and signal (SI) columns")
     s.add_argument("--free", required=True, metavar="NAME,NAME,...",
@@ -65,6 +67,7 @@ def add_parsers(sub):
                    help="bounds of a free parameter (default: a factor 100 either side)")
     s.add_argument("--set", action="append", metavar="NAME=VALUE",
                    help="hold a parameter at VALUE (repeatable)")
+    add_input_option(s)
     s.add_argument("--t-end", type=float, default=None,
                    help="simulated horizon, s: the trace's length (the default) or more")
     s.add_argument("--starts", type=int, default=3,

@@ -1,19 +1,75 @@
 """What every command shares: one set of options (the same name for the same
-thing everywhere), rig names, --set parsing, output folders checked before
-any work, printing a summary."""
+thing everywhere, each given at most once), rig names, --set parsing, output
+folders checked before any work, printing a summary."""
 from __future__ import annotations
 
+import argparse
 import tempfile
 from pathlib import Path
 
 from pdbfs.errors import ParameterError
 
 
+# -- an option given twice ------------------------------------------------------------
+def twice(option: str, first, second) -> str:
+    """The message of an option (or a name in one) given twice."""
+    return f"{option} given twice ({_shown(first)} and {_shown(second)}); give it once"
+
+
+class Once(argparse._StoreAction):
+    """argparse's ``store``, refusing a second value: the last would win
+    without a word (repeatable options are ``append`` and check their names)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = getattr(namespace, "_given", None)      # what this parse was given so far
+        if given is None:
+            given = {}
+            setattr(namespace, "_given", given)
+        if self.dest in given:
+            name = max(self.option_strings, key=len) if self.option_strings else self.dest
+            raise ParameterError(twice(name, given[self.dest], values))
+        given[self.dest] = values
+        setattr(namespace, self.dest, values)
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser (and its commands' parsers) whose options of one
+    value take it once (:class:`Once`)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.register("action", None, Once)
+        self.register("action", "store", Once)
+
+
+#: the API's names of settings in its messages (``t_end = ...``) and the options that give them
+OPTIONS = {"t_end": "--t-end", "n_out": "--n-out", "rtol": "--rtol", "atol": "--atol",
+           "starts": "--starts"}
+
+
+def in_option_words(message: str, args) -> str:
+    """An API message that begins with settings (``t_end = 1e-12 s with
+    n_out = 2001: ...``) as the command line names them (``--t-end 1e-12 s
+    with --n-out 2001: ...``), for the options the command has."""
+    head, sep, rest = message.partition(": ")
+    words = head.split(" with ")
+    for k, word in enumerate(words):
+        name, eq, value = word.partition(" = ")
+        if eq and name in OPTIONS and hasattr(args, name):
+            words[k] = f"{OPTIONS[name]} {value}"
+    return " with ".join(words) + sep + rest
+
+
 # -- options ---------------------------------------------------------------------------
+#: what --rig takes, in every command
+RIG_HELP = ("a rig: a name of `pdbfs rigs` (default: paper), or a rig of your own, FILE.py:NAME or "
+            "MODULE:NAME, NAME a Rig class or a function returning a rig (`pdbfs params --rig RIG` "
+            "lists its parameters)")
+
+
 def add_rig_options(s, sets=True, set_help=None):
     """--rig NAME, and --set NAME=VALUE (parameters held at a value)."""
-    s.add_argument("--rig", default="paper", help="rig name (default: paper; `pdbfs params "
-                   "--rig NAME` lists a rig's parameters)")
+    s.add_argument("--rig", default="paper", metavar="RIG", help=RIG_HELP)
     if sets:
         s.add_argument("--set", action="append", metavar="NAME=VALUE",
                        help=set_help or "hold a parameter at a value, e.g. --set hammer.v0=4.23 "
@@ -68,6 +124,8 @@ def prepare_out(path, option="--out") -> Path | None:
     written, so that no work is lost later and a refused run leaves nothing."""
     if path is None:
         return None
+    if not str(path).strip():       # Path("") is the current folder: never what was meant
+        raise ParameterError(f"{option} {path!r}: empty; name a folder ('.' for the current one)")
     out = Path(path)
     if out.exists() and not out.is_dir():
         raise ParameterError(f"{option} {path}: exists and is not a folder")
@@ -104,11 +162,11 @@ def _try_writing(folder, option, path):
 
 # -- values ---------------------------------------------------------------------------
 def rig_by_name(name):
-    """A new rig of ``RIGS[name]``; an unknown name is a ParameterError listing the names."""
-    from pdbfs.models import RIGS
-    if name not in RIGS:
-        raise ParameterError(f"unknown rig {name!r}; choose one of {', '.join(RIGS)}")
-    return RIGS[name]()
+    """A new rig of ``RIGS[name]``, or the user's rig ``name`` names
+    (``FILE.py:NAME``, ``MODULE:NAME``; pdbfs.models.rig_from); an unknown
+    name or a rig that cannot be loaded is a ParameterError of one line."""
+    from pdbfs.models import rig_from
+    return rig_from(name, "--rig")
 
 
 def parse_sets(items):
@@ -131,8 +189,7 @@ def unique(pairs, option) -> dict:
     out = {}
     for name, value in pairs:
         if name in out:
-            raise ParameterError(f"{option} {name} given twice ({_shown(out[name])} and "
-                                 f"{_shown(value)}); give it once")
+            raise ParameterError(twice(f"{option} {name}", out[name], value))
         out[name] = value
     return out
 

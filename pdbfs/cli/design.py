@@ -7,7 +7,7 @@ from pathlib import Path
 from pdbfs.errors import PdbfsError
 
 from .calibrate import free_list, write_outputs
-from .common import parse_sets, prepare_out, rig_by_name
+from .common import add_rig_options, parse_sets, prepare_out, rig_by_name
 from .progress import Progress
 
 
@@ -68,7 +68,7 @@ def add_parsers(sub):
     """Add the ``design`` and ``design-map`` commands to the subparsers ``sub``."""
     s = sub.add_parser("design", help="find the settings whose pulse matches a target curve "
                        "or target features")
-    s.add_argument("--rig", default="paper", help="rig name (default: paper)")
+    add_rig_options(s, sets=False)
     s.add_argument("--target", default=None, metavar="FILE.csv",
                    help="target curve: a header, then time (s) and signal (SI) columns")
     s.add_argument("--peak", type=float, default=None, help="target peak pressure, Pa")
@@ -91,7 +91,7 @@ def add_parsers(sub):
 
     s = sub.add_parser("design-map", help="contours of peak pressure and pulse duration over "
                        "two settings, from one sweep")
-    s.add_argument("--rig", default="paper", help="rig name (default: paper)")
+    add_rig_options(s, sets=False)
     s.add_argument("--x", required=True, metavar="NAME=LO:HI", help="first setting and its range")
     s.add_argument("--y", required=True, metavar="NAME=LO:HI", help="second setting and its range")
     s.add_argument("--n", type=int, default=21, help="points per axis (default 21)")

@@ -7,6 +7,7 @@ from pdbfs.errors import ParameterError, require_extra
 
 from .common import (add_output_options, add_rig_options, add_run_options, horizon,
                      prepare_out, rig_by_name, unique)
+from .inputs import add_input_option, parse_inputs
 
 
 def parse_sweep_sets(items, required=True):
@@ -79,6 +80,7 @@ def cmd_sweep(args):
     from pdbfs.studies.sweeps.cluster import close, connect
     check_extras(args)
     rig = rig_by_name(args.rig)
+    inputs = parse_inputs(args.input, rig.compile())
     points, fixed = points_from_args(args)
     t_end, n_out = horizon(args, rig)
     if args.dask and args.workers is not None:
@@ -104,7 +106,7 @@ def cmd_sweep(args):
                     out=None if plot or out is None else out,
                     format=None if plot else args.format, chunk_size=args.chunk,
                     overwrite=args.overwrite and not plot,
-                    progress=None if not args.quiet else False)
+                    progress=None if not args.quiet else False, inputs=inputs)
     except KeyboardInterrupt:
         raise KeyboardInterrupt(interrupted(out, plot, points.n)) from None
     finally:
@@ -176,6 +178,7 @@ def add_parsers(sub):
                    help="a Monte Carlo parameter's distribution: normal:MEAN:SD, "
                    "uniform:LO:HI or lognormal:MEDIAN:SIGMA (with --sample mc:N)")
     s.add_argument("--seed", type=int, default=None, help="seed of the sample (default 0)")
+    add_input_option(s)
     add_run_options(s)
     s.add_argument("--workers", type=int, default=None,
                    help="threads or processes on this machine (default: one per core)")

@@ -134,13 +134,13 @@ def rate_dependencies(dae, i) -> list:
 
 
 def rate_hint(dae, eq_names, unknowns) -> str:
-    """Why equations ``der(x) = 0`` (a state started at rest) among
-    ``eq_names`` do not fix the start's ``unknowns``: what each rate depends
-    on, and the states it depends on that start where declared, which could
-    be started at rest too ('' when there are none: no other choice of
-    states would help, the rig itself leaves them free)."""
+    """What would fix the start's ``unknowns`` that equations ``der(x) = 0``
+    (a state started at rest) among ``eq_names`` leave free: the states each
+    rate depends on that start where declared, to start at rest too ('' when
+    there are none: no other choice of states would help, the rig itself
+    leaves them free)."""
     free = set(unknowns)
-    notes, add = [], []
+    add = []
     for name in eq_names:
         m = _RATE.fullmatch(name)
         if m is None or m.group(1) not in dae.x_names:
@@ -152,13 +152,10 @@ def rate_hint(dae, eq_names, unknowns) -> str:
             continue            # it depends on unknowns only: no other choice would help
         body = x.rsplit(".", 1)[0]
         add += [n for n in fixed if n.rsplit(".", 1)[0] == body] or fixed
-        notes.append(f"the rate of {x} depends on {', '.join(deps) or 'no state'}"
-                     + ("" if x in deps else f", not on {x}"))
     if not add:
         return ""
     add = list(dict.fromkeys(add))
-    return (f" ({'; '.join(notes)}: a state started at rest is fixed by the rates that depend "
-            f"on it; start {', '.join(add)} at rest too, or every state: 'steady')")
+    return f"; start {', '.join(add)} at rest too"
 
 
 def start_pattern(dae):

@@ -282,6 +282,26 @@ def _lock(path: Path):
     return FileLock(str(path.parent / f".{path.name}.lock"))
 
 
+def check_sdist_variable() -> None:
+    """``$PDBFS_SUNDIALS_SDIST``, where set, names the pinned sdist: a
+    missing or other file is a SundialsNotFound naming the variable (asked
+    before work that means to use it: the cache may not need it)."""
+    local = os.environ.get("PDBFS_SUNDIALS_SDIST")
+    if not local:
+        return
+    where, path = f"PDBFS_SUNDIALS_SDIST={local}", Path(local)
+    if not path.is_file():
+        raise SundialsNotFound(f"{where}: " + ("is a folder" if path.is_dir() else "no such file")
+                               + f"; name the file {SDIST}, or unset the variable")
+    try:
+        digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError as err:
+        raise SundialsNotFound(f"{where}: {err.strerror or err}") from None
+    if digest != SDIST_SHA256:
+        raise SundialsNotFound(f"{where}: not {SDIST} (its SHA-256 is {digest[:16]}..., the "
+                               f"pinned one's {SDIST_SHA256[:16]}...)")
+
+
 def find_sundials_sources(fetch: bool = True) -> SundialsSources:
     """SUNDIALS' sources in the cache, fetched and extracted once."""
     dest = cache_root() / f"sundials-{VERSION}"

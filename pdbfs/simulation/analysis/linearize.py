@@ -28,7 +28,7 @@ from pdbfs.errors import ParameterError, require_extra
 
 from ..setup.input_traces import refuse_differentiated
 from .kinks import input_sides, kinks_at
-from ..setup.settings import name_list
+from ..setup.settings import MIN_SPACING, name_list
 
 if TYPE_CHECKING:
     import control
@@ -266,6 +266,9 @@ def operating_point(sim, at, p, start, initial, rtol, atol):
     x, _ = solve_start(sim, p, x_guess, initial)
     if t == 0:
         return x, 0.0
+    if t < MIN_SPACING:             # the run to it would be refused naming its t_end
+        raise ParameterError(f"at={at!r}: a time must be 0 or at least {MIN_SPACING:g} s (the "
+                             "integrators' resolution)")
     # from the solved start (given as the guess, it is solved again in one step)
     res = sim.run(t, 2, params=dict(zip(sim.dae.p_names, p)), rtol=rtol, atol=atol,
                   start=dict(zip(sim.dae.x_names, x)), initial=initial)

@@ -76,7 +76,7 @@ def solve_start(sim, p, x_guess, initial=None, t0=0.0):
     w = np.concatenate([x_guess[free], sim.z_guess(p)])
     args = (t0, x_guess, p)
     found = start_branches.search(F, E, w, args)
-    sol = start_branches.decide(found, eq_names, unknowns, dae.name, dae.event_names,
+    sol = start_branches.decide(found, eq_names, unknowns, dae.name,
                                 lambda eqs, xs: rate_hint(dae, eqs, unknowns))
     x0 = x_guess.copy()
     x0[free] = sol.w[:len(free)]

@@ -22,6 +22,18 @@ MAX_NUM_STEPS = 500000
 #: the 1e-7 asked, where 1e-7 left 2x
 DEFAULT_RTOL = {"erk": 5e-8}
 RTOL = 1e-8
+#: the smallest absolute tolerance, in each state's unit: RTOL_MIN of a state of 1e-15,
+#: finer than double precision resolves on any state of physical size; far below it the
+#: error test's weights (1 / atol) overflow (atol 1e-300 failed every method at t = 0)
+ATOL_MIN = 1e-30
+#: the finest time a run resolves, s, near its end (double precision's relative
+#: resolution of t_end): the longest run, T_END_MAX, is about 140 years
+TIME_RESOLUTION = 1e-6
+T_END_MAX = TIME_RESOLUTION / float(np.finfo(float).eps)
+#: the closest output points (and the shortest run), s: CasADi's integrators do not
+#: integrate between output times closer than 1e-9 s (they copy the state over),
+#: and a nanosecond is shorter than anything a rig does
+MIN_SPACING = 1e-9
 
 
 def default_rtol(method: str, rtol=None) -> float:
@@ -117,20 +129,33 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
         if not (np.isfinite(atol) and atol > 0):
             raise ParameterError(f"atol = {atol}: must be a positive number (the absolute "
                                  "tolerance, in each state's unit)")
+        if atol < ATOL_MIN:
+            raise ParameterError(f"atol = {atol:g}: below {ATOL_MIN:g}, finer than double "
+                                 "precision resolves on a state of any physical size (it is in "
+                                 "each state's unit); give at least that")
     if max_step is not None and not (np.isfinite(real(max_step, "max_step")) and max_step > 0):
         raise ParameterError(f"max_step = {max_step}: must be a positive number")
+    if max_step is not None and max_step < MIN_SPACING:
+        raise ParameterError(f"max_step = {max_step:g}: below {MIN_SPACING:g} s, shorter than "
+                             "anything a rig does; give a longer step limit")
     if isinstance(max_num_steps, bool) or not isinstance(max_num_steps, (int, np.integer)) \
             or not 1 <= max_num_steps < 2 ** 62:
         raise ParameterError(f"max_num_steps = {plain(max_num_steps)}: must be a whole number >= 1")
 
 
 def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
-    """The output times: ``t_out`` checked (increasing from 0), else n_out points on [0, t_end]."""
+    """The output times: ``t_out`` checked (increasing from 0), else n_out
+    points on [0, t_end]; a run longer than T_END_MAX or points closer than
+    MIN_SPACING are refused."""
     if t_out is None:
-        if not (np.isfinite(real(t_end, "t_end")) and t_end > 0):
-            raise ParameterError(f"t_end = {t_end}: must be a positive time in s")
+        check_t_end(t_end)
         if whole(n_out, "n_out") < 2:
             raise ParameterError(f"n_out = {n_out}: need at least 2 output points")
+        spacing = float(t_end) / (int(n_out) - 1)
+        if spacing < MIN_SPACING:
+            raise ParameterError(f"t_end = {t_end:g} s with n_out = {n_out}: output points "
+                                 f"{spacing:.2g} s apart, closer than {MIN_SPACING:g} s (the "
+                                 "integrators' resolution); give a longer horizon or fewer points")
         return np.linspace(0.0, float(t_end), int(n_out))
     try:
         g = np.asarray(t_out, dtype=float)
@@ -141,4 +166,41 @@ def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
         raise ParameterError(f"t_out: must be one row of times, not an array of shape {g.shape}")
     if g.size < 2 or g[0] != 0.0 or not np.all(np.diff(g) > 0) or not np.all(np.isfinite(g)):
         raise ParameterError("t_out must start at 0 and increase strictly, with 2+ points")
+    if g[-1] > T_END_MAX:
+        raise ParameterError(f"t_out ends at {g[-1]:g} s, {_too_long}")
+    k = int(np.argmin(np.diff(g)))
+    if g[k + 1] - g[k] < MIN_SPACING:
+        raise ParameterError(f"t_out: {g[k]:.17g} and {g[k + 1]:.17g} s are {g[k + 1] - g[k]:.2g} s "
+                             f"apart, closer than {MIN_SPACING:g} s (the integrators' resolution)")
     return g
+
+
+def check_t_end(t_end, name: str = "t_end") -> float:
+    """``t_end`` as a float: a time in s from MIN_SPACING to T_END_MAX, else a
+    ParameterError naming ``name``.
+
+    Parameters
+    ----------
+    t_end : float
+        A run's horizon, s.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+        ``t_end``.
+    """
+    t = real(t_end, name)
+    if not (np.isfinite(t) and t > 0):
+        raise ParameterError(f"{name} = {t_end}: must be a positive time in s")
+    if t < MIN_SPACING:
+        raise ParameterError(f"{name} = {t:g} s: shorter than {MIN_SPACING:g} s (the "
+                             "integrators' resolution)")
+    if t > T_END_MAX:
+        raise ParameterError(f"{name} = {t:g} s: {_too_long}")
+    return t
+
+
+_too_long = (f"longer than {T_END_MAX:.2g} s (about {T_END_MAX / 3.156e7:.0f} years), beyond "
+             f"which double precision resolves times more coarsely than {TIME_RESOLUTION:g} s")

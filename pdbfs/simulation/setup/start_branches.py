@@ -35,11 +35,10 @@ MARGIN = 1e-3            # how far past a kink a guess is placed, relative to th
 @dataclass
 class Search:
     """Everything the search ran: the first run (from the guess), every
-    solution found, and the event indicators it tried across."""
+    solution found."""
 
     first: newton.Outcome
     solutions: list = field(default_factory=list)    # solved Outcomes
-    crossed: set = field(default_factory=set)        # indices of the indicators tried
 
     def distinct(self) -> list:
         """The solutions, one per distinct start (regular ones first)."""
@@ -84,11 +83,9 @@ def search(F, E, w0, args) -> Search:
         if pattern not in probed:
             probed.add(pattern)
             guesses += _guesses(o, e, De)
-        for k, w in guesses:
+        for _, w in guesses:
             if runs >= MAX_RUNS:
                 break
-            if k is not None:
-                found.crossed.add(k)
             runs += 1
             queue.append(newton.run(F, w, args))
     return found
@@ -133,17 +130,15 @@ def _same(a, b) -> bool:
     return bool(np.all(np.abs(a.w - b.w) <= SAME_SOLUTION * scale))
 
 
-def decide(found: Search, eq_names, unknowns, rig, event_names, hint=lambda eqs, xs: ""):
-    """The one start found, or a ModelError (one line) saying that there is
-    none or more than one, naming the equations and unknowns concerned;
-    ``hint(eqs, xs)`` (lists of names) adds why (from what each rate
-    depends on)."""
+def decide(found: Search, eq_names, unknowns, rig, hint=lambda eqs, xs: ""):
+    """The one start found, or a ModelError (one short line) saying that
+    there is none or more than one, naming the equations and unknowns
+    concerned (the first of long lists); ``hint(eqs, xs)`` (lists of names)
+    adds what to do."""
     sols = found.distinct()
     if len(sols) == 1:
         return sols[0]
     first = found.first
-    crossed = [event_names[k] for k in sorted(found.crossed) if k < len(event_names)]
-    laws = (f"; tried on both sides of the kinks of {', '.join(crossed)}" if crossed else "")
     if first.status == "nonfinite":
         raise ModelError(f"the start of rig {rig}: the initial equations are not finite at "
                          f"the guess ({_names(eq_names, ~np.isfinite(first.g))})")
@@ -155,13 +150,13 @@ def decide(found: Search, eq_names, unknowns, rig, event_names, hint=lambda eqs,
         where = next((o for o in sols if not o.regular), None)
         if where is not None:
             eqs, xs = _support(where, eq_names, unknowns)
-            what = f"{_join(eqs)} do(es) not fix {_join(xs)}"
+            what = f"{_join(eqs, 1)} {_verb(eqs, 'leaves', 'leave')} {_join(xs)} free"
         else:
             eqs, xs = [], _pick(unknowns, differ)
             what = f"its equations have more than one solution in {_join(xs)}"
-        raise ModelError(
-            f"the start of rig {rig} is not determined: {what} (more than one start satisfies "
-            f"them: {unknowns[k]} = {a.w[k]:.6g} and {b.w[k]:.6g} both do{laws}){hint(eqs, xs)}")
+        which = "" if xs == [unknowns[k]] else f"{unknowns[k]} = "
+        raise ModelError(f"the start of rig {rig} is not determined: {what} ({which}"
+                         f"{_pair(a.w[k], b.w[k])}){hint(eqs, xs)}")
     if first.status == "singular":
         eqs, xs = _support(first, eq_names, unknowns)
         U, _ = first.null_spaces()
@@ -169,19 +164,18 @@ def decide(found: Search, eq_names, unknowns, rig, event_names, hint=lambda eqs,
         left = np.abs(U.T @ (first.g / r))
         if left.size and np.max(left) > newton.RESIDUAL_TOL:
             raise ModelError(
-                f"the start of rig {rig} has no solution: {_join(eqs)} stay(s) unsatisfied "
-                f"whatever {_join(xs)} (the initial system is singular there, relative residual "
-                f"{np.max(left):.3g}{laws}){hint(eqs, xs)}")
-        tried = f" ({laws[2:]})" if laws else ""
+                f"the start of rig {rig} has no solution: {_join(eqs)} "
+                f"{_verb(eqs, 'stays', 'stay')} unsatisfied whatever {_join(xs)} (relative "
+                f"residual {np.max(left):.3g}){hint(eqs, xs)}")
         raise ModelError(
-            f"the start of rig {rig} is not determined: the initial system is singular in "
-            f"{_join(eqs)}, which do(es) not fix {_join(xs)}{tried}{hint(eqs, xs)}")
+            f"the start of rig {rig} is not determined: its equations are singular in "
+            f"{_join(eqs)}, which {_verb(eqs, 'leaves', 'leave')} {_join(xs)} free{hint(eqs, xs)}")
     scaled = first.scaled
+    bad = _pick(eq_names, scaled > newton.RESIDUAL_TOL)
     raise ModelError(
-        f"the start of rig {rig} has no solution Newton could find: "
-        f"{_names(eq_names, scaled > newton.RESIDUAL_TOL)} stay(s) unsatisfied "
-        f"(relative residual {np.max(scaled):.3g} after {first.iterations} iterations) for "
-        f"{', '.join(unknowns)}")
+        f"the start of rig {rig} has no solution Newton could find: {_join(bad)} "
+        f"{_verb(bad, 'stays', 'stay')} unsatisfied (relative residual {np.max(scaled):.3g} "
+        f"after {first.iterations} iterations) for {_join(list(unknowns))}")
 
 
 def _support(o, eq_names, unknowns):
@@ -195,11 +189,22 @@ def _pick(names, mask) -> list:
     return [n for n, m in zip(names, mask) if m]
 
 
-def _join(names, most=8) -> str:
-    """Names joined, the first ``most`` of a long list and how many in all."""
+def _join(names, most=2) -> str:
+    """Names joined, or the first of a list longer than ``most`` and how many more."""
     if len(names) > most:
-        return f"{', '.join(names[:most])}, ... ({len(names)} in all)"
+        return f"{names[0]} and {len(names) - 1} more"
     return ", ".join(names) or "none"
+
+
+def _pair(a: float, b: float) -> str:
+    """``a or b`` with the digits that tell them apart."""
+    rel = abs(a - b) / max(abs(a), abs(b), 1e-300)
+    digits = min(9, max(3, 1 - int(np.floor(np.log10(rel))) if rel > 0 else 9))
+    return f"{a:.{digits}g} or {b:.{digits}g}"
+
+
+def _verb(names, one: str, many: str) -> str:
+    return one if len(names) == 1 else many
 
 
 def _names(names, mask) -> str:

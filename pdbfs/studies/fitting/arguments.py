@@ -3,7 +3,7 @@ type before anything is built: each wrong one is a ParameterError naming it."""
 from __future__ import annotations
 
 from pdbfs.errors import ParameterError, plain
-from pdbfs.simulation.setup.settings import mapping, real, whole
+from pdbfs.simulation.setup.settings import check_t_end, mapping, real, whole
 
 
 def check_fit_arguments(*, free, bounds, start, params, starts, t_end, seed=0, signal=None):
@@ -29,7 +29,7 @@ def check_fit_arguments(*, free, bounds, start, params, starts, t_end, seed=0, s
         raise ParameterError(f"starts = {starts}: need at least 1")
     whole(seed, "seed")
     if t_end is not None:
-        real(t_end, "t_end")
+        check_t_end(t_end)
     if signal is not None and not isinstance(signal, str):
         raise ParameterError(f"signal = {signal!r}: name a rig variable, e.g. 'oil.pressure'")
     return mapping(start, "start"), mapping(params, "params", "'seal.c': 25560.0")

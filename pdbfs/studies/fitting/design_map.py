@@ -20,7 +20,7 @@ import warnings
 from pdbfs.errors import ParameterError, PdbfsError, PdbfsWarning, plain
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.setup.memory import require, table_bytes
-from pdbfs.simulation.setup.settings import mapping, real
+from pdbfs.simulation.setup.settings import check_t_end, mapping, real
 
 from .calibration import _rig
 from .free_parameters import height_stands_for
@@ -140,7 +140,7 @@ def design_map(rig: Component | DAE | str, x: tuple[str, float, float] | str,
     """Peak pressure, pulse duration and time of peak over the grid of
     ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
     for the impact speed X.v0), ``n`` points per axis, all in one sweep."""
-    real(t_end, "t_end")
+    check_t_end(t_end)
     params = mapping(params, "params")
     rig = _rig(rig)
     sim = Simulator.of(rig)
@@ -165,7 +165,7 @@ def design_map(rig: Component | DAE | str, x: tuple[str, float, float] | str,
             "ask for fewer (n, --n)")
     grid = [(a, b) for b in vy for a in vx]          # y rows, x columns
     res = sweep(rig, {cx: [g[0] for g in grid], cy: [g[1] for g in grid]}, grid=False,
-                t_end=t_end, n_out=int(round(t_end / 1e-5)) + 1, params=params, backend=backend,
+                t_end=t_end, n_out=max(2, int(round(t_end / 1e-5)) + 1), params=params, backend=backend,
                 progress=progress)
     values = {k: res.values(k).reshape(len(yv), len(xv)) for k in MAPPED}
     failed, no_pulse = _blanks(res, sim.dae.name, len(xv), len(yv), t_end)
