@@ -28,7 +28,7 @@ SHIFT, OFFSET, NOISE = 1.2e-3, 0.3e6, 0.5e6
 def synthetic_trace(path: Path):
     """100 kHz samples of the rig at TRUE, delayed by SHIFT, offset and noisy."""
     t = np.arange(0.0, 0.0215, 1e-5)
-    tm = np.clip(t - SHIFT, 0.0, None)
+    tm = np.round(np.clip(t - SHIFT, 0.0, None), 12)     # no 1e-19 s steps from rounding
     grid = np.unique(np.concatenate([[0.0], tm[tm > 0]]))
     p = paper_rig().simulate(t_out=grid, params=TRUE, rtol=1e-10, atol=1e-12)["oil.pressure"]
     y = np.interp(tm, grid, p) + OFFSET + np.random.default_rng(7).normal(0.0, NOISE, t.size)
