@@ -126,10 +126,7 @@ class Driven:
         def run(sub, x, q):
             if base.dae.x.numel() == 0:
                 return base.prescribed(sub, q)
-            if TE.breakpoints(base.dae, q, sub[0], sub[-1]).size:
-                return TE.pieces(base, sub, x, q, rtol, atol, method, max_step, s)
-            # one cached integrator for the segments without output points inside
-            return base._shifted(sub, x, q, rtol, atol, method, max_step, s, keep=sub.size == 2)
+            return TE.pieces(base, sub, x, q, rtol, atol, method, max_step, s)[:2]
         return self._pieces(grid, x0, p, run)[:2]
 
     integrate_shifted = integrate
