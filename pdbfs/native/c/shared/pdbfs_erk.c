@@ -50,8 +50,8 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->ne = ne;
     s->ev = ev;
     s->ode = pdbfs_ode;
-    /* y, f, y_old, ynew, tmp, acc, dense (7), k (16), half (3) */
-    s->y = malloc(sizeof(double) * (n * (6 + 7 + NK + 3) + 7 * m));
+    /* y, f, y_old, ynew, tmp, acc, dense (7), k (16), half (3 + 1 + 13) */
+    s->y = malloc(sizeof(double) * (n * (6 + 7 + NK + 4 + NSTAGE + 1) + 7 * m));
     if (!s->y) return -100;
     s->f = s->y + n;
     s->y_old = s->f + n;
@@ -137,31 +137,37 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     return 0;
 }
 
-/* an attempt over h (as pdbfs_erk_attempt) whose error is also checked by
- * two half steps, the larger estimate returned: just after a kink, where a
- * law that grows as a fractional power from its onset (a contact's d^1.5)
- * leaves an error that the embedded estimate underrates a hundredfold.
- * *low set: the halves saw KINK_LOW times the embedded estimate or more */
+/* an attempt over h (as pdbfs_erk_attempt) whose error, where the
+ * embedded estimate passes it, is also checked by two half steps, the
+ * larger estimate returned: just after a kink, where a law that grows as a
+ * fractional power from its onset (a contact's d^1.5) leaves an error that
+ * the embedded estimate underrates a hundredfold.  *low set: the halves saw
+ * KINK_LOW times the embedded estimate or more */
 static double attempt_halves(PdbfsErk *s, double h, int *low) {
     const int n = s->nx, m = s->nx - s->nq;
-    const size_t bytes = sizeof(double) * (size_t)n;
-    double *y1 = s->half, *f1 = s->half + n, *y2 = s->half + 2 * n;
-    double *y0 = s->y, *f0 = s->f, t0 = s->t, err, sum = 0.0;
+    const size_t bytes = sizeof(double) * (size_t)n, stages = bytes * (NSTAGE + 1);
+    double *y1 = s->half, *f1 = s->half + n, *y2 = s->half + 2 * n, *kept = s->half + 3 * n;
+    double *y0 = s->y, *f0 = s->f, t0 = s->t, err = pdbfs_erk_attempt(s, h), e, sum = 0.0;
     int i;
-    if (!isfinite(pdbfs_erk_attempt(s, 0.5 * h))) return INFINITY;
-    memcpy(y1, s->ynew, bytes);
-    memcpy(f1, s->k + NSTAGE * n, bytes);
-    s->y = y1;
-    s->f = f1;
-    s->t = t0 + 0.5 * h;
-    err = pdbfs_erk_attempt(s, 0.5 * h);
-    s->y = y0;
-    s->f = f0;
-    s->t = t0;
-    if (!isfinite(err)) return INFINITY;
+    if (!(err <= 1.0)) return err;
+    memcpy(kept, s->ynew, bytes);          /* the step's end and stages, for its dense output */
+    memcpy(kept + n, s->k, stages);
+    e = pdbfs_erk_attempt(s, 0.5 * h);
+    if (isfinite(e)) {
+        memcpy(y1, s->ynew, bytes);
+        memcpy(f1, s->k + NSTAGE * n, bytes);
+        s->y = y1;
+        s->f = f1;
+        s->t = t0 + 0.5 * h;
+        e = pdbfs_erk_attempt(s, 0.5 * h);
+        s->y = y0;
+        s->f = f0;
+        s->t = t0;
+    }
     memcpy(y2, s->ynew, bytes);
-    err = pdbfs_erk_attempt(s, h);
-    if (!isfinite(err)) return err;
+    memcpy(s->ynew, kept, bytes);
+    memcpy(s->k, kept + n, stages);
+    if (!isfinite(e)) return INFINITY;
     for (i = 0; i < m; i++) {
         double w = (s->ynew[i] - y2[i]) / (s->atol[i] + s->rtol * fmax(fabs(y0[i]), fabs(s->ynew[i])));
         sum += w * w;

@@ -78,7 +78,8 @@ typedef struct {
      * contact's onset): no step is longer than KINK_GRADE (pdbfs_erk.c) times its
      * distance from t_kink, up to which the embedded estimate holds (-inf: none) */
     double t_kink;
-    double *half;             /* 3 nx: the two half steps' check (state, f, end) */
+    double *half;             /* 17 nx: the two half steps' check (state, f and end; the
+                               * step's end and stages meanwhile) */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
 } PdbfsErk;
