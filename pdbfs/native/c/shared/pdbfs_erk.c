@@ -20,13 +20,8 @@
  * kink's theta) past it, at least KINK_MIN of the attempt */
 #define KINK_MARGIN 1e-3
 #define KINK_MIN 1e-3
-/* the first step after a kink is checked by two half steps: the difference of
- * their end and the step's is (1 - 2^-p) of the step's error for a local
- * order p >= 2, hence the factor; it shows a law of low order where it is
- * KINK_LOW times the embedded estimate or more */
-#define KINK_HALVES (4.0 / 3.0)
-#define KINK_LOW 4.0
-#define KINK_NOISE 1e3
+/* the first step after a kink is checked by two half steps
+ * (pdbfs_erk_attempt_halves), and may shrink faster */
 #define KINK_SHRINK_MIN 0.1
 /* ... and then no step is longer than KINK_GRADE times its distance from
  * the kink: up to there the embedded estimate holds (measured on the
@@ -137,47 +132,6 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     return 0;
 }
 
-/* an attempt over h (as pdbfs_erk_attempt) whose error, where the
- * embedded estimate passes it, is also checked by two half steps, the
- * larger estimate returned: just after a kink, where a law that grows as a
- * fractional power from its onset (a contact's d^1.5) leaves an error that
- * the embedded estimate underrates a hundredfold.  *low set: the halves saw
- * KINK_LOW times the embedded estimate or more */
-static double attempt_halves(PdbfsErk *s, double h, int *low) {
-    const int n = s->nx, m = s->nx - s->nq;
-    const size_t bytes = sizeof(double) * (size_t)n, stages = bytes * (NSTAGE + 1);
-    double *y1 = s->half, *f1 = s->half + n, *y2 = s->half + 2 * n, *kept = s->half + 3 * n;
-    double *y0 = s->y, *f0 = s->f, t0 = s->t, err = pdbfs_erk_attempt(s, h), e, sum = 0.0;
-    int i;
-    if (!(err <= 1.0)) return err;
-    memcpy(kept, s->ynew, bytes);          /* the step's end and stages, for its dense output */
-    memcpy(kept + n, s->k, stages);
-    e = pdbfs_erk_attempt(s, 0.5 * h);
-    if (isfinite(e)) {
-        memcpy(y1, s->ynew, bytes);
-        memcpy(f1, s->k + NSTAGE * n, bytes);
-        s->y = y1;
-        s->f = f1;
-        s->t = t0 + 0.5 * h;
-        e = pdbfs_erk_attempt(s, 0.5 * h);
-        s->y = y0;
-        s->f = f0;
-        s->t = t0;
-    }
-    memcpy(y2, s->ynew, bytes);
-    memcpy(s->ynew, kept, bytes);
-    memcpy(s->k, kept + n, stages);
-    if (!isfinite(e)) return INFINITY;
-    for (i = 0; i < m; i++) {
-        double w = (s->ynew[i] - y2[i]) / (s->atol[i] + s->rtol * fmax(fabs(y0[i]), fabs(s->ynew[i])));
-        sum += w * w;
-    }
-    sum = KINK_HALVES * sqrt(sum / m);
-    /* (below KINK_NOISE the two differ by roundoff only) */
-    if (sum >= KINK_LOW * err && sum > KINK_NOISE * DBL_EPSILON / s->rtol) *low = 1;
-    return fmax(err, sum);
-}
-
 static void dense_at(const PdbfsErk *s, double th, double *out) {
     pdbfs_erk_poly(s->y_old, s->dense, s->nx, th, out);
 }
@@ -234,7 +188,7 @@ static int step(PdbfsErk *s, double t_out) {
             snprintf(s->msg, sizeof s->msg, "the step size fell below roundoff at t = %.10g", s->t);
             return PDBFS_ERK_STEP_UNDERFLOW;
         }
-        err = s->kink_steps ? attempt_halves(s, h, &low) : pdbfs_erk_attempt(s, h);
+        err = s->kink_steps ? pdbfs_erk_attempt_halves(s, h, &low) : pdbfs_erk_attempt(s, h);
         if (err <= 1.0) break;
         s->rejected++;
         rejected = 1;
