@@ -78,6 +78,7 @@ typedef struct {
      * contact's onset): no step is longer than KINK_GRADE (pdbfs_erk.c) times its
      * distance from t_kink, up to which the embedded estimate holds (-inf: none) */
     double t_kink;
+    double stiff_z;           /* |lambda| of the fastest mode, as the last step estimated it */
     double *half;             /* 17 nx: the two half steps' check (state, f and end; the
                                * step's end and stages meanwhile) */
     long steps, roots, rhs_evals, rejected;
