@@ -22,7 +22,7 @@ from ..setup import time_events as TE
 from ..setup.initialize import solve_start
 from ..setup.input_traces import drive_of
 from ..results.result import Result
-from ..setup.settings import MAX_NUM_STEPS, default_atol, default_rtol
+from ..setup.settings import MAX_NUM_STEPS, check_atol_scale, default_atol, default_rtol
 
 _STAT_SUMS = ("steps", "rhs_evals", "jac_evals", "root_events")
 
@@ -167,6 +167,7 @@ def run_driven(sim, inputs, t_end, n_out, *, t_out=None, params=None, start=None
     init = x0
     if initial is not None or sim._needs_solving():
         x0, init = solve_start(sim, p0, x0, initial, float(grid[0]))
+    check_atol_scale(sim.dae, x0, atol)
     method = sim.resolve_method(method, p0, x0, grid[-1] - grid[0], backend)
     rtol = default_rtol(method, rtol)
     atol = default_atol(rtol, atol)

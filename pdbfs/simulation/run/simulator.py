@@ -33,8 +33,8 @@ from .stiffness import auto_method
 
 #: Adams with fixed-point iteration below so many states (pdbfs_cvode.h's PDBFS_NEWTON_FROM)
 NEWTON_FROM = 40
-from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings,  # noqa: F401
-                              default_atol, default_rtol, output_grid)
+from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_atol_scale,  # noqa: F401
+                              check_settings, default_atol, default_rtol, output_grid)
 
 
 class Simulator(RunInputs, OnGrid):
@@ -218,6 +218,7 @@ class Simulator(RunInputs, OnGrid):
             init = x0       # the start as declared: Result.initial makes its record on demand
         else:
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
+        check_atol_scale(self.dae, x0, atol)
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         if plan is None:
             backend = backend_for_method(self, asked, backend, method)
