@@ -218,7 +218,8 @@ class Simulator(RunInputs, OnGrid):
             init = x0       # the start as declared: Result.initial makes its record on demand
         else:
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
-        check_atol_scale(self.dae, x0, atol)
+        if atol is not None:
+            check_atol_scale(self.dae, x0, atol)
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         if plan is None:
             backend = backend_for_method(self, asked, backend, method)
