@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..setup import time_events as TE
 from .hermite import TRUST
 
 
@@ -77,8 +76,5 @@ def _compiled_force(sim, force) -> bool:
 def _casadi(sim, grid, x0, p, s, force):
     """From time event to time event, each state event located
     (time_events.pieces), the force a quadrature of the same steps and states."""
-    X, Z, Q = TE.pieces(sim, grid, x0, p, s["rtol"], s["atol"], s["method"], s["max_step"],
-                        s["max_num_steps"], force=force)
-    if not (np.all(np.isfinite(X)) and np.all(np.isfinite(Q))):
-        sim._check_finite(grid, np.vstack([X, Q]))
-    return X, Z, Q
+    return sim.located(grid, x0, p, s["rtol"], s["atol"], s["method"], s["max_step"],
+                       s["max_num_steps"], force)

@@ -48,7 +48,7 @@ class Simulator(RunInputs, OnGrid):
         self._last_stats = {}
         self._checked = set()     # settings that passed check_settings (inputs.py)
         self._grids = {}          # output grids by (t_end, n_out)
-        self.located = {}         # the first state event from a start (setup/time_events.py)
+        self.found_events = {}    # the first state event from a start (setup/time_events.py)
         self.x_names = tuple(dae.x_names)
 
     @staticmethod
@@ -260,9 +260,8 @@ class Simulator(RunInputs, OnGrid):
         self._last_impulse = None
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
-        X, Z, self._last_impulse = TE.pieces(self, grid, x0, p, rtol, atol, method, max_step,
-                                             max_num_steps, force=force_role(self.dae))
-        self._check_finite(grid, X)
+        X, Z, self._last_impulse = self.located(grid, x0, p, rtol, atol, method, max_step,
+                                                max_num_steps, force_role(self.dae))
         return X, Z
 
     def integrate_shifted(self, grid, x0, p, rtol, atol, method, max_step,
@@ -271,9 +270,17 @@ class Simulator(RunInputs, OnGrid):
         (one for every grid of the same shape: no rebuild per window)."""
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
-        X, Z, _ = TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-        self._check_finite(grid, X)
-        return X, Z
+        return self.located(grid, x0, p, rtol, atol, method, max_step, max_num_steps)[:2]
+
+    def located(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, force=None):
+        """(X, Z, Q): time_events.pieces, a failure a SolverError saying where, X checked finite."""
+        try:
+            X, Z, Q = TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, force)
+        except RuntimeError as err:
+            raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
+                                max_num_steps) from None
+        self._check_finite(grid, X if Q is None else np.vstack([X, Q]))
+        return X, Z, Q
 
     def scaled_run(self, grid, x0, p, s, force=None, watch=False, t_lim=np.inf):
         """(X, Z, Q) on ``grid`` from x0 at grid[0]: one call of the
@@ -286,21 +293,16 @@ class Simulator(RunInputs, OnGrid):
         if not span > 0:   # a NaN output time would keep CVODE busy for ever
             raise ValueError(f"scaled_run: the grid must span a positive time, not {span!r}")
         tau = (np.asarray(grid, float) - t0) / span
-        even = np.linspace(0.0, 1.0, tau.size)
-        if np.all(np.abs(tau - even) <= 1e-13):
-            tau = even                   # equal steps: one integrator for every such grid
+        even = np.linspace(0.0, 1.0, tau.size)   # equal steps: one integrator for every such grid
+        tau = even if np.all(np.abs(tau - even) <= 1e-13) else tau
         z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
             self.consistent_start(t0, x0, p)
         F = self.integrator(tau, rtol, atol, method, max_step, scaled=True,
                             max_num_steps=max_num_steps, quad=force, watch=watch,
                             xdot0=None if xdot0 is None else span * xdot0,
                             keep=tau is even or tau.size == 2)
-        try:
-            r = _call(F, x0=x0, p=np.concatenate([p, [t0, span, t_lim]]), z0=z0)
-        except RuntimeError as err:
-            raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
-                                max_num_steps) from None
-        X = r["xf"].full()
+        r = _call(F, x0=x0, p=np.concatenate([p, [t0, span, t_lim]]), z0=z0)  # (a failure:
+        X = r["xf"].full()                        # the caller's pieces() call says where)
         Z = r["zf"].full().reshape(self.dae.z.numel(), X.shape[1])
         Q = r["qf"].full().reshape(-1, X.shape[1]) if r["qf"].numel() else None
         self._last_stats = casadi_stats(F.stats(), method if self.dae.is_ode else "bdf")

@@ -34,7 +34,7 @@ WINDOW = 128
 PARTS = 16
 #: a crossing is located to this fraction of its output interval (or a few roundoffs)
 LOCATE_TO = 1e-7
-#: the first state events found from as many starts are kept (Simulator.located)
+#: the first state events found from as many starts are kept (Simulator.found_events)
 MEMO = 512
 _STATS = ("steps", "rhs_evals", "jac_evals")
 
@@ -134,7 +134,7 @@ def _piece(sim, sub, x, p, s, force, t_lim, total):
         Z[:, 0] = _z_at(sim, t, x, p)
     while k < n - 1:
         key = (t, x.tobytes(), p.tobytes(), s, t_lim, bool(force))
-        known = sim.located.get(key)
+        known = sim.found_events.get(key)
         if known is not None and known[0] <= sub[k + 1]:    # found from here before
             t, x, q_r, skip = known[0], known[1], known[2], known[3]
             q0 += q_r
@@ -170,11 +170,11 @@ def _piece(sim, sub, x, p, s, force, t_lim, total):
             # the indicator restarted at is at its root there: its side after it
             G = sim.events_on(np.array([t_r]), x_r[:, None], _z_at(sim, t_r, x_r, p)[:, None], p)
             skip = (i, t_r, np.sign(G[-ne + i, 0]))
-            if len(sim.located) >= MEMO:
-                sim.located.clear()
+            if len(sim.found_events) >= MEMO:
+                sim.found_events.clear()
             # the first event after this window's start (values between output points
             # integrate from the same start again and again)
-            sim.located[key] = (t_r, x_r, q0 - q_start, skip)
+            sim.found_events[key] = (t_r, x_r, q0 - q_start, skip)
         if t_r >= sub[k + 1]:             # at the next output point
             k += 1
             X[:, k], Z[:, k], Q[k] = x_r, _z_at(sim, t_r, x_r, p), q0
