@@ -12,11 +12,15 @@ State events are the sign changes of the rig's other event indicators
 (contact onset and separation, a clamp, a slack oil column): inside each
 piece they are watched on the output grid and, between output points, by
 two quadratures of each indicator (the integrals of its positive and its
-negative part, exactly zero while the solver never saw that sign), so that
-a contact shorter than an output step is found too. Each is located by
-integrating its interval again on finer grids until the crossing lies
-within a few roundoffs, and the integration restarts just past it: no step
-straddles a kink. (The C drivers do the same in the compiled library,
+negative part, exactly zero while the solver never saw that sign; at the
+output points inside a call they may show it up to a step early, so a
+crossing is confirmed by a call that ends there), so that a contact
+shorter than an output step is found too. Each is located by
+integrating again from a point before it (Illinois on the indicator) until
+the crossing lies within LOCATE_TO of its output interval, and the
+integration restarts just past it: no step straddles a kink. The windows of
+output intervals integrated at once grow from WINDOW after each start or
+event. (The C drivers do the same in the compiled library,
 pdbfs/native/c/shared/.) Rigs of WATCH_BELOW states or more integrate
 through their state events under error control, as the compiled ones do.
 """
@@ -29,9 +33,7 @@ import numpy as np
 WATCH_BELOW = 40
 #: output intervals integrated at once while watching: after a start or an event
 #: this many, doubled after each window without one
-WINDOW = 128
-#: each round of a location integrates the bracket on this many equal parts
-PARTS = 16
+WINDOW = 64
 #: a crossing is located to this fraction of its output interval (or a few roundoffs)
 LOCATE_TO = 1e-7
 #: the first state events found from as many starts are kept (Simulator.found_events)
