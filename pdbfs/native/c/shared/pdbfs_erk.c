@@ -226,8 +226,10 @@ static int step(PdbfsErk *s, double t_out) {
      * steps stay where it is damped */
     {
         /* (an estimate that two steps in a row agree on: a dominant fast mode,
-         * not the noise of oscillations in several) */
+         * not the noise of oscillations in several; none at all, where the
+         * state barely changes: the one before holds) */
         double lam = pdbfs_erk_stiffness(s, h) / h, prev = s->stiff_z;
+        if (lam == 0.0) lam = prev;
         s->stiff_z = lam;
         if (fabs(lam - prev) <= STIFF_AGREE * fmax(lam, prev) && fmin(lam, prev) * h * fac > STIFF_DAMPED)
             fac = STIFF_DAMPED / (fmin(lam, prev) * h);

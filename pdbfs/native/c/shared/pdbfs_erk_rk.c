@@ -107,6 +107,9 @@ double pdbfs_erk_attempt_halves(PdbfsErk *s, double h, int *low) {
     return fmax(err, sum);
 }
 
+/* the states' difference below this (of their size) is roundoff */
+#define STIFF_ROUNDOFF (1e3 * DBL_EPSILON)
+
 /* h |lambda| of the step just attempted over h, for the fastest mode the
  * step saw: the change of f between the last stage and the step's end (both
  * at t + h) over the change of the state between them (Hairer's DOP853
@@ -115,15 +118,18 @@ double pdbfs_erk_attempt_halves(PdbfsErk *s, double h, int *low) {
 double pdbfs_erk_stiffness(PdbfsErk *s, double h) {
     const int n = s->nx, m = s->nx - s->nq;
     const double *k = s->k;
-    double num = 0.0, den = 0.0;
+    double num = 0.0, den = 0.0, size = 0.0;
     int i, j;
     for (i = 0; i < m; i++) {
         double d = k[NSTAGE * n + i] - k[(NSTAGE - 1) * n + i], dy = 0.0;
         for (j = 0; j < NSTAGE; j++) dy += (RK_A[(NSTAGE - 1) * NK + j] - RK_B[j]) * k[j * n + i];
         num += d * d;
         den += dy * dy;
+        size += s->ynew[i] * s->ynew[i];
     }
-    return den > 0.0 ? sqrt(num / den) : 0.0;   /* h cancels: dy is the difference over h */
+    /* h cancels (dy is the difference over h); a difference of a few roundoffs
+     * (a rig at rest) tells nothing: 0 */
+    return den * h * h > STIFF_ROUNDOFF * STIFF_ROUNDOFF * size ? sqrt(num / den) : 0.0;
 }
 
 /* the dense output of the step just accepted (y_old, k of the step, h_old):
