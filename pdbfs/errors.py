@@ -82,6 +82,11 @@ class PulseIncompleteWarning(PdbfsWarning):
     end are not reported; the message names a horizon that would hold it."""
 
 
+class ImplausibleResultWarning(PdbfsWarning):
+    """A figure of a run lies outside its physical range (a restitution
+    coefficient above 1): the message names the likely cause."""
+
+
 class SampleTooSmallWarning(PdbfsWarning):
     """A sample is too small for the statistics computed from it to mean anything."""
 

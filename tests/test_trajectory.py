@@ -14,9 +14,11 @@ def test_trajectory_function_matches_simulate():
     f = pdbfs.trajectory_function(rig, ["oil.pressure", "piston.s"], n_out=101,
                                   inputs=["hammer.v0"])
     y = f(4.23).full()
-    res = rig.simulate(n_out=101, params={"hammer.v0": 4.23}, backend="casadi")   # the same CVODES
-    assert np.allclose(y[0], res["oil.pressure"], rtol=0, atol=1e-9 * res["oil.pressure"].max())
-    assert np.allclose(y[1], res["piston.s"], rtol=0, atol=1e-12)
+    # a tight run: the function integrates through the kinks (it is differentiated), at the
+    # default tolerances, where simulate() locates them (measured 1.4e-7 of the peak apart)
+    res = rig.simulate(n_out=101, params={"hammer.v0": 4.23}, rtol=1e-12)
+    assert np.allclose(y[0], res["oil.pressure"], rtol=0, atol=1e-6 * res["oil.pressure"].max())
+    assert np.allclose(y[1], res["piston.s"], rtol=0, atol=1e-6 * res["piston.s"].max())
 
 
 def test_sensitivities_agree_with_finite_differences():

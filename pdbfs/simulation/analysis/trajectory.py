@@ -132,7 +132,8 @@ def symbolic_states(sim, grid, x0, p, p0, rtol, atol, method, max_step, inputs=(
         sub = np.concatenate([[a], inner, [c]])
         F = sim.integrator((sub - a) / (c - a), rtol, atol, method, max_step, scaled=True,
                            max_num_steps=MAX_NUM_STEPS)
-        r = F(x0=x, p=ca.vertcat(p, a, c - a), z0=z0)
+        r = F(x0=x, p=ca.vertcat(p, a, c - a, np.nextafter(c, -np.inf) if c < grid[-1] else np.inf),
+              z0=z0)
         keep = [j for j in range(sub.size) if (j > 0 or i == 0) and (
             0 < j < sub.size - 1 or sub[j] in grid)]
         Xs.append(r["xf"][:, keep])

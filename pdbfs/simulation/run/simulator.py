@@ -1,8 +1,9 @@
 """The Simulator: SUNDIALS through casadi.integrator (CVODES for ODE rigs,
 IDAS for DAE rigs; integrators cached per setting) or the compiled backend
 (``compiled.py``). Tolerances, grid, start and parameters are arguments of
-each call: the DAE is never rebuilt. Kinks are integrated through with error
-control; tests/test_accuracy.py checks against an event-located reference."""
+each call: the DAE is never rebuilt. Through CasADi a run stops and restarts
+at every time event and every located state event (setup/time_events.py),
+as the compiled drivers do."""
 from __future__ import annotations
 
 import time
@@ -29,8 +30,11 @@ from .backends import backend_for_method
 from .failures import compiled_failure, walk_failure
 from .stats import casadi_stats
 from .stiffness import auto_method
-from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_settings,  # noqa: F401
-                              default_atol, default_rtol, output_grid)
+
+#: Adams with fixed-point iteration below so many states (pdbfs_cvode.h's PDBFS_NEWTON_FROM)
+NEWTON_FROM = 40
+from ..setup.settings import (BACKENDS, MAX_NUM_STEPS, METHODS, check_atol_scale,  # noqa: F401
+                              check_settings, default_atol, default_rtol, output_grid)
 
 
 class Simulator(RunInputs, OnGrid):
@@ -44,6 +48,7 @@ class Simulator(RunInputs, OnGrid):
         self._last_stats = {}
         self._checked = set()     # settings that passed check_settings (inputs.py)
         self._grids = {}          # output grids by (t_end, n_out)
+        self.found_events = {}    # the first state event from a start (setup/time_events.py)
         self.x_names = tuple(dae.x_names)
 
     @staticmethod
@@ -107,16 +112,20 @@ class Simulator(RunInputs, OnGrid):
         return chosen
 
     def integrator(self, grid, rtol, atol, method, max_step, scaled=False,
-                   max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True, quad=None):
+                   max_num_steps=MAX_NUM_STEPS, xdot0=None, keep=True, quad=None, watch=False):
         """A casadi integrator for these settings (cached). ``xdot0`` (DAE
         rigs) is IDAS's guess of der(x) at the start, which its consistent
         initialisation needs; such integrators are built per call. ``quad``: an
-        output integrated as a quadrature (the same steps and states)."""
+        output integrated as a quadrature (the same steps and states);
+        ``watch``: then the positive and negative parts of each state-event
+        indicator too (time_events.py). A ``scaled`` one takes (t0, h,
+        t_lim) after p: tau in [0, 1] covers [t0, t0 + h], the right-hand
+        side seeing time min(t, t_lim)."""
         self.check_settings(rtol, atol, method, max_step, max_num_steps)
         if method == "auto":
             raise ParameterError("method='auto' is resolved by the caller (resolve_method)")
         key = (np.asarray(grid, float).tobytes(), rtol, atol, method, max_step, scaled,
-               max_num_steps, quad)
+               max_num_steps, quad, watch)
         if xdot0 is not None or key not in self._cache:
             dae = self.dae
             opts = {"abstol": atol, "reltol": rtol, "max_num_steps": int(max_num_steps),
@@ -125,15 +134,13 @@ class Simulator(RunInputs, OnGrid):
                 opts["max_step_size"] = max_step
             if dae.is_ode:
                 opts["linear_multistep_method"] = method
+            if method == "adams" and dae.is_ode and dae.x.numel() < NEWTON_FROM:
+                # fixed point, as the compiled driver (Newton let errors of 20 times the
+                # tolerance through on a short contact)
+                opts["nonlinear_solver_iteration"] = "functional"
             if xdot0 is not None:
                 opts["init_xdot"] = [float(v) for v in xdot0]
-            spec = {"x": dae.x, "z": dae.z, "p": dae.p, "t": dae.t, "ode": dae.ode,
-                    "alg": dae.alg, "quad": dae.y[dae.y_names.index(quad)] if quad else []}
-            if scaled:   # tau in [0, 1] covers [t0, t0 + h]: one object for any interval
-                t0, h, tau = ca.SX.sym("t0"), ca.SX.sym("h"), ca.SX.sym("tau")
-                subs = lambda e: ca.substitute(e, dae.t, t0 + h * tau)
-                spec = {"x": dae.x, "z": dae.z, "p": ca.vertcat(dae.p, t0, h), "t": tau,
-                        "ode": h * subs(dae.ode), "alg": subs(dae.alg), "quad": h * subs(ca.SX(spec["quad"]))}
+            spec = TE.integrator_spec(dae, quad, watch, scaled)
             plugin = "cvodes" if dae.is_ode else "idas"
             # the output grid includes t0: its z is then the consistent one
             F = ca.integrator("sim", plugin, spec, float(grid[0]), list(grid), opts)
@@ -177,17 +184,9 @@ class Simulator(RunInputs, OnGrid):
             X = self.integrate_c(grid, np.asarray(x, float), p, rtol, atol, method, max_step,
                                  max_num_steps)
             return X[:, -1], np.zeros(0)
-        if TE.breakpoints(self.dae, p, t0, t0 + h).size:     # a switch inside: stop there
-            X, Z = TE.pieces(self, np.array([t0, t0 + h]), np.asarray(x, float), p, rtol, atol,
-                                method, max_step, max_num_steps)
-            return X[:, -1], Z[:, -1]
-        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
-            self.consistent_start(t0, x, p)
-        F = self.integrator((0.0, 1.0), rtol, atol, method, max_step, scaled=True,
-                            max_num_steps=max_num_steps,
-                            xdot0=None if xdot0 is None else h * xdot0)   # d/dtau = h d/dt
-        r = _call(F, x0=x, p=np.concatenate([p, [t0, h]]), z0=z0)
-        return r["xf"].full()[:, -1], r["zf"].full().reshape(-1, 2)[:, -1]
+        X, Z, _ = TE.pieces(self, np.array([t0, t0 + h]), np.asarray(x, float), p, rtol, atol,
+                            method, max_step, max_num_steps)
+        return X[:, -1], Z[:, -1]
 
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=None, atol=None, method="auto", max_step=None,
@@ -219,6 +218,8 @@ class Simulator(RunInputs, OnGrid):
             init = x0       # the start as declared: Result.initial makes its record on demand
         else:
             x0, init = solve_start(self, p, x0, initial, float(grid[0]))
+        if atol is not None:
+            check_atol_scale(self.dae, x0, atol)
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
         if plan is None:
             backend = backend_for_method(self, asked, backend, method)
@@ -254,59 +255,58 @@ class Simulator(RunInputs, OnGrid):
                       impulse=None if backend == "c" else self._last_impulse)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
-        """(X, Z): states and algebraic variables on ``grid`` through CasADi, settings checked."""
-        self._last_impulse = None      # the contact force's impulse on grid, for the summary
+        """(X, Z): states and algebraic variables on ``grid`` through CasADi,
+        settings checked (and the contact force's impulse on it, for the summary)."""
+        self._last_impulse = None
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
-        if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
-            return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
-            self.consistent_start(grid[0], x0, p)
-        F = self.integrator(grid, rtol, atol, method, max_step, max_num_steps=max_num_steps,
-                            xdot0=xdot0, quad=force_role(self.dae))
-        nz = self.dae.z.numel()
-        try:
-            r = _call(F, x0=x0, p=p, z0=z0)
-            X = r["xf"].full()
-            Z = r["zf"].full().reshape(nz, X.shape[1])
-            self._last_impulse = r["qf"].full().ravel() if r["qf"].numel() else None
-        except RuntimeError as err:
-            raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
-                                max_num_steps) from None
-        self._last_stats = casadi_stats(F.stats(), method if self.dae.is_ode else "bdf")
-        self._check_finite(grid, X)
+        X, Z, self._last_impulse = self.located(grid, x0, p, rtol, atol, method, max_step,
+                                                max_num_steps, force_role(self.dae))
         return X, Z
 
     def integrate_shifted(self, grid, x0, p, rtol, atol, method, max_step,
                           max_num_steps=MAX_NUM_STEPS):
-        """As integrate(), from x0 at grid[0] > 0, on one time-scaled
-        integrator for every grid of the same shape (no rebuild per window)."""
+        """As integrate(), from x0 at grid[0] > 0, on time-scaled integrators
+        (one for every grid of the same shape: no rebuild per window)."""
         if self.dae.x.numel() == 0:
             return self.prescribed(grid, p)
-        if TE.breakpoints(self.dae, p, grid[0], grid[-1]).size:
-            return TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-        return self._shifted(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+        return self.located(grid, x0, p, rtol, atol, method, max_step, max_num_steps)[:2]
 
-    def _shifted(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, keep=True):
-        t0, span = float(grid[0]), float(grid[-1] - grid[0])
-        if not span > 0:   # a NaN output time would keep CVODE busy for ever
-            raise ValueError(f"integrate_shifted: the grid must span a positive time, not {span!r}")
-        tau = (np.asarray(grid, float) - t0) / span
-        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
-            self.consistent_start(t0, x0, p)
-        F = self.integrator(tau, rtol, atol, method, max_step, scaled=True,
-                            max_num_steps=max_num_steps,
-                            xdot0=None if xdot0 is None else span * xdot0, keep=keep)
+    def located(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, force=None):
+        """(X, Z, Q): time_events.pieces, a failure a SolverError saying where, X checked finite."""
         try:
-            r = _call(F, x0=x0, p=np.concatenate([p, [t0, span]]), z0=z0)
+            X, Z, Q = TE.pieces(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, force)
         except RuntimeError as err:
             raise self._failure(grid, x0, p, rtol, atol, method, max_step, err,
                                 max_num_steps) from None
-        X = r["xf"].full()
+        self._check_finite(grid, X if Q is None else np.vstack([X, Q]))
+        return X, Z, Q
+
+    def scaled_run(self, grid, x0, p, s, force=None, watch=False, t_lim=np.inf):
+        """(X, Z, Q) on ``grid`` from x0 at grid[0]: one call of the
+        time-scaled integrator (settings ``s``: rtol, atol, method,
+        max_step, max_num_steps), cached by the grid's shape; Q the
+        quadratures' rows (integrator(): the output ``force``, then with
+        ``watch`` the indicators' parts), None without any."""
+        rtol, atol, method, max_step, max_num_steps = s
+        t0, span = float(grid[0]), float(grid[-1] - grid[0])
+        if not span > 0:   # a NaN output time would keep CVODE busy for ever
+            raise ValueError(f"scaled_run: the grid must span a positive time, not {span!r}")
+        tau = (np.asarray(grid, float) - t0) / span
+        even = np.linspace(0.0, 1.0, tau.size)   # equal steps: one integrator for every such grid
+        tau = even if np.all(np.abs(tau - even) <= 1e-13) else tau
+        z0, xdot0 = (self.z_guess(p), None) if self.dae.is_ode else \
+            self.consistent_start(t0, x0, p)
+        F = self.integrator(tau, rtol, atol, method, max_step, scaled=True,
+                            max_num_steps=max_num_steps, quad=force, watch=watch,
+                            xdot0=None if xdot0 is None else span * xdot0,
+                            keep=tau is even or tau.size == 2)
+        r = _call(F, x0=x0, p=np.concatenate([p, [t0, span, t_lim]]), z0=z0)  # (a failure:
+        X = r["xf"].full()                        # the caller's pieces() call says where)
         Z = r["zf"].full().reshape(self.dae.z.numel(), X.shape[1])
+        Q = r["qf"].full().reshape(-1, X.shape[1]) if r["qf"].numel() else None
         self._last_stats = casadi_stats(F.stats(), method if self.dae.is_ode else "bdf")
-        self._check_finite(grid, X)
-        return X, Z
+        return X, Z, Q
 
     def prescribed(self, grid, p):
         """A rig whose motion is prescribed (no state): nothing to integrate;

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 
 def casadi_stats(raw: dict, method: str) -> dict:
-    """The solver statistics of a casadi integrator call, under pdbfs's names.
-    CVODES integrates through the rig's kinks: no root events on this path."""
+    """The solver statistics of one casadi integrator call, under pdbfs's
+    names (the events located between calls are counted by the caller,
+    setup/time_events.py)."""
     return {"steps": int(raw.get("nsteps", 0)), "rhs_evals": int(raw.get("nfevals", 0)),
             "jac_evals": int(raw.get("n_call_jacF", 0)), "root_events": 0, "method": method}

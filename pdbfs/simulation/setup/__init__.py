@@ -17,8 +17,9 @@
                    piecewise linear: the segments and their entries of p
     input_layout.py  a trace's one layout: (t, u), or named columns; rows refused
     input_function.py  an input given as a function of time, sampled into a trace
-    time_events.py switch times a run stops at: integrated from switch to switch
-                   (through the Simulator it is given), never stepped over
+    time_events.py where a CasADi run stops and restarts (through the Simulator it
+                   is given): from switch to switch, never stepped over, and at
+                   every state event, located
     vectorize.py   CasADi functions evaluated on whole numpy rows (the checks'
                    and the outputs')
 

@@ -143,6 +143,25 @@ def check_settings(rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS,
         raise ParameterError(f"max_num_steps = {plain(max_num_steps)}: must be a whole number >= 1")
 
 
+def check_atol_scale(dae, x0, atol) -> None:
+    """Refuse an absolute tolerance ``atol`` (given, in each state's unit)
+    that is not below the scale of the rig's states, their largest start
+    value: every answer would pass the error test (atol 1e10 gave the paper
+    rig a restitution of 1.25). A rig starting at rest has no scale to
+    compare with: its atol is taken as given."""
+    x = np.abs(np.asarray(x0, float))
+    if atol is None or not x.size or not x.max() > 0 or atol < x.max():
+        return
+    k = int(np.argmax(x))
+    info = dae.x_info[k] if k < len(dae.x_info) else None
+    name = info.name if info else dae.x_names[k]
+    unit = f" {info.unit}" if info and info.unit not in ("", "1") else ""
+    raise ParameterError(f"atol = {atol:g} is not below the scale of rig {dae.name}'s states "
+                         f"(its largest start value, {name} = {x[k]:g}{unit}): every answer "
+                         f"would pass the error test; give an atol well below it, or none "
+                         f"(the default, {ATOL_DEFAULT:g})")
+
+
 def output_grid(t_end, n_out, t_out=None) -> np.ndarray:
     """The output times: ``t_out`` checked (increasing from 0), else n_out
     points on [0, t_end]; a run longer than T_END_MAX or points closer than

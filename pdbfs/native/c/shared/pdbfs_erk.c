@@ -20,6 +20,18 @@
  * kink's theta) past it, at least KINK_MIN of the attempt */
 #define KINK_MARGIN 1e-3
 #define KINK_MIN 1e-3
+/* h |lambda| (pdbfs_erk_stiffness) at most STIFF_DAMPED, where the method's
+ * stability function is 0.18 (its stability ends at 6.4 on the negative real
+ * axis), where two steps' estimates agree to STIFF_AGREE */
+#define STIFF_DAMPED 5.5
+#define STIFF_AGREE 0.25
+/* the first step after a kink is checked by two half steps
+ * (pdbfs_erk_attempt_halves), and may shrink faster */
+#define KINK_SHRINK_MIN 0.1
+/* ... and then no step is longer than KINK_GRADE times its distance from
+ * the kink: up to there the embedded estimate holds (measured on the
+ * quadrature of t^1.5 from its onset: it underrates the error below) */
+#define KINK_GRADE 2.0
 
 /* the step's factor for an error err, within [lo, hi]: as err^(-1/8), but
  * err^(-1/3) just after a kink, where the solution is a few times
@@ -38,8 +50,8 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->ne = ne;
     s->ev = ev;
     s->ode = pdbfs_ode;
-    /* y, f, y_old, ynew, tmp, acc, dense (7), k (16) */
-    s->y = malloc(sizeof(double) * (n * (6 + 7 + NK) + 7 * m));
+    /* y, f, y_old, ynew, tmp, acc, dense (7), k (16), half (3 + 1 + 13) */
+    s->y = malloc(sizeof(double) * (n * (6 + 7 + NK + 4 + NSTAGE + 1) + 7 * m));
     if (!s->y) return -100;
     s->f = s->y + n;
     s->y_old = s->f + n;
@@ -53,6 +65,8 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->g_tmp = s->g_new + 2 * m;
     s->g_a = s->g_tmp + m;
     s->g_b = s->g_a + m;
+    s->half = s->g_b + m;
+    s->t_kink = -INFINITY;
     return 0;
 }
 
@@ -102,6 +116,8 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     s->quiet = -1;
     s->err_prev = 0.0;
     s->kink_steps = 0;
+    s->t_kink = -INFINITY;
+    s->stiff_z = 0.0;
     s->stiff_steps = 0;
     s->msg[0] = 0;
     memcpy(s->y, x0, sizeof(double) * (size_t)s->nx);
@@ -166,20 +182,23 @@ static double root_of(PdbfsErk *s, int i, double a, double b, double g0, double 
 static int step(PdbfsErk *s, double t_out) {
     const int n = s->nx;
     double h = s->h, err, fac, ec;
-    int rejected = 0, i, first = -1, was_fresh = s->fresh;
+    int rejected = 0, i, first = -1, was_fresh = s->fresh, low = 0;
     double th_root = 2.0;
     for (;;) {
         if (s->max_step > 0 && h > s->max_step) h = s->max_step;
+        /* a graded mesh away from a kink of a law of low order */
+        if (!s->kink_steps && s->t > s->t_kink && h > KINK_GRADE * (s->t - s->t_kink))
+            h = KINK_GRADE * (s->t - s->t_kink);
         if (isfinite(s->t_stop) && s->t + h * (1.0 + 1e-6) >= s->t_stop) h = s->t_stop - s->t;
         if (!(h > 8.0 * DBL_EPSILON * fabs(s->t))) {
             snprintf(s->msg, sizeof s->msg, "the step size fell below roundoff at t = %.10g", s->t);
             return PDBFS_ERK_STEP_UNDERFLOW;
         }
-        err = pdbfs_erk_attempt(s, h);
+        err = s->kink_steps ? pdbfs_erk_attempt_halves(s, h, &low) : pdbfs_erk_attempt(s, h);
         if (err <= 1.0) break;
         s->rejected++;
         rejected = 1;
-        fac = factor(s, err, SHRINK_MIN, 1.0);
+        fac = factor(s, err, s->kink_steps ? KINK_SHRINK_MIN : SHRINK_MIN, 1.0);
         /* a kink inside: the next attempt ends just past it (its root is
          * then located on that step's dense output, and the step cut there) */
         if (isfinite(err) && s->ne > 0) {
@@ -196,8 +215,25 @@ static int step(PdbfsErk *s, double t_out) {
     ec = fmax(err, s->err_prev);
     s->err_prev = err;
     fac = factor(s, ec, 0.0, s->kink_steps ? KINK_GROW : GROW_MAX);
-    if (s->kink_steps) s->kink_steps--;
+    if (s->kink_steps) {
+        s->kink_steps--;
+        s->t_kink = low ? s->t : -INFINITY;
+    }
     if (rejected && fac > 1.0) fac = 1.0;
+    /* where the steps are held by stability a fast mode is barely damped
+     * (|R(h lambda)| near 1), and the errors of many steps add up instead of
+     * dying out (an approach to equilibrium ended 40 tolerances off): the
+     * steps stay where it is damped */
+    {
+        /* (an estimate that two steps in a row agree on: a dominant fast mode,
+         * not the noise of oscillations in several; none at all, where the
+         * state barely changes: the one before holds) */
+        double lam = pdbfs_erk_stiffness(s, h) / h, prev = s->stiff_z;
+        if (lam == 0.0) lam = prev;
+        s->stiff_z = lam;
+        if (fabs(lam - prev) <= STIFF_AGREE * fmax(lam, prev) && fmin(lam, prev) * h * fac > STIFF_DAMPED)
+            fac = STIFF_DAMPED / (fmin(lam, prev) * h);
+    }
     s->t_old = s->t;
     s->h_old = h;
     memcpy(s->y_old, s->y, sizeof(double) * (size_t)n);

@@ -71,7 +71,16 @@ typedef struct {
      * stability rather than accuracy (a fast mode at rest, a fast decay) */
     int stiff_after, stiff_steps;
     double stiff_h;
-    int kink_steps;           /* steps after a (re)start at a kink: step control for low order */
+    int kink_steps;           /* steps after a (re)start at a kink: step control for low order,
+                               * their error checked by two half steps (the embedded estimate
+                               * misses a force growing as d^1.5 from its onset) */
+    /* a (re)start at a kink whose first step showed a law of low order (a
+     * contact's onset): no step is longer than KINK_GRADE (pdbfs_erk.c) times its
+     * distance from t_kink, up to which the embedded estimate holds (-inf: none) */
+    double t_kink;
+    double stiff_z;           /* |lambda| of the fastest mode, as the last step estimated it */
+    double *half;             /* 17 nx: the two half steps' check (state, f and end; the
+                               * step's end and stages meanwhile) */
     long steps, roots, rhs_evals, rejected;
     char msg[256];            /* the reason of the last failure */
 } PdbfsErk;

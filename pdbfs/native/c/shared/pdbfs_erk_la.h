@@ -119,6 +119,14 @@ int pdbfs_erk_near_a_root(PdbfsErk *s, double h);
  * INFINITY when a stage is not finite (pdbfs_erk_rk.c) */
 double pdbfs_erk_attempt(PdbfsErk *s, double h);
 
+/* an attempt as pdbfs_erk_attempt whose error, where the embedded estimate
+ * passes it, is checked by two half steps too: the larger estimate; *low set
+ * where the halves show a law of low order (pdbfs_erk_rk.c) */
+double pdbfs_erk_attempt_halves(PdbfsErk *s, double h, int *low);
+
+/* h |lambda| for the fastest mode the attempt just made over h saw (pdbfs_erk_rk.c) */
+double pdbfs_erk_stiffness(PdbfsErk *s, double h);
+
 /* the dense output of the step just accepted (y_old, ynew, k of the step,
  * t_old, h_old): three more stages; 0, or 1 when one is not finite */
 int pdbfs_erk_make_dense(PdbfsErk *s);

@@ -1,6 +1,8 @@
 /* pdbfs_erk_rk: the Runge-Kutta arithmetic of pdbfs_erk.c (an attempted
- * step, its dense output, the dense output's polynomial); see
+ * step and its check by two half steps, its dense output, the dense
+ * output's polynomial); see
  * pdbfs_erk_la.h.  Never aborts, never prints. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -54,6 +56,80 @@ double pdbfs_erk_attempt(PdbfsErk *s, double h) {
 #define ERK_ATTEMPT(N, M) attempt_n(s, h, N, M)
     return ERK_BY_SIZE(s, ERK_ATTEMPT);
 #undef ERK_ATTEMPT
+}
+
+/* the first step after a kink is checked by two half steps: the difference of
+ * their end and the step's is (1 - 2^-p) of the step's error for a local
+ * order p >= 2, hence the factor; it shows a law of low order where it is
+ * KINK_LOW times the embedded estimate or more */
+#define KINK_HALVES (4.0 / 3.0)
+#define KINK_LOW 4.0
+#define KINK_NOISE 1e3
+
+/* an attempt over h (as pdbfs_erk_attempt) whose error, where the
+ * embedded estimate passes it, is also checked by two half steps, the
+ * larger estimate returned: just after a kink, where a law that grows as a
+ * fractional power from its onset (a contact's d^1.5) leaves an error that
+ * the embedded estimate underrates a hundredfold.  *low set: the halves saw
+ * KINK_LOW times the embedded estimate or more */
+double pdbfs_erk_attempt_halves(PdbfsErk *s, double h, int *low) {
+    const int n = s->nx, m = s->nx - s->nq;
+    const size_t bytes = sizeof(double) * (size_t)n, stages = bytes * (NSTAGE + 1);
+    double *y1 = s->half, *f1 = s->half + n, *y2 = s->half + 2 * n, *kept = s->half + 3 * n;
+    double *y0 = s->y, *f0 = s->f, t0 = s->t, err = pdbfs_erk_attempt(s, h), e, sum = 0.0;
+    int i;
+    if (!(err <= 1.0)) return err;
+    memcpy(kept, s->ynew, bytes);          /* the step's end and stages, for its dense output */
+    memcpy(kept + n, s->k, stages);
+    e = pdbfs_erk_attempt(s, 0.5 * h);
+    if (isfinite(e)) {
+        memcpy(y1, s->ynew, bytes);
+        memcpy(f1, s->k + NSTAGE * n, bytes);
+        s->y = y1;
+        s->f = f1;
+        s->t = t0 + 0.5 * h;
+        e = pdbfs_erk_attempt(s, 0.5 * h);
+        s->y = y0;
+        s->f = f0;
+        s->t = t0;
+    }
+    memcpy(y2, s->ynew, bytes);
+    memcpy(s->ynew, kept, bytes);
+    memcpy(s->k, kept + n, stages);
+    if (!isfinite(e)) return INFINITY;
+    for (i = 0; i < m; i++) {
+        double w = (s->ynew[i] - y2[i]) / (s->atol[i] + s->rtol * fmax(fabs(y0[i]), fabs(s->ynew[i])));
+        sum += w * w;
+    }
+    sum = KINK_HALVES * sqrt(sum / m);
+    /* (below KINK_NOISE the two differ by roundoff only) */
+    if (sum >= KINK_LOW * err && sum > KINK_NOISE * DBL_EPSILON / s->rtol) *low = 1;
+    return fmax(err, sum);
+}
+
+/* the states' difference below this (of their size) is roundoff */
+#define STIFF_ROUNDOFF (1e3 * DBL_EPSILON)
+
+/* h |lambda| of the step just attempted over h, for the fastest mode the
+ * step saw: the change of f between the last stage and the step's end (both
+ * at t + h) over the change of the state between them (Hairer's DOP853
+ * estimate; y12 - ynew is h times the stages weighted by the differences of
+ * the last stage's row and the weights) */
+double pdbfs_erk_stiffness(PdbfsErk *s, double h) {
+    const int n = s->nx, m = s->nx - s->nq;
+    const double *k = s->k;
+    double num = 0.0, den = 0.0, size = 0.0;
+    int i, j;
+    for (i = 0; i < m; i++) {
+        double d = k[NSTAGE * n + i] - k[(NSTAGE - 1) * n + i], dy = 0.0;
+        for (j = 0; j < NSTAGE; j++) dy += (RK_A[(NSTAGE - 1) * NK + j] - RK_B[j]) * k[j * n + i];
+        num += d * d;
+        den += dy * dy;
+        size += s->ynew[i] * s->ynew[i];
+    }
+    /* h cancels (dy is the difference over h); a difference of a few roundoffs
+     * (a rig at rest) tells nothing: 0 */
+    return den * h * h > STIFF_ROUNDOFF * STIFF_ROUNDOFF * size ? sqrt(num / den) : 0.0;
 }
 
 /* the dense output of the step just accepted (y_old, k of the step, h_old):
