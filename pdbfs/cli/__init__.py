@@ -1,5 +1,6 @@
 """Command line: ``pdbfs simulate | params | export-fmu | export-ssp | modes | linearize |
-sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | app | example-data |
+sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | campaign | app |
+example-data |
 prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
@@ -18,11 +19,11 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import (app, calibrate, design, examples, fatigue, interrupt, linearize, modes, offline,
-               reproduce, sensitivity, simulate, ssp, sweep)
+from . import (app, calibrate, campaign, design, examples, fatigue, interrupt, linearize, modes,
+               offline, reproduce, sensitivity, simulate, ssp, sweep)
 
 COMMANDS = (simulate, ssp, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, fatigue,
-            app, examples, offline)
+            campaign, app, examples, offline)
 
 #: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
 DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "

@@ -16,12 +16,12 @@ FIRING = "gun_firing.csv"
 def cmd_fatigue(args):
     """pdbfs fatigue: one blow's damage, one firing's, the blows per firing,
     the drop height of a blow equal to a firing, and the life."""
-    from pdbfs.fatigue import Breech, SNCurve, ThickCylinder, campaign_life
+    from pdbfs.fatigue import campaign_life
     from pdbfs.studies.blows import blow_damage, height_for_damage, height_parameter
     # everything checked before the first run
-    inner, outer = _numbers(args.breech, "--breech", 2, 2, "INNER:OUTER")
-    cylinder = ThickCylinder(inner, outer)
-    breech = Breech(cylinder, SNCurve(*_numbers(args.sn, "--sn", 3, 4, "M:RANGE:CYCLES[:LIMIT]")))
+    breech = breech_of(args)
+    cylinder = breech.cylinder
+    inner, outer = cylinder.inner_radius, cylinder.outer_radius
     heights = _numbers(args.heights, "--heights", 2, 2, "LO:HI")
     if not 0 < heights[0] < heights[1]:
         raise ParameterError(f"--heights {args.heights}: give 0 < LO < HI (m)")
@@ -66,6 +66,29 @@ def cmd_fatigue(args):
         print(json.dumps(out, allow_nan=False))
     else:
         _report(out)
+
+
+def breech_of(args):
+    """The Breech of --breech and --sn."""
+    from pdbfs.fatigue import Breech, SNCurve, ThickCylinder
+    inner, outer = _numbers(args.breech, "--breech", 2, 2, "INNER:OUTER")
+    return Breech(ThickCylinder(inner, outer),
+                  SNCurve(*_numbers(args.sn, "--sn", 3, 4, "M:RANGE:CYCLES[:LIMIT]")))
+
+
+def add_breech_options(s):
+    """--breech and --sn: the breech's wall and its steel's S-N curve."""
+    from pdbfs.fatigue import BREECH_CYLINDER as B
+    from pdbfs.fatigue import GUN_STEEL_SN as S
+    s.add_argument("--breech", default=f"{B.inner_radius:g}:{B.outer_radius:g}",
+                   metavar="INNER:OUTER", help="the breech's bore and outer radii, m (default "
+                   f"{B.inner_radius:g}:{B.outer_radius:g}: an assumed large-calibre breech)")
+    s.add_argument("--sn", default=f"{S.m:g}:{S.stress_range_ref:g}:{S.cycles_ref:g}",
+                   metavar="M:RANGE:CYCLES[:LIMIT]",
+                   help="the S-N curve of the bore's hoop stress range: N = CYCLES * (RANGE / "
+                   "range)^M, no damage at or below LIMIT (Pa) (default "
+                   f"{S.m:g}:{S.stress_range_ref:g}:{S.cycles_ref:g}: an engineering estimate "
+                   "for a gun steel)")
 
 
 def _firing(path, channel):
@@ -123,22 +146,12 @@ def _report(out):
 
 def add_parsers(sub):
     """Add the ``fatigue`` command to the subparsers ``sub``."""
-    from pdbfs.fatigue import BREECH_CYLINDER as B
-    from pdbfs.fatigue import GUN_STEEL_SN as S
     s = sub.add_parser("fatigue", help="the damage a blow does to a breech against a gun "
                        "firing's: blows per firing, the drop height of a blow equal to a firing, "
                        "the breech's life")
     add_rig_options(s)
     add_run_options(s, n_out=False, method=False, rtol=False)
-    s.add_argument("--breech", default=f"{B.inner_radius:g}:{B.outer_radius:g}",
-                   metavar="INNER:OUTER", help="the breech's bore and outer radii, m (default "
-                   f"{B.inner_radius:g}:{B.outer_radius:g}: an assumed large-calibre breech)")
-    s.add_argument("--sn", default=f"{S.m:g}:{S.stress_range_ref:g}:{S.cycles_ref:g}",
-                   metavar="M:RANGE:CYCLES[:LIMIT]",
-                   help="the S-N curve of the bore's hoop stress range: N = CYCLES * (RANGE / "
-                   "range)^M, no damage at or below LIMIT (Pa) (default "
-                   f"{S.m:g}:{S.stress_range_ref:g}:{S.cycles_ref:g}: an engineering estimate "
-                   "for a gun steel)")
+    add_breech_options(s)
     s.add_argument("--firing", default=None, metavar="FILE",
                    help="the chamber pressure of one gun firing: a CSV (time, pressure), or a "
                    "TDMS or MDF file (pdbfs[lab]) (default: the synthetic firing pdbfs ships)")
