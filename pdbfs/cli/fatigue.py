@@ -31,6 +31,8 @@ def cmd_fatigue(args):
     rig = rig_by_name(args.rig)
     params = parse_sets(args.set)
     dae = rig.compile()
+    from .campaign import campaign_for_fatigue
+    drifting = campaign_for_fatigue(args, rig, params, breech)
     d_firing = breech.damage(firing)
     d_blow, res = blow_damage(rig, breech, params, args.t_end, args.backend)
     if d_blow <= 0 or d_firing <= 0:
@@ -58,7 +60,9 @@ def cmd_fatigue(args):
         out["equal_height"] = None if h.height is None else \
             {"height": h.height, "parameter": h.parameter, "value": h.value, "damage": h.damage}
         out["equal_height_note"] = h.note
-    if args.blows is not None:
+    if drifting is not None:
+        out["campaign"] = drifting(d_firing)
+    elif args.blows is not None:
         n = args.blows
         out["campaign"] = {"blows": n, "damage": n * d_blow, "firings": n * d_blow / d_firing,
                            "campaigns_to_failure": 1.0 / (n * d_blow)}
@@ -139,9 +143,17 @@ def _report(out):
           f"{out['life_firings']:.6g} firings")
     camp = out.get("campaign")
     if camp:
-        print(f"  campaign of {camp['blows']} blows: damage {camp['damage']:.6g} = "
+        every = f", one every {camp['period']:g} s" if camp.get("period") else ""
+        print(f"  campaign of {camp['blows']} blows{every}: damage {camp['damage']:.6g} = "
               f"{camp['firings']:.6g} firings; {camp['campaigns_to_failure']:.6g} such "
               "campaigns to failure")
+    if camp and camp.get("period"):
+        heat = "" if camp["oil_temperature_first"] is None else \
+            (f"the oil from {camp['oil_temperature_first']:.5g} to "
+             f"{camp['oil_temperature_last']:.5g} K, ")
+        print(f"    {heat}the peak from {camp['peak_pressure_first']:.6g} to "
+              f"{camp['peak_pressure_last']:.6g} Pa; {camp['blows_per_firing']:.6g} blows per "
+              f"firing; predicted life {camp['life_blows']:.6g} blows")
 
 
 def add_parsers(sub):
@@ -164,5 +176,12 @@ def add_parsers(sub):
     s.add_argument("--blows", type=int, default=None, metavar="N",
                    help="a campaign of N such blows: its damage, the firings it stands for, "
                    "and the campaigns to failure")
+    s.add_argument("--period", type=float, default=None, metavar="S",
+                   help="with --blows: run the campaign, one blow every S seconds, each from "
+                   "the temperatures the blows before left (the drift of a rig with heat), "
+                   "and give its predicted life")
+    s.add_argument("--campaign", default=None, metavar="DIR",
+                   help="the campaign saved in DIR (pdbfs campaign --out DIR) instead of N "
+                   "blows alike: its damage, its blows per firing and its predicted life")
     s.add_argument("--json", action="store_true", help="print the results as one JSON object")
     s.set_defaults(func=cmd_fatigue)

@@ -14,12 +14,14 @@ from __future__ import annotations
 import math
 import os
 import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pdbfs.errors import DataError, ParameterError, PdbfsError, missing_extra, plain
+from pdbfs.errors import (DataError, ParameterError, PdbfsError, PdbfsWarning, missing_extra,
+                          plain)
 
 from ..sweeps.store import Store
 from ..sweeps.sweep import _dae_key
@@ -37,6 +39,8 @@ if TYPE_CHECKING:
 CHUNK = 1000
 #: blows between two progress reports
 REPORT_EVERY = 200
+#: the share of a checked blow's damage its peak may leave out before the campaign warns
+LEFT_OUT = 0.01
 
 
 class CampaignStore(Store):
@@ -97,8 +101,8 @@ def campaign(rig: Rig | str, blows: int, period: float, *,
         of its whole pressure history (every blow simulated on its full
         output grid; several times slower).
     check_every : int
-        Read the whole history's damage too every this many blows (0: only
-        at the first and the last blow).
+        Read the whole history's damage too every this many blows, from the
+        first, and at the last (0: at none).
     t_blow : float, optional
         Each blow's simulated time, s (default: the rig's own, 0.02 s for
         the paper rig); its pulse must end inside it.
@@ -141,6 +145,26 @@ def campaign(rig: Rig | str, blows: int, period: float, *,
     """
     s = prepare(rig, blows, period, schedule, rule, params, temperatures, breech, damage,
                 check_every, t_blow, oil, rtol, atol, method, backend)
+    return run(s, out, format, chunk_size, overwrite, progress)
+
+
+def run(s: Setup, out: str | os.PathLike | None = None, format: str | None = None,
+        chunk_size: int = CHUNK, overwrite: bool = False,
+        progress: Callable[[int, int], object] | None = None) -> CampaignResult:
+    """The campaign ``s`` (made by :func:`pdbfs.studies.campaign.setup.prepare`,
+    its arguments checked) run; the other arguments as for :func:`campaign`.
+
+    Parameters
+    ----------
+    s : Setup
+        The campaign.
+    out, format, chunk_size, overwrite, progress
+        As for :func:`campaign`.
+
+    Returns
+    -------
+    CampaignResult
+    """
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ParameterError(f"campaign: chunk_size = {plain(chunk_size)} must be a whole "
                              "number >= 1")
@@ -194,8 +218,8 @@ class _Run:
         temperatures at the next blow's start."""
         s = self.s
         p = {**s.fixed, **self.current, **dict(zip(s.t0_names, self.T.tolist()))}
-        whole = s.damage_from == "history" or i in (0, s.blows - 1) \
-            or (s.check_every and i % s.check_every == 0)
+        whole = s.damage_from == "history" or s.check_every > 0 and \
+            (i % s.check_every == 0 or i == s.blows - 1)
         try:
             res = s.rig.simulate(s.t_blow, n_out=s.n_out if whole else 2, params=p, **s.run)
             summary = res.summary()
@@ -274,6 +298,15 @@ class _Run:
             table[k] = table[k].fillna(s.fixed.get(k, _default(s, k)))
         checks = table.loc[np.isfinite(table["damage_history"].to_numpy(dtype=float)),
                            ["blow", "damage_peak", "damage_history"]].reset_index(drop=True)
+        if s.damage_from == "peak" and len(checks):
+            share = 1.0 - checks["damage_peak"] / checks["damage_history"]
+            k = int(np.argmax(share.to_numpy()))
+            if share.iloc[k] > LEFT_OUT:
+                warnings.warn(PdbfsWarning(
+                    f"campaign: blow {checks['blow'].iloc[k]}'s peak leaves out "
+                    f"{100 * share.iloc[k]:.3g} % of its damage (its pulse has cycles of its "
+                    "own); read each blow's whole history (damage='history', --damage "
+                    "history)"), stacklevel=3)
         band = (s.rule.low, s.rule.high) if isinstance(s.rule, HoldPeak) else None
         spec = {"blows": s.blows, "params": s.fixed, "rule": s.spec()["rule"],
                 "check_every": s.check_every, "schedule": s.schedule is not None}

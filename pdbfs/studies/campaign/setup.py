@@ -67,9 +67,14 @@ class Setup:
                 "schedule": None if self.schedule is None else self.schedule.key(),
                 "rule": rule_spec(self.rule), "damage": self.damage_from,
                 "check_every": self.check_every, "run": self.run,
-                "breech": [self.breech.cylinder.inner_radius, self.breech.cylinder.outer_radius,
-                           self.breech.curve.m, self.breech.curve.stress_range_ref,
-                           self.breech.curve.cycles_ref, self.breech.curve.endurance_limit]}
+                "breech": spec_of_breech(self.breech)}
+
+
+def spec_of_breech(breech: Breech) -> list:
+    """A breech's dimensions and S-N curve, as a campaign's manifest holds them."""
+    c, s = breech.cylinder, breech.curve
+    return [c.inner_radius, c.outer_radius, s.m, s.stress_range_ref, s.cycles_ref,
+            s.endurance_limit]
 
 
 def prepare(rig: Rig | str, blows: Any, period: Any, schedule=None, rule=None, params=None,
