@@ -207,3 +207,12 @@ def test_a_blow_of_several_impacts_counts_each():
     assert d > Breech().peak_damage(peaks[0]) * 1.01
     whole = Breech().damage(rig.simulate(1.5, n_out=30001), signal="oil.pressure")
     assert d == pytest.approx(whole, rel=0.01) and d < whole
+
+
+def test_the_examples_in_the_docstrings_run():
+    import doctest
+
+    from pdbfs.studies.campaign import plan, run
+    for mod in (plan, run):
+        failed, tried = doctest.testmod(mod)
+        assert tried and not failed, mod.__name__

@@ -77,56 +77,6 @@ def parse_temperatures(items) -> dict:
     return unique(pairs, "--temperature")
 
 
-def campaign_for_fatigue(args, rig, params, breech):
-    """pdbfs fatigue's --period (a campaign run) or --campaign DIR (one saved),
-    checked before any work: a function of a firing's damage giving the
-    campaign's figures, or None for neither."""
-    from pdbfs.studies.campaign.run import run, saved
-    from pdbfs.studies.campaign.setup import prepare, spec_of_breech
-    if args.period is not None and args.blows is None:
-        raise ParameterError(f"--period {args.period:g}: give the campaign's --blows too")
-    if args.campaign is not None and (args.blows is not None or args.period is not None):
-        raise ParameterError(f"--campaign {args.campaign}: the saved campaign has its own blows "
-                             "and period; leave --blows and --period out")
-    if args.period is not None:
-        setup = prepare(rig, args.blows, args.period, params=params, breech=breech,
-                        t_blow=args.t_end, backend=args.backend)
-        return lambda d_firing: _figures(run(setup, progress=None), d_firing)
-    if args.campaign is None:
-        return None
-    spec, table = saved(args.campaign)
-    name = rig.compile().name
-    if spec.get("rig") != name:
-        raise ParameterError(f"--campaign {args.campaign}: it is a campaign of rig "
-                             f"{spec.get('rig')}, not of {name}; give its --rig")
-    if spec.get("breech") != spec_of_breech(breech):
-        raise ParameterError(f"--campaign {args.campaign}: its damage was reckoned for another "
-                             "breech or S-N curve; give its --breech and --sn")
-    if len(table) < spec["n_points"]:
-        raise ParameterError(f"--campaign {args.campaign}: it holds {len(table)} of its "
-                             f"{spec['n_points']} blows; run it to its end first (the same "
-                             "pdbfs campaign command resumes it)")
-    return lambda d_firing: _figures(table, d_firing, spec["period"], args.campaign)
-
-
-def _figures(res, d_firing, period=None, folder=None) -> dict:
-    """A campaign's figures against one firing (a CampaignResult, or a saved table)."""
-    from pdbfs.fatigue import campaign_life
-    t = res.table if hasattr(res, "table") else res
-    d = t["damage"].to_numpy(dtype=float)
-    total = float(d.sum())
-    oil = t["oil_temperature"].to_numpy(dtype=float)
-    heat = bool(math.isfinite(oil[0]))
-    return {"blows": len(t), "period": res.period if hasattr(res, "period") else period,
-            "damage": total, "firings": total / d_firing,
-            "campaigns_to_failure": 1.0 / total, "life_blows": campaign_life(d),
-            "blows_per_firing": d_firing * len(d) / total,
-            "peak_pressure_first": float(t["peak_pressure"].iloc[0]),
-            "peak_pressure_last": float(t["peak_pressure"].iloc[-1]),
-            "oil_temperature_first": float(oil[0]) if heat else None,
-            "oil_temperature_last": float(oil[-1]) if heat else None, "folder": folder}
-
-
 def interrupted(out, n) -> str:
     """What a Ctrl-C leaves: the blows saved in --out, and how to go on."""
     if out is None:

@@ -58,8 +58,10 @@ class HoldPeak:
     --------
     >>> from pdbfs.studies.campaign import HoldPeak
     >>> rule = HoldPeak(90e6, 92e6, parameter="hammer.v0", exponent=1.0)
-    >>> rule([{"hammer.v0": 2.73, "peak_pressure": 93e6}])       # 1 % high: 1 % slower
-    {'hammer.v0': 2.7006451612903224}
+    >>> rule([{"hammer.v0": 2.73, "peak_pressure": 91.5e6}]) is None   # in the band
+    True
+    >>> round(rule([{"hammer.v0": 2.73, "peak_pressure": 93e6}])["hammer.v0"], 4)   # 2 % slower
+    2.6713
     """
 
     low: float
