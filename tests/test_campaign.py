@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from pdbfs.components.thermal import FixedTemperature, HeatCapacitor, ThermalConductor
+from pdbfs.errors import ParameterError
 from pdbfs.fatigue import Breech
 from pdbfs.models import PaperRig, paper_rig, paper_thermal_rig
 from pdbfs.rig import Rig
@@ -216,3 +217,58 @@ def test_the_examples_in_the_docstrings_run():
     for mod in (plan, run):
         failed, tried = doctest.testmod(mod)
         assert tried and not failed, mod.__name__
+
+
+def test_a_run_goes_on_from_where_the_result_ends_and_progress_is_told():
+    """Result.final, the states at the end: a run of 10 ms from the end of a
+    run of 10 ms is the run of 20 ms there (to its tolerance)."""
+    rig = paper_rig()
+    first = rig.simulate(0.01, rtol=1e-10)
+    assert first.final == {s: first[s][-1] for s in rig.compile().x_names}
+    on = rig.simulate(0.01, start=first.final, rtol=1e-10)
+    whole = rig.simulate(0.02, n_out=3, rtol=1e-10)
+    for s in ("hammer.s", "hammer.v", "piston.v"):
+        assert on.final[s] == pytest.approx(whole.final[s], rel=1e-7, abs=1e-9)
+    told = []
+    campaign(RIG, 450, 10.0, check_every=0, progress=lambda done, total: told.append((done, total)))
+    assert told == [(200, 450), (400, 450), (450, 450)]
+
+
+@pytest.mark.parametrize("kwargs,culprit", [
+    ({"blows": 0}, "blows"), ({"blows": True}, "blows"), ({"blows": 2.5}, "blows"),
+    ({"period": -1.0}, "period"), ({"period": 0.0}, "period"), ({"period": math.nan}, "period"),
+    ({"period": math.inf}, "period"), ({"period": 0.02}, "period"),
+    ({"t_blow": -0.02}, "t_blow"),
+    ({"schedule": {"hammer.v0": [2.7, 2.8]}}, "2 values for a campaign of 5"),
+    ({"schedule": {"hammer.v0": [2.7] * 5}, "params": {"hammer.v0": 2.7}}, "params and in the"),
+    ({"schedule": {"hammer.v0": [2.7] * 4 + [math.nan]}}, "finite"),
+    ({"schedule": {"drop_height": [0.3] * 5, "hammer.v0": [2.7] * 5}}, "twice"),
+    ({"schedule": {"room.T": [300.0] * 5}}, "thermal network"),
+    ({"schedule": {"oil_heat.T0": [300.0] * 5}}, "start temperature"),
+    ({"rule": "hold:1:2"}, "unknown rule"), ({"rule": 3}, "rule must be"),
+    ({"rule": "hold-peak:9e7:9.2e7", "schedule": {"hammer.v0": [2.7] * 5}}, "schedule sets"),
+    ({"temperatures": {"oil.T": 300.0}}, "oil.T"),
+    ({"temperatures": {"oil_heat.T": 0.0}}, "positive"),
+    ({"temperatures": {"oil_heat.T": 300.0}, "params": {"oil_heat.T0": 300.0}}, "give it once"),
+    ({"oil": "piston.T"}, "oil"),
+    ({"damage": "rainflow"}, "damage"), ({"check_every": -1}, "check_every"),
+    ({"chunk_size": 0}, "chunk_size"), ({"params": {"oil.kk": 1.0}}, "oil.kk"),
+    ({"breech": "big"}, "Breech"),
+])
+def test_bad_arguments_are_refused_in_one_line_before_any_blow(kwargs, culprit, tmp_path):
+    args = {"blows": 5, "period": 10.0, **kwargs}
+    with pytest.raises(ParameterError) as err:
+        campaign(RIG, args.pop("blows"), args.pop("period"), out=tmp_path / "o", **args)
+    assert culprit in str(err.value) and "\n" not in str(err.value)
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_rig_without_heat_refuses_temperatures_and_a_rule_its_unknown_setting():
+    with pytest.raises(ParameterError, match="no thermal network"):
+        campaign(paper_rig(), 5, 10.0, temperatures={"oil_heat.T": 300.0})
+    with pytest.raises(ParameterError, match="no thermal network"):
+        campaign(paper_rig(), 5, 10.0, oil="oil_heat.T")
+    with pytest.raises(ParameterError, match="hammer.vv' before blow 2"):
+        campaign(paper_rig(), 5, 10.0, rule=lambda blows: {"hammer.vv": 1.0})
+    with pytest.raises(ParameterError, match="before blow 2: not a finite"):
+        campaign(paper_rig(), 5, 10.0, rule=lambda blows: {"hammer.v0": math.nan})

@@ -160,3 +160,42 @@ def test_bad_input_to_the_thermal_rig_and_to_fatigue(capsys, tmp_path):
         code, out, err = run(capsys, *argv)
         lines = err.strip().splitlines()
         assert code == 2 and out == "" and len(lines) == 1 and culprit in lines[0], (argv, err)
+
+
+def test_ctrl_c_keeps_the_saved_blows_and_says_how_to_go_on(tmp_path):
+    """Ctrl-C in a long campaign: status 130, one line naming the blows saved
+    (whole chunks, as many as the folder holds) and how to resume."""
+    import re
+    import signal
+    import subprocess
+    import sys
+    import time
+    p = subprocess.Popen([sys.executable, "-m", "pdbfs.cli", "campaign", "--rig", "paper-thermal",
+                          "--blows", "500000", "--period", "10", "--chunk", "500", "--out", "o",
+                          "--format", "csv"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, cwd=tmp_path)
+    deadline = time.time() + 120
+    while time.time() < deadline and len(_chunks(tmp_path / "o")) < 2:
+        time.sleep(0.2)
+    assert p.poll() is None, "the campaign ended before Ctrl-C"
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    m = re.fullmatch(r"pdbfs: interrupted: (\d+) of 500000 blows are saved in o; the same "
+                     r"command resumes from there", lines[0])
+    assert m, lines[0]
+    chunks = _chunks(tmp_path / "o")
+    assert int(m.group(1)) == 500 * len(chunks) >= 1000
+    assert sorted(p.name for p in (tmp_path / "o" / "chunks").iterdir()) == chunks  # nothing half
+    last = (tmp_path / "o" / "chunks" / chunks[-1]).read_text().splitlines()
+    assert len(last) == 501 and last[-1].startswith(f"{int(m.group(1))},")
+
+
+def _chunks(folder):
+    """The complete chunk files of a campaign's folder, by name."""
+    import re
+    d = folder / "chunks"
+    return sorted(p.name for p in d.iterdir() if re.fullmatch(r"chunk-\d{6}\.csv", p.name)) \
+        if d.is_dir() else []

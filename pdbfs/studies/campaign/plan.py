@@ -207,9 +207,8 @@ class Schedule:
         Raises
         ------
         pdbfs.ParameterError
-            For an unknown or refused name, or a column shorter than the campaign.
-        pdbfs.DataError
-            For values that are not finite numbers.
+            For an unknown or refused name, a column shorter than the
+            campaign, or values that are not finite numbers.
         """
         if schedule is None:
             return None
@@ -222,7 +221,7 @@ class Schedule:
             values = np.asarray(schedule[name], dtype=float).ravel() \
                 if _numeric(schedule[name]) else None
             if values is None or not np.all(np.isfinite(values)):
-                raise DataError(f"schedule: the column {name!r} holds values that are not "
+                raise ParameterError(f"schedule: the column {name!r} holds values that are not "
                                 "finite numbers")
             if values.size < blows:
                 raise ParameterError(f"schedule: the column {name!r} has {values.size} values "
@@ -234,7 +233,7 @@ class Schedule:
                                          "striker's impact speed for the column drop_height")
                 target, speed = striker
                 if np.any(values < 0):
-                    raise DataError("schedule: a drop height is negative")
+                    raise ParameterError("schedule: a drop height is negative")
                 if speed:
                     values = np.sqrt(2.0 * STANDARD_GRAVITY * values)
             elif name not in dae.p_names:

@@ -24,7 +24,8 @@ if TYPE_CHECKING:
 UNITS = {"blow": "1", "time": "s", "peak_pressure": "Pa", "time_of_peak": "s",
          "pulse_duration": "s", "peak_contact_force": "N", "max_piston_displacement": "m",
          "restitution_coefficient": "1", "impact_count": "1", "oil_temperature": "K",
-         "energy_dissipated": "J", "heat_lost": "J", "damage": "1"}
+         "energy_dissipated": "J", "heat_lost": "J", "damage_peak": "1", "damage_history": "1",
+         "damage": "1"}
 
 
 @dataclass
@@ -64,6 +65,8 @@ class CampaignResult:
         Blows computed by this call (the rest were found saved) and its time, s.
     folder : str or None
         The folder the blows were saved in.
+    units : dict
+        The unit of each column of the table.
     """
 
     rig: str
@@ -81,6 +84,7 @@ class CampaignResult:
     elapsed: float = 0.0
     folder: str | None = None
     spec: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.table)
@@ -134,12 +138,14 @@ class CampaignResult:
 
     def to_dict(self) -> dict:
         """The campaign as JSON-ready data: ``rig``, ``settings`` (what it
-        was run with), ``totals``, ``blows`` (one record per blow, the
-        table's columns; None where a value is undefined) and ``checks``."""
+        was run with), ``totals``, ``units`` (of the blows' columns),
+        ``blows`` (one record per blow, the table's columns; None where a
+        value is undefined), ``checks`` and ``folder``."""
         return {"rig": self.rig, "settings": dict(self.spec, period=self.period,
                                                   t_blow=self.t_blow, damage=self.damage_from),
-                "totals": _plain(self.totals), "blows": _records(self.table),
-                "checks": _records(self.checks), "folder": self.folder}
+                "totals": _plain(self.totals), "units": self.units,
+                "blows": _records(self.table), "checks": _records(self.checks),
+                "folder": self.folder}
 
     def to_json(self) -> str:
         """:meth:`to_dict` as JSON text (no NaN: undefined values are null)."""
@@ -222,7 +228,10 @@ class CampaignResult:
             lines.append(f"heat: dissipated {o['energy_dissipated']:.6g} J = stored "
                          f"{o['heat_stored']:.6g} J + lost {o['heat_lost']:.6g} J (balance "
                          f"{o['heat_balance']:.1e})")
-        if o["damage_left_out"] is not None:
+        if o["damage_left_out"] is not None and self.damage_from == "history":
+            lines.append(f"damage read from every blow's whole history; its peak alone leaves "
+                         f"out at most {100 * o['damage_left_out']:.3g} %")
+        elif o["damage_left_out"] is not None:
             lines.append(f"damage read from the peaks; the whole history of {len(self.checks)} "
                          f"blows adds at most {100 * o['damage_left_out']:.3g} %")
         return "\n".join(lines)

@@ -25,7 +25,7 @@ from pdbfs.errors import (DataError, ParameterError, PdbfsError, PdbfsWarning, m
 
 from ..sweeps.store import Store
 from ..sweeps.sweep import _dae_key
-from .result import CampaignResult
+from .result import UNITS, CampaignResult
 from .plan import HoldPeak
 from .setup import Setup, prepare, rule_changes
 
@@ -284,7 +284,9 @@ class _Run:
         frame = store.read()
         self.records = frame.to_dict("records")
         last = self.records[-1]
-        self.current.update({k: float(last[k]) for k in s.settings if k in last})
+        # every setting as the last blow had it (a rule's too: the records hold them)
+        names = set(s.sim.dae.p_names)
+        self.current.update({k: float(last[k]) for k in frame.columns if k in names})
         if s.network is not None:
             self.T = s.pause(np.array([last[n + "_end"] for n in s.states], dtype=float))[0]
         return len(self.records)
@@ -316,7 +318,18 @@ class _Run:
                               dict(zip(s.states, (s.network.capacities.tolist()
                                                   if s.network is not None else []))),
                               checks, s.damage_from, band, computed, elapsed,
-                              str(self.store.dir) if self.store is not None else None, spec)
+                              str(self.store.dir) if self.store is not None else None, spec,
+                              _units(s, table))
+
+
+def _units(s: Setup, table) -> dict:
+    """The unit of each column of the table."""
+    dae = s.sim.dae
+    units = {p.name: p.unit for p in dae.params}
+    units.update(UNITS)
+    units.update({n: "K" for n in s.states})
+    units.update({n + "_end": "K" for n in s.states})
+    return {c: units.get(c, "") for c in table.columns}
 
 
 def _default(s: Setup, name: str) -> float:

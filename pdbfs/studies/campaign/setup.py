@@ -142,6 +142,10 @@ def prepare(rig: Rig | str, blows: Any, period: Any, schedule=None, rule=None, p
                "campaign" for n in (network.parameters if network is not None else [])}
     refused.update({n: "is a start temperature: the blows before set it" for n in t0_names})
     plan = Schedule.of(schedule, dae, int(blows), refused)
+    both = sorted(set(plan.columns) & set(fixed)) if plan is not None else []
+    if both:
+        raise ParameterError(f"campaign: {', '.join(both)} is given in params and in the "
+                             "schedule; give it to one of them")
     rule = _rule(rule, dae, plan, refused)
     striker = height_parameter(dae)
     settings = list(dict.fromkeys(([striker[0]] if striker else [])
