@@ -88,7 +88,7 @@ class HeatNetwork:
                                  "thermal network (its class attribute thermal_network) to "
                                  "carry their heat from one blow to the next")
             return None
-        net = make()
+        net = make() if isinstance(make, type) else make
         caps = capacitors(net)
         if sorted(caps) != sorted(own):
             raise ModelError(f"rig {name}: the heat capacitors of its thermal network "

@@ -112,8 +112,9 @@ def prepare(rig: Rig | str, blows: Any, period: Any, schedule=None, rule=None, p
     if not pressure:
         raise ParameterError(f"rig {dae.name} names no pressure (summary_signals): its blows "
                              "have no peak pressure and no damage")
-    fixed = {k: float(v) for k, v in mapping(params, "params").items()}
-    sim.param_vector(fixed)                    # unknown names and bad values refused now
+    given = mapping(params, "params")
+    sim.param_vector(given)                    # unknown names and bad values refused now
+    fixed = {k: float(v) for k, v in given.items()}
     sim.check_settings(default_rtol(method, rtol), atol, method, None, backend=backend)
     values = {**{p.name: p.value for p in dae.params}, **fixed}
     network = HeatNetwork.of(rig, values)
