@@ -142,14 +142,16 @@ class OneBodyRig(PaperRig):
         self.connect(self.contact.heat_port, self.seal.heat_port, self.body.port)
 
 
-def test_one_body_heated_per_blow_climbs_the_geometric_series():
-    """Q per blow, e^(-S/tau) kept over each period (tau = C/G = 1000 s): the
-    rise at the k-th blow is (q/C)(1 - r^(k-1))/(1 - r), r = e^(-S/tau), the
-    heat q that reaches the next blow between Q r (all of it at the blow's
-    start) and Q r e^(t_blow/tau) (all at its end); Q from the mechanics."""
+@pytest.mark.parametrize("G", [20.0, 40.0])
+def test_one_body_heated_per_blow_climbs_the_geometric_series(G):
+    """Q per blow, e^(-S/tau) kept over each period (tau = C/G, 1000 s for the
+    rig's own G, 500 s for G given in params): the rise at the k-th blow is
+    (q/C)(1 - r^(k-1))/(1 - r), r = e^(-S/tau), the heat q that reaches the
+    next blow between Q r (all of it at the blow's start) and Q r
+    e^(t_blow/tau) (all at its end); Q from the mechanics."""
     rig = OneBodyRig()
-    S, n, C, tau, t_b = 100.0, 120, 2.0e4, 1000.0, 0.02
-    res = campaign(rig, n, S, check_every=0)
+    S, n, C, tau, t_b = 100.0, 120, 2.0e4, 2.0e4 / G, 0.02
+    res = campaign(rig, n, S, check_every=0, params={"wall.G": G} if G != 20.0 else None)
     one = rig.simulate(t_b, n_out=4001, rtol=1e-10)
     Q = _mechanical_energy(one, 0) - _mechanical_energy(one, -1)
     r = math.exp(-S / tau)

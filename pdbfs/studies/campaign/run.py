@@ -195,6 +195,7 @@ class _Run:
         self.rests: list = []
 
     def go(self) -> CampaignResult:
+        """Every blow not saved yet, run and saved; the campaign's result."""
         s = self.s
         t0 = time.perf_counter()
         first = self._resume() if self.store is not None else 0
@@ -250,7 +251,7 @@ class _Run:
             net = s.network
             # the heat lost during the blow itself: its rate at the blow's two ends (the
             # temperatures change by a fraction of a kelvin over milliseconds)
-            lost_blow = 0.5 * s.t_blow * (net.lost_rate(self.T) + net.lost_rate(T_end))
+            lost_blow = s.t_blow * net.lost_rate(0.5 * (self.T + T_end))
             diss = net.capacities @ (T_end - self.T) + lost_blow
             rec.update(zip(s.states, self.T.tolist()))
             rec.update(zip([n + "_end" for n in s.states], T_end.tolist()))
