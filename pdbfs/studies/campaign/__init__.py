@@ -6,6 +6,7 @@ left, the heat carried between blows by the rig's thermal network.
     plan.py     the settings of each blow: a Schedule, an operator's rule (HoldPeak)
     heat.py     HeatNetwork: the thermal network alone, linear, its pauses in closed form
     run.py      campaign(): the blows run, saved in chunks and resumed (CampaignStore)
+    records.py  Blows: the records so far, as columns; what a rule reads
     result.py   CampaignResult: the table of blows, totals, plot, JSON
 
 May import what pdbfs.studies may, and the studies' sweeps (their Store) and blows.

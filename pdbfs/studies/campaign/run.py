@@ -27,6 +27,7 @@ from ..sweeps.store import Store
 from ..sweeps.sweep import _dae_key
 from .result import UNITS, CampaignResult
 from .plan import HoldPeak
+from .records import Blows, columns
 from .setup import Setup, prepare, rule_changes
 
 if TYPE_CHECKING:
@@ -84,8 +85,9 @@ def campaign(rig: Rig | str, blows: int, period: float, *,
         until it is changed.
     rule : callable, HoldPeak or str, optional
         An operator's rule, called after each blow with the records of the
-        blows so far (dicts of the table's columns, oldest first; it must
-        depend on them alone, so that a resumed campaign goes on as it
+        blows so far (a sequence of dicts of the table's columns, oldest
+        first, the damage aside: it is reckoned a chunk at a time; a rule
+        must depend on them alone, so that a resumed campaign goes on as it
         would have), returning the next blow's settings ``{name: value}``
         or None. Its settings take the place of the schedule's.
         ``"hold-peak:LOW:HIGH"`` (Pa) is :class:`HoldPeak`.
@@ -184,13 +186,12 @@ class _Run:
 
     def __init__(self, s: Setup, store, chunk_size: int, progress):
         self.s, self.store, self.chunk, self.progress = s, store, chunk_size, progress
-        self.records: list[dict] = []
+        self.blows = Blows()           # the records so far (a rule reads them)
         self.T = s.T0.copy()
         self.current = dict(s.start)
         self.keys = None               # the summary's numbers kept, fixed by the first blow
-        # the blows of the chunk at hand: their records, peaks, and parameter vectors
-        # (their rest pressures are found together) or rest pressures
-        self.pending: list[dict] = []
+        # the blows of the chunk at hand: their peaks, and parameter vectors (their
+        # rest pressures are found together) or rest pressures
         self.peaks: list[list] = []
         self.rests: list = []
 
@@ -202,12 +203,10 @@ class _Run:
         for i in range(first, s.blows):
             if s.schedule is not None:
                 self.current.update(s.schedule.row(i))
-            if s.rule is not None and self.records:
-                self.current.update(rule_changes(s.rule(self.records), s, i + 1))
-            rec = self._blow(i)
-            self.records.append(rec)
-            self.pending.append(rec)
-            if len(self.pending) == self.chunk or i == s.blows - 1:
+            if s.rule is not None and len(self.blows):
+                self.current.update(rule_changes(s.rule(self.blows), s, i + 1))
+            self.blows.add(self._blow(i))
+            if len(self.blows.pending) == self.chunk or i == s.blows - 1:
                 self._flush(i // self.chunk)
             if self.progress is not None and ((i + 1) % REPORT_EVERY == 0 or i == s.blows - 1):
                 self.progress(i + 1, s.blows)
@@ -268,12 +267,14 @@ class _Run:
         counts = [len(p) for p in self.peaks]
         d = s.breech.peak_damage(np.concatenate(self.peaks), np.repeat(rests, counts))
         d = np.add.reduceat(np.atleast_1d(d), np.cumsum([0] + counts[:-1]))
-        for rec, dk in zip(self.pending, d.tolist()):
+        for rec, dk in zip(self.blows.pending, d.tolist()):
             rec["damage_peak"] = dk
             rec["damage"] = rec["damage_history"] if s.damage_from == "history" else dk
+        cols = columns(self.blows.pending)
         if self.store is not None:
-            self.store.write(chunk, _columns(self.pending))
-        self.pending, self.peaks, self.rests = [], [], []
+            self.store.write(chunk, cols)
+        self.blows.seal(cols)
+        self.peaks, self.rests = [], []
 
     def _resume(self) -> int:
         """The blows the folder holds already: their records kept, the state
@@ -286,19 +287,19 @@ class _Run:
             raise ParameterError(f"{store.dir} lacks chunk {_gap(done)} of its campaign: it "
                                  "cannot resume; choose another folder, or overwrite it")
         frame = store.read()
-        self.records = frame.to_dict("records")
-        last = self.records[-1]
+        self.blows.seal({c: frame[c].to_numpy(dtype=np.int64 if c == "blow" else float)
+                         for c in frame.columns})
+        last = self.blows[-1]
         # every setting as the last blow had it (a rule's too: the records hold them)
         names = set(s.sim.dae.p_names)
         self.current.update({k: float(last[k]) for k in frame.columns if k in names})
         if s.network is not None:
             self.T = s.pause(np.array([last[n + "_end"] for n in s.states], dtype=float))[0]
-        return len(self.records)
+        return len(self.blows)
 
     def _result(self, elapsed: float, computed: int) -> CampaignResult:
-        import pandas as pd
         s = self.s
-        table = pd.DataFrame(self.records)
+        table = self.blows.frame()
         settings = list(self.current)
         for k in settings:                     # a setting a rule set late held its value before
             table[k] = table[k].fillna(s.fixed.get(k, _default(s, k)))
@@ -343,13 +344,6 @@ def _default(s: Setup, name: str) -> float:
 
 def _gap(done: list) -> int:
     return next(k for k, c in enumerate(done) if c != k)
-
-
-def _columns(records: list[dict]) -> dict:
-    """Records as the columns of a chunk file (a setting a rule set late: NaN before)."""
-    names = list(dict.fromkeys(k for r in records for k in r))
-    return {k: np.array([r.get(k, math.nan) for r in records],
-                        dtype=np.int64 if k == "blow" else float) for k in names}
 
 
 def resumed(path: str | os.PathLike) -> int:
