@@ -152,8 +152,8 @@ class Pause:
 
     def __call__(self, T: np.ndarray) -> tuple[np.ndarray, float]:
         """(the temperatures after the pause, K; the heat lost over it, J) from ``T``."""
-        x = np.append(T, 1.0)
-        return self.step @ x, float(self.lost @ x)
+        n = len(T)
+        return self.step[:, :n] @ T + self.step[:, n], float(self.lost[:n] @ T + self.lost[n])
 
 
 def _affine(net, states, lost, values, T):
