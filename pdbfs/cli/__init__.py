@@ -1,7 +1,6 @@
 """Command line: ``pdbfs simulate | params | export-fmu | export-ssp | modes | linearize |
 sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | campaign | app |
-example-data |
-prepare-offline``.
+example-data | prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
