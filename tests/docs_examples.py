@@ -40,6 +40,8 @@ OVERRIDES = {
          "the default 21 x 21 map is 441 simulations"),
     "reproduce --out figures": ("reproduce --out figures --figures fig5",
                                 "every figure takes about 15 s"),
+    "campaign --rig paper-thermal --blows 20000": ("campaign --rig paper-thermal --blows 2000",
+                                                   "the same code path as 20,000 blows"),
     "prepare-offline --out carry": ("prepare-offline --out carry --platforms x86_64-linux",
                                     "CVODE for five platforms takes minutes from an empty cache"),
 }
@@ -80,6 +82,7 @@ EXAMPLE_ARGS = {
     "calibration_design.py": (["--map-n", "3"], "the 21 x 21 design map is 441 simulations"),
     "closed_loop.py": (["--steps", "5e-5,2.5e-5"], "five steps down to 3.125 us take minutes"),
     "hydraulics.py": ([], ""),
+    "fatigue_campaign.py": (["--blows", "2000"], "two campaigns of 20,000 blows take 20 s"),
 }
 
 

@@ -1,6 +1,6 @@
 """Command line: ``pdbfs simulate | params | export-fmu | export-ssp | modes | linearize |
-sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | app | rigs | example-data |
-prepare-offline``.
+sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | campaign | app |
+rigs | example-data | prepare-offline``.
 
 A thin layer over the Python API that mirrors it: each module here adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
@@ -18,12 +18,12 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import (app, calibrate, design, examples, fatigue, interrupt, linearize, modes, offline,
-               reproduce, rigs, sensitivity, simulate, ssp, sweep)
+from . import (app, calibrate, campaign, design, examples, fatigue, interrupt, linearize, modes,
+               offline, reproduce, rigs, sensitivity, simulate, ssp, sweep)
 from .common import Parser, in_option_words
 
 COMMANDS = (simulate, ssp, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, fatigue,
-            app, rigs, examples, offline)
+            campaign, app, rigs, examples, offline)
 
 #: what `pdbfs --help` says above the commands (plain text: argparse shows it as is)
 DESCRIPTION = ("Simulate drop-hammer impact test rigs, study them (sweeps, sensitivity, "

@@ -9,6 +9,10 @@
     paper/           the paper's figures reproduced
     blows.py         a blow's damage to a breech (pdbfs.fatigue), and the drop height
                      whose blow does a given damage
+    campaign/        campaign(): a rig's blows one after another, each from the
+                     temperatures the blows before left (the heat carried between blows
+                     by its thermal network), with schedules and an operator's rule;
+                     resumable (the sweeps' store)
     labfiles.py      measured traces in NI TDMS and ASAM MDF files (pdbfs[lab]), read
                      as the tables of CSV traces
 

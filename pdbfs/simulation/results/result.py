@@ -46,6 +46,8 @@ class Result(ResultExports):
         The run's parameter values (SI units) by name, and as a vector in the DAE's order.
     initial : InitialState
         The start the run began from, and what initialization solved.
+    final : dict
+        The states at the last output time by name (a next run's ``start``).
     rig : str
         The rig's name.
     settings, stats : dict
@@ -159,6 +161,12 @@ class Result(ResultExports):
     @initial.setter
     def initial(self, value: InitialState):
         self._initial = value
+
+    @property
+    def final(self) -> dict:
+        """The states at the last output time by name, SI units: where a run
+        that goes on from here starts (``start=res.final``)."""
+        return dict(zip(self._names[5], self._X[:, -1].tolist()))
 
     @property
     def rig(self) -> str:

@@ -32,32 +32,38 @@ def spec_hash(spec: dict) -> str:
 class Store:
     """A sweep's folder: its manifest (what was asked) and the chunks computed so far."""
 
+    #: what the folder holds, as messages name it, and its rows' order column and unit
+    WHAT, ORDER, UNIT = "sweep", "point", "points"
+
     def __init__(self, path, spec: dict, n_points: int, chunk_size: int, fmt: str = "parquet",
                  overwrite: bool = False):
         if fmt not in FORMATS:
-            raise ParameterError(f"unknown sweep file format {fmt!r}; choose {' or '.join(FORMATS)}")
+            raise ParameterError(f"unknown {self.WHAT} file format {fmt!r}; choose "
+                                 f"{' or '.join(FORMATS)}")
         if fmt == "parquet":
-            require_extra("parquet", "sweep files in Parquet (format='parquet', --format parquet)")
+            require_extra("parquet", f"{self.WHAT} files in Parquet (format='parquet', "
+                          "--format parquet)")
         self.dir, self.fmt = Path(path), fmt
         self.spec = {**spec, "format": fmt, "chunk_size": int(chunk_size), "n_points": int(n_points)}
         self.hash = spec_hash(self.spec)
         manifest = self.dir / MANIFEST
         if self.dir.exists() and not self.dir.is_dir():
-            raise ParameterError(f"sweep output {self.dir} is a file, not a folder")
+            raise ParameterError(f"{self.WHAT} output {self.dir} is a file, not a folder")
         old = self._read_manifest(manifest)
         if old is not None and old.get("hash") != self.hash:
             if not overwrite:
                 raise ParameterError(
-                    f"{self.dir} holds another sweep (rig {old.get('spec', {}).get('rig', '?')}, "
-                    f"{old.get('spec', {}).get('n_points', '?')} points, started "
+                    f"{self.dir} holds another {old.get('spec', {}).get('kind', 'sweep')} (rig "
+                    f"{old.get('spec', {}).get('rig', '?')}, "
+                    f"{old.get('spec', {}).get('n_points', '?')} {self.UNIT}, started "
                     f"{old.get('started', '?')}); choose another output folder, or overwrite it "
                     "(--overwrite)")
             self._clear()
             old = None
         elif old is None and self.chunk_files():
             if not overwrite:
-                raise ParameterError(f"{self.dir} holds chunk files but no {MANIFEST}: not a sweep "
-                                     "this can resume; choose another output folder")
+                raise ParameterError(f"{self.dir} holds chunk files but no {MANIFEST}: not a "
+                                     f"{self.WHAT} this can resume; choose another output folder")
             self._clear()
         self.chunk_dir.mkdir(parents=True, exist_ok=True)
         if old is None:
@@ -72,18 +78,18 @@ class Store:
         self.dir = Path(path)
         old = cls._read_manifest(self.dir / MANIFEST)
         if old is None:
-            raise ParameterError(f"{self.dir} holds no sweep ({MANIFEST} is missing)")
+            raise ParameterError(f"{self.dir} holds no {cls.WHAT} ({MANIFEST} is missing)")
         self.spec, self.hash, self.fmt = old["spec"], old["hash"], old["spec"].get("format", "parquet")
         return self
 
-    @staticmethod
-    def _read_manifest(path: Path):
+    @classmethod
+    def _read_manifest(cls, path: Path):
         if not path.is_file():
             return None
         try:
             return json.loads(path.read_text())
         except (OSError, ValueError):
-            raise ParameterError(f"{path} is not a readable sweep manifest; choose another "
+            raise ParameterError(f"{path} is not a readable {cls.WHAT} manifest; choose another "
                                  "output folder") from None
 
     def _clear(self):
@@ -149,7 +155,7 @@ class Store:
                 import pyarrow.parquet as pq
                 n += pq.ParquetFile(p).metadata.num_rows
             else:
-                n += len(self._read_one(p, ["point"]))
+                n += len(self._read_one(p, [self.ORDER]))
         return n
 
     def head(self, k: int):
@@ -166,14 +172,14 @@ class Store:
         df = pd.concat(parts, ignore_index=True)
         if "error" in df:
             df["error"] = df["error"].fillna("")
-        return df.sort_values("point", kind="stable").head(k).reset_index(drop=True)
+        return df.sort_values(self.ORDER, kind="stable").head(k).reset_index(drop=True)
 
     def read(self):
         """Every chunk as one pandas DataFrame, in point order."""
         import pandas as pd
         files = [p for p in self.chunk_files() if p.suffix == f".{self.fmt}"]
         if files and self.fmt == "parquet":
-            require_extra("parquet", f"reading the Parquet files of the sweep in {self.dir}")
+            require_extra("parquet", f"reading the Parquet files of the {self.WHAT} in {self.dir}")
         if not files:
             return pd.DataFrame()
         read = pd.read_parquet if self.fmt == "parquet" else \
@@ -181,7 +187,7 @@ class Store:
         df = pd.concat([read(p) for p in files], ignore_index=True)
         if "error" in df:
             df["error"] = df["error"].fillna("")
-        return df.sort_values("point", kind="stable").reset_index(drop=True)
+        return df.sort_values(self.ORDER, kind="stable").reset_index(drop=True)
 
 
 def saved_points(path) -> int:
