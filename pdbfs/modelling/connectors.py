@@ -56,7 +56,13 @@ class Connector:
 
 class Flange(Connector):
     """1-D translational flange: position ``s`` (m), cut force ``f`` (N).
-    Left unconnected, a flange takes no force (a free end)."""
+    Left unconnected, a flange takes no force (a free end).
+
+    Parameters
+    ----------
+    description : str
+        What the flange is (shown with its variables).
+    """
 
     kind = "translational"
     across, through = "s", "f"
@@ -81,6 +87,13 @@ class HydraulicPort(Connector):
     closable is refused by the compiler (a ConnectError naming it), since a
     closed orifice, piston or sensor port is almost always a forgotten
     connection.
+
+    Parameters
+    ----------
+    description : str
+        What the port is (shown with its variables).
+    closable : bool
+        Whether the port may be left unconnected (closed: zero flow).
     """
 
     kind = "hydraulic"
@@ -116,6 +129,13 @@ class HeatPort(Connector):
     ``insulable=True``, and an unconnected port that is not is refused by
     the compiler (a ConnectError naming it): a dissipating component's heat
     would have nowhere to go, a sensor would read nothing.
+
+    Parameters
+    ----------
+    description : str
+        What the port is (shown with its variables).
+    insulable : bool
+        Whether the port may be left unconnected (insulated: zero heat flow).
     """
 
     kind = "thermal"
@@ -151,10 +171,28 @@ class _Signal(Connector):
 
 
 class SignalInput(_Signal):
-    """A real-valued input signal; must be connected to a SignalOutput."""
+    """A real-valued input signal; must be connected to a SignalOutput.
+
+    Parameters
+    ----------
+    unit : str
+        The signal's SI unit ("1": dimensionless); only signals of one unit
+        connect.
+    description : str
+        What the signal is.
+    """
 
 
 class SignalOutput(_Signal):
-    """A real-valued output signal, computed by its component."""
+    """A real-valued output signal, computed by its component.
+
+    Parameters
+    ----------
+    unit : str
+        The signal's SI unit ("1": dimensionless); only signals of one unit
+        connect.
+    description : str
+        What the signal is.
+    """
 
     is_output = True

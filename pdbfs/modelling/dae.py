@@ -29,7 +29,27 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ParamInfo:
-    """One free parameter of the rig (an entry of ``p``)."""
+    """One free parameter of the rig (an entry of ``p``), as
+    ``rig.parameters()`` lists them.
+
+    Attributes
+    ----------
+    name : str
+        Its dotted name in the rig (``"hammer.m"``).
+    value : float
+        Its default value, SI units.
+    unit : str
+        Its SI unit ("kg", "N/m^1.5"; "1" for none).
+    description : str
+        What it means.
+    min, max : float or None
+        Inclusive bounds (None: unbounded).
+    positive : bool
+        Whether it must be strictly greater than zero.
+    tunable : bool
+        Whether a change during a run means something (False for start
+        values and masses: a fixed parameter of the FMU).
+    """
 
     name: str            # dotted name, e.g. "hammer.m"
     value: float         # default value
@@ -53,7 +73,25 @@ class InputInfo:
 
 @dataclass(frozen=True)
 class VarInfo:
-    """One named variable (an entry of ``y``, or a state, or an algebraic)."""
+    """One named variable of a compiled rig (an entry of ``y``, or a state,
+    or an algebraic variable).
+
+    Attributes
+    ----------
+    name : str
+        Its dotted name in the rig (``"oil.pressure"``).
+    unit : str
+        Its SI unit.
+    description : str
+        What it is.
+    output : bool
+        Whether it is offered as an FMU output and shown in summaries.
+    min, max : float or None
+        The values its equations describe (Variable's bounds): a run that
+        leaves them stops there with a SolverError.
+    beyond : str
+        What leaving them means, said in that error.
+    """
 
     name: str
     unit: str
@@ -67,10 +105,49 @@ class VarInfo:
 
 @dataclass
 class DAE:
-    """A rig compiled: one semi-explicit CasADi DAE in SX (see the module
-    docstring for its parts), with the names, units and descriptions of its
-    states, algebraic variables, parameters and outputs. ``rig.compile()``
-    makes it; every back end (simulation, FMU export, the studies) reads it."""
+    """A rig compiled: one semi-explicit CasADi DAE in SX, with the names,
+    units and descriptions of its states, algebraic variables, parameters
+    and outputs. ``rig.compile()`` makes it; every back end (simulation, FMU
+    export, the studies) reads it:
+
+        der(x) = ode(t, x, z, p)        x: states
+             0 = alg(t, x, z, p)        z: algebraic variables
+             y = out(t, x, z, p)        every named variable of the rig
+            x0 = start(p)               start values may depend on parameters
+             e = events(t, x, z, p)     event indicators (contact onset, slack oil)
+
+    Parameters stay symbolic: changing one never rebuilds anything. A rig
+    with inputs has 2 n_u + 1 more entries at the end of ``p`` than it has
+    parameters (each input's value at a reference time, its slope, and that
+    time: ``input_rows()``).
+
+    Attributes
+    ----------
+    name : str
+        The rig's name (the FMU's model name).
+    t, x, z, p : casadi.SX
+        Time, the states, the algebraic variables (empty for an ODE rig) and
+        the free parameters, as column vectors of symbols.
+    ode, alg, x0, y, events : casadi.SX
+        The expressions above.
+    x_info, z_info, y_info : list of VarInfo
+        Name, unit and description of each state, algebraic variable and
+        output.
+    params : list of ParamInfo
+        The free parameters, in ``p``'s order.
+    event_names : list of str
+        Names of the event indicators (what each sign change marks is in
+        ``event_text``).
+    calculated : dict
+        Parameters computed from others: name -> (expression of ``p``, VarInfo).
+    description : str
+        What the rig is (the first sentence of its class's description).
+    time_events : casadi.SX
+        Switch times known in advance, functions of ``p``: every integrator
+        stops and restarts at each.
+    inputs : list
+        The rig's inputs (name, unit, description, start value).
+    """
 
     name: str
     t: ca.SX
@@ -120,9 +197,19 @@ class DAE:
         return f
 
     def conditions_hold(self, P: np.ndarray) -> np.ndarray:
-        """Per row of ``P`` (points x parameters): whether every condition
-        holds, all rows in one call (a sweep's chunk; check_conditions names
-        what fails)."""
+        """Whether every physical condition of the components holds, for many
+        parameter vectors in one call (a sweep's chunk).
+
+        Parameters
+        ----------
+        P : numpy.ndarray
+            Parameter vectors, one per row (points x len(p)).
+
+        Returns
+        -------
+        numpy.ndarray
+            One bool per row; ``check_conditions`` names what fails.
+        """
         P = np.atleast_2d(np.asarray(P, float))
         f = self._conditions_function()
         if f is None or P.shape[0] == 0:
@@ -132,7 +219,19 @@ class DAE:
 
     def check_conditions(self, p: np.ndarray) -> None:
         """Refuse parameters that contradict each other physically (each
-        component's conditions()): a ParameterError naming them."""
+        component's ``conditions()``).
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            One parameter vector (len(p)).
+
+        Raises
+        ------
+        pdbfs.ParameterError
+            Naming the first condition that fails, the parameters it reads
+            and their values.
+        """
         f = self._conditions_function()
         if f is None:
             return
@@ -156,7 +255,18 @@ class DAE:
         return float(ca.Function("v", [self.p], [self.calculated[name][0]])(p))
 
     def time_event_times(self, p: np.ndarray) -> np.ndarray:
-        """The time events at parameters p, sorted (non-finite ones left out)."""
+        """The switch times of a run at one parameter vector.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            One parameter vector (len(p)).
+
+        Returns
+        -------
+        numpy.ndarray
+            The time events, s, sorted (non-finite ones left out).
+        """
         n = self.time_events.numel()
         if not n:
             return np.zeros(0)
@@ -168,9 +278,22 @@ class DAE:
         return np.sort(v[np.isfinite(v)])
 
     def cached(self, name: str, make: Callable[[], Any]) -> Any:
-        """The CasADi object ``make()`` made of this DAE under ``name`` (a
-        function, a rootfinder), made on the first request and kept with the
-        DAE's own functions (``function``), never pickled."""
+        """A CasADi object made of this DAE (a function, a rootfinder), made on
+        the first request and kept with the DAE's own functions (``function``),
+        never pickled.
+
+        Parameters
+        ----------
+        name : str
+            The key it is kept under.
+        make : callable
+            Makes it, called with no arguments on the first request only.
+
+        Returns
+        -------
+        object
+            What ``make()`` returned, the first time or since.
+        """
         cache = self.__dict__.setdefault("_functions", {})
         f = cache.get(name)
         if f is None:
@@ -235,7 +358,18 @@ class DAE:
         return (n, n + m, n + 2 * m) if m else None
 
     def p_row(self, name: str) -> int | None:
-        """The row in p of parameter ``name``, or of input ``name``'s value; None."""
+        """The row in ``p`` of a parameter, or of an input's value.
+
+        Parameters
+        ----------
+        name : str
+            A parameter's dotted name, or an input's name.
+
+        Returns
+        -------
+        int or None
+            The row, or None if the rig has no such parameter or input.
+        """
         names = self.p_names
         if name in names:
             return names.index(name)
@@ -270,8 +404,19 @@ class DAE:
 
     # -- CasADi functions (cheap to build, cached) ----------------------------
     def function(self, which: str) -> ca.Function:
-        """``ode``, ``alg``, ``out``, ``events``, ``limits`` as CasADi
-        Functions of (t, x, z, p), or ``start`` of (p)."""
+        """One of the DAE's expressions as a CasADi Function (built on the
+        first request, then kept).
+
+        Parameters
+        ----------
+        which : {"ode", "alg", "out", "events", "limits", "start"}
+            The expression: each a Function of (t, x, z, p), ``start`` of (p).
+
+        Returns
+        -------
+        casadi.Function
+            The function, its inputs and output named.
+        """
         cache = self.__dict__.setdefault("_functions", {})
         if which not in cache:
             args = [self.t, self.x, self.z, self.p]
