@@ -289,12 +289,20 @@ def reference() -> dict[str, object]:
 def reference_callables() -> list[tuple[str, object, object]]:
     """(dotted name, function or class, its class or None) of the reference:
     its classes and functions, and the public methods and properties its
-    classes define themselves."""
+    classes define themselves or take from a pdbfs base outside the
+    reference (Result's exports), which their page shows with them."""
     out = []
-    for name, obj in reference().items():
+    ref = reference()
+    classes = {id(o) for o in ref.values() if inspect.isclass(o)}
+    for name, obj in ref.items():
         out.append((name, obj, None))
         if inspect.isclass(obj):
-            for m, member in vars(obj).items():
+            own = [k for k in obj.__mro__ if k is obj or (k.__module__.startswith("pdbfs")
+                                                          and id(k) not in classes)]
+            members = {}
+            for k in reversed(own):
+                members.update(vars(k))
+            for m, member in members.items():
                 func = _function_of(member)
                 if func is not None and _public(m):
                     out.append((f"{name}.{m}", func, obj))

@@ -65,9 +65,23 @@ def keys_for(dae) -> list[str]:
 
 
 def summarize(res: Result, warn: bool = True) -> dict:
-    """The summary of the Result ``res`` (KEYS, units in UNITS), located on the
-    summary's own solution; with ``warn``, a PulseIncompleteWarning when the
-    pulse outlasts the run."""
+    """The summary of a run, located on the summary's own solution
+    (``Result.summary`` gives it, computed once).
+
+    Parameters
+    ----------
+    res : Result
+        The run.
+    warn : bool
+        Whether to warn (PulseIncompleteWarning) when the pulse outlasts the run.
+
+    Returns
+    -------
+    dict
+        Figure name (``SUMMARY_KEYS``, and the blows of a rig that strikes
+        more than once) -> value in its SI unit (``SUMMARY_UNITS``); None
+        for a figure the run cannot give.
+    """
     roles = getattr(res._sim.dae, "signals", {}) or {}
     run = summary_run(res)
     R = run.trajectory
@@ -193,7 +207,7 @@ def restitution(R, force, striker_velocity=None, window=None, impulse=None) -> f
     integration (contact_impulse.py): a contact shorter than the output step
     counts whole. As accurate as the striker's velocity: at the default
     tolerances within 5e-6 of an event-located reference for contacts from
-    1 us to 8 ms, on either back end (tests/test_summary_restitution.py).
+    1 us to 8 ms, on either back end.
     None where not defined (no contact, or the striker has not stopped)."""
     a, b = window if window is not None else (R.t[0], R.t[-1])
     if striker_velocity:

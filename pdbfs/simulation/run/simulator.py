@@ -2,7 +2,7 @@
 IDAS for DAE rigs; integrators cached per setting) or the compiled backend
 (``compiled.py``). Tolerances, grid, start and parameters are arguments of
 each call: the DAE is never rebuilt. Kinks are integrated through with error
-control; tests/test_accuracy.py checks against an event-located reference."""
+control, checked against an event-located reference in the tests."""
 from __future__ import annotations
 
 import time
