@@ -34,8 +34,22 @@ if TYPE_CHECKING:
 @dataclass
 class SweepPoint:
     """One point of a sweep: its parameters, and either its summary or the
-    reason it failed. ``result`` is the full pdbfs Result when trajectories
-    were requested."""
+    reason it failed. ``point["peak_pressure"]`` reads a summary value,
+    ``point["hammer.v0"]`` a parameter.
+
+    Attributes
+    ----------
+    index : int
+        The point's number in the sweep, from 0.
+    params : dict
+        Its swept parameters' values, SI units.
+    summary : dict or None
+        Its summary (as ``Result.summary``), None if it failed.
+    error, error_type : str or None
+        Why it failed, and the kind of error (``"SolverError"``); None if it ran.
+    result : Result or None
+        The point's full Result, when the sweep kept trajectories.
+    """
 
     index: int
     params: dict
@@ -58,8 +72,45 @@ class SweepPoint:
 
 
 class SweepResult:
-    """The points of a sweep, in input order. ``frame`` is the table (pandas);
-    ``store`` the folder it came from, if any."""
+    """The points of a sweep, in input order: a table with one row per point
+    (its parameters, its summary, or why it failed), held in memory, or read
+    from the sweep's folder when the sweep streamed its chunks to disk.
+    ``res[i]`` and iteration give the points as SweepPoints; ``len(res)``
+    their number. Made by ``sweep`` (or ``SweepResult.load``).
+
+    Attributes
+    ----------
+    rig : str
+        The rig's name.
+    names : list of str
+        The swept parameters (and inputs).
+    keys : list of str
+        The summary keys the table holds.
+    frame : pandas.DataFrame
+        The table (read from the folder when first asked for).
+    store : Store or None
+        The folder the sweep was written to, if any.
+    elapsed : float
+        The sweep's wall time, s.
+    workers : int
+        The threads or processes it ran on.
+    where : str
+        Where it ran ("this process", a number of threads or processes, a
+        Dask cluster).
+    computed : int or None
+        The points this run computed (the others were resumed from the folder).
+
+    Examples
+    --------
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]})
+    >>> len(res), res.names, res.n_failed
+    (2, ['hammer.v0'], 0)
+    >>> point = res[1]
+    >>> point["hammer.v0"], f"{point['peak_pressure'] / 1e6:.3g} MPa"
+    (3.5, '118 MPa')
+    """
 
     def __init__(self, rig: str, names: Sequence[str], keys: Sequence[str],
                  frame: pd.DataFrame | None = None, store: Store | None = None,
@@ -74,7 +125,36 @@ class SweepResult:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> SweepResult:
-        """The sweep written to the folder ``path`` (as far as it got)."""
+        """A sweep from the folder it was written to (``sweep(..., out=path)``),
+        as far as it got; its table is read when first asked for.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The sweep's folder.
+
+        Returns
+        -------
+        SweepResult
+            The sweep.
+
+        Raises
+        ------
+        pdbfs.ParameterError
+            For a folder that holds no sweep, or whose manifest cannot be read.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> from pdbfs.studies import SweepResult
+        >>> folder = Path(tempfile.mkdtemp()) / "v0-sweep"
+        >>> _ = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]}, out=folder)
+        >>> [f"{p / 1e6:.3g} MPa" for p in SweepResult.load(folder).values("peak_pressure")]
+        ['67.8 MPa', '118 MPa']
+        """
         from .store import Store
         store = Store.open(path)
         spec = store.spec
@@ -119,13 +199,53 @@ class SweepResult:
         return len(self.frame)
 
     def to_pandas(self) -> pd.DataFrame:
-        """The table as a pandas DataFrame: one row per point (point number,
-        parameters, summary keys, error; undefined values are NaN)."""
+        """The table as a pandas DataFrame (a copy).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per point: its number (``point``), parameters, summary
+            keys (SI units; undefined values NaN) and ``error`` ("" where it ran).
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> df = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]}).to_pandas()
+        >>> list(df.columns[:3]), len(df)
+        (['point', 'hammer.v0', 'peak_pressure'], 2)
+        """
         return self.frame.copy()
 
     def values(self, key: str) -> np.ndarray:
-        """A parameter or summary value of every point (NaN where a point
-        failed or the value is undefined)."""
+        """A parameter or summary value of every point, in input order.
+
+        Parameters
+        ----------
+        key : str
+            A swept parameter (``"hammer.v0"``) or a summary key
+            (``"peak_pressure"``).
+
+        Returns
+        -------
+        numpy.ndarray
+            One float per point, SI units; NaN where a point failed or the
+            value is undefined (and for the per-blow lists, such as
+            ``impact_times``, which ``rows()`` gives).
+
+        Raises
+        ------
+        KeyError
+            For a key that is neither swept nor in the summary.
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> res = pdbfs.sweep(paper_rig(), {"oil.k": [2e8, 3e8]})
+        >>> [f"{d * 1e3:.3g} ms" for d in res.values("pulse_duration")]
+        ['13 ms', '10.9 ms']
+        """
         if key not in self.names and key not in self.keys:
             raise KeyError(f"{key!r} is neither a swept parameter ({', '.join(self.names)}) "
                            f"nor a summary key ({', '.join(self.keys)})")
@@ -140,7 +260,17 @@ class SweepResult:
     # -- points -------------------------------------------------------------------
     @property
     def points(self) -> list[SweepPoint]:
-        """Every point as a SweepPoint, in input order."""
+        """Every point as a SweepPoint, in input order (made when first asked
+        for: a sweep of millions of points is better read as a table).
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]})
+        >>> [(p.index, p.params, p.ok) for p in res.points]
+        [(0, {'hammer.v0': 2.0}, True), (1, {'hammer.v0': 3.5}, True)]
+        """
         if self._points is None:
             self._points = self._make_points(self.frame)
         return self._points
@@ -205,8 +335,20 @@ class SweepResult:
 
     # -- output -------------------------------------------------------------------
     def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
-        """One row per point: swept parameters, every summary key (SI units in
-        the header; an undefined value is an empty cell), and the error."""
+        """Write the table as CSV, written whole or not at all: one row per
+        point, its swept parameters, every summary key (SI units in the
+        header; an undefined value is an empty cell) and its error.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write.
+
+        Returns
+        -------
+        str or os.PathLike
+            ``path``.
+        """
         head = self.names + [f"{k} [{UNITS.get(k, '')}]".replace(" []", "") for k in self.keys]
         with whole(path) as part, open(part, "w", newline="") as fh:
             w = csv.writer(fh)
@@ -218,8 +360,37 @@ class SweepResult:
     def plot(self, name: str | None = None, path: str | os.PathLike | None = None,
              title: str | None = None, labels: Sequence[str] | None = None,
              scale: float | None = None, ax: Axes | None = None) -> Figure:
-        """Overlay ``name`` (by default the rig's pressure) of every point
-        against time in ms. Needs trajectories=True."""
+        """Overlay a variable of every point that ran against time in ms
+        (a sweep with ``trajectories=True``).
+
+        Parameters
+        ----------
+        name : str, optional
+            The variable (default: the rig's pressure).
+        path : str or os.PathLike, optional
+            An image file to save the figure to (its format by its suffix).
+        title : str, optional
+            The axes' title.
+        labels : sequence of str, optional
+            One legend label per point that ran (default: the parameters
+            that vary, with their values).
+        scale : float, optional
+            A factor for the values (default: 1e-6 for a pressure, shown in
+            MPa; else 1).
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on (default: a new figure).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+
+        Raises
+        ------
+        pdbfs.PdbfsError
+            For a sweep without trajectories, or a rig that names no
+            pressure when ``name`` is not given.
+        """
         import matplotlib.pyplot as plt
         pts = [p for p in self.points if p.ok]
         if not pts or pts[0].result is None:
@@ -254,8 +425,28 @@ class SweepResult:
         return fig
 
     def table(self, limit: int | None = 200) -> str:
-        """A plain-text table of the points (for the command line; the first
-        ``limit`` points)."""
+        """The points as a plain-text table (what the command line prints).
+
+        Parameters
+        ----------
+        limit : int or None
+            The most points shown (None: all); a note says how many more.
+
+        Returns
+        -------
+        str
+            A header (names and summary keys with their units), then one
+            line per point (a failed point's error at its end).
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> print(pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]}).table())
+             hammer.v0  peak_pressure [Pa] ...
+                     2     6.77524e+07 ...
+                   3.5     1.17635e+08 ...
+        """
         keys = [k for k in self.keys if k not in ("impact_times",)]
         head = self.names + [f"{k} [{UNITS.get(k, '')}]" for k in keys]
         lines = ["  ".join(f"{h:>14}" for h in head)]

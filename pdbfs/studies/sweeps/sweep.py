@@ -56,8 +56,27 @@ MAX_CHUNKS = 100_000
 
 
 def points_of(values: dict, grid: bool = True) -> list[dict]:
-    """The parameter points of a small sweep as dicts: the Cartesian product
-    of the lists (``grid=True``) or the lists read as columns."""
+    """The parameter points of a small sweep as dicts.
+
+    Parameters
+    ----------
+    values : dict
+        ``{parameter name: list of values}``.
+    grid : bool
+        The Cartesian product of the lists (True), or the lists read as
+        columns of equal length (False).
+
+    Returns
+    -------
+    list of dict
+        One ``{name: value}`` per point, in the sweep's order.
+
+    Examples
+    --------
+    >>> from pdbfs.studies import points_of
+    >>> points_of({"hammer.v0": [2.0, 3.0], "oil.k": [2e8, 3e8]}, grid=False)
+    [{'hammer.v0': 2.0, 'oil.k': 200000000.0}, {'hammer.v0': 3.0, 'oil.k': 300000000.0}]
+    """
     g = Grid(values, zip=not grid)
     return [dict(zip(g.names, row.tolist())) for row in g.all()]
 
@@ -71,33 +90,104 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
           out: str | os.PathLike | None = None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False,
           inputs: Mapping[str, object] | None = None) -> SweepResult:
-    """Simulate ``rig`` at every point of ``values`` and summarise each.
-
-    rig           a Component, its compiled DAE, or a name from pdbfs.models.RIGS
-    values        {parameter name: list of values}, or a PointSet (sampling.py:
-                  Sample("lhs" | "sobol" | "mc", n, ranges=..., dists=...)); an
-                  input of the rig may be a dimension too: {input name: list of
-                  traces (t, u), numbers or functions}, its column the trace's
-                  number in the list (inputs.py)
-    inputs        {input name: trace, number or function}: the rig's inputs at
-                  every point, as in pdbfs.simulate
-    grid          dict values: every combination (True) or columns (False)
-    trajectories  keep each point's full Result (``point.result``; small sweeps)
-    params        parameters fixed for every point
-    t_end, n_out, start, rtol, atol, method, max_step, backend: as in pdbfs.simulate
-    workers       threads or processes on this machine (None: automatic)
-    client        a dask.distributed.Client: one task per chunk on its cluster
-    out           a folder: chunks are written there as they finish (``format``
-                  "parquet" or "csv"; None: Parquet where pyarrow, the extra
-                  pdbfs[parquet], is installed, else CSV) and a rerun of the same
-                  sweep resumes; a folder holding another sweep is refused unless
-                  ``overwrite``
-    progress      a progress bar on stderr (None: once the sweep takes a while), or a
-                  function called with (points done, points in all) after each chunk
+    """Simulate a rig at every point of a set of parameter values and
+    summarise each run, on one compiled rig, locally or on a Dask cluster.
 
     A point that fails (a bad value, a solver failure) is returned with its
     parameters and the reason; the others still run. An unknown parameter
-    name fails the whole sweep at once.
+    name fails the whole sweep at once, before any point runs.
+
+    Parameters
+    ----------
+    rig : Component, DAE or str
+        The rig, its compiled DAE, or a name of ``pdbfs.models.RIGS``
+        (``"paper"``).
+    values : mapping of str to array_like, or Sample, Grid or Points
+        ``{parameter name: list of values}`` (SI units), combined as
+        ``grid`` says; or a point set: ``Sample("lhs" | "sobol" | "mc", n,
+        ranges=..., dists=...)``, ``Grid`` or ``Points``. An input of the
+        rig may be a dimension too: ``{input name: list of traces (t, u),
+        numbers or functions}``, its column in the table the trace's number
+        in the list.
+    grid : bool
+        For a mapping of values: every combination of the lists (True), or
+        the lists read as columns of equal length (False).
+    trajectories : bool
+        Keep each point's full Result (``point.result``): for small sweeps
+        held in memory (not with ``client`` or ``out``).
+    t_end : float
+        End time of each run, s.
+    n_out : int
+        Output points of each run (what ``trajectories`` keeps).
+    params : dict, optional
+        Parameter values, SI units, fixed for every point (none of them swept).
+    start : dict, optional
+        Start values by state name, as in ``simulate``.
+    rtol, atol : float, optional
+        Tolerances, as in ``simulate``.
+    method : {"auto", "adams", "bdf", "erk"}
+        As in ``simulate``; "auto" picks one method for the whole sweep, at
+        the fixed point.
+    max_step : float, optional
+        Largest internal step, s.
+    backend : {"auto", "c", "casadi"}
+        As in ``simulate``: "c" runs a chunk in one call of the compiled
+        summary driver, in threads.
+    workers : int, optional
+        Threads or processes on this machine (None: one per core for a
+        sweep of 8 points or more, else one). Not with ``client``.
+    progress : bool or callable, optional
+        A progress bar on stderr (None: once the sweep has run 2 s), or a
+        function called with (points done, points in all) after each chunk.
+    client : dask.distributed.Client, optional
+        Run on its cluster, one task per chunk (pdbfs's extra ``[dask]``).
+    out : str or os.PathLike, optional
+        A folder the chunks are written to as they finish: the sweep runs in
+        bounded memory, and a rerun of the same sweep resumes; a folder
+        holding another sweep is refused unless ``overwrite``.
+    format : {"parquet", "csv"}, optional
+        The chunk files' format (only with ``out``; None: Parquet where
+        pyarrow, the extra ``[parquet]``, is installed, else CSV).
+    chunk_size : int, optional
+        Points per chunk (default: up to 512 with the compiled backend, 32
+        through CasADi, fewer for a small sweep).
+    overwrite : bool
+        Replace a folder ``out`` that holds another sweep.
+    inputs : mapping of str to trace, number or callable, optional
+        The rig's inputs at every point, as in ``simulate``.
+
+    Returns
+    -------
+    SweepResult
+        The points in input order, each with its parameters and summary or
+        the reason it failed.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown name, a value refused for every point, settings that
+        contradict each other, or a sweep too big to hold in memory without
+        ``out``: before any point runs.
+
+    Examples
+    --------
+    Three impact speeds (m/s) of the paper's rig:
+
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 2.73, 3.5]})
+    >>> [f"{p / 1e6:.3g} MPa" for p in res.values("peak_pressure")]
+    ['67.8 MPa', '92.1 MPa', '118 MPa']
+
+    Every combination of two parameters, and a Latin hypercube of 8 points:
+
+    >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5], "oil.k": [2e8, 3e8]})
+    >>> len(res.points), res.n_failed
+    (4, 0)
+    >>> from pdbfs.studies import Sample
+    >>> lhs = Sample("lhs", 8, ranges={"hammer.v0": (2.0, 3.5), "seal.c": (1e4, 4e4)})
+    >>> pdbfs.sweep(paper_rig(), lhs).values("pulse_duration").shape
+    (8,)
     """
     if out is None and (format is not None or overwrite):
         raise ParameterError("sweep: " + ("format=" if format is not None else "overwrite=")
