@@ -31,9 +31,23 @@ from .ssp import read_ssp
 
 @dataclass
 class CoSimulation:
-    """A co-simulated system's results: the communication points ``t`` (s)
-    and each recorded variable (``"element.variable"``) there, with the
-    step, whether inputs were interpolated, and the FMU calls' wall time."""
+    """A co-simulated system's results (``cosimulate`` makes it):
+    ``co["plant.sensor.y"]`` is a recorded variable at the communication
+    points.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        The communication points, s.
+    values : dict
+        ``"element.variable"`` -> its values at ``t``.
+    step : float
+        The communication step, s.
+    interpolated : bool
+        Whether FMI 2.0 inputs ran on a line over each step (else held).
+    seconds : float
+        The wall time of the FMUs' calls, s.
+    """
 
     t: np.ndarray
     values: dict[str, np.ndarray] = field(default_factory=dict)
@@ -96,16 +110,40 @@ class _Member:
 def cosimulate(ssp: str | os.PathLike, step: float, t_end: float | None = None, *,
                outputs: list[str] | None = None, interpolate: bool = False,
                tolerance: float | None = None) -> CoSimulation:
-    """Co-simulate the system of the SSP file ``ssp`` from its default start
-    to ``t_end`` (default: its default stop time) at the communication step
-    ``step`` (s), recording ``outputs`` (``"element.variable"``; default:
-    every connected output) at every communication point. ``interpolate``:
-    inputs of FMI 2.0 FMUs that can interpolate run on a line (the slope of
-    the output that feeds them over the step before) instead of being held.
-    ``tolerance``: the FMUs' relative tolerance (default: their own).
+    """Co-simulate the system of an SSP file on FMPy: every FMU stepped at a
+    fixed communication step, each connected output fed to its input at
+    every communication point (``export_ssp``'s example runs one).
 
-    Raises ExportError for a bad system or argument, SolverError where an
-    FMU refuses a call (its log says why).
+    Parameters
+    ----------
+    ssp : str or os.PathLike
+        The SSP file.
+    step : float
+        The communication step, s; it divides the run into whole steps.
+    t_end : float, optional
+        The end time, s (default: the file's default stop time); the run
+        starts at its default start.
+    outputs : list of str, optional
+        The variables recorded, ``"element.variable"`` (default: every
+        connected output).
+    interpolate : bool
+        Inputs of FMI 2.0 FMUs that can interpolate run on a line (the slope
+        of the output that feeds them over the step before) instead of
+        being held.
+    tolerance : float, optional
+        The FMUs' relative tolerance (default: their own).
+
+    Returns
+    -------
+    CoSimulation
+        The recorded variables at the communication points.
+
+    Raises
+    ------
+    pdbfs.ExportError
+        For a bad system or argument, before the run.
+    pdbfs.SolverError
+        Where an FMU refuses a call (its log says why).
     """
     comps, conns, exp = read_ssp(ssp)
     t0 = float(exp.get("startTime", 0.0))
