@@ -228,17 +228,17 @@ RESULTS = {"Result", "SweepResult", "SweepPoint", "Calibration", "Design", "Desi
 #: the entry points a user calls first: each shows a runnable example
 ENTRY_POINTS = (
     "pdbfs.simulate", "pdbfs.Rig.simulate", "pdbfs.Rig.linearize", "pdbfs.Rig.export_fmu",
-    "pdbfs.fmu.export_fmu", "pdbfs.fmu.export_ssp", "pdbfs.studies.sweep",
-    "pdbfs.studies.sensitivity", "pdbfs.studies.calibrate", "pdbfs.studies.design",
-    "pdbfs.studies.design_map", "pdbfs.Result", "pdbfs.Result.value_at", "pdbfs.Result.peak",
+    "pdbfs.fmu.export_fmu", "pdbfs.fmu.export_ssp", "pdbfs.sweep", "pdbfs.sensitivity",
+    "pdbfs.calibrate", "pdbfs.design", "pdbfs.design_map", "pdbfs.Result", "pdbfs.Result.value_at", "pdbfs.Result.peak",
     "pdbfs.Result.crossings", "pdbfs.Result.summary", "pdbfs.studies.SweepResult",
     "pdbfs.studies.SweepResult.values", "pdbfs.studies.SweepResult.table",
     "pdbfs.studies.SweepResult.to_pandas", "pdbfs.studies.SweepResult.points",
     "pdbfs.studies.SweepResult.load")
-#: a repository path: its own folders, the shared notes, a source file by name
-REPOSITORY_PATH = re.compile(r"\b(?:scripts|tests)/|\.\./shared|(?<![\w.])[\w/]+\.py\b")
+#: a repository path: its own folders (the docs' sources too: the site has the pages,
+#: not their files), the shared notes, a source file by name
+REPOSITORY_PATH = re.compile(r"\b(?:scripts|tests|docs)/|\.\./shared|(?<![\w.])[\w/]+\.py\b")
 #: what a wheel does not hold at all (internal modules may name their neighbours)
-NOT_IN_WHEEL = re.compile(r"\b(?:scripts|tests)/|\.\./shared|\btest_\w+\.py\b")
+NOT_IN_WHEEL = re.compile(r"\b(?:scripts|tests|docs)/|\.\./shared|\btest_\w+\.py\b")
 
 
 def _resolve(dotted: str):
@@ -354,6 +354,12 @@ def _is_component(obj) -> bool:
     return inspect.isclass(obj) and issubclass(obj, Component)
 
 
+def _instance_attributes(cls) -> set[str]:
+    """The attributes a class's methods (its pdbfs bases' too) set on ``self``."""
+    return {m for k in cls.__mro__ if k.__module__.startswith("pdbfs")
+            for m in re.findall(r"\bself\.(\w+)", inspect.getsource(k))}
+
+
 def _returns_a_value(func) -> bool:
     """Whether a function's return annotation is one of a value (not None)."""
     ann = inspect.signature(func).return_annotation
@@ -379,7 +385,8 @@ def argument_problems(name: str, obj, cls=None) -> list[str]:
     if inspect.isclass(obj) and obj.__name__ in RESULTS:
         if "Attributes" not in secs:
             return [f"{name}: no Attributes section"]
-        fields = set(getattr(obj, "__dataclass_fields__", {})) | set(dir(obj)) | set(named)
+        fields = set(getattr(obj, "__dataclass_fields__", {})) | set(dir(obj)) | set(named) \
+            | _instance_attributes(obj)
         bad = [e for e in entries(secs["Attributes"]) if e not in fields]
         return [f"{name}: Attributes lists {bad}, which it does not have"] if bad else []
     if not named:
@@ -464,7 +471,9 @@ def test_every_component_names_its_connectors():
 @pytest.mark.parametrize("name", ENTRY_POINTS)
 def test_entry_points_have_examples(name):
     obj = _resolve(name)
-    func = _function_of(obj) if not (inspect.isclass(obj) or inspect.isfunction(obj)) else obj
+    func = obj.__func__ if inspect.ismethod(obj) else obj if inspect.isclass(obj) or \
+        inspect.isfunction(obj) else _function_of(obj)
+    assert func is not None, f"{name} is no function, class or property"
     doc = _doc_of(func)
     assert "Examples" in sections(doc), f"{name} has no Examples section"
     assert ">>> " in sections(doc)["Examples"], f"{name}'s Examples has no code to run"
