@@ -378,6 +378,7 @@ def argument_problems(name: str, obj, cls=None) -> list[str]:
       other constructor arguments (its options: ``law=``, ``heat_port=``,
       sizes), and may list declared parameters. A class of RESULTS has an
       ``Attributes`` section, each entry an attribute it has.
+    - A set of choices (``{"auto", "bdf"}``) begins with the default.
     """
     doc = _doc_of(obj, cls)
     secs = sections(doc)
@@ -406,6 +407,30 @@ def argument_problems(name: str, obj, cls=None) -> list[str]:
         out.append(f"{name}: Parameters misses {missing}")
     if extra := [n for n in listed if n not in allowed]:
         out.append(f"{name}: Parameters lists {extra}, which it does not take")
+    return out + _choice_problems(name, obj, secs["Parameters"])
+
+
+#: a Parameters entry whose type is a set of choices: ``method : {"auto", "bdf"}``
+CHOICES = re.compile(r"^(\w+) : \{(.+)\}", re.M)
+
+
+def _choice_problems(name: str, obj, body: str) -> list[str]:
+    """A set of choices whose first is not the argument's default: the API
+    pages show the first choice as the default (NumPy's convention), so an
+    argument whose default is None (or another value) says so otherwise."""
+    import ast
+    params = inspect.signature(obj).parameters
+    out = []
+    for arg, choices in CHOICES.findall(body):
+        p = params.get(arg)
+        if p is None or p.default is inspect.Parameter.empty:
+            continue
+        try:
+            first = ast.literal_eval(choices.split(",")[0].strip())
+        except (ValueError, SyntaxError):
+            first = choices.split(",")[0].strip()
+        if first != p.default:
+            out.append(f"{name}: {arg}'s choices begin with {first!r}, its default is {p.default!r}")
     return out
 
 
@@ -435,6 +460,18 @@ def test_the_section_reader_reads_a_numpy_docstring():
         d : int
             Not an argument.
         """
+    def g(method="bdf", law=None):
+        """G.
+
+        Parameters
+        ----------
+        method : {"auto", "bdf"}
+            M.
+        law : {"a", "b"}, optional
+            L.
+        """
+    assert argument_problems("g", g) == ["g: method's choices begin with 'auto', its default is 'bdf'",
+                                         "g: law's choices begin with 'a', its default is None"]
     assert argument_problems("f", f) == ["f: no Returns section",
                                          "f: Parameters misses ['b', 'c']",
                                          "f: Parameters lists ['d'], which it does not take"]
