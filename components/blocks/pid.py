@@ -47,7 +47,7 @@ class PID(SISO):
 
     Parameters
     ----------
-    kind : {"P", "PI", "PD", "PID"}
+    kind : {"PID", "P", "PI", "PD"}
         The parts there are (only their parameters exist).
     limited : bool
         Clamp the output to ``[yMin, yMax]``, with anti-windup of the

@@ -52,7 +52,7 @@ class HuntCrossleyDamper(PartialConditionalHeatPort, PartialCompliantWithVelocit
 
     Parameters
     ----------
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         Compute ``D`` from ``k``, the restitution ``e`` and the impact speed
         ``v_impact`` (two more parameters); None: ``D`` is given.
     heat_port : bool
@@ -122,7 +122,7 @@ class ImpactContact(PartialCompression):
 
     Parameters
     ----------
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         Compute ``D`` from ``k``, the restitution ``e`` and the impact speed
         ``v_impact`` (two more parameters); None: ``D`` is given.
     heat_port : bool

@@ -30,7 +30,7 @@ class SealFriction(PartialConditionalHeatPort, PartialCompliantWithVelocity):
 
     Parameters
     ----------
-    viscosity_law : {"andrade"}, optional
+    viscosity_law : {None, "andrade"}
         The viscous coefficient's temperature law (adds ``T_ref``, ``B``,
         and ``T`` without a heat port); None: ``c`` is constant.
     heat_port : bool

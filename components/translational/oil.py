@@ -45,7 +45,7 @@ class OilColumn(PartialConditionalHeatPort, PartialCompression):
     bulk_modulus : bool
         Compute ``k`` as ``K*A/L`` from the bulk modulus ``K`` and the
         column's length ``L`` (two more parameters).
-    stiffness_law : {"linear", "exponential"}, optional
+    stiffness_law : {None, "linear", "exponential"}
         The stiffness's temperature law (adds ``T_ref``, ``alpha_T``, and
         ``T`` without a heat port); None: ``k`` is constant.
     heat_port : bool
