@@ -46,7 +46,7 @@ class BarPistonRig(SplitPistonRig):
     ----------
     n : int
         The number of the bar's segments (>= 1).
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (ImpactContact's ``law``); None: the
         paper's damping factor ``contact.D``.
 

@@ -110,7 +110,7 @@ class DropRig(_GravityRig):
 
     Parameters
     ----------
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (ImpactContact's ``law``); None: the
         paper's damping factor ``contact.D``.
     **params : float
@@ -155,7 +155,7 @@ class DropRestRig(_GravityRig):
 
     Parameters
     ----------
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (ImpactContact's ``law``); None: the
         paper's damping factor ``contact.D``.
     """

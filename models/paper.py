@@ -24,7 +24,7 @@ class PaperRig(Rig):
 
     Parameters
     ----------
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (ImpactContact's ``law``); None: the
         paper's damping factor ``contact.D``.
     """

@@ -51,9 +51,9 @@ class PaperHydraulicRig(PaperRig):
         and is refused here).
     swept : bool
         The oil's volume shrinks with the stroke (Volume's ``swept``).
-    leak : {"laminar", "orifice"}, optional
+    leak : {None, "laminar", "orifice"}
         A leak of the oil to a tank (a LaminarLeak or an Orifice); None: none.
-    contact_law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    contact_law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (PaperRig's ``law``).
     **params : float
         The rig's own parameter: ``L``, the oil column's length, m.

@@ -77,7 +77,7 @@ class PaperThermalRig(PaperRig):
 
     Parameters
     ----------
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (ImpactContact's ``law``); None: the
         paper's damping factor ``contact.D``.
     """

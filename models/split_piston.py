@@ -133,7 +133,7 @@ class SplitPistonRig(Rig):
     ----------
     n : int
         The number of pieces (>= 1; 1 is the paper's rig).
-    law : {"lankarani-nikravesh", "hunt-crossley", "flores"}, optional
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
         The contact's damping law (ImpactContact's ``law``); None: the
         paper's damping factor ``contact.D``.
 
