@@ -145,7 +145,7 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
         A folder the chunks are written to as they finish: the sweep runs in
         bounded memory, and a rerun of the same sweep resumes; a folder
         holding another sweep is refused unless ``overwrite``.
-    format : {"parquet", "csv"}, optional
+    format : {None, "parquet", "csv"}
         The chunk files' format (only with ``out``; None: Parquet where
         pyarrow, the extra ``[parquet]``, is installed, else CSV).
     chunk_size : int, optional
