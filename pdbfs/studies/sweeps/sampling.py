@@ -148,9 +148,10 @@ class Sample(PointSet):
 
     Parameters
     ----------
-    kind : {"lhs", "sobol", "mc"}
-        A Latin hypercube, a scrambled Sobol' sequence (best with ``n`` a
-        power of 2; a warning says so otherwise), or Monte Carlo draws.
+    kind : str
+        "lhs": a Latin hypercube; "sobol": a scrambled Sobol' sequence (best
+        with ``n`` a power of 2; a warning says so otherwise); "mc": Monte
+        Carlo draws.
     n : int
         The number of points (> 0).
     ranges : mapping of str to tuple, optional
