@@ -5,12 +5,12 @@
                       out="lhs-sweep")                       # streamed to disk, resumable
     res = pdbfs.sweep(rig, values, client=dask.distributed.Client(...))   # on a cluster
 
-The points come in chunks (sampling.py); a chunk is evaluated by a Runner
-(sweep_runner.py): with the compiled backend one call of the C summary
-driver per chunk, run in threads (ctypes releases the GIL); with the CasADi
-backend point by point in forked processes; on a Dask cluster as one task
-per chunk, the rig built once per worker. Chunks go to memory, or to the
-files of a Store (sweep_store.py) as they finish, so a sweep of any size
+The points come in chunks (sampling); a chunk is evaluated by a Runner
+(runner): with the compiled backend one call of the C summary driver per
+chunk, run in threads (ctypes releases the GIL); with the CasADi backend
+point by point in forked processes; on a Dask cluster as one task per
+chunk, the rig built once per worker (executors). Chunks go to memory, or
+to the files of a Store (store) as they finish, so a sweep of any size
 runs in bounded memory and resumes after an interruption.
 """
 from __future__ import annotations
@@ -22,7 +22,6 @@ import os
 import sys
 import time
 from collections.abc import Callable, Mapping
-from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
@@ -38,7 +37,8 @@ from pdbfs.simulation.setup.settings import default_atol, default_rtol, mapping
 from .inputs import split_inputs
 from .sampling import Grid, PointSet
 from .result import SweepResult
-from .runner import Runner, Settings, payload, run_remote
+from .executors import execute
+from .runner import Runner, Settings
 from .store import Store, chunk_columns
 
 if TYPE_CHECKING:
@@ -276,7 +276,7 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
             if stop:                # Ctrl-C: once this chunk is saved, not inside a solver
                 raise KeyboardInterrupt
         try:
-            where, workers = _execute(client, sim, points, fixed, settings, chunks, finish,
+            where, workers = execute(client, sim, points, fixed, settings, chunks, finish,
                                       runner, workers)
         finally:
             bar.close()
@@ -300,23 +300,6 @@ def _frame(kept):
     order = np.argsort(cols["point"], kind="stable")
     return pd.DataFrame({k: v[order] if isinstance(v, np.ndarray) else [v[i] for i in order]
                          for k, v in cols.items()})
-
-
-def _execute(client, sim, points, fixed, settings, chunks, finish, runner, workers):
-    """Every chunk through ``finish``: on Dask, threads, forked processes or here."""
-    if client is not None:
-        return _run_dask(client, sim, points, fixed, settings, chunks, finish,
-                         runner.inputs), workers
-    if workers > 1 and runner.fast is not None:
-        with ThreadPoolExecutor(workers) as pool:
-            submit = lambda cid, a, b: pool.submit(runner.run, np.arange(a, b), points.block(a, b))  # noqa: E731
-            _windowed(chunks, submit, lambda f: f.result(), 4 * workers, finish)
-        return f"{workers} threads", workers
-    if workers > 1 and _can_fork():
-        return _run_forked(runner, points, chunks, workers, finish), workers
-    for cid, a, b in chunks:
-        finish(cid, runner.run(np.arange(a, b), points.block(a, b)))
-    return "this process", 1
 
 
 @contextmanager
@@ -353,91 +336,11 @@ def _dae_key(sim) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _can_fork() -> bool:
-    import multiprocessing as mp
-    return "fork" in mp.get_all_start_methods()
-
-
-_FORKED = None   # (runner, points) of this worker process, set by its pool's initializer
-
-
-def _forked_init(runner, points):
-    global _FORKED
-    signal.signal(signal.SIGINT, signal.SIG_IGN)      # the parent stops the pool
-    _FORKED = (runner, points)
-
-
-def _forked_chunk(job):
-    cid, a, b = job
-    runner, points = _FORKED
-    chunk = runner.run(np.arange(a, b), points.block(a, b))
-    # Results travel without their Simulator; the parent gives them its own
-    chunk.results = [None if r is None else r.detached() for r in chunk.results]
-    return cid, chunk
-
-
-def _run_forked(runner, points, chunks, workers, finish) -> str:
-    """Chunks in forked worker processes; each pool hands its workers its own
-    job through the initializer (inherited by fork, never pickled), so two
-    sweeps at once cannot swap jobs."""
-    import multiprocessing as mp
-    with mp.get_context("fork").Pool(workers, initializer=_forked_init,
-                                      initargs=(runner, points)) as pool:
-        for cid, chunk in pool.imap_unordered(_forked_chunk, chunks):
-            finish(cid, chunk)
-    return f"{workers} processes"
-
-
 def _rebuild(sim, state):
     if isinstance(state, Result):
         return state
     drive = state.get("_drive")          # a run with inputs reads through them (driven.py)
     return Result.attach(sim if drive is None else Driven(sim, drive), state)
-
-
-def _windowed(chunks, submit, result, window, finish):
-    """Keep at most ``window`` chunks in flight (points are made as chunks are
-    submitted, so memory stays bounded), finishing them as they complete."""
-    from concurrent.futures import FIRST_COMPLETED, wait
-    todo, running = iter(chunks), {}
-    for cid, a, b in todo:
-        running[submit(cid, a, b)] = cid
-        if len(running) >= window:
-            break
-    while running:
-        done, _ = wait(list(running), return_when=FIRST_COMPLETED)
-        for f in done:
-            finish(running.pop(f), result(f))
-            nxt = next(todo, None)
-            if nxt is not None:
-                running[submit(*nxt)] = nxt[0]
-
-
-def _run_dask(client, sim, points, fixed, settings, chunks, finish, inputs=None) -> str:
-    """One task per chunk, a few per worker in flight; the rig travels once
-    to every worker (scattered) and is built there once
-    (sweep_runner.run_remote keeps it). Tasks of a lost worker are run again
-    by Dask on the others."""
-    from distributed import as_completed
-    key, data = payload(sim, points.names, fixed, settings, inputs)
-    shipped = client.scatter(data, broadcast=True)
-    n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
-    todo, ids = iter(chunks), {}
-
-    def submit(cid, a, b):
-        f = client.submit(run_remote, key, shipped, np.arange(a, b), points.block(a, b),
-                          key=f"pdbfs-sweep-{key}-{cid}", pure=False)
-        ids[f.key] = cid
-        return f
-
-    first = [submit(*c) for _, c in zip(range(4 * n_workers), todo)]
-    pending = as_completed(first)
-    for fut in pending:
-        finish(ids.pop(fut.key), fut.result())
-        nxt = next(todo, None)
-        if nxt is not None:
-            pending.add(submit(*nxt))
-    return f"Dask, {len(client.scheduler_info().get('workers', {}))} worker(s)"
 
 
 class _Report:
