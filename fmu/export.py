@@ -97,23 +97,7 @@ def _fmi_header_dir(fmi_version: int = 2) -> Path:
 
 
 def check_fmi_version(fmi_version: int) -> int:
-    """Check an FMI version asked for.
-
-    Parameters
-    ----------
-    fmi_version : int
-        2 (FMI 2.0) or 3 (FMI 3.0).
-
-    Returns
-    -------
-    int
-        The version, 2 or 3.
-
-    Raises
-    ------
-    pdbfs.ExportError
-        For anything else, naming it.
-    """
+    """``fmi_version`` as 2 or 3, else an ExportError naming it."""
     if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
         raise ExportError(f"FMI version {fmi_version!r}: pdbfs writes FMI 2.0 or 3.0 "
                           "(fmi_version or --fmi-version 2 or 3)")
@@ -214,80 +198,39 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
                keep_build_dir: str | os.PathLike | None = None, cflags: list[str] | None = None,
                fmi_version: int = 2, platforms: list[str] | str | None = None, author: str | None = None,
                license: str | None = None, copyright: str | None = None) -> Path:
-    """Write an FMU of a compiled rig (Model Exchange and Co-Simulation) and
-    return its path: FMI 2.0, or FMI 3.0 with ``fmi_version=3`` (the same
-    wrapper design, model code and co-simulation loop). Inside, an explicit
-    Runge-Kutta method or CVODE (the FMU's ``solver.method``); every
-    parameter keeps its unit and description. ``Rig.export_fmu`` calls this
-    with the rig's own experiment.
-
-    Each input of the rig (``dae.inputs``) is an FMU input, held over a
-    co-simulation step, or on the line FMI 2.0's
-    ``fmi2SetRealInputDerivatives`` gives.
+    """Write an FMU (FMI 2.0, or 3.0; Model Exchange and Co-Simulation) of a
+    compiled rig and return its path (``Rig.export_fmu`` calls it); each rig
+    input is an FMU input, held over a co-simulation step (FMI 2.0: on the
+    line ``fmi2SetRealInputDerivatives`` gives).
 
     Parameters
     ----------
     dae : DAE
-        The compiled rig (``rig.compile()``): an ODE rig (no algebraic
-        variables) whose equations do not differentiate an input.
+        The compiled rig (``rig.compile()``), an ODE not differentiating an input.
     path : str or os.PathLike
-        The FMU file to write, ending in ``.fmu``.
+        The FMU file to write (``.fmu``); nothing is left there on failure.
     model_identifier : str, optional
-        The C identifier of the FMU's binary (default: the rig's name made
-        one).
-    stop_time, step_size : float
-        The DefaultExperiment's stop time and step, s.
-    tolerance : float
-        The DefaultExperiment's relative tolerance, also the default of the
-        FMU's ``solver.rtol``.
-    keep_build_dir : str or os.PathLike, optional
-        A folder to keep the generated C sources and build files in.
-    cflags : list of str, optional
-        Extra flags for the C compiler (zig cc).
+        The binary's C identifier (default: the DAE's name made one).
+    stop_time, step_size, tolerance : float
+        DefaultExperiment's stop time and step (s), and tolerance (solver.rtol's default).
+    keep_build_dir, cflags : str or os.PathLike, list of str, optional
+        A folder to keep the C sources and build in; extra C compiler flags.
     fmi_version : {2, 3}
-        FMI 2.0 or FMI 3.0.
+        FMI 2.0 or 3.0.
     platforms : str or list of str, optional
-        The binaries to build: FMI 3.0 platform tuples (``"x86_64-linux"``,
-        ``"x86_64-windows"``, ...), the aliases ``"linux64"`` and ``"win64"``,
-        or ``"all"``; a list or a comma-separated string (default: this
-        machine's).
+        Platform tuples (``"x86_64-windows"``), ``"linux64"``, ``"win64"`` or ``"all"``.
     author, license, copyright : str, optional
-        Written to modelDescription.xml as given (the FMU is its user's
-        model); by default no author, and pdbfs's BSD-3-Clause licence and
-        copyright. The BSD-3-Clause terms and holders of pdbfs's C wrapper
-        and of the embedded SUNDIALS CVODES are kept after a value given,
-        their texts in the FMU's ``documentation/licenses/``
-        (``license.txt`` says what is whose).
+        For modelDescription.xml (default: pdbfs's BSD-3-Clause licence, no
+        author); pdbfs's and CVODES's terms are kept in documentation/licenses/.
 
     Returns
     -------
     pathlib.Path
-        The FMU written.
 
     Raises
     ------
     pdbfs.ExportError
-        Before any work for bad arguments (PlatformError, one, for an
-        unknown platform), and for a DAE with algebraic variables or one
-        that differentiates an input, or a failed build; nothing is left at
-        ``path`` on failure.
-
-    Examples
-    --------
-    An FMI 2.0 FMU of the paper's rig, read back with FMPy:
-
-    >>> import tempfile
-    >>> from pathlib import Path
-    >>> from fmpy import read_model_description
-    >>> from pdbfs.fmu import export_fmu
-    >>> from pdbfs.models import paper_rig
-    >>> fmu = export_fmu(paper_rig().compile(), Path(tempfile.mkdtemp()) / "paper.fmu")
-    >>> md = read_model_description(fmu)
-    >>> md.fmiVersion, md.modelName
-    ('2.0', 'pdbfs_paper')
-    >>> k = next(v for v in md.modelVariables if v.name == "oil.k")
-    >>> k.causality, k.unit, k.start
-    ('parameter', 'N/m', '222800000.0')
+        Bad arguments (before any work), algebraic variables, a failed build.
     """
     fmi_version = check_fmi_version(fmi_version)
     check_rights(author=author, license=license, copyright=copyright)
@@ -385,18 +328,7 @@ def _describer(model: FmuModel, fmi_version: int, source_files: list[str]):
 
 def check_fmu_name(path: str | os.PathLike) -> None:
     """Refuse a file name that does not end in ``.fmu``: the FMI standard
-    names an FMU so, and tools look for it by that extension.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The FMU file to be written.
-
-    Raises
-    ------
-    pdbfs.ExportError
-        For another suffix, with the name to give instead.
-    """
+    names an FMU so, and tools look for it by that extension."""
     path = Path(path)
     if path.suffix.lower() != ".fmu":
         raise ExportError(f"{path}: an FMU's file name ends in .fmu (the FMI standard's "

@@ -110,39 +110,38 @@ class _Member:
 def cosimulate(ssp: str | os.PathLike, step: float, t_end: float | None = None, *,
                outputs: list[str] | None = None, interpolate: bool = False,
                tolerance: float | None = None) -> CoSimulation:
-    """Co-simulate the system of an SSP file on FMPy: every FMU stepped at a
-    fixed communication step, each connected output fed to its input at
-    every communication point (``export_ssp``'s example runs one).
+    """Co-simulate the system of the SSP file ``ssp`` at a fixed communication step.
 
     Parameters
     ----------
     ssp : str or os.PathLike
-        The SSP file.
+        The SSP file (``export_ssp``).
     step : float
-        The communication step, s; it divides the run into whole steps.
+        The communication step, s (> 0, dividing the run into whole steps).
     t_end : float, optional
-        The end time, s (default: the file's default stop time); the run
+        The end, s (default: the SSP file's default stop time); the run
         starts at its default start.
     outputs : list of str, optional
-        The variables recorded, ``"element.variable"`` (default: every
-        connected output).
+        The variables recorded at every communication point
+        (``"element.variable"``; default: every connected output).
     interpolate : bool
-        Inputs of FMI 2.0 FMUs that can interpolate run on a line (the slope
-        of the output that feeds them over the step before) instead of
-        being held.
+        Inputs of FMI 2.0 FMUs that can interpolate run on a line instead
+        of being held, its slope the feeding output's derivative at the
+        communication point where its FMU gives it, else that output's
+        slope over the step before.
     tolerance : float, optional
         The FMUs' relative tolerance (default: their own).
 
     Returns
     -------
     CoSimulation
-        The recorded variables at the communication points.
+        The communication points and the recorded variables there.
 
     Raises
     ------
-    pdbfs.ExportError
-        For a bad system or argument, before the run.
-    pdbfs.SolverError
+    ExportError
+        A bad system or argument.
+    SolverError
         Where an FMU refuses a call (its log says why).
     """
     comps, conns, exp = read_ssp(ssp)

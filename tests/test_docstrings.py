@@ -14,10 +14,13 @@ API's functions carry type hints.
   pdbfs method it overrides (a component's ``declare``, ``equations``) has
   that method's hints. The Simulator, which pdbfs.simulation exports for the
   studies and the workbench rather than for users, is left out.
-- The reference (what the API pages render and ``help()`` shows): each
-  public callable with arguments has a NumPy ``Parameters`` section that
-  lists every named argument and no other (see ``test_public_callables_list_
-  their_arguments`` for the rules of components and of the result classes);
+- The reference (what the API pages render, and the ``__all__`` of the
+  packages users import, as ``help()`` shows them; the Simulator and the
+  checks pdbfs.fmu exports for the layers above aside): each public
+  callable with arguments has a NumPy ``Parameters`` section that lists
+  every named argument and no other, and a ``Returns`` section if it
+  returns a value (``argument_problems`` says the rules of components and
+  of the result classes);
   the entry points a user calls first have an ``Examples`` section, and
   every Examples section of the reference runs as a doctest; no docstring of
   the reference names a file of the repository (``scripts/``, ``tests/``, a
@@ -225,11 +228,16 @@ API_PAGES = Path(__file__).resolve().parents[1] / "docs" / "reference" / "api"
 RESULTS = {"Result", "SweepResult", "SweepPoint", "Calibration", "Design", "DesignMap",
            "Sensitivity", "Linearization", "HeightSearch", "CoSimulation", "DAE", "ParamInfo",
            "VarInfo"}
-#: the entry points a user calls first: each shows a runnable example
+#: what pdbfs.fmu exports for Rig.export_fmu and the command line to check before a
+#: rig is compiled, not for users (the API pages do not show them), as the Simulator
+CHECKS_FOR_THE_LAYERS_ABOVE = {"check_fmi_version", "check_fmu_name", "check_rights",
+                               "check_experiment"}
+#: the entry points a user calls first: each shows a runnable example (an FMU's:
+#: Rig.export_fmu, which calls pdbfs.fmu.export_fmu with the rig's experiment)
 ENTRY_POINTS = (
     "pdbfs.simulate", "pdbfs.Rig.simulate", "pdbfs.Rig.linearize", "pdbfs.Rig.export_fmu",
-    "pdbfs.fmu.export_fmu", "pdbfs.fmu.export_ssp", "pdbfs.sweep", "pdbfs.sensitivity",
-    "pdbfs.calibrate", "pdbfs.design", "pdbfs.design_map", "pdbfs.Result", "pdbfs.Result.value_at", "pdbfs.Result.peak",
+    "pdbfs.fmu.export_ssp", "pdbfs.sweep", "pdbfs.sensitivity", "pdbfs.calibrate", "pdbfs.design",
+    "pdbfs.design_map", "pdbfs.Result", "pdbfs.Result.value_at", "pdbfs.Result.peak",
     "pdbfs.Result.crossings", "pdbfs.Result.summary", "pdbfs.studies.SweepResult",
     "pdbfs.studies.SweepResult.values", "pdbfs.studies.SweepResult.table",
     "pdbfs.studies.SweepResult.to_pandas", "pdbfs.studies.SweepResult.points",
@@ -279,7 +287,9 @@ def reference() -> dict[str, object]:
                 found.update(_module_members(obj) if inspect.ismodule(obj) else {line[4:].strip(): obj})
     seen, out = set(), {}
     for name, obj in found.items():
-        if (inspect.isclass(obj) or inspect.isfunction(obj)) and name.rsplit(".", 1)[-1] not in INTERNAL \
+        short = name.rsplit(".", 1)[-1]
+        if (inspect.isclass(obj) or inspect.isfunction(obj)) and short not in INTERNAL \
+                and short not in CHECKS_FOR_THE_LAYERS_ABOVE \
                 and obj.__module__.startswith("pdbfs") and id(obj) not in seen:
             seen.add(id(obj))
             out[name] = obj
@@ -417,13 +427,17 @@ CHOICES = re.compile(r"^(\w+) : \{(.+)\}", re.M)
 def _choice_problems(name: str, obj, body: str) -> list[str]:
     """A set of choices whose first is not the argument's default: the API
     pages show the first choice as the default (NumPy's convention), so an
-    argument whose default is None (or another value) says so otherwise."""
+    argument whose default is None (or another value), or that has none,
+    says its choices otherwise."""
     import ast
     params = inspect.signature(obj).parameters
     out = []
     for arg, choices in CHOICES.findall(body):
         p = params.get(arg)
-        if p is None or p.default is inspect.Parameter.empty:
+        if p is None:
+            continue
+        if p.default is inspect.Parameter.empty:
+            out.append(f"{name}: {arg} is required, but its choices show a default")
             continue
         try:
             first = ast.literal_eval(choices.split(",")[0].strip())

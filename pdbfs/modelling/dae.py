@@ -1,22 +1,5 @@
-"""The simplified rig as one CasADi DAE: what every back end consumes.
-
-    der(x) = ode(t, x, z, p)        x: states
-         0 = alg(t, x, z, p)        z: algebraic variables left after BLT
-         y = out(t, x, z, p)        every named variable of the rig
-        x0 = start(p)               start values may depend on parameters
-         e = events(t, x, z, p)     event indicators (contact onset, slack oil)
-        te = time_events(p)         switch times known in advance; the first
-                                    len(te) events are t - te (time events)
-
-Parameters stay symbolic: changing one never rebuilds anything.
-
-A rig with inputs (``inputs``, rig_inputs.py) has 2 n_u + 1 more entries at
-the end of ``p`` than it has parameters: each input's value at t_ref, then
-each input's slope, then t_ref; input k is u_k(t) = p[u0 + k] + p[du0 + k]
-* (t - p[t_ref]) with (u0, du0, t_ref) = ``input_rows()``. ``p_default()``
-holds every input at its start (slope 0); ``params`` and ``p_names`` list
-the parameters only.
-"""
+"""The simplified rig as one CasADi DAE, what every back end consumes (DAE
+says its parts), and the records of its parameters, inputs and variables."""
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -29,26 +12,20 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ParamInfo:
-    """One free parameter of the rig (an entry of ``p``), as
-    ``rig.parameters()`` lists them.
+    """One free parameter of the rig (an entry of ``p``; ``rig.parameters()`` lists them).
 
     Attributes
     ----------
-    name : str
-        Its dotted name in the rig (``"hammer.m"``).
+    name, unit, description : str
+        Its dotted name in the rig (``"hammer.m"``), SI unit ("1": none), meaning.
     value : float
         Its default value, SI units.
-    unit : str
-        Its SI unit ("kg", "N/m^1.5"; "1" for none).
-    description : str
-        What it means.
     min, max : float or None
         Inclusive bounds (None: unbounded).
     positive : bool
         Whether it must be strictly greater than zero.
     tunable : bool
-        Whether a change during a run means something (False for start
-        values and masses: a fixed parameter of the FMU).
+        Whether a change during a run means something (False: fixed in the FMU).
     """
 
     name: str            # dotted name, e.g. "hammer.m"
@@ -73,22 +50,16 @@ class InputInfo:
 
 @dataclass(frozen=True)
 class VarInfo:
-    """One named variable of a compiled rig (an entry of ``y``, or a state,
-    or an algebraic variable).
+    """One named variable of a compiled rig (an entry of ``y``, a state or an algebraic).
 
     Attributes
     ----------
-    name : str
-        Its dotted name in the rig (``"oil.pressure"``).
-    unit : str
-        Its SI unit.
-    description : str
-        What it is.
+    name, unit, description : str
+        Its dotted name in the rig (``"oil.pressure"``), SI unit, meaning.
     output : bool
         Whether it is offered as an FMU output and shown in summaries.
     min, max : float or None
-        The values its equations describe (Variable's bounds): a run that
-        leaves them stops there with a SolverError.
+        The values its equations describe: a run leaving them stops (SolverError).
     beyond : str
         What leaving them means, said in that error.
     """
@@ -111,15 +82,16 @@ class DAE:
     export, the studies) reads it:
 
         der(x) = ode(t, x, z, p)        x: states
-             0 = alg(t, x, z, p)        z: algebraic variables
+             0 = alg(t, x, z, p)        z: algebraic variables left after BLT
              y = out(t, x, z, p)        every named variable of the rig
             x0 = start(p)               start values may depend on parameters
              e = events(t, x, z, p)     event indicators (contact onset, slack oil)
+            te = time_events(p)         switch times: the first len(te) events are t - te
 
-    Parameters stay symbolic: changing one never rebuilds anything. A rig
-    with inputs has 2 n_u + 1 more entries at the end of ``p`` than it has
-    parameters (each input's value at a reference time, its slope, and that
-    time: ``input_rows()``).
+    Parameters stay symbolic: changing one never rebuilds anything. A rig with
+    n_u inputs has 2 n_u + 1 more entries at the end of ``p``: each input's value
+    at t_ref, its slope, t_ref (their rows: ``input_rows()``); ``params`` and
+    ``p_names`` list the parameters only.
 
     Attributes
     ----------
@@ -131,20 +103,17 @@ class DAE:
     ode, alg, x0, y, events : casadi.SX
         The expressions above.
     x_info, z_info, y_info : list of VarInfo
-        Name, unit and description of each state, algebraic variable and
-        output.
+        Name, unit and description of each state, algebraic variable, output.
     params : list of ParamInfo
         The free parameters, in ``p``'s order.
     event_names : list of str
-        Names of the event indicators (what each sign change marks is in
-        ``event_text``).
+        The event indicators (what each sign change marks: ``event_text``).
     calculated : dict
         Parameters computed from others: name -> (expression of ``p``, VarInfo).
     description : str
         What the rig is (the first sentence of its class's description).
     time_events : casadi.SX
-        Switch times known in advance, functions of ``p``: every integrator
-        stops and restarts at each.
+        Switch times, functions of ``p``: every integrator stops there.
     inputs : list
         The rig's inputs (name, unit, description, start value).
     """
@@ -197,8 +166,7 @@ class DAE:
         return f
 
     def conditions_hold(self, P: np.ndarray) -> np.ndarray:
-        """Whether every physical condition of the components holds, for many
-        parameter vectors in one call (a sweep's chunk).
+        """Whether the components' physical conditions hold, for many points at once.
 
         Parameters
         ----------
@@ -229,8 +197,7 @@ class DAE:
         Raises
         ------
         pdbfs.ParameterError
-            Naming the first condition that fails, the parameters it reads
-            and their values.
+            Naming the first condition that fails, its parameters and values.
         """
         f = self._conditions_function()
         if f is None:
@@ -278,21 +245,20 @@ class DAE:
         return np.sort(v[np.isfinite(v)])
 
     def cached(self, name: str, make: Callable[[], Any]) -> Any:
-        """A CasADi object made of this DAE (a function, a rootfinder), made on
-        the first request and kept with the DAE's own functions (``function``),
-        never pickled.
+        """A CasADi object made of this DAE (a function, a rootfinder) on the
+        first request, kept with its own functions (``function``), never pickled.
 
         Parameters
         ----------
         name : str
             The key it is kept under.
         make : callable
-            Makes it, called with no arguments on the first request only.
+            Makes it (called with no arguments, the first time only).
 
         Returns
         -------
         object
-            What ``make()`` returned, the first time or since.
+            What ``make()`` returned.
         """
         cache = self.__dict__.setdefault("_functions", {})
         f = cache.get(name)
@@ -404,18 +370,17 @@ class DAE:
 
     # -- CasADi functions (cheap to build, cached) ----------------------------
     def function(self, which: str) -> ca.Function:
-        """One of the DAE's expressions as a CasADi Function (built on the
-        first request, then kept).
+        """One of the DAE's expressions as a CasADi Function (built once, kept).
 
         Parameters
         ----------
-        which : {"ode", "alg", "out", "events", "limits", "start"}
-            The expression: each a Function of (t, x, z, p), ``start`` of (p).
+        which : str
+            "ode", "alg", "out", "events", "limits" (of t, x, z, p) or "start" (of p).
 
         Returns
         -------
         casadi.Function
-            The function, its inputs and output named.
+            The function (its inputs and output named).
         """
         cache = self.__dict__.setdefault("_functions", {})
         if which not in cache:
