@@ -1,9 +1,5 @@
-"""Result of one simulation: time and every named variable as numpy arrays.
-
-Values between output points, peaks and level crossings are computed from
-the solution itself (a short integration from the nearest output point), so
-they do not depend on the output grid.
-"""
+"""Result of one simulation: time and every named variable as numpy arrays,
+with values, peaks and crossings located on the solution itself."""
 from __future__ import annotations
 
 import warnings
@@ -30,11 +26,10 @@ class Result(ResultExports):
     ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]``
     is ``res.t``); ``"oil.pressure" in res`` says whether the rig has it.
     Values between output points, peaks and crossings are located on the
-    solution itself (on the Hermite interpolant where it is trusted, else by
-    a short integration from the nearest output point), so they do not
-    depend on the output grid. Read it with ``summary()``, ``peak()``,
-    ``crossings()`` and ``value_at()``; export it with ``to_csv()``,
-    ``to_pandas()``, ``as_dict()`` and ``plot()``. Made by ``simulate``.
+    solution itself, whatever the output grid. Read it with ``summary()``, ``peak()``,
+    ``crossings()`` and ``value_at()`` (an unknown name is a KeyError naming
+    the closest ones); export it with ``to_csv()``, ``to_pandas()``,
+    ``as_dict()`` and ``plot()``. Made by ``simulate``.
 
     Attributes
     ----------
@@ -49,9 +44,8 @@ class Result(ResultExports):
     rig : str
         The rig's name.
     settings, stats : dict
-        The settings as used (rtol, atol, method, max_step, max_num_steps,
-        backend) and the solver's statistics (steps, rhs_evals, jac_evals,
-        root_events, method, wall_time in s, backend).
+        The settings as used (rtol, atol, method, max_step, max_num_steps, backend) and
+        the solver's statistics (steps, rhs_evals, jac_evals, root_events, wall_time, ...).
 
     Examples
     --------
@@ -59,9 +53,6 @@ class Result(ResultExports):
     >>> res = paper_rig().simulate(0.02)
     >>> res["oil.pressure"].shape, res.units["oil.pressure"], "oil.pressure" in res
     ((2001,), 'Pa', True)
-    >>> t, p = res.peak("oil.pressure")
-    >>> f"{p / 1e6:.3g} MPa at {t * 1e3:.3g} ms"
-    '92.1 MPa at 5.57 ms'
     >>> res.to_pandas(["oil.pressure", "hammer.v"]).shape
     (2001, 2)
     """
@@ -102,15 +93,13 @@ class Result(ResultExports):
         self._initial = initial
 
     def detached(self) -> dict:
-        """This Result without its Simulator (and what it made of it), to be
-        sent to another process (a sweep's worker sends its points' Results
-        so); ``Result.attach`` makes it a Result again there.
+        """This Result's own data, without its Simulator, to be sent to another
+        process (a sweep's worker's); ``Result.attach`` makes it a Result there.
 
         Returns
         -------
         dict
-            The Result's own data (a compiled run's states are made now; the
-            summary is made again where it is asked for).
+            The data (a compiled run's states made now, not the summary).
         """
         self._X                 # (made once: kept on this Result)
         return {k: v for k, v in vars(self).items()
@@ -123,15 +112,13 @@ class Result(ResultExports):
         Parameters
         ----------
         sim : Simulator
-            A Simulator of the same rig (the parent process's, for a sweep's
-            worker's Result).
+            A Simulator of the same rig (the parent process's, for a sweep's worker).
         state : dict
             What ``detached`` returned.
 
         Returns
         -------
         Result
-            The Result, reading its rig through ``sim``.
         """
         res = cls.__new__(cls)
         res._restore(sim, state)
@@ -213,9 +200,7 @@ class Result(ResultExports):
         return self._rows[i]
 
     def prefetch(self, names: str | Sequence[str]) -> None:
-        """Compute some outputs, their rates and the event indicators in one
-        pass over the grid (a summary reads all of them); later reads of
-        them cost nothing.
+        """Compute some outputs, their rates and the event indicators in one pass.
 
         Parameters
         ----------
@@ -254,8 +239,7 @@ class Result(ResultExports):
                               s["method"], s["max_step"], backend=s.get("backend", "casadi"))
 
     def value_at(self, name: str, t: float) -> float:
-        """A variable at any time of the run, off the output grid too, exact to
-        the solver tolerance (integrated from the nearest output point).
+        """A variable at any time of the run, exact to the solver tolerance.
 
         Parameters
         ----------
@@ -268,11 +252,6 @@ class Result(ResultExports):
         -------
         float
             The value, in the variable's unit (``units[name]``).
-
-        Raises
-        ------
-        KeyError
-            For a name the rig does not have.
 
         Examples
         --------
@@ -292,19 +271,15 @@ class Result(ResultExports):
 
     @property
     def curves(self) -> Curves:
-        """The cubic Hermite interpolants of the variables between output
-        points (from their values and rates), on which peaks and crossings
-        are located where the interpolant is trusted."""
+        """The cubic Hermite interpolants of the variables between output points."""
         if "_curves" not in self.__dict__:
             self._curves = Curves(self)
         return self._curves
 
     def peak(self, name: str, sign: float = 1.0, window: tuple[float, float] | None = None
              ) -> tuple[float, float]:
-        """The largest (or smallest) value of a variable and when it is
-        reached, located on the solution: the largest sample, refined
-        between its neighbours (on the Hermite interpolant where it is
-        trusted, else by minimising the solution itself).
+        """The largest (or smallest) value of a variable and when, located on
+        the solution: the largest sample, refined between its neighbours.
 
         Parameters
         ----------
@@ -313,18 +288,12 @@ class Result(ResultExports):
         sign : float
             1: the maximum; -1: the minimum.
         window : tuple of float, optional
-            ``(a, b)``, s: the peak between these times only (default: the
-            whole run).
+            ``(a, b)``, s: the peak between these times (default: the whole run).
 
         Returns
         -------
         tuple of float
             (time in s, value in the variable's unit).
-
-        Raises
-        ------
-        KeyError
-            For a name the rig does not have.
 
         Examples
         --------
@@ -333,8 +302,7 @@ class Result(ResultExports):
         >>> t, x = res.peak("piston.s")
         >>> f"{x * 1e3:.3g} mm at {t * 1e3:.3g} ms"
         '9.47 mm at 5.57 ms'
-        >>> t, v = res.peak("hammer.v", sign=-1)
-        >>> f"{v:.3g} m/s"
+        >>> f"{res.peak('hammer.v', sign=-1)[1]:.3g} m/s"
         '-2.52 m/s'
         """
         y = sign * self[name]
@@ -360,9 +328,7 @@ class Result(ResultExports):
         return float(self.t[k]), float(self[name][k])
 
     def crossings(self, name: str, level: float = 0.0) -> np.ndarray:
-        """The times at which a variable crosses a level, located on the
-        solution (on the Hermite interpolant where it is trusted, else by
-        root finding).
+        """The times at which a variable crosses a level, located on the solution.
 
         Parameters
         ----------
@@ -376,15 +342,8 @@ class Result(ResultExports):
         numpy.ndarray
             The crossing times, s, increasing (empty if it never crosses).
 
-        Raises
-        ------
-        KeyError
-            For a name the rig does not have.
-
         Examples
         --------
-        When the hammer stops (its velocity crosses 0):
-
         >>> from pdbfs.models import paper_rig
         >>> res = paper_rig().simulate(0.02)
         >>> [f"{t * 1e3:.3g} ms" for t in res.crossings("hammer.v", 0.0)]
@@ -404,26 +363,18 @@ class Result(ResultExports):
         return np.array(out)
 
     def summary(self) -> dict:
-        """The pulse's figures: peak pressure, time of peak, pulse duration,
-        peak contact force, maximum piston displacement, restitution
-        coefficient, and whether the pulse ended inside the run
-        (``complete``), each located on the solution, the same whatever the
-        output grid. A rig has those its ``summary_signals`` give roles for;
-        one whose hammer strikes more than once also lists every blow
-        (``impact_count``, ``impact_times``, ``impact_peak_pressures``,
-        ``impact_durations``). Computed once per Result.
+        """The pulse's figures, located on the solution whatever the output
+        grid, computed once: peak pressure, time of peak, pulse duration,
+        peak contact force, maximum piston displacement, restitution, and
+        whether the pulse ended inside the run (``complete``): those the
+        rig's ``summary_signals`` give roles for (a rig whose hammer strikes
+        more than once also lists its blows: ``impact_count``, ...).
 
         Returns
         -------
         dict
-            Figure name -> value, SI units (``pdbfs.simulation.SUMMARY_UNITS``
-            gives each unit); a figure the run cannot give (the pulse not
-            over: its peak, duration, restitution) is None.
-
-        Warns
-        -----
-        PulseIncompleteWarning
-            When the pulse outlasts the run.
+            Figure name -> value, SI units (``SUMMARY_UNITS``); None where
+            the run cannot give it (the pulse not over: a PulseIncompleteWarning says so).
 
         Examples
         --------
