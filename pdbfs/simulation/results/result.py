@@ -23,13 +23,11 @@ if TYPE_CHECKING:
 class Result(ResultExports):
     """One simulation of a rig: time and every variable as numpy arrays, SI units.
 
-    ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]``
-    is ``res.t``); ``"oil.pressure" in res`` says whether the rig has it.
-    Values between output points, peaks and crossings are located on the
-    solution itself, whatever the output grid. Read it with ``summary()``, ``peak()``,
-    ``crossings()`` and ``value_at()`` (an unknown name is a KeyError naming
-    the closest ones); export it with ``to_csv()``, ``to_pandas()``,
-    ``as_dict()`` and ``plot()``. Made by ``simulate``.
+    ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]`` is
+    ``res.t``; an unknown name is a KeyError naming the closest). Values off the grid,
+    peaks and crossings are located on the solution itself: ``value_at()``, ``peak()``,
+    ``crossings()``, ``summary()``; exports: ``to_csv()``, ``to_pandas()``,
+    ``as_dict()``, ``plot()``. Made by ``simulate``.
 
     Attributes
     ----------
@@ -44,8 +42,7 @@ class Result(ResultExports):
     rig : str
         The rig's name.
     settings, stats : dict
-        The settings as used (rtol, atol, method, max_step, max_num_steps, backend) and
-        the solver's statistics (steps, rhs_evals, jac_evals, root_events, wall_time, ...).
+        The settings as used (rtol, atol, method, ...) and the solver's statistics (steps, ...).
 
     Examples
     --------
