@@ -14,9 +14,9 @@ declaring parameters, variables and equations on shared partial bases.
                     translational SignalForce and SignalPosition (here) and the
                     hydraulic CommandedValve and SignalPressure join them to
                     the physical domains
-    laws.py         the paper's formulas as plain functions (Hertz stiffness,
+    laws            the paper's formulas as plain functions (Hertz stiffness,
                     damping laws, impact velocity)
-    functions.py    powers with finite derivatives everywhere, for the force laws
+    functions       powers with finite derivatives everywhere, for the force laws
 
 May import: pdbfs.errors and pdbfs.modelling.
 """

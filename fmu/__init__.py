@@ -8,23 +8,23 @@ validated by fmpy, simulated by any importer.
     export_ssp("loop.ssp", {"plant": "plant.fmu", "controller": "controller.fmu"},
                [("plant.sensor.y", "controller.measured"), ("controller.pid.y", "plant.opening")])
 
-    variables.py    the FMU's variables, value references and model structure
-    description.py  modelDescription.xml (FMI 2.0, with <SourceFiles>)
-    description3.py modelDescription.xml and buildDescription.xml (FMI 3.0)
-    units.py        unit strings -> FMI base units
-    platforms.py    the five platform tuples (x86_64/aarch64 Linux, x86_64 Windows,
+    variables       the FMU's variables, value references and model structure
+    description     modelDescription.xml (FMI 2.0, with <SourceFiles>)
+    description3    modelDescription.xml and buildDescription.xml (FMI 3.0)
+    units           unit strings -> FMI base units
+    platforms       the five platform tuples (x86_64/aarch64 Linux, x86_64 Windows,
                     x86_64/aarch64 macOS) and their aliases; each built by zig cc;
                     prepare_offline(): the sources and every CVODE built ahead
-    sources.py      SUNDIALS' CVODE sources for a source FMU
-    derivatives.py  CasADi's forward and reverse AD for the directional and adjoint derivatives
-    symbols.py      private names for everything but the FMI functions (pdbfs_names.h)
-    documentation.py documentation/index.html
-    rights.py       version, author, license and copyright (default: pdbfs's BSD-3-Clause;
+    sources         SUNDIALS' CVODE sources for a source FMU
+    derivatives     CasADi's forward and reverse AD for the directional and adjoint derivatives
+    symbols         private names for everything but the FMI functions (pdbfs_names.h)
+    documentation   documentation/index.html
+    rights          version, author, license and copyright (default: pdbfs's BSD-3-Clause;
                     the user's kept before pdbfs's and CVODES's), documentation/licenses/
-    header.py       pdbfs_model.h: sizes, value references, the parameter table
-    export.py       the export: checks, C sources, compile, zip
-    ssp.py          a system of FMUs connected output to input as an SSP 1.0 file (export_ssp)
-    master.py       a co-simulation master on FMPy that runs such a system (cosimulate):
+    header          pdbfs_model.h: sizes, value references, the parameter table
+    export          the export: checks, C sources, compile, zip
+    ssp             a system of FMUs connected output to input as an SSP 1.0 file (export_ssp)
+    master          a co-simulation master on FMPy that runs such a system (cosimulate):
                     inputs held over a step, or interpolated (FMI 2.0)
 The FMU's C is pdbfs.native's: native/c/fmu/ holds the generic C of every
 FMU (the life cycle, lifecycle.c, calling down into one wrapper per FMI

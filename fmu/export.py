@@ -155,9 +155,10 @@ def export_fmu(dae: DAE, path: str | os.PathLike = "pdbfs.fmu", model_identifier
                keep_build_dir: str | os.PathLike | None = None, cflags: list[str] | None = None,
                fmi_version: int = 2, platforms: list[str] | str | None = None, author: str | None = None,
                license: str | None = None, copyright: str | None = None) -> Path:
-    """Write an FMI 2.0 FMU (Model Exchange and Co-Simulation) of ``dae`` to
-    ``path`` and return its path; ``fmi_version=3`` writes FMI 3.0 (the same
-    wrapper design, model code and co-simulation loop).
+    """Write an FMU (FMI 2.0, or 3.0; Model Exchange and Co-Simulation) of a
+    compiled rig and return its path (``Rig.export_fmu`` calls it); each rig
+    input is an FMU input, held over a co-simulation step (FMI 2.0: on the
+    line ``fmi2SetRealInputDerivatives`` gives).
 
     Parameters
     ----------

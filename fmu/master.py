@@ -33,9 +33,23 @@ from .ssp import read_ssp
 
 @dataclass
 class CoSimulation:
-    """A co-simulated system's results: the communication points ``t`` (s)
-    and each recorded variable (``"element.variable"``) there, with the
-    step, whether inputs were interpolated, and the FMU calls' wall time."""
+    """A co-simulated system's results (``cosimulate`` makes it):
+    ``co["plant.sensor.y"]`` is a recorded variable at the communication
+    points.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        The communication points, s.
+    values : dict
+        ``"element.variable"`` -> its values at ``t``.
+    step : float
+        The communication step, s.
+    interpolated : bool
+        Whether FMI 2.0 inputs ran on a line over each step (else held).
+    seconds : float
+        The wall time of the FMUs' calls, s.
+    """
 
     t: np.ndarray
     values: dict[str, np.ndarray] = field(default_factory=dict)

@@ -72,8 +72,23 @@ def pdbfs_license_text() -> str:
 
 
 def check_rights(**values: str | None) -> dict:
-    """``author``, ``license``, ``copyright`` as given (None: the default), or
-    an ExportError naming the one that cannot go into modelDescription.xml."""
+    """Check the rights an FMU is to carry, before any work.
+
+    Parameters
+    ----------
+    **values : str or None
+        ``author``, ``license``, ``copyright`` as given (None: the default).
+
+    Returns
+    -------
+    dict
+        The values, unchanged.
+
+    Raises
+    ------
+    pdbfs.ExportError
+        Naming the one that is not a string or cannot be written in XML.
+    """
     for name, v in values.items():
         if v is None:
             continue

@@ -62,8 +62,28 @@ class FmuInterface:
 
 
 def read_interface(fmu: str | os.PathLike) -> FmuInterface:
-    """The inputs, outputs and units of the FMU at ``fmu`` (its
-    modelDescription.xml); an ExportError in one line if it is not an FMU."""
+    """What a system needs to know of an FMU, read from its
+    modelDescription.xml: its FMI version, whether it offers Co-Simulation,
+    its inputs and outputs with their units, and its default stop time.
+
+    Parameters
+    ----------
+    fmu : str or os.PathLike
+        The FMU file (FMI 2.0 or 3.0).
+
+    Returns
+    -------
+    FmuInterface
+        ``path``, ``fmi_version``, ``model_name``, ``cosimulation``,
+        ``inputs`` and ``outputs`` (name -> Variable: name, type, unit),
+        ``units`` (name -> its BaseUnit's attributes) and ``stop_time``.
+
+    Raises
+    ------
+    pdbfs.ExportError
+        In one line, for a missing file or one that is not an FMI 2.0 or
+        3.0 FMU.
+    """
     if not str(os.fspath(fmu)).strip():
         raise ExportError("an FMU's file name is empty: name the FMU file")
     path = Path(fmu)
@@ -166,17 +186,63 @@ def check_ssp_target(path: str | os.PathLike) -> None:
 
 def export_ssp(path: str | os.PathLike, fmus: Mapping[str, str | os.PathLike], connections: Iterable,
                *, name: str = "system", start_time: float = 0.0, stop_time: float | None = None) -> Path:
-    """Write the system of ``fmus`` (component name -> FMU file, each with
-    Co-Simulation) joined by ``connections`` (pairs ``("element.output",
-    "element.input")``) as an SSP 1.0 file at ``path`` and return its path.
+    """Write a system of FMUs joined output to input as an SSP 1.0 file
+    (System Structure and Parameterization), which SSP engines (Ecos,
+    libcosim) and ``cosimulate`` run.
 
     The FMUs are stored under ``resources/`` in the file; each component
     lists its FMU's inputs and outputs as connectors (with their units,
-    defined in the file when the FMU defines them). ``stop_time`` (s)
-    defaults to the shortest default experiment of the FMUs. Raises
-    ExportError in one line, before anything is written, for a name that is
-    not a component's, an FMU that is not one, a connection that does not
-    join an output to an input of the same unit, or an input fed twice.
+    defined in the file when the FMU defines them).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The SSP file to write (``.ssp``).
+    fmus : mapping of str to str or os.PathLike
+        Component name (letters, digits and _) -> FMU file, each with
+        Co-Simulation.
+    connections : iterable of pairs of str
+        ``("element.output", "element.input")``: an output to an input of
+        the same unit, each input fed once (``pdbfs.models.LOOP`` joins the
+        pulse plant and its controller).
+    name : str
+        The system's name.
+    start_time : float
+        The default experiment's start, s.
+    stop_time : float, optional
+        Its stop, s (default: the shortest default experiment of the FMUs).
+
+    Returns
+    -------
+    pathlib.Path
+        The SSP file written.
+
+    Raises
+    ------
+    pdbfs.ExportError
+        In one line, before anything is written, for a name that is not a
+        component's, an FMU that is not one or offers no Co-Simulation, a
+        connection that does not join an output to an input of the same
+        unit, an input fed twice, or bad times.
+
+    Examples
+    --------
+    The pulse plant and its PID controller as two FMUs, joined in a loop
+    and run by pdbfs's own co-simulation master:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from pdbfs.fmu import cosimulate, export_ssp
+    >>> from pdbfs.models import LOOP, pulse_controller_rig, pulse_plant_rig
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> plant = pulse_plant_rig().export_fmu(folder / "plant.fmu")
+    >>> controller = pulse_controller_rig().export_fmu(folder / "controller.fmu")
+    >>> LOOP
+    (('plant.sensor.y', 'controller.measured'), ('controller.pid.y', 'plant.opening'))
+    >>> ssp = export_ssp(folder / "loop.ssp", {"plant": plant, "controller": controller}, LOOP)
+    >>> co = cosimulate(ssp, 1e-4, outputs=["plant.sensor.y"])
+    >>> len(co.t), f"{co['plant.sensor.y'].max() / 1e6:.2g} MPa"
+    (201, '93 MPa')
     """
     path = Path(path)
     check_ssp_target(path)
@@ -262,9 +328,25 @@ def system_description(name: str, interfaces: Mapping[str, FmuInterface], joined
 
 
 def read_ssp(path: str | os.PathLike) -> tuple[dict[str, str], list[tuple[str, str, str, str]], dict]:
-    """(component name -> FMU entry in the zip, connections as (start element,
-    output, end element, input), DefaultExperiment's attributes) of the SSP
-    file at ``path``."""
+    """The components and connections of an SSP file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The SSP file.
+
+    Returns
+    -------
+    tuple
+        (component name -> its FMU's entry in the zip, the connections as
+        (start element, output, end element, input), the
+        DefaultExperiment's attributes).
+
+    Raises
+    ------
+    pdbfs.ExportError
+        For a file that is not an SSP file.
+    """
     path = Path(path)
     try:
         with zipfile.ZipFile(path) as z:

@@ -40,7 +40,21 @@ class BarPistonRig(SplitPistonRig):
     """The paper's rig (Table 1 values) with the piston an ElasticBar of
     ``n`` segments (``piston.L``, ``piston.A``, ``piston.E``,
     ``piston.rho``) and the seal friction ``seal.c`` spread over them; the
-    rest of the rig is SplitPistonRig's."""
+    rest of the rig is SplitPistonRig's.
+
+    Parameters
+    ----------
+    n : int
+        The number of the bar's segments (>= 1).
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (ImpactContact's ``law``); None: the
+        paper's damping factor ``contact.D``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For n that is not a whole number >= 1.
+    """
 
     summary_signals = BAR_SIGNALS
     name_prefix, builder = "pdbfs_bar", "bar_piston_rig"
@@ -56,10 +70,22 @@ class BarPistonRig(SplitPistonRig):
 
     def check_resolution(self, dt_out: float, params: Mapping[str, float] | None = None
                          ) -> BarResolution:
-        """Warn (BarResolutionWarning) if output every ``dt_out`` s is finer
-        than the piston's segments resolve; ``params`` as in simulate
-        (``piston.L`` etc. override the defaults). Returns the
-        BarResolution."""
+        """Warn (BarResolutionWarning) if an output interval is finer than
+        the piston's segments resolve.
+
+        Parameters
+        ----------
+        dt_out : float
+            The output interval, s.
+        params : mapping of str to float, optional
+            Parameter values as ``simulate`` takes them (``piston.L``,
+            ``piston.E``, ... override the defaults).
+
+        Returns
+        -------
+        BarResolution
+            As ``check_bar_resolution`` gives it.
+        """
         mine = {k.split(".", 1)[1]: v for k, v in (params or {}).items()
                 if k.startswith("piston.")}
         values = self.piston.values(mine)
@@ -67,7 +93,19 @@ class BarPistonRig(SplitPistonRig):
 
 
 def bar_piston_rig(n: int = 30, **kw: Any) -> BarPistonRig:
-    """The paper's rig with the piston an elastic steel bar of ``n``
-    segments (30 by default: a segment's transit time, 8.7 us, is then
-    within the default output interval of 10 us); ``law=`` as in paper_rig."""
+    """The paper's rig with the piston an elastic steel bar.
+
+    Parameters
+    ----------
+    n : int
+        The bar's segments (30 by default: a segment's transit time, 8.7
+        us, is then within the default output interval of 10 us).
+    **kw
+        ``law=``, as BarPistonRig takes it.
+
+    Returns
+    -------
+    BarPistonRig
+        The rig.
+    """
     return BarPistonRig(n=n, **kw)

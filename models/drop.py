@@ -77,11 +77,23 @@ class _GravityRig(PaperRig):
         self.connect(self.breech_weight.flange, self.breech.flange_a)
 
     def stack(self, load):
-        """The positions (m) of the breech and the piston in static
-        equilibrium with ``load`` (N, an expression) on the piston besides
-        the weights: the mount compressed by everything above it from its
-        unstretched position ``frame.s0 - mount.s_rel0``, the oil column by
-        what the piston carries (n-th roots for exponents n != 1)."""
+        """The positions of the breech and the piston in static equilibrium,
+        which become their start positions: the mount compressed by
+        everything above it from its unstretched position ``frame.s0 -
+        mount.s_rel0``, the oil column by what the piston carries (n-th
+        roots for exponents n != 1).
+
+        Parameters
+        ----------
+        load : float or casadi.SX
+            The force on the piston besides the weights, N (an expression of
+            the parameters: the hammer's weight when it rests there).
+
+        Returns
+        -------
+        tuple of casadi.SX
+            (the breech's position, the piston's), m.
+        """
         g = self.g
         w2 = self.piston.m * g + load
         w23 = w2 + self.breech.m * g
@@ -94,7 +106,21 @@ class _GravityRig(PaperRig):
 
 class DropRig(_GravityRig):
     """PDBFS with gravity, the hammer dropped from height ``h``; Table 1
-    values otherwise. Simulate it over about a second to see the blows."""
+    values otherwise. Simulate it over about a second to see the blows.
+
+    Parameters
+    ----------
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (ImpactContact's ``law``); None: the
+        paper's damping factor ``contact.D``.
+    **params : float
+        The rig's own parameter: h, the drop height, m.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For rest=: the hammer resting on the piston is DropRestRig.
+    """
 
     name = "pdbfs_drop"
     page_defaults = {"calibrate": ("oil.k",), "design": ("h",),
@@ -125,7 +151,14 @@ class DropRig(_GravityRig):
 
 class DropRestRig(_GravityRig):
     """The drop rig with the hammer resting on the piston: the whole stack
-    starts in static equilibrium under gravity, solved at initialization."""
+    starts in static equilibrium under gravity, solved at initialization.
+
+    Parameters
+    ----------
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (ImpactContact's ``law``); None: the
+        paper's damping factor ``contact.D``.
+    """
 
     name = "pdbfs_drop_rest"
     page_defaults = {"calibrate": ("oil.k",), "design": ("hammer.m",),
@@ -154,8 +187,20 @@ class DropRestRig(_GravityRig):
 
 
 def drop_rig(rest: bool = False, **kw: Any) -> DropRig | DropRestRig:
-    """The rig with gravity, hammer dropped from ``h`` (parameter, default
-    0.38 m = 2.73 m/s at impact). ``law=`` as in paper_rig; ``rest=True``:
-    the hammer rests on the piston, the start solved at equilibrium
-    (DropRestRig, no ``h``)."""
+    """The rig with gravity, the hammer dropped from ``h`` (a parameter,
+    default 0.38 m: 2.73 m/s at impact).
+
+    Parameters
+    ----------
+    rest : bool
+        The hammer rests on the piston instead, the start solved at
+        equilibrium (DropRestRig, no ``h``).
+    **kw
+        ``law=``, and for the dropped hammer ``h=``, as the rig takes them.
+
+    Returns
+    -------
+    DropRig or DropRestRig
+        The rig.
+    """
     return DropRestRig(**kw) if rest else DropRig(**kw)

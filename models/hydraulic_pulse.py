@@ -38,7 +38,21 @@ SUPPLIES = ("accumulator", "pressure")
 class HydraulicPulseRig(Rig):
     """A breech chamber pressurised through a fast valve: a gun-like pulse
     without a hammer. ``supply``: ``"accumulator"`` (default) or
-    ``"pressure"`` (an ideal source)."""
+    ``"pressure"`` (an ideal source).
+
+    Parameters
+    ----------
+    supply : {"accumulator", "pressure"}
+        A gas-charged accumulator, or an ideal pressure source.
+    line : bool
+        A hose and a line between the supply and the valve (the line's start
+        pressure solved in equilibrium).
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown supply.
+    """
 
     name = "pdbfs_hydraulic_pulse"
     summary_signals = PULSE_SIGNALS

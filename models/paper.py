@@ -20,7 +20,14 @@ PAPER_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
 class PaperRig(Rig):
     """Pile-driver breech fatigue testing system, 3 degrees of freedom, with
     the paper's Table 1 values. Linear oil column and mount by default; set
-    ``oil.n = 1.5`` (and ``mount.n``) for the other reading of Table 1."""
+    ``oil.n = 1.5`` (and ``mount.n``) for the other reading of Table 1.
+
+    Parameters
+    ----------
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (ImpactContact's ``law``); None: the
+        paper's damping factor ``contact.D``.
+    """
 
     name = "pdbfs_paper"
     summary_signals = PAPER_SIGNALS

@@ -42,7 +42,27 @@ LEAKS = {"laminar": LaminarLeak, "orifice": Orifice}
 class PaperHydraulicRig(PaperRig):
     """The paper's rig (Table 1 values) with a hydraulic oil column.
     ``law`` is the oil's bulk-modulus law (Volume), ``contact_law`` the
-    contact's damping law (PaperRig's ``law``)."""
+    contact's damping law (PaperRig's ``law``).
+
+    Parameters
+    ----------
+    law : {"constant", "linear"}
+        The oil's bulk-modulus law (Volume's; "air" needs absolute pressures
+        and is refused here).
+    swept : bool
+        The oil's volume shrinks with the stroke (Volume's ``swept``).
+    leak : {None, "laminar", "orifice"}
+        A leak of the oil to a tank (a LaminarLeak or an Orifice); None: none.
+    contact_law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (PaperRig's ``law``).
+    **params : float
+        The rig's own parameter: ``L``, the oil column's length, m.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown leak, or the law "air".
+    """
 
     name = "pdbfs_hydraulic"
     summary_signals = PAPER_HYDRAULIC_SIGNALS

@@ -73,7 +73,14 @@ class PaperThermalRig(PaperRig):
     the oil and the piston, which exchange heat with the breech and lose it
     to the room; the oil column's stiffness and the seal's friction follow
     the oil's temperature. At the room's temperature it starts as the paper
-    rig, and a blow gives the paper rig's pulse."""
+    rig, and a blow gives the paper rig's pulse.
+
+    Parameters
+    ----------
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (ImpactContact's ``law``); None: the
+        paper's damping factor ``contact.D``.
+    """
 
     name = "pdbfs_paper_thermal"
     summary_signals = PAPER_THERMAL_SIGNALS

@@ -17,7 +17,7 @@ The default ``piston.k_axial`` = 3.5e9 N/m is that of a steel bar
 241.7 kg at 7850 kg/m^3 (about 1.36 m): an estimate, not a paper value.
 
 With N = 1 there is no link and the rig is the paper's 3-DOF rig, equation
-for equation (tests/test_variants.py checks the pressure to 1e-9).
+for equation (its pressure agrees with the paper rig's to 1e-9).
 """
 from __future__ import annotations
 
@@ -51,7 +51,20 @@ class SplitPiston(MassChain):
     joined by linear springs ``link{i}`` (a MassChain). ``flange_a`` is the
     struck face (piece 1), ``flange_b`` the face on the oil (piece n);
     ``side{i}`` is a flange on piece i (1-based) for side forces such as
-    seal friction. The variable ``s`` is the position of the centre of mass."""
+    seal friction. The variable ``s`` is the position of the centre of mass.
+
+    Parameters
+    ----------
+    n : int
+        The number of pieces (>= 1).
+    **params : float or casadi.SX
+        Values of its declared parameters (``m``, ``k_axial``), SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For ``n`` that is not a whole number >= 1.
+    """
 
     m = Parameter(241.7, "kg", "Total mass of the piston and seal assembly (the paper's m2)",
                   positive=True, tunable=False)
@@ -72,7 +85,22 @@ class SplitPiston(MassChain):
 
 class SplitSeal(Component):
     """Seal friction ``c`` spread equally over ``n`` pieces: ``part{i}`` acts
-    between ``frame`` and ``flange{i}``."""
+    between ``frame`` and ``flange{i}``.
+
+    Connectors: ``frame`` and ``flange1`` .. ``flange{n}``.
+
+    Parameters
+    ----------
+    n : int
+        The number of parts (>= 1).
+    **params : float or casadi.SX
+        Values of its declared parameters (``c``), SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For ``n`` that is not a whole number >= 1.
+    """
 
     c = Parameter(2.556e4, "N.s/m", "Total viscous friction of the seal (the paper's c2)",
                   min=0.0)
@@ -99,7 +127,21 @@ SPLIT_SIGNALS = {"pressure": "oil.pressure", "contact_force": "contact.fc",
 
 class SplitPistonRig(Rig):
     """The paper's rig (Table 1 values) with the piston and seal split into
-    ``n`` masses. Parameters as in PaperRig, plus ``piston.k_axial``."""
+    ``n`` masses. Parameters as in PaperRig, plus ``piston.k_axial``.
+
+    Parameters
+    ----------
+    n : int
+        The number of pieces (>= 1; 1 is the paper's rig).
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        The contact's damping law (ImpactContact's ``law``); None: the
+        paper's damping factor ``contact.D``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For n that is not a whole number >= 1.
+    """
 
     summary_signals = SPLIT_SIGNALS
     #: what the workbench page (pdbfs app) offers first, as PaperRig's
@@ -119,7 +161,18 @@ class SplitPistonRig(Rig):
 
     def make_piston(self, n: int) -> Component:
         """The piston: flanges flange_a (struck), flange_b (on the oil) and
-        side1..side{n} (the seal's). Subclasses put another piston here."""
+        side1..side{n} (the seal's). Subclasses put another piston here.
+
+        Parameters
+        ----------
+        n : int
+            The number of pieces.
+
+        Returns
+        -------
+        Component
+            The piston (here a SplitPiston).
+        """
         return SplitPiston(n=n)
 
     def declare(self):
@@ -147,15 +200,38 @@ class SplitPistonRig(Rig):
         return self._n
 
     def force_chain(self, res: pdbfs.Result) -> list[tuple[str, np.ndarray]]:
-        """Compressive forces through the piston, top to bottom, from a
-        Result: contact, links 1..n-1 (springs report tension, so negated),
-        oil. Returns a list of (label, array)."""
+        """The compressive forces through the piston, top to bottom: the
+        contact, the links 1 .. n-1 (springs report tension, so negated), the oil.
+
+        Parameters
+        ----------
+        res : Result
+            A run of this rig.
+
+        Returns
+        -------
+        list of tuple
+            (label, force in N on the run's output grid), top to bottom.
+        """
         out = [("contact", res["contact.fc"])]
         out += [(f"link {i}", -res[f"piston.link{i}.f"]) for i in range(1, self._n)]
         return out + [("oil", res["oil.fc"])]
 
 
 def split_piston_rig(n: int = 4, **kw: Any) -> SplitPistonRig:
-    """The paper's rig with piston and seal split into ``n`` masses joined by
-    stiff springs; ``n = 1`` is the paper's rig. ``law=`` as in paper_rig."""
+    """The paper's rig with piston and seal split into masses joined by
+    stiff springs.
+
+    Parameters
+    ----------
+    n : int
+        The number of pieces (1: the paper's rig).
+    **kw
+        ``law=``, as SplitPistonRig takes it.
+
+    Returns
+    -------
+    SplitPistonRig
+        The rig.
+    """
     return SplitPistonRig(n=n, **kw)

@@ -45,8 +45,19 @@ EXTRAS = {"app": ("dash", "diskcache", "multiprocess", "orjson"),
 
 
 def missing_extra(extra: str) -> str | None:
-    """The first package of ``extra`` that cannot be imported, or None when
-    all are installed (looked up without importing them)."""
+    """The first package of one of pdbfs's extras that is not installed
+    (looked up without importing it).
+
+    Parameters
+    ----------
+    extra : str
+        A key of :data:`EXTRAS` ("app", "dask", "parquet", "sensitivity", "control").
+
+    Returns
+    -------
+    str or None
+        The module that cannot be imported, or None when all are installed.
+    """
     from importlib.util import find_spec
     for module in EXTRAS[extra]:
         try:
@@ -92,8 +103,20 @@ class SampleTooSmallWarning(PdbfsWarning):
 
 
 def plain(value) -> str:
-    """``value`` as a message shows it: numbers plainly (``3.0``, never
-    ``np.float64(3.0)``), containers of them likewise, anything else by repr."""
+    """A value as an error message shows it.
+
+    Parameters
+    ----------
+    value : object
+        A number, a numpy scalar, a list, tuple or dict of them, or anything.
+
+    Returns
+    -------
+    str
+        Numbers plainly (``3.0``, never ``np.float64(3.0)``; floats to 6
+        significant digits), containers of them likewise, anything else by
+        repr.
+    """
     if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:    # a numpy scalar
         value = value.item()
     if isinstance(value, dict):

@@ -36,10 +36,21 @@ class _OutputChecks:
 
 
 class Rig(Component):
-    """Base class of every rig. Optional class attributes: ``name`` (the
-    DAE's and the FMU's name), ``summary_signals`` (which variable plays which
-    role in a summary), ``default_t_end`` and ``default_n_out`` (the rig's own
-    experiment)."""
+    """Base class of every rig: a component made of connected components,
+    that can be simulated, linearized and exported as an FMU.
+
+    A rig declares its components in ``declare()`` and connects their
+    connectors there with ``connect()``. Optional class attributes:
+    ``name`` (the DAE's and the FMU's name), ``summary_signals`` (which
+    variable plays which role in a summary), ``default_t_end`` and
+    ``default_n_out`` (the rig's own experiment).
+
+    Parameters
+    ----------
+    **values : float
+        Values of the rig's own declared parameters by name, SI units (its
+        components' parameters are set per run, ``params={"hammer.m": ...}``).
+    """
 
     def simulate(self, t_end: float = 0.02, n_out: int = 2001, *, t_out: ArrayLike | None = None,
                  params: Mapping[str, float] | None = None, start: Mapping[str, float] | None = None,
@@ -98,6 +109,16 @@ class Rig(Component):
             A setting, parameter or start value that is refused, before any work.
         SolverError
             The integrator failed; the message says where and why.
+
+        Examples
+        --------
+        >>> from pdbfs.models import paper_rig
+        >>> rig = paper_rig()
+        >>> res = rig.simulate(0.02, params={"hammer.v0": 3.0})
+        >>> f"{res.summary()['peak_pressure'] / 1e6:.3g} MPa"
+        '101 MPa'
+        >>> f"{res.peak('contact.fc')[1] / 1e6:.3g} MN"
+        '4.14 MN'
         """
         kwargs = {k: v for k, v in (("n_out", n_out), ("t_out", t_out), ("params", params),
                                     ("start", start), ("rtol", rtol), ("atol", atol),
@@ -155,6 +176,17 @@ class Rig(Component):
         -------
         Linearization
             A, B, C, D with the names of their states, inputs and outputs.
+
+        Examples
+        --------
+        The paper's rig near its peak pressure, hammer and piston in contact:
+
+        >>> from pdbfs.models import paper_rig
+        >>> lin = paper_rig().linearize(at=0.0055)
+        >>> lin.states
+        ['hammer.s', 'hammer.v', 'piston.s', 'piston.v', 'breech.s', 'breech.v']
+        >>> [f"{m.frequency:.3g} Hz" for m in lin.modes()]
+        ['39.5 Hz', '446 Hz', '1.13e+03 Hz']
         """
         kwargs = dict(inputs=inputs, outputs=outputs, params=params, start=start,
                       initial=initial, rtol=rtol, atol=atol)
@@ -230,6 +262,16 @@ class Rig(Component):
             or whose equations use an input's rate, or a failed build;
             nothing is left at ``path`` then. The rig's inputs are the FMU's
             inputs.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from pdbfs.models import paper_rig
+        >>> folder = Path(tempfile.mkdtemp())
+        >>> fmu = paper_rig().export_fmu(folder / "paper.fmu", fmi_version=3)
+        >>> fmu.name, fmu.stat().st_size > 10_000
+        ('paper.fmu', True)
         """
         kwargs = dict(model_identifier=model_identifier, tolerance=tolerance,
                       keep_build_dir=keep_build_dir, cflags=cflags, fmi_version=fmi_version,
@@ -248,7 +290,15 @@ class Rig(Component):
         return export_fmu(self.compile(), path, **kwargs)
 
     def parameters(self) -> list[ParamInfo]:
-        """The rig's free parameters (ParamInfo: name, value, unit, description), in the DAE's order."""
+        """The rig's free parameters (ParamInfo: name, value, unit, description), in the DAE's order.
+
+        Examples
+        --------
+        >>> from pdbfs.models import paper_rig
+        >>> p = paper_rig().parameters()[1]
+        >>> p.name, p.value, p.unit
+        ('hammer.m', 2948.4, 'kg')
+        """
         return self.compile().params
 
     def inputs(self) -> list[InputInfo]:

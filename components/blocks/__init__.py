@@ -4,14 +4,14 @@ Blocks): one small component per concept, joined by signal connectors
 ``u`` (``u1 .. un`` for several) and its output ``y``; ``unit`` (a
 constructor argument) labels its signals.
 
-    interfaces.py  Block, and the partial bases SO (output y), SISO (u -> y),
+    interfaces     Block, and the partial bases SO (output y), SISO (u -> y),
                    MISO (u1 .. un -> y)
-    inputs.py      Input: an input of the rig, named by its component
-    sources.py     Constant, Step, Ramp, Sine, Pulse (switches as time events)
-    table.py       Table: values at times, linear or held, breakpoints as time events
-    math.py        Gain, Add (weighted, with signs), Product, Limiter, DeadZone
-    continuous.py  Integrator, FirstOrder, SecondOrder, Derivative (filtered)
-    pid.py         PID: P, PI, PD or PID, output limits, anti-windup by back-calculation
+    inputs         Input: an input of the rig, named by its component
+    sources        Constant, Step, Ramp, Sine, Pulse (switches as time events)
+    table          Table: values at times, linear or held, breakpoints as time events
+    math           Gain, Add (weighted, with signs), Product, Limiter, DeadZone
+    continuous     Integrator, FirstOrder, SecondOrder, Derivative (filtered)
+    pid            PID: P, PI, PD or PID, output limits, anti-windup by back-calculation
 
 The blocks that join signals to the physical domains are with those
 domains: SignalForce and SignalPosition in pdbfs.components (translational),

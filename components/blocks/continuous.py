@@ -9,7 +9,24 @@ from .interfaces import SISO
 
 
 class Integrator(SISO):
-    """``y = y_start + k * integral of u``: ``der(y) = k*u``."""
+    """``y = y_start + k * integral of u``: ``der(y) = k*u``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : str, optional
+        The unit of its input ``u``, which its gain converts (default: ``unit``).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     k = Parameter(1.0, "1/s", "Integrator gain (unit of y per unit of u and second)")
     converts = True          # input_unit: u in another unit, k converts
@@ -24,7 +41,24 @@ class Integrator(SISO):
 
 
 class FirstOrder(SISO):
-    """A first-order lag ``k/(T*s + 1)``: ``T*der(y) = k*u - y``."""
+    """A first-order lag ``k/(T*s + 1)``: ``T*der(y) = k*u - y``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : str, optional
+        The unit of its input ``u``, which its gain converts (default: ``unit``).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     k = Parameter(1.0, "1", "Steady-state gain (unit of y per unit of u)")
     converts = True          # input_unit: u in another unit, k converts
@@ -43,7 +77,24 @@ class FirstOrder(SISO):
 class SecondOrder(SISO):
     """A second-order lag ``k*w^2/(s^2 + 2*D*w*s + w^2)``: ``der(y) = yd``,
     ``der(yd) = w^2*(k*u - y) - 2*D*w*yd`` (undamped angular frequency
-    ``w``, damping ratio ``D``)."""
+    ``w``, damping ratio ``D``).
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : str, optional
+        The unit of its input ``u``, which its gain converts (default: ``unit``).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     k = Parameter(1.0, "1", "Steady-state gain (unit of y per unit of u)")
     converts = True          # input_unit: u in another unit, k converts
@@ -70,7 +121,25 @@ class Derivative(SISO):
     """A filtered derivative ``k*s/(T*s + 1)``: ``y = k*(u - x)/T`` with
     ``T*der(x) = u - x``; ``x`` starts at ``x_start``, so the output starts
     at ``k*(u(0) - x_start)/T`` (give ``x_start = u(0)`` for no kick). For
-    ``T`` well below the input's time scales the output is ``k*der(u)``."""
+    ``T`` well below the input's time scales the output is ``k*der(u)``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : None
+        Not taken: its input is in the unit of its output (only a block with a
+        gain converts; given, it is refused).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or an input_unit.
+    """
 
     k = Parameter(1.0, "s", "Gain (unit of y per unit of u's rate)")
     T = Parameter(0.01, "s", "Time constant of the filter", positive=True)

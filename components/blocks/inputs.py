@@ -19,6 +19,25 @@ class Input(SO):
     (a trace, interpolated linearly; a number; or a function of time); an
     FMU of the rig has it as an input variable. It is not a parameter of
     the rig: ``rig.compile().inputs`` lists the rig's inputs.
+
+    Connector: the signal output ``y``.
+
+    Parameters
+    ----------
+    unit : str
+        The input's unit (SI text; "1" for a plain number).
+    start : float
+        Its value at the start, and wherever a run gives none, in ``unit``.
+    description : str
+        What the input is (the FMU's input variable carries it).
+    **params : float or casadi.SX
+        Values of declared parameters (an Input declares none).
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a description that is not text, a start that is not a finite
+        number, or a unit that is not a unit's text.
     """
 
     #: marks the components that are inputs of the rig (found by walking the tree)
@@ -45,8 +64,8 @@ class Input(SO):
         return self.path()
 
     def value(self):
-        """The input's value in the equations (rig_inputs.py: its value and
-        slope over the run's current segment)."""
+        """The input's value in the equations: its value and slope over the
+        run's current segment, ``u + du*(t - t_ref)``."""
         return self.signal
 
     def equations(self):

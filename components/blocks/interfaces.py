@@ -18,7 +18,22 @@ from pdbfs.modelling import Component, Parameter, SignalInput, SignalOutput
 class Block(Component):
     """Base of every block: a component of signals only, whose signals carry
     the unit ``unit`` (SI text such as "N", "Pa", "m/s"; "1" for a plain
-    number)."""
+    number).
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     def __init__(self, unit: str = "1", **params):
         if not isinstance(unit, str) or not unit.strip():
@@ -28,13 +43,43 @@ class Block(Component):
         super().__init__(**params)
 
     def signal_parameter(self, default, description: str, **limits) -> Parameter:
-        """A parameter in the unit of the block's signals (declare it in
-        ``declare()``: ``self.offset = self.signal_parameter(0.0, "...")``)."""
+        """A parameter in the unit of the block's signals, to declare in
+        ``declare()``: ``self.offset = self.signal_parameter(0.0, "...")``.
+
+        Parameters
+        ----------
+        default : float
+            Its default value, in the block's unit.
+        description : str
+            What it means.
+        **limits
+            ``min``, ``max``, ``positive``, ``tunable``, as Parameter takes them.
+
+        Returns
+        -------
+        Parameter
+            The declaration.
+        """
         return Parameter(default, self._unit, description, **limits)
 
 
 class SO(Block):
-    """A block with one output signal ``y``."""
+    """A block with one output signal ``y``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     output_description = "Output signal"
 
@@ -45,7 +90,25 @@ class SO(Block):
 class SISO(SO):
     """A block with one input signal ``u`` and one output signal ``y``.
     ``input_unit`` (where the class ``converts``: a block with a gain) is
-    the unit of ``u``, the output's by default."""
+    the unit of ``u``, the output's by default.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : None
+        Not taken: its input is in the unit of its output (only a block with a
+        gain converts; given, it is refused).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or an input_unit where the class does not convert.
+    """
 
     input_description = "Input signal"
     #: whether ``u`` may be in another unit than ``y`` (the gain converts)
@@ -69,7 +132,26 @@ class SISO(SO):
 
 class MISO(SO):
     """A block with ``n`` input signals ``u1 .. un`` (``n`` >= 1, a
-    constructor argument, 2 by default) and one output ``y``."""
+    constructor argument, 2 by default) and one output ``y``.
+
+    Connectors: the signal inputs ``u1``, ``u2`` .. ``un`` and the output ``y``.
+
+    Parameters
+    ----------
+    n : int
+        The number of inputs ``u1 .. un`` (>= 1).
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or n that is not a whole number >= 1.
+    """
 
     def __init__(self, n: int = 2, unit: str = "1", **params):
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:

@@ -13,7 +13,24 @@ from .interfaces import MISO, SISO
 class Gain(SISO):
     """``y = k*u``; ``input_unit`` (the unit of ``u``, the output's by
     default) makes it a conversion: ``Gain(unit="N", input_unit="Pa",
-    k=area)``."""
+    k=area)``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : str, optional
+        The unit of its input ``u``, which its gain converts (default: ``unit``).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     converts = True
 
@@ -26,7 +43,24 @@ class Gain(SISO):
 class Add(MISO):
     """The weighted sum ``y = k1*u1 + k2*u2 (+ ... + kn*un)``: ``n`` inputs
     (2 by default), each with its sign or weight ``ki`` (+1 by default);
-    ``Add(k2=-1)`` gives the difference ``u1 - u2`` (a control error)."""
+    ``Add(k2=-1)`` gives the difference ``u1 - u2`` (a control error).
+
+    Parameters
+    ----------
+    n : int
+        The number of inputs ``u1 .. un`` (>= 1).
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or n that is not a whole number >= 1.
+    """
 
     def declare(self):
         super().declare()
@@ -39,7 +73,24 @@ class Add(MISO):
 
 
 class Product(MISO):
-    """The product of the ``n`` inputs (2 by default): ``y = u1*u2 (*...*un)``."""
+    """The product of the ``n`` inputs (2 by default): ``y = u1*u2 (*...*un)``.
+
+    Parameters
+    ----------
+    n : int
+        The number of inputs ``u1 .. un`` (>= 1).
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or n that is not a whole number >= 1.
+    """
 
     def equations(self):
         first, *rest = self.input_values()
@@ -50,7 +101,25 @@ class Product(MISO):
 
 class PartialBounds(SISO):
     """A SISO block with an upper bound ``uMax`` and a lower bound ``uMin``
-    of its input (``uMin <= uMax``); where ``u`` crosses either is an event."""
+    of its input (``uMin <= uMax``); where ``u`` crosses either is an event.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : None
+        Not taken: its input is in the unit of its output (only a block with a
+        gain converts; given, it is refused).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or an input_unit.
+    """
 
     def declare(self):
         super().declare()
@@ -67,7 +136,25 @@ class PartialBounds(SISO):
 
 
 class Limiter(PartialBounds):
-    """The input clamped to ``[uMin, uMax]``: ``y = min(max(u, uMin), uMax)``."""
+    """The input clamped to ``[uMin, uMax]``: ``y = min(max(u, uMin), uMax)``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : None
+        Not taken: its input is in the unit of its output (only a block with a
+        gain converts; given, it is refused).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or an input_unit.
+    """
 
     def equations(self):
         return [eq(self.y.value, ca.fmin(ca.fmax(self.u.value, self.uMin), self.uMax))]
@@ -75,7 +162,25 @@ class Limiter(PartialBounds):
 
 class DeadZone(PartialBounds):
     """No output while the input is inside ``[uMin, uMax]``, the excess
-    outside it: ``y = u - uMax`` above, ``u - uMin`` below, 0 between."""
+    outside it: ``y = u - uMax`` above, ``u - uMin`` below, 0 between.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    input_unit : None
+        Not taken: its input is in the unit of its output (only a block with a
+        gain converts; given, it is refused).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text, or an input_unit.
+    """
 
     def equations(self):
         u = self.u.value

@@ -42,6 +42,28 @@ class PID(SISO):
     integral is the plain one. The unlimited controller is ``y = v``. In
     the states, ``v = k*u + xi + k*Nd*(u - xd)``, ``der(xi) = k*u/Ti`` and
     ``Td*der(xd) = Nd*(u - xd)``.
+
+    Connectors: the signal input ``u`` (the control error) and output ``y``.
+
+    Parameters
+    ----------
+    kind : {"PID", "P", "PI", "PD"}
+        The parts there are (only their parameters exist).
+    limited : bool
+        Clamp the output to ``[yMin, yMax]``, with anti-windup of the
+        integral part.
+    unit : str
+        The unit of its output (SI text; "1" for a plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), and ``input_unit``: the unit of the control error ``u``
+        (default: ``unit``), which the gain converts.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown kind, a ``limited`` that is not True or False, or a
+        unit that is not a unit's text.
     """
 
     k = Parameter(1.0, "1", "Gain (unit of y per unit of u)")

@@ -16,7 +16,22 @@ from .interfaces import SO
 
 
 class Constant(SO):
-    """A constant output ``y = k``."""
+    """A constant output ``y = k``.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     def declare(self):
         super().declare()
@@ -28,7 +43,22 @@ class Constant(SO):
 
 class PartialSource(SO):
     """A source that starts at ``start_time`` on top of an ``offset``:
-    ``y = offset + signal()``, where ``signal()`` is zero before the start."""
+    ``y = offset + signal()``, where ``signal()`` is zero before the start.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     start_time = Parameter(0.0, "s", "Time at which the signal starts", min=0.0)
 
@@ -47,7 +77,22 @@ class PartialSource(SO):
 
 class Step(PartialSource):
     """A step of ``height`` at ``start_time``: ``y = offset`` before it,
-    ``offset + height`` from it on (a time event)."""
+    ``offset + height`` from it on (a time event).
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     def declare(self):
         super().declare()
@@ -63,7 +108,22 @@ class Step(PartialSource):
 class Ramp(PartialSource):
     """A ramp rising by ``height`` over ``duration`` from ``start_time``,
     then held: ``y = offset + height*min(max((t - start_time)/duration, 0),
-    1)``. Both kinks are time events."""
+    1)``. Both kinks are time events.
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     duration = Parameter(1.0, "s", "Time the ramp takes to rise by its height", positive=True)
 
@@ -84,7 +144,22 @@ class Ramp(PartialSource):
 class Sine(PartialSource):
     """A sine wave from ``start_time`` on: ``y = offset + amplitude*sin(2*pi*f*(t
     - start_time) + phase)``, ``offset`` before (a time event: the output
-    jumps there unless ``phase`` is a multiple of pi)."""
+    jumps there unless ``phase`` is a multiple of pi).
+
+    Parameters
+    ----------
+    unit : str
+        The unit of its signals (SI text such as "N", "Pa", "m/s"; "1" for a
+        plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), those that carry a signal's value in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a unit that is not a unit's text.
+    """
 
     f = Parameter(1.0, "Hz", "Frequency", min=0.0)
     phase = Parameter(0.0, "rad", "Phase at the start time")
@@ -116,7 +191,24 @@ class Pulse(PartialSource):
     run's cost grows with the square of the periods: a mass pushed by 100
     pulses runs in 0.1 s compiled (2 s with CasADi, which restarts at each
     switch), by 1000 pulses in 9 s (2 minutes). A long train is better
-    driven by an input of the rig."""
+    driven by an input of the rig.
+
+    Parameters
+    ----------
+    periods : int
+        The number of pulses (>= 1).
+    unit : str
+        The unit of its output (SI text; "1" for a plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), ``amplitude`` and ``offset`` in ``unit``.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For ``periods`` that is not a whole number >= 1, or a unit that is
+        not a unit's text.
+    """
 
     width = Parameter(0.5, "s", "Time the output stays high in each period", positive=True)
     period = Parameter(1.0, "s", "Time from one rise to the next", positive=True)

@@ -31,7 +31,29 @@ class Table(SO):
     exactly. Each evaluation of the output, and each solver step's check of
     the events, costs in proportion to the table's length: tables of some
     hundred points run well; a long measured trace is better given as an
-    input of the rig."""
+    input of the rig.
+
+    Connector: the signal output ``y``.
+
+    Parameters
+    ----------
+    times : array_like
+        The table's times, s: finite, strictly increasing.
+    values : array_like
+        Its values, in ``unit``: finite, one per time.
+    interpolation : {"linear", "hold"}
+        Straight lines between the points, or each value held until the next time.
+    unit : str
+        The unit of its output (SI text; "1" for a plain number).
+    **params : float or casadi.SX
+        Values of its declared parameters (none of its own).
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown interpolation, times that do not increase strictly,
+        values that are not finite or not one per time.
+    """
 
     def __init__(self, times, values, interpolation: str = "linear", unit: str = "1", **params):
         if interpolation not in INTERPOLATIONS:
@@ -60,10 +82,27 @@ class Table(SO):
 
 
 def table_expression(t, times, values, interpolation="linear"):
-    """The table's value at ``t`` (a CasADi expression): one piece per
+    """A table's value at a time, as a CasADi expression: one piece per
     interval, only the one holding ``t`` nonzero, so that no rounding of
     other pieces enters; each linear piece computed as numpy.interp does,
-    ``slope*(t - t_i) + v_i``."""
+    ``slope*(t - t_i) + v_i``.
+
+    Parameters
+    ----------
+    t : casadi.SX or float
+        The time, s.
+    times : sequence of float
+        The table's times, s, strictly increasing.
+    values : sequence of float
+        Its values, one per time.
+    interpolation : {"linear", "hold"}
+        Straight lines between the points, or each value held until the next time.
+
+    Returns
+    -------
+    casadi.SX
+        The value: the first before the first time, the last after the last.
+    """
     n = len(times)
     y = ca.if_else(t < times[0], values[0], 0.0) + ca.if_else(t >= times[-1], values[-1], 0.0)
     for i in range(n - 1):

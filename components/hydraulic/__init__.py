@@ -3,19 +3,19 @@
 HydraulicPort), after Modelica's fluid libraries and
 ModelingToolkitStandardLibrary's hydraulics.
 
-    interfaces.py   PartialOnePort, PartialTwoPort (PartialOrifice in resistances.py,
-                    PartialPressureValve in valves.py, PartialSource in sources.py)
-    laws.py         bulk-modulus laws, regularised root, smooth clamp and step
-    volume.py       Volume: compressibility, cavitation, swept walls
-    piston.py       Piston (flange + port), Cylinder (a piston over its chamber)
-    resistances.py  Orifice (turbulent), LaminarLeak, on PartialDissipativeTwoPort
+    interfaces      PartialOnePort, PartialTwoPort (PartialOrifice in resistances,
+                    PartialPressureValve in valves, PartialSource in sources)
+    laws            bulk-modulus laws, regularised root, smooth clamp and step
+    volume          Volume: compressibility, cavitation, swept walls
+    piston          Piston (flange + port), Cylinder (a piston over its chamber)
+    resistances     Orifice (turbulent), LaminarLeak, on PartialDissipativeTwoPort
                     (heat_port=True: their power dp*q leaves as heat)
-    valves.py       CheckValve, ReliefValve, TimedValve, PulseValve, and
+    valves          CheckValve, ReliefValve, TimedValve, PulseValve, and
                     CommandedValve (its opening a signal input)
-    sources.py      Tank, PressureSource, FlowSource, and SignalPressure (a
+    sources         Tank, PressureSource, FlowSource, and SignalPressure (a
                     pressure given by a signal input)
-    accumulator.py  Accumulator (gas-charged, polytropic)
-    sensors.py      PressureSensor, FlowSensor (each also as the signal output y)
+    accumulator     Accumulator (gas-charged, polytropic)
+    sensors         PressureSensor, FlowSensor (each also as the signal output y)
 
 An unconnected port is closed (zero flow), allowed only on components where
 that means something (Volume, Cylinder, Accumulator, sources and tanks);

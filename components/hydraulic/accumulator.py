@@ -21,7 +21,18 @@ class Accumulator(PartialOnePort):
     ``steady_start=True``: in equilibrium with its line at the start (no oil
     flows in, ``der(V_oil) = 0``); the oil it holds is then solved at
     initialization and ``p0`` is only a guess (the line behind a
-    resistance, e.g. a Volume, must fix the pressure)."""
+    resistance, e.g. a Volume, must fix the pressure).
+
+    Connector: ``port`` (closable).
+
+    Parameters
+    ----------
+    steady_start : bool
+        Start in equilibrium with its line (the oil held solved, ``p0`` a guess).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+    """
 
     closable = True
     V0 = Parameter(1e-3, "m3", "Gas volume at precharge (the accumulator's size)",

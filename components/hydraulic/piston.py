@@ -18,7 +18,18 @@ class Piston(Component):
     = -A*v``), and the oil pushes the flange back with ``f = p*A``. The
     output ``q_swept = A*v`` tells a Volume with ``swept=True`` that its
     walls move (connect ``piston.q_swept`` to ``volume.q_swept``, or use a
-    Cylinder)."""
+    Cylinder).
+
+    Connectors: ``flange``, ``port``, the signal output ``q_swept``, and
+    ``support`` with ``support=True``.
+
+    Parameters
+    ----------
+    support : bool
+        Give the housing a flange of its own (else it is fixed).
+    **params : float or casadi.SX
+        Values of its declared parameters (``A``), SI units.
+    """
 
     A = Parameter(2.270e-2, "m2", "Piston area", positive=True, tunable=False)
 
@@ -56,7 +67,25 @@ class Cylinder(Component):
     Flange ``flange``, port ``port`` (closable: unconnected, the chamber is
     sealed), ``support`` with ``support=True``; ``law`` as in Volume. The
     chamber's other parameters (``p_vap``, ``dp_cav``, the law's own such as
-    ``K1``) may be given here too; they stay on ``chamber``."""
+    ``K1``) may be given here too; they stay on ``chamber``.
+
+    Connectors: ``flange``, ``port``, and ``support`` with ``support=True``.
+
+    Parameters
+    ----------
+    law : {"constant", "linear", "air"}
+        The chamber's bulk-modulus law, as in Volume.
+    support : bool
+        Give the housing a flange of its own (else it is fixed).
+    **params : float or casadi.SX
+        Values of its declared parameters (``A``, ``V``, ``K``, ``p0``) and
+        of the chamber's others, SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown law or a parameter the chamber does not take.
+    """
 
     A = Piston.A
     V = Volume.V

@@ -11,7 +11,17 @@ from .laws import regularised_root
 class PartialDissipativeTwoPort(PartialConditionalHeatPort, PartialTwoPort):
     """A PartialTwoPort that turns the power of its flow, ``dp*q``, into
     heat: with ``heat_port=True`` it leaves through ``heat_port`` (the oil
-    throttled through an orifice, a valve or a leak warms)."""
+    throttled through an orifice, a valve or a leak warms).
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+    """
 
     def dissipated_power(self):
         return self.dp * self.q
@@ -30,6 +40,15 @@ class PartialOrifice(PartialDissipativeTwoPort):
     Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b;
     with ``heat_port=True`` also ``heat_port``, where the power ``dp*q``
     leaves as heat.
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     Cd = Parameter(0.7, "1", "Discharge coefficient", positive=True, max=1.0)
@@ -55,7 +74,17 @@ class PartialOrifice(PartialDissipativeTwoPort):
 class Orifice(PartialOrifice):
     """A fixed sharp-edged orifice (turbulent), ports ``port_a``,
     ``port_b``, flow ``q`` from a to b: ``q = Cd*A*sqrt(2/rho)*root(dp)``
-    (PartialOrifice's law, fully open)."""
+    (PartialOrifice's law, fully open).
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+    """
 
 
 class LaminarLeak(PartialDissipativeTwoPort):
@@ -63,6 +92,15 @@ class LaminarLeak(PartialDissipativeTwoPort):
 
     Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b;
     with ``heat_port=True`` also ``heat_port`` (the power ``dp*q`` as heat).
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     G = Parameter(1e-12, "m3/(s.Pa)", "Hydraulic conductance", min=0.0)

@@ -13,6 +13,18 @@ class PartialSource(PartialOnePort):
     ``function`` switches; every integrator stops there.
 
     Connector: ``port``.
+
+    Parameters
+    ----------
+    function : callable, optional
+        ``function(t)``: the value, in the parameter's unit, as a CasADi
+        expression of time (it may use the component's parameters); None:
+        the parameter.
+    breakpoints : sequence or callable
+        The times, s (numbers or parameter expressions, or a function
+        returning them), at which ``function`` switches.
+    **params : float or casadi.SX
+        Values of its declared parameters, SI units.
     """
 
     def __init__(self, function=None, breakpoints=(), **params):
@@ -24,13 +36,37 @@ class PartialSource(PartialOnePort):
         return switch_times(self, self._breakpoints)
 
     def prescribed(self, constant):
-        """The source's value: ``constant`` (its parameter), or ``function(t)`` when given."""
+        """The source's value: its parameter, or ``function(t)`` when given.
+
+        Parameters
+        ----------
+        constant : casadi.SX
+            The source's parameter (``self.p``, ``self.Q``).
+
+        Returns
+        -------
+        casadi.SX
+            ``constant``, or ``function(time)``.
+        """
         return constant if self._function is None else self._function(time)
 
 
 class PressureSource(PartialSource):
     """A prescribed pressure at ``port``, ``port.p = p``: the parameter ``p``
-    or ``function(t)``. ``q_out = -port.q`` is the flow it delivers."""
+    or ``function(t)``. ``q_out = -port.q`` is the flow it delivers.
+
+    Parameters
+    ----------
+    function : callable, optional
+        ``function(t)``: the value, in the parameter's unit, as a CasADi
+        expression of time (it may use the component's parameters); None:
+        the parameter.
+    breakpoints : sequence or callable
+        The times, s (numbers or parameter expressions, or a function
+        returning them), at which ``function`` switches.
+    **params : float or casadi.SX
+        Values of its declared parameters, SI units.
+    """
 
     closable = True
     p = Parameter(10e6, "Pa", "Pressure (absolute)", min=0.0)
@@ -48,6 +84,18 @@ class Tank(PressureSource):
     ``port.p = p``.
 
     Connector: ``port``; ``q_out`` is the flow it delivers.
+
+    Parameters
+    ----------
+    function : callable, optional
+        ``function(t)``: the value, in the parameter's unit, as a CasADi
+        expression of time (it may use the component's parameters); None:
+        the parameter.
+    breakpoints : sequence or callable
+        The times, s (numbers or parameter expressions, or a function
+        returning them), at which ``function`` switches.
+    **params : float or casadi.SX
+        Values of its declared parameters, SI units.
     """
 
     p = Parameter(ATMOSPHERE, "Pa", "Tank pressure (absolute)", min=0.0)
@@ -55,7 +103,20 @@ class Tank(PressureSource):
 
 class FlowSource(PartialSource):
     """A prescribed flow ``Q`` delivered into the circuit at ``port``, or
-    ``function(t)``: ``port.q = -Q``."""
+    ``function(t)``: ``port.q = -Q``.
+
+    Parameters
+    ----------
+    function : callable, optional
+        ``function(t)``: the value, in the parameter's unit, as a CasADi
+        expression of time (it may use the component's parameters); None:
+        the parameter.
+    breakpoints : sequence or callable
+        The times, s (numbers or parameter expressions, or a function
+        returning them), at which ``function`` switches.
+    **params : float or casadi.SX
+        Values of its declared parameters, SI units.
+    """
 
     Q = Parameter(1e-4, "m3/s", "Flow delivered into the circuit")
 

@@ -14,7 +14,17 @@ class PartialPressureValve(PartialOrifice):
     pressure ``p_crack``, fully open at ``p_crack + dp_open``; the opening
     follows laws.smooth_step in between (continuous slope), so the flow is
     smooth in dp; closed (zero flow) below ``p_crack``, hence never
-    backwards for ``p_crack >= 0``."""
+    backwards for ``p_crack >= 0``.
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+    """
 
     p_crack = Parameter(1e5, "Pa", "Cracking pressure difference", min=0.0)
     dp_open = Parameter(1e5, "Pa", "Pressure rise from cracking to fully open", positive=True)
@@ -29,13 +39,33 @@ class PartialPressureValve(PartialOrifice):
 class CheckValve(PartialPressureValve):
     """A check (non-return) valve: flow only from port_a to port_b, once the
     pressure difference exceeds a small cracking pressure (PartialPressureValve's
-    law: ``x = smooth_step((dp - p_crack)/dp_open)``)."""
+    law: ``x = smooth_step((dp - p_crack)/dp_open)``).
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+    """
 
 
 class ReliefValve(PartialPressureValve):
     """A pressure relief valve: port_a the protected line, port_b the tank;
     opens above its setting ``p_crack`` (PartialPressureValve's law:
-    ``x = smooth_step((dp - p_crack)/dp_open)``)."""
+    ``x = smooth_step((dp - p_crack)/dp_open)``).
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+    """
 
     p_crack = Parameter(20e6, "Pa", "Cracking (set) pressure difference", min=0.0)
     dp_open = Parameter(2e6, "Pa", "Pressure rise from cracking to fully open (the "
@@ -48,6 +78,15 @@ class TimedValve(PartialOrifice):
     the orifice's opening ``x = smooth_step((t - t_open)/T_open)``.
 
     Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     t_open = Parameter(1e-3, "s", "Time the valve starts to open", min=0.0)
@@ -67,6 +106,15 @@ class PulseValve(TimedValve):
     ``x = smooth_step((t - t_open)/T_open)*(1 - smooth_step((t - t_close)/T_close))``.
 
     Connectors: ``port_a`` and ``port_b``; the flow ``q`` goes from a to b.
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     t_close = Parameter(4e-3, "s", "Time the valve starts to close", min=0.0)
@@ -94,6 +142,15 @@ class CommandedValve(PartialOrifice):
 
     Connectors: ``port_a`` and ``port_b`` (the flow ``q`` goes from a to
     b), and the signal input ``opening``.
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give it a heat port that takes the power of its flow, ``dp*q`` (the
+        throttled oil warms).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     def declare(self):

@@ -42,9 +42,8 @@ class Volume(PartialOnePort):
     pressure); oil returning first fills the vapour volume. Below the clamp
     the vapour volume is ``(Vc/K(p_vap))*(p_vap - p_law)``; with moving walls
     the rate gains ``q_swept*(p_law - p)`` (zero above the clamp), so that the
-    oil's mass balance is exact there too, while oil flows and walls move
-    (tests/test_hydraulic_cavitation.py). ``cavitation=
-    False`` drops the clamp (``p = p_law``, which may go negative): two such
+    oil's mass balance is exact there too, while oil flows and walls move.
+    ``cavitation=False`` drops the clamp (``p = p_law``, which may go negative): two such
     volumes joined directly become one (their pressures are aliases, an ODE
     for every back end). ``steady_start=True``: the start pressure is solved
     at initialization so that no oil flows in (``p0`` is then a guess): a
@@ -54,6 +53,31 @@ class Volume(PartialOnePort):
     guesses), the rig needs IDAS (backend "casadi"), and the reduction
     breaks down where both cavitate (their vapour volumes are then not
     determined).
+
+    Connectors: ``port`` (closable); with ``swept=True`` the signal input
+    ``q_swept``.
+
+    Parameters
+    ----------
+    law : {"constant", "linear", "air"}
+        The bulk-modulus law (``"linear"`` adds ``K1``; ``"air"`` adds
+        ``alpha``, ``n_air`` and ``p_air``).
+    swept : bool
+        Walls sweep volume into the chamber at the rate of the input
+        ``q_swept``: the chamber's volume is a state.
+    cavitation : bool
+        Clamp the pressure at the vapour pressure (False: no clamp).
+    steady_start : bool
+        Solve the start pressure so that no oil flows in at t = 0 (``p0`` is
+        then a guess).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them, and the law's), SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown law, or a parameter of another law.
     """
 
     closable = True
@@ -107,7 +131,18 @@ class Volume(PartialOnePort):
                             "its bottom); give the rig an end stop there, or a larger V")
 
     def modulus(self, p):
-        """The bulk modulus at pressure ``p`` under this volume's law."""
+        """The tangent bulk modulus under this volume's law.
+
+        Parameters
+        ----------
+        p : float or casadi.SX
+            Pressure, Pa (absolute).
+
+        Returns
+        -------
+        float or casadi.SX
+            The bulk modulus, Pa, in the volume's parameters.
+        """
         if self._law == "linear":
             return bulk_modulus_linear(p, self.K, self.K1)
         if self._law == "air":

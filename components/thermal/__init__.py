@@ -2,14 +2,14 @@
 temperature ``T`` (K, across) and the heat flow ``Q_flow`` (W, through,
 positive into the component).
 
-    interfaces.py  PartialElement1D (two ports, no storage) and
+    interfaces     PartialElement1D (two ports, no storage) and
                    PartialConditionalHeatPort: the heat port a dissipating
                    component takes with ``heat_port=True``
-    elements.py    HeatCapacitor, ThermalConductor, Convection
-    sources.py     FixedTemperature, PrescribedTemperature, FixedHeatFlow,
+    elements       HeatCapacitor, ThermalConductor, Convection
+    sources        FixedTemperature, PrescribedTemperature, FixedHeatFlow,
                    PrescribedHeatFlow
-    sensors.py     TemperatureSensor, HeatFlowSensor (signal output y)
-    laws.py        temperature laws (linear, exponential, Andrade's viscosity)
+    sensors        TemperatureSensor, HeatFlowSensor (signal output y)
+    laws           temperature laws (linear, exponential, Andrade's viscosity)
                    and the data of water-glycol and steel
 
 An unconnected heat port is insulated (zero heat flow), allowed where the

@@ -53,6 +53,13 @@ class Convection(Component):
 
     Connectors: ``solid`` (the surface), ``fluid`` (the fluid far from it),
     and with ``use_input=True`` the signal input ``Gc``.
+
+    Parameters
+    ----------
+    use_input : bool
+        Take ``Gc`` from a signal input (else it is a parameter).
+    **params : float or casadi.SX
+        Values of its declared parameters (``Gc``), SI units.
     """
 
     def __init__(self, use_input: bool = False, **params: float | ca.SX):

@@ -53,6 +53,21 @@ class PartialConditionalHeatPort(Component):
 
     ``port_temperature()`` is the temperature its temperature laws read: the
     port's, or, without a port, the parameter ``T`` a law declares.
+
+    Parameters
+    ----------
+    *args
+        Passed on to the other bases of a subclass.
+    heat_port : bool
+        Give the component the heat port ``heat_port`` and the variable
+        ``loss_power``.
+    **params : float or casadi.SX
+        Values of its declared parameters, SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a ``heat_port`` that is not True or False.
     """
 
     #: what the heat port is, as the FMU and the results describe it

@@ -2,14 +2,14 @@
 Mechanics.Translational): flanges carry a position (across) and a force
 (through).
 
-    interfaces.py  the shared partial bases (one flange, two flanges, compliant, compression)
-    mass.py        Mass, Fixed          springs.py   Spring, Damper
-    contact.py     Hertz contact and hysteresis damping (the paper's eq. 1-6)
-    friction.py    the loading piston's seal      oil.py   the oil column (compression only)
-    sources.py     Force, Position, Gravity, and SignalForce, SignalPosition (driven by a signal)
-    sensors.py     position, speed, force, pressure (each also as the signal output y)
-    chain.py       masses joined by springs; bar.py: an elastic bar built from it
-    constraints.py ideal kinematic constraints (a cam)
+    interfaces     the shared partial bases (one flange, two flanges, compliant, compression)
+    mass           Mass, Fixed          springs      Spring, Damper
+    contact        Hertz contact and hysteresis damping (the paper's eq. 1-6)
+    friction       the loading piston's seal      oil      the oil column (compression only)
+    sources        Force, Position, Gravity, and SignalForce, SignalPosition (driven by a signal)
+    sensors        position, speed, force, pressure (each also as the signal output y)
+    chain          masses joined by springs; bar: an elastic bar built from it
+    constraints    ideal kinematic constraints (a cam)
 
 Dissipating components (Damper, HuntCrossleyDamper, ImpactContact, SealFriction)
 take ``heat_port=True``; the oil column and the seal take temperature laws

@@ -21,7 +21,23 @@ class MassChain(Component):
     ``k = n*total_stiffness()`` (a body of axial stiffness EA/L cut into pieces
     of length L/n, joined centre to centre). ``flange_b`` is on piece n;
     with ``sides`` a flange ``side{i}`` on each piece takes side forces
-    (seal friction). ``s`` is the position of the centre of mass."""
+    (seal friction). ``s`` is the position of the centre of mass.
+
+    A base: a subclass says what the whole body weighs (``total_mass``) and
+    how stiff it is (``total_stiffness``).
+
+    Connectors: ``flange_a`` (on piece 1), ``flange_b`` (on piece n), and
+    ``side1`` .. ``side{n}`` with ``sides``.
+
+    Parameters
+    ----------
+    n : int
+        The number of pieces (1 or more).
+    sides : bool
+        Give each piece a side flange.
+    **params : float or casadi.SX
+        Values of the subclass's declared parameters, SI units.
+    """
 
     #: attribute prefix of the pieces, and what ``s`` is the centre of
     piece_prefix = "p"
@@ -66,11 +82,33 @@ class MassChain(Component):
             self.connect(self.piece(i).flange_b, below)
 
     def piece(self, i: int) -> Mass:
-        """Piece ``i`` (1-based, 1 at flange_a)."""
+        """One of the pieces.
+
+        Parameters
+        ----------
+        i : int
+            Its number, 1 .. n (1 at flange_a).
+
+        Returns
+        -------
+        Mass
+            The piece.
+        """
         return getattr(self, f"{self.piece_prefix}{i}")
 
     def link(self, i: int) -> Spring:
-        """The spring between pieces ``i`` and ``i+1``."""
+        """One of the springs that join the pieces.
+
+        Parameters
+        ----------
+        i : int
+            Its number, 1 .. n - 1: the spring between pieces i and i + 1.
+
+        Returns
+        -------
+        Spring
+            The spring.
+        """
         return getattr(self, f"link{i}")
 
     def equations(self):

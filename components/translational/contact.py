@@ -47,7 +47,24 @@ class HuntCrossleyDamper(PartialConditionalHeatPort, PartialCompliantWithVelocit
     hysteresis loop's energy, and while the force is limited the elastic
     energy it then takes), leaves through ``heat_port``.
 
-    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck
+    one); ``heat_port`` with ``heat_port=True``.
+
+    Parameters
+    ----------
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        Compute ``D`` from ``k``, the restitution ``e`` and the impact speed
+        ``v_impact`` (two more parameters); None: ``D`` is given.
+    heat_port : bool
+        Give the component a heat port that takes its dissipated power.
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown law.
     """
 
     D = Parameter(1.595e6, "N.s/m^2.5", "Hysteresis damping factor (unit N.s/m^(n+1))", min=0.0)
@@ -100,7 +117,19 @@ class ImpactContact(PartialCompression):
     leaves through ``heat_port`` (the Hertz part stores and returns its
     energy).
 
-    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck one).
+    Connectors: ``flange_a`` (the striking body), ``flange_b`` (the struck
+    one); ``heat_port`` with ``heat_port=True``.
+
+    Parameters
+    ----------
+    law : {None, "lankarani-nikravesh", "hunt-crossley", "flores"}
+        Compute ``D`` from ``k``, the restitution ``e`` and the impact speed
+        ``v_impact`` (two more parameters); None: ``D`` is given.
+    heat_port : bool
+        Give the contact a heat port that takes the damping's dissipated power.
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     k = HertzContact.k

@@ -24,6 +24,25 @@ class SealFriction(PartialConditionalHeatPort, PartialCompliantWithVelocity):
     ``T``), ``c`` holding at ``T_ref``; ``B`` defaults to the paper's
     water-glycol fluid (B = 0: no change). The variable ``c_T`` is the
     coefficient at that temperature.
+
+    Connectors: ``flange_a`` (the frame), ``flange_b`` (the sliding body);
+    ``heat_port`` with ``heat_port=True``.
+
+    Parameters
+    ----------
+    viscosity_law : {None, "andrade"}
+        The viscous coefficient's temperature law (adds ``T_ref``, ``B``,
+        and ``T`` without a heat port); None: ``c`` is constant.
+    heat_port : bool
+        Give the seal a heat port that takes its dissipated power.
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown law.
     """
 
     c = Parameter(2.556e4, "N.s/m", "Viscous friction coefficient; the paper's c2", min=0.0)

@@ -21,8 +21,9 @@ class OilColumn(PartialConditionalHeatPort, PartialCompression):
     flange_b: the closed end); ``pressure = fc / A``.
 
     Linear (``n = 1``) by default: the paper's Table 1 prints the unit of k2
-    as N/m^1.5, but its Figs. 5, 6 and 9 only fit a linear oil spring (see
-    docs/explanation/paper-rig.md); ``n = 1.5`` gives the other reading.
+    as N/m^1.5, but its Figs. 5, 6 and 9 only fit a linear oil spring (the
+    documentation's page on the paper's rig shows why); ``n = 1.5`` gives
+    the other reading.
 
     Give ``k`` directly, or ``bulk_modulus=True`` to compute it as
     ``K*A/L`` from the parameters ``K`` (bulk modulus) and ``L`` (length).
@@ -35,6 +36,28 @@ class OilColumn(PartialConditionalHeatPort, PartialCompression):
     of ``heat_port`` (``heat_port=True``; the column is lossless, so no heat
     flows there), else the parameter ``T``. The variable ``k_T`` is the
     stiffness at that temperature.
+
+    Connectors: ``flange_a`` (the piston), ``flange_b`` (the closed end);
+    ``heat_port`` with ``heat_port=True``.
+
+    Parameters
+    ----------
+    bulk_modulus : bool
+        Compute ``k`` as ``K*A/L`` from the bulk modulus ``K`` and the
+        column's length ``L`` (two more parameters).
+    stiffness_law : {None, "linear", "exponential"}
+        The stiffness's temperature law (adds ``T_ref``, ``alpha_T``, and
+        ``T`` without a heat port); None: ``k`` is constant.
+    heat_port : bool
+        Give the column a heat port, whose temperature the law reads.
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown law.
     """
 
     heat_port_description = "The oil's temperature (the lossless column passes no heat)"

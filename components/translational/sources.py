@@ -23,6 +23,17 @@ class Force(PartialOneFlange):
     integrator stops there, so that no step jumps over a switch.
 
     Connector: ``flange``, on the body pushed.
+
+    Parameters
+    ----------
+    function : callable, optional
+        ``function(t)``: the force, N, as a CasADi expression of time (it
+        may use the component's parameters); None: the parameter ``F``.
+    breakpoints : sequence or callable
+        The times, s (numbers or parameter expressions, or a function
+        returning them), at which ``function`` switches.
+    **params : float or casadi.SX
+        Values of its declared parameters (``F``), SI units.
     """
 
     F = Parameter(0.0, "N", "Constant force, positive down")
@@ -64,7 +75,21 @@ class Position(PartialOneFlange):
     """A prescribed position of the attached flange, ``flange.s = s0``: the
     parameter ``s0``, or ``function(t)`` returning a CasADi expression of time. A body driven by
     it has no motion of its own left (no state). ``breakpoints``: the times
-    at which ``function`` switches (as for Force)."""
+    at which ``function`` switches (as for Force).
+
+    Connector: ``flange``, on the body moved.
+
+    Parameters
+    ----------
+    function : callable, optional
+        ``function(t)``: the position, m, as a CasADi expression of time (it
+        may use the component's parameters); None: the parameter ``s0``.
+    breakpoints : sequence or callable
+        The times, s (numbers or parameter expressions, or a function
+        returning them), at which ``function`` switches.
+    **params : float or casadi.SX
+        Values of its declared parameters (``s0``), SI units.
+    """
 
     s0 = Parameter(0.0, "m", "Constant position, positive down")
 

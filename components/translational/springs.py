@@ -15,6 +15,14 @@ class Spring(PartialCompliant):
     linear for ``n = 1``. ``compression_only=True`` makes it push, never pull.
 
     Connectors: ``flange_a`` and ``flange_b``; ``s_rel = flange_b.s - flange_a.s``.
+
+    Parameters
+    ----------
+    compression_only : bool
+        A spring that pushes, never pulls (slack while stretched).
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     k = Parameter(1.0, "N/m", "Stiffness (unit N/m^n for an exponent n other than 1)", positive=True)
@@ -42,6 +50,14 @@ class Damper(PartialConditionalHeatPort, PartialCompliantWithVelocity):
     Connectors: ``flange_a`` and ``flange_b``; ``v_rel`` is flange_b's
     velocity less flange_a's. With ``heat_port=True`` the power it
     dissipates, ``c*v_rel^2``, leaves through ``heat_port``.
+
+    Parameters
+    ----------
+    heat_port : bool
+        Give the damper a heat port that takes its dissipated power.
+    **params : float or casadi.SX
+        Values of its declared parameters (the component catalogue lists
+        them), SI units.
     """
 
     c = Parameter(1.0, "N.s/m", "Damping coefficient", min=0.0)

@@ -5,14 +5,14 @@ pressure -> the bore's hoop stress (Lamé) -> rainflow cycles (ASTM E1049-85)
 -> an S-N curve and Miner's sum; and beside it the growth of a crack at the
 bore by Paris' law, with the pressure on its faces.
 
-    counting.py   rainflow(): the cycles of a history (an array, a pair (t, y),
+    counting      rainflow(): the cycles of a history (an array, a pair (t, y),
                   a trace, or a Result, whose reversals are located on its solution)
-    sn.py         SNCurve: Basquin's S-N curve with an endurance limit; Miner's damage
-    cylinder.py   ThickCylinder: Lamé's stresses in a thick-walled cylinder
-    crack.py      ParisLaw, crack_growth_cycles(): a radial crack at the bore
-    breech.py     Breech: a cylinder and its S-N curve, a history's damage per blow;
+    sn            SNCurve: Basquin's S-N curve with an endurance limit; Miner's damage
+    cylinder      ThickCylinder: Lamé's stresses in a thick-walled cylinder
+    crack         ParisLaw, crack_growth_cycles(): a radial crack at the bore
+    breech        Breech: a cylinder and its S-N curve, a history's damage per blow;
                   campaign_life(): the blows a campaign's damages allow
-    checks.py     the numbers of these classes checked, each named when wrong
+    checks        the numbers of these classes checked, each named when wrong
 
 Pure numerics on pressure histories: a Result is taken duck-typed (its
 times, its variables by name, its located peaks), so nothing here imports

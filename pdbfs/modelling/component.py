@@ -47,7 +47,27 @@ class VarSlot:
 
 
 class Component:
-    """Base class of every component and rig."""
+    """Base class of every component and rig.
+
+    A component class declares ``Parameter`` class attributes; in
+    ``declare()`` its connectors, variables and sub-components (assigned to
+    attributes); in ``equations()`` its residuals. The component library
+    (``pdbfs.components``) and the rigs (``pdbfs.models``) are built this
+    way; the tutorial on building a rig shows one from scratch.
+
+    Parameters
+    ----------
+    **values : float or casadi.SX
+        Values of the declared parameters by name, SI units
+        (``Mass(m=250.0)``): a number, or an expression of other parameters'
+        symbols. A parameter not given keeps its declared default.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a name the component does not declare, or a value that is not a
+        number within the declaration's bounds.
+    """
 
     def __init__(self, **values: float | ca.SX):
         set_ = object.__setattr__
@@ -98,12 +118,24 @@ class Component:
 
     def initial_equations(self) -> list:
         """Residuals that hold at the start only (may use der()); together they
-        determine the states declared ``fixed=False`` (initialization.py)."""
+        determine the states declared ``fixed=False``, whose start values are
+        then only guesses."""
         return []
 
     def free(self, *names: str) -> None:
-        """Make the start of states ``names`` of this component free (only a
-        guess, solved from initial equations), as Modelica's ``fixed=false``."""
+        """Make the start of some of this component's states free: only a
+        guess, solved from the initial equations (Modelica's ``fixed=false``).
+
+        Parameters
+        ----------
+        *names : str
+            The states, by their names in this component (``"v"``).
+
+        Raises
+        ------
+        pdbfs.ModelError
+            For a name that is not a state of this component.
+        """
         for n in names:
             slot = self._vars.get(n)
             if slot is None or not slot.decl.is_state:
@@ -135,8 +167,27 @@ class Component:
         object.__setattr__(self, name, slot.sym)
 
     def bind(self, name: str, value: float | ca.SX) -> None:
-        """Give parameter ``name`` a new default (a number), or make it
-        computed from others (an expression of their symbols)."""
+        """Give a parameter of this component a new default, or make it
+        computed from others.
+
+        Called in ``declare()`` (a law that sets a stiffness from a
+        material's constants) or on a built component.
+
+        Parameters
+        ----------
+        name : str
+            The parameter, by its name in this component.
+        value : float or casadi.SX
+            A number (its new default, SI units, checked against the
+            declaration), or an expression of other parameters' symbols
+            (the parameter is then computed and cannot be set in a run).
+
+        Raises
+        ------
+        pdbfs.ParameterError
+            For a number out of the declaration's bounds, or an expression in
+            place of a value the caller gave the constructor.
+        """
         slot = self._params[name]
         if isinstance(value, ca.SX) and name in self._given and self._declaring \
                 and slot.value != slot.decl.default:
@@ -208,8 +259,25 @@ class Component:
 
     # -- connections ----------------------------------------------------------
     def connect(self, *connectors: Connector) -> None:
-        """Connect two or more connectors: equal across variables, and for
-        flanges a zero sum of forces."""
+        """Connect two or more connectors of this rig's components: their
+        across variables equal (position, pressure, temperature, a signal's
+        value) and their through variables summing to zero (force, flow,
+        heat flow).
+
+        Parameters
+        ----------
+        *connectors : Connector
+            Two or more connectors of one kind (``self.hammer.flange_b``,
+            ``self.contact.flange_a``), each of a component that is part of
+            this rig; signals of one unit.
+
+        Raises
+        ------
+        pdbfs.ConnectError
+            For fewer than two connectors, something that is not one, one
+            outside this rig or given twice, kinds that do not meet, or
+            signals of different units.
+        """
         if len(connectors) < 2:
             raise ConnectError(f"connect() in {self.label()} needs at least two connectors")
         for c in connectors:
@@ -259,9 +327,9 @@ class Component:
 
     # -- compile ----------------------------------------------------------------
     def compile(self) -> DAE:
-        """The simplified CasADi DAE of this rig (built once, then cached; a
+        """The simplified CasADi DAE of this rig, built once, then kept (a
         rig of pdbfs's own components whose declaration was compiled before,
-        by any process, is read from the disk cache: dae_cache.py)."""
+        by any process, is read from pdbfs's cache folder)."""
         if self._compiled is None:
             from . import dae_cache
             key = dae_cache.declaration_key(self)

@@ -60,7 +60,13 @@ class Connector:
 
 class Flange(Connector):
     """1-D translational flange: position ``s`` (m), cut force ``f`` (N).
-    Left unconnected, a flange takes no force (a free end)."""
+    Left unconnected, a flange takes no force (a free end).
+
+    Parameters
+    ----------
+    description : str
+        What the flange is (shown with its variables).
+    """
 
     kind = "translational"
     across, through = "s", "f"
@@ -85,6 +91,13 @@ class HydraulicPort(Connector):
     closable is refused by the compiler (a ConnectError naming it), since a
     closed orifice, piston or sensor port is almost always a forgotten
     connection.
+
+    Parameters
+    ----------
+    description : str
+        What the port is (shown with its variables).
+    closable : bool
+        Whether the port may be left unconnected (closed: zero flow).
     """
 
     kind = "hydraulic"
@@ -120,6 +133,13 @@ class HeatPort(Connector):
     ``insulable=True``, and an unconnected port that is not is refused by
     the compiler (a ConnectError naming it): a dissipating component's heat
     would have nowhere to go, a sensor would read nothing.
+
+    Parameters
+    ----------
+    description : str
+        What the port is (shown with its variables).
+    insulable : bool
+        Whether the port may be left unconnected (insulated: zero heat flow).
     """
 
     kind = "thermal"
@@ -157,11 +177,26 @@ class _Signal(Connector):
 class SignalInput(_Signal):
     """A real-valued input signal; must be connected to a SignalOutput.
 
-    ``min`` and ``max`` (numbers, in ``unit``) declare the range the
-    component uses the value in, where it clamps the value beyond (a valve's
-    stops: an opening of 5 acts as 1); ``nominal`` (> 0) its typical
-    magnitude. An FMU whose input drives this signal declares them for
-    that input and says in its log when an input set is clamped.
+    Parameters
+    ----------
+    unit : str
+        The signal's SI unit ("1": dimensionless); only signals of one unit
+        connect.
+    description : str
+        What the signal is.
+    min, max : float, optional
+        The range the component uses the value in (in ``unit``), where it
+        clamps the value beyond.
+    nominal : float, optional
+        The value's typical magnitude (> 0). An FMU input that drives this
+        signal declares ``min``, ``max`` and ``nominal``, and says in its log
+        when a value set is clamped.
+
+    Raises
+    ------
+    pdbfs.ModelError
+        For a range or nominal that is not a finite number, ``min`` not below
+        ``max``, or a nominal not above 0.
     """
 
     def __init__(self, unit: str = "1", description: str = "", *, min: float | None = None,
@@ -178,6 +213,15 @@ class SignalInput(_Signal):
 
 
 class SignalOutput(_Signal):
-    """A real-valued output signal, computed by its component."""
+    """A real-valued output signal, computed by its component.
+
+    Parameters
+    ----------
+    unit : str
+        The signal's SI unit ("1": dimensionless); only signals of one unit
+        connect.
+    description : str
+        What the signal is.
+    """
 
     is_output = True

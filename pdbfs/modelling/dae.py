@@ -1,22 +1,5 @@
-"""The simplified rig as one CasADi DAE: what every back end consumes.
-
-    der(x) = ode(t, x, z, p)        x: states
-         0 = alg(t, x, z, p)        z: algebraic variables left after BLT
-         y = out(t, x, z, p)        every named variable of the rig
-        x0 = start(p)               start values may depend on parameters
-         e = events(t, x, z, p)     event indicators (contact onset, slack oil)
-        te = time_events(p)         switch times known in advance; the first
-                                    len(te) events are t - te (time events)
-
-Parameters stay symbolic: changing one never rebuilds anything.
-
-A rig with inputs (``inputs``, rig_inputs.py) has 2 n_u + 1 more entries at
-the end of ``p`` than it has parameters: each input's value at t_ref, then
-each input's slope, then t_ref; input k is u_k(t) = p[u0 + k] + p[du0 + k]
-* (t - p[t_ref]) with (u0, du0, t_ref) = ``input_rows()``. ``p_default()``
-holds every input at its start (slope 0); ``params`` and ``p_names`` list
-the parameters only.
-"""
+"""The simplified rig as one CasADi DAE, what every back end consumes (DAE
+says its parts), and the records of its parameters, inputs and variables."""
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -29,7 +12,21 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ParamInfo:
-    """One free parameter of the rig (an entry of ``p``)."""
+    """One free parameter of the rig (an entry of ``p``; ``rig.parameters()`` lists them).
+
+    Attributes
+    ----------
+    name, unit, description : str
+        Its dotted name in the rig (``"hammer.m"``), SI unit ("1": none), meaning.
+    value : float
+        Its default value, SI units.
+    min, max : float or None
+        Inclusive bounds (None: unbounded).
+    positive : bool
+        Whether it must be strictly greater than zero.
+    tunable : bool
+        Whether a change during a run means something (False: fixed in the FMU).
+    """
 
     name: str            # dotted name, e.g. "hammer.m"
     value: float         # default value
@@ -53,7 +50,19 @@ class InputInfo:
 
 @dataclass(frozen=True)
 class VarInfo:
-    """One named variable (an entry of ``y``, or a state, or an algebraic)."""
+    """One named variable of a compiled rig (an entry of ``y``, a state or an algebraic).
+
+    Attributes
+    ----------
+    name, unit, description : str
+        Its dotted name in the rig (``"oil.pressure"``), SI unit, meaning.
+    output : bool
+        Whether it is offered as an FMU output and shown in summaries.
+    min, max : float or None
+        The values its equations describe: a run leaving them stops (SolverError).
+    beyond : str
+        What leaving them means, said in that error.
+    """
 
     name: str
     unit: str
@@ -69,10 +78,47 @@ class VarInfo:
 
 @dataclass
 class DAE:
-    """A rig compiled: one semi-explicit CasADi DAE in SX (see the module
-    docstring for its parts), with the names, units and descriptions of its
-    states, algebraic variables, parameters and outputs. ``rig.compile()``
-    makes it; every back end (simulation, FMU export, the studies) reads it."""
+    """A rig compiled: one semi-explicit CasADi DAE in SX, with the names,
+    units and descriptions of its states, algebraic variables, parameters
+    and outputs. ``rig.compile()`` makes it; every back end (simulation, FMU
+    export, the studies) reads it:
+
+        der(x) = ode(t, x, z, p)        x: states
+             0 = alg(t, x, z, p)        z: algebraic variables left after BLT
+             y = out(t, x, z, p)        every named variable of the rig
+            x0 = start(p)               start values may depend on parameters
+             e = events(t, x, z, p)     event indicators (contact onset, slack oil)
+            te = time_events(p)         switch times: the first len(te) events are t - te
+
+    Parameters stay symbolic: changing one never rebuilds anything. A rig with
+    n_u inputs has 2 n_u + 1 more entries at the end of ``p``: each input's value
+    at t_ref, its slope, t_ref (their rows: ``input_rows()``); ``params`` and
+    ``p_names`` list the parameters only.
+
+    Attributes
+    ----------
+    name : str
+        The rig's name (the FMU's model name).
+    t, x, z, p : casadi.SX
+        Time, the states, the algebraic variables (empty for an ODE rig) and
+        the free parameters, as column vectors of symbols.
+    ode, alg, x0, y, events : casadi.SX
+        The expressions above.
+    x_info, z_info, y_info : list of VarInfo
+        Name, unit and description of each state, algebraic variable, output.
+    params : list of ParamInfo
+        The free parameters, in ``p``'s order.
+    event_names : list of str
+        The event indicators (what each sign change marks: ``event_text``).
+    calculated : dict
+        Parameters computed from others: name -> (expression of ``p``, VarInfo).
+    description : str
+        What the rig is (the first sentence of its class's description).
+    time_events : casadi.SX
+        Switch times, functions of ``p``: every integrator stops there.
+    inputs : list
+        The rig's inputs (name, unit, description, start value).
+    """
 
     name: str
     t: ca.SX
@@ -122,9 +168,18 @@ class DAE:
         return f
 
     def conditions_hold(self, P: np.ndarray) -> np.ndarray:
-        """Per row of ``P`` (points x parameters): whether every condition
-        holds, all rows in one call (a sweep's chunk; check_conditions names
-        what fails)."""
+        """Whether the components' physical conditions hold, for many points at once.
+
+        Parameters
+        ----------
+        P : numpy.ndarray
+            Parameter vectors, one per row (points x len(p)).
+
+        Returns
+        -------
+        numpy.ndarray
+            One bool per row; ``check_conditions`` names what fails.
+        """
         P = np.atleast_2d(np.asarray(P, float))
         f = self._conditions_function()
         if f is None or P.shape[0] == 0:
@@ -134,7 +189,18 @@ class DAE:
 
     def check_conditions(self, p: np.ndarray) -> None:
         """Refuse parameters that contradict each other physically (each
-        component's conditions()): a ParameterError naming them."""
+        component's ``conditions()``).
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            One parameter vector (len(p)).
+
+        Raises
+        ------
+        pdbfs.ParameterError
+            Naming the first condition that fails, its parameters and values.
+        """
         f = self._conditions_function()
         if f is None:
             return
@@ -158,7 +224,18 @@ class DAE:
         return float(ca.Function("v", [self.p], [self.calculated[name][0]])(p))
 
     def time_event_times(self, p: np.ndarray) -> np.ndarray:
-        """The time events at parameters p, sorted (non-finite ones left out)."""
+        """The switch times of a run at one parameter vector.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            One parameter vector (len(p)).
+
+        Returns
+        -------
+        numpy.ndarray
+            The time events, s, sorted (non-finite ones left out).
+        """
         n = self.time_events.numel()
         if not n:
             return np.zeros(0)
@@ -170,9 +247,21 @@ class DAE:
         return np.sort(v[np.isfinite(v)])
 
     def cached(self, name: str, make: Callable[[], Any]) -> Any:
-        """The CasADi object ``make()`` made of this DAE under ``name`` (a
-        function, a rootfinder), made on the first request and kept with the
-        DAE's own functions (``function``), never pickled."""
+        """A CasADi object made of this DAE (a function, a rootfinder) on the
+        first request, kept with its own functions (``function``), never pickled.
+
+        Parameters
+        ----------
+        name : str
+            The key it is kept under.
+        make : callable
+            Makes it (called with no arguments, the first time only).
+
+        Returns
+        -------
+        object
+            What ``make()`` returned.
+        """
         cache = self.__dict__.setdefault("_functions", {})
         f = cache.get(name)
         if f is None:
@@ -237,7 +326,18 @@ class DAE:
         return (n, n + m, n + 2 * m) if m else None
 
     def p_row(self, name: str) -> int | None:
-        """The row in p of parameter ``name``, or of input ``name``'s value; None."""
+        """The row in ``p`` of a parameter, or of an input's value.
+
+        Parameters
+        ----------
+        name : str
+            A parameter's dotted name, or an input's name.
+
+        Returns
+        -------
+        int or None
+            The row, or None if the rig has no such parameter or input.
+        """
         names = self.p_names
         if name in names:
             return names.index(name)
@@ -272,8 +372,18 @@ class DAE:
 
     # -- CasADi functions (cheap to build, cached) ----------------------------
     def function(self, which: str) -> ca.Function:
-        """``ode``, ``alg``, ``out``, ``events``, ``limits`` as CasADi
-        Functions of (t, x, z, p), or ``start`` of (p)."""
+        """One of the DAE's expressions as a CasADi Function (built once, kept).
+
+        Parameters
+        ----------
+        which : str
+            "ode", "alg", "out", "events", "limits" (of t, x, z, p) or "start" (of p).
+
+        Returns
+        -------
+        casadi.Function
+            The function (its inputs and output named).
+        """
         cache = self.__dict__.setdefault("_functions", {})
         if which not in cache:
             args = [self.t, self.x, self.z, self.p]

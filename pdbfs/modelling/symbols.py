@@ -20,9 +20,27 @@ time = ca.SX.sym("time")
 class Parameter:
     """A parameter declaration: default value, SI unit, meaning and bounds.
 
-    ``positive`` means strictly greater than zero; ``min``/``max`` are
-    inclusive. ``tunable`` is False where a change during a run means nothing
-    (start values), which the FMU marks as a fixed parameter.
+    Declared as a class attribute of a component; the component's
+    constructor takes its value by the attribute's name (``Mass(m=2.0)``),
+    and a rig's run by its dotted path (``params={"hammer.m": 2.0}``).
+
+    Parameters
+    ----------
+    default : float
+        The value a component gets when it is not given one, in ``unit``.
+    unit : str
+        The SI unit ("kg", "N/m", "Pa"; "1" for a dimensionless one), shown
+        in the docs, the results and the FMU.
+    description : str
+        What the parameter means, one line.
+    min, max : float, optional
+        Inclusive bounds; a value outside them is refused with a
+        ParameterError naming the parameter.
+    positive : bool
+        Whether the value must be strictly greater than zero.
+    tunable : bool
+        False where a change during a run means nothing (a start value, a
+        mass): the FMU marks such a parameter fixed.
     """
 
     def __init__(self, default: float, unit: str, description: str, *, min: float | None = None,
@@ -40,7 +58,25 @@ class Parameter:
         self.name = name
 
     def check(self, value: float, where: str) -> float:
-        """The value as a float; ParameterError naming ``where`` if not allowed."""
+        """The value as a float, checked against this declaration.
+
+        Parameters
+        ----------
+        value : float
+            The value to check, in the declaration's unit.
+        where : str
+            The name the error message gives it (``"hammer.m"``).
+
+        Returns
+        -------
+        float
+            ``value`` as a float.
+
+        Raises
+        ------
+        pdbfs.ParameterError
+            If it is not a finite number, or is out of the declaration's bounds.
+        """
         return check_value(value, where, self)
 
 
@@ -94,12 +130,33 @@ def within_limits(values, spec):
 
 
 class Variable:
-    """An algebraic variable declaration. ``output`` marks it as a result users
-    look at (an FMU output). ``min`` and ``max`` (numbers, SI) bound the
-    values the component's equations describe (a chamber's volume stays
-    above 0): a run that takes the variable out of them stops there with a
-    SolverError naming it and the time; ``beyond`` says in that message
-    what leaving them means."""
+    """An algebraic variable declaration, made in a component's ``declare()``
+    (``self.f = Variable("N", "Contact force", output=True)``).
+
+    Parameters
+    ----------
+    unit : str
+        The variable's SI unit ("1" for a dimensionless one).
+    description : str
+        What the variable is, one line.
+    output : bool
+        Whether it is a result users look at: an output of the FMU, and of
+        the rig's summaries and plots.
+    start : float or casadi.SX, optional
+        A guess for solving the start (a number or an expression of the
+        component's parameters); None: the compiler's own.
+    min, max : float, optional
+        Bounds, SI, of the values the component's equations describe (a
+        chamber's volume stays above 0): a run that takes the variable out
+        of them stops there with a SolverError naming it and the time.
+    beyond : str
+        What leaving the bounds means, said in that error message.
+
+    Raises
+    ------
+    pdbfs.ModelError
+        For a bound that is not a finite number, or ``min`` not below ``max``.
+    """
 
     is_state = False
 
@@ -122,10 +179,35 @@ class Variable:
 
 
 class State(Variable):
-    """A variable that appears differentiated; ``start`` is a number or an
-    expression of the component's parameters. ``fixed=False`` (Modelica's
-    word) makes ``start`` only a guess: the state's start is then solved
-    from initial equations (``Component.initial_equations``)."""
+    """A variable that appears differentiated, declared in a component's
+    ``declare()`` (``self.v = State("m/s", "Velocity", start=self.v0)``).
+
+    Parameters
+    ----------
+    unit : str
+        The state's SI unit.
+    description : str
+        What the state is, one line.
+    start : float or casadi.SX
+        Its value at t = 0: a number or an expression of the component's
+        parameters.
+    output : bool
+        Whether it is a result users look at (an FMU output).
+    fixed : bool
+        False (Modelica's word) makes ``start`` only a guess: the state's
+        start is then solved from the component's initial equations
+        (``Component.initial_equations``).
+    min, max : float, optional
+        Bounds, SI, of the values the equations describe; a run that leaves
+        them stops there with a SolverError naming the state and the time.
+    beyond : str
+        What leaving the bounds means, said in that error message.
+
+    Raises
+    ------
+    pdbfs.ModelError
+        For a bound that is not a finite number, or ``min`` not below ``max``.
+    """
 
     is_state = True
 
@@ -149,7 +231,33 @@ def _scalar_symbol(v, what: str):
 
 
 def der(v: ca.SX) -> ca.SX:
-    """The time derivative of variable ``v`` as a symbol of its own."""
+    """The time derivative of a declared variable, as a symbol of its own.
+
+    Parameters
+    ----------
+    v : casadi.SX
+        A state or variable of a component (one scalar symbol).
+
+    Returns
+    -------
+    casadi.SX
+        The symbol ``der(v)``, the same one on every call with ``v``.
+
+    Raises
+    ------
+    pdbfs.ModelError
+        If ``v`` is not one declared variable (an expression, a number).
+
+    Examples
+    --------
+    In a component's ``equations()``, ``eq(der(self.s), self.v)``; on a
+    bare symbol:
+
+    >>> import casadi as ca
+    >>> from pdbfs import der
+    >>> der(ca.SX.sym("s"))
+    SX(der(s))
+    """
     _scalar_symbol(v, "der()")
     h = v.element_hash()
     if h not in _DER:
@@ -164,5 +272,16 @@ def der_of(v: ca.SX):
 
 
 def eq(lhs: ca.SX | float, rhs: ca.SX | float) -> ca.SX:
-    """An equation ``lhs = rhs`` in the residual form the compiler works with."""
+    """An equation ``lhs = rhs`` in the residual form the compiler works with.
+
+    Parameters
+    ----------
+    lhs, rhs : casadi.SX or float
+        The two sides: expressions of the component's symbols, or numbers.
+
+    Returns
+    -------
+    casadi.SX
+        The residual ``lhs - rhs``, zero where the equation holds.
+    """
     return lhs - rhs

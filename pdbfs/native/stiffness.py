@@ -13,8 +13,8 @@ decaying mode and needs about BDF_STEPS times the explicit method's accurate
 steps. A step costs its right-hand side evaluations (EVAL_NS per instruction
 of the generated right-hand side) and the method's own work per step and per
 state (STEP_COST). Measured on this project's rigs (split piston and elastic
-bar at N = 2 ... 32, the paper, drop and valve rigs; scripts/bench_auto.py
-checks the choice against the methods' measured times).
+bar at N = 2 ... 32, the paper, drop and valve rigs; a benchmark checks the
+choice against the methods' measured times).
 """
 
 #: above this many states, only the eigenvalues of largest modulus

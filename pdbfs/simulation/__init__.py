@@ -13,12 +13,12 @@
                crossings on the solution, outputs on a grid, plots
     analysis/  beyond a run: linearization and modes, the simulation as a
                differentiable CasADi Function of parameters
-    state.py   what the layer keeps of one compiled rig (RigState: its
+    state      what the layer keeps of one compiled rig (RigState: its
                Simulator, compiled library, plans), held by the DAE and gone
                with it when the rig changes
 
 Inside, imports go one way: setup <- results <- run <- analysis (each folder
-may import those before it, and state.py; its __init__ says so). The C the compiled
+may import those before it, and state; its __init__ says so). The C the compiled
 backend's library is built from is pdbfs.native's (native/c/library/ and
 native/c/shared/).
 

@@ -2,18 +2,18 @@
 
     sweeps/          sweep(): many points of one compiled rig, locally or on Dask,
                      streamed to disk and resumable (sampling, runner, store, result, cluster)
-    sensitivity.py   sensitivity(): Sobol' indices (SALib) from one sweep
+    sensitivity      sensitivity(): Sobol' indices (SALib) from one sweep
     fitting/         calibrate(), design(), design_map(): a rig fitted to curves
                      (traces, free parameters, signal model, features, objectives,
                      least squares, reports)
     paper/           the paper's figures reproduced
-    blows.py         a blow's damage to a breech (pdbfs.fatigue), and the drop height
+    blows            a blow's damage to a breech (pdbfs.fatigue), and the drop height
                      whose blow does a given damage
     campaign/        campaign(): a rig's blows one after another, each from the
                      temperatures the blows before left (the heat carried between blows
                      by its thermal network), with schedules and an operator's rule;
                      resumable (the sweeps' store)
-    labfiles.py      measured traces in NI TDMS and ASAM MDF files (pdbfs[lab]), read
+    labfiles         measured traces in NI TDMS and ASAM MDF files (pdbfs[lab]), read
                      as the tables of CSV traces
 
 May import: pdbfs.errors, pdbfs.modelling, pdbfs.simulation, pdbfs.models,

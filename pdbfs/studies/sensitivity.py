@@ -59,6 +59,8 @@ class Sensitivity:
         Output -> half-widths of their 95 % confidence intervals.
     n, points : int
         The base sample size N and the simulations run, N (D + 2).
+    ranges : dict
+        Parameter -> (low, high, log), SI units.
     undefined : dict
         Output -> why it has no indices.
     """
@@ -80,10 +82,16 @@ class Sensitivity:
     SLACK = 0.01
 
     def problems(self) -> list[str]:
-        """Why the sample is too small for the indices to mean anything
-        (empty if it is not): a first-order index below 0 beyond its 95 %
-        interval or above the total
-        one, or a 95 % interval wider than +-MAX_CONF."""
+        """Why the sample is too small for the indices to mean anything: N
+        below 64, an index outside [0, 1], a first-order index below 0
+        beyond its 95 % interval or above the total one, or a 95 % interval
+        wider than +-0.1 (``MAX_CONF``).
+
+        Returns
+        -------
+        list of str
+            One line per problem (empty: the indices can be read).
+        """
         out = [f"N = {self.n} is below {MIN_N}: too few points for Sobol' indices"] \
             if self.n < MIN_N else []
         for o in self.outputs:
@@ -136,7 +144,18 @@ class Sensitivity:
                 f"run again with a larger N, e.g. --n {max(self.n * 4, MIN_N)}")
 
     def plot(self, path: str | os.PathLike | None = None) -> Figure:
-        """The indices as bars, one panel per output; saved to ``path`` if given. Returns the Figure."""
+        """The indices as bars with their 95 % intervals, one panel per output.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            An image file to save the figure to (its format by its suffix).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         import matplotlib
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
@@ -167,11 +186,76 @@ def sensitivity(rig: Component | DAE | str, ranges: Mapping[str, tuple], *, n: i
                 t_end: float = 0.02, workers: int | None = None,
                 progress: bool | Callable[[int, int], object] | None = None,
                 out: str | os.PathLike | None = None, overwrite: bool = False) -> Sensitivity:
-    """Sobol' indices of ``outputs`` (summary keys) with respect to the
-    parameters in ``ranges`` {name: (lo, hi) or (lo, hi, "log")}: N (D + 2)
-    simulations of ``rig`` (N = ``n``, a power of 2), run as one sweep
-    (``backend``, ``client``, ``out`` as for pdbfs.sweep). Needs SALib, the
-    extra pdbfs[sensitivity]."""
+    """Global sensitivity: Sobol' first-order and total indices (Saltelli's
+    sampling scheme, SALib) of summary values with respect to parameters
+    varied over ranges, from N (D + 2) simulations of the rig run as one
+    sweep (D parameters). Needs pdbfs's extra ``[sensitivity]``.
+
+    A point whose pulse outlasts ``t_end`` is run again over 20 horizons; an
+    output undefined at some point gets no indices (a warning says why), and
+    a sample too small for its indices to mean anything warns
+    (SampleTooSmallWarning) with the N to ask for.
+
+    Parameters
+    ----------
+    rig : Component, DAE or str
+        The rig, its compiled DAE, or a name of ``pdbfs.models.RIGS``.
+    ranges : mapping of str to tuple
+        ``{parameter: (lo, hi)}``, SI units, or ``(lo, hi, "log")``: sampled
+        uniformly in the logarithm (the indices then refer to the logarithm
+        of the parameter).
+    n : int
+        The base sample size N, a power of 2.
+    outputs : sequence of str
+        The summary keys analysed, each once.
+    params : mapping of str to float, optional
+        Parameter values, SI units, fixed for every point.
+    backend : {"auto", "c", "casadi"}
+        As in ``simulate``.
+    client : dask.distributed.Client, optional
+        Run the sweep on its cluster.
+    seed : int
+        The seed of the sample and of the bootstrap intervals.
+    t_end : float
+        End time of each run, s.
+    workers : int, optional
+        Threads or processes on this machine, as in ``sweep``.
+    progress : bool or callable, optional
+        As in ``sweep``.
+    out : str or os.PathLike, optional
+        A folder to stream the sweep to (resumable), as in ``sweep``.
+    overwrite : bool
+        Replace a folder ``out`` that holds another sweep.
+
+    Returns
+    -------
+    Sensitivity
+        The indices and their 95 % intervals, by output and parameter.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For no range, a bad range, N not a power of 2, an output the rig's
+        summary does not have: before any run.
+    pdbfs.PdbfsError
+        When no output is defined at every point.
+    pdbfs.errors.MissingExtraError
+        Without SALib.
+
+    Examples
+    --------
+    The peak pressure of the paper's rig depends on the impact speed, hardly
+    on the seal's friction:
+
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> s = pdbfs.sensitivity(paper_rig(), {"hammer.v0": (2.0, 3.5), "seal.c": (1e4, 4e4)},
+    ...                       n=1024, outputs=["peak_pressure"])
+    >>> s.points, [f"{st:.2f}" for st in s.ST["peak_pressure"]]
+    (4096, ['0.99', '0.01'])
+    >>> s.problems()
+    []
+    """
     require_extra("sensitivity", "pdbfs.sensitivity (Sobol' indices)")
     from SALib.analyze import sobol as analyze
     from SALib.sample import sobol as sample

@@ -38,7 +38,30 @@ if TYPE_CHECKING:
 
 @dataclass
 class Linearization:
-    """The state-space matrices at one operating point, with their names."""
+    """The state-space matrices at one operating point, with their names:
+    ``der(dx) = A dx + B du``, ``dy = C dx + D du`` for small changes about
+    the point. Made by ``Rig.linearize`` (``pdbfs.simulation.linearize``).
+
+    Attributes
+    ----------
+    A, B, C, D : numpy.ndarray
+        The matrices, SI units (rows and columns named by the lists below).
+    states : list of str
+        The states: the rows and columns of A, the columns of C.
+    inputs : list of str
+        The inputs and parameters linearized for: the columns of B and D.
+    outputs : list of str
+        The variables: the rows of C and D.
+    t : float
+        The time of the operating point, s.
+    point : dict
+        The operating point: state name -> value.
+    units : dict
+        State name -> unit.
+    kinks : list
+        The one-sided laws (contacts, oil columns) exactly at their kink at
+        the point, each with the side it is linearized on.
+    """
 
     A: np.ndarray
     B: np.ndarray
@@ -79,7 +102,16 @@ class Linearization:
                           inputs=safe(self.inputs), outputs=safe(self.outputs))
 
     def modes(self) -> list:
-        """One Mode per eigenvalue (one per complex pair), slowest first."""
+        """The modes of A, slowest first.
+
+        Returns
+        -------
+        list of Mode
+            One per eigenvalue (one per complex pair): ``omega`` (rad/s),
+            ``frequency`` (Hz), ``damping`` (ratio; None for a zero
+            eigenvalue), ``shape`` (state -> amplitude, the largest of each
+            unit 1) and ``eigenvalue`` (1/s).
+        """
         return modes_of(self.A, self.states, self.units)
 
 

@@ -35,10 +35,56 @@ def trajectory_function(model: Component | DAE, outputs: str | Sequence[str], t_
                         params: Mapping[str, float] | None = None, rtol: float = 1e-8,
                         atol: float | None = None, method: str = "auto",
                         max_step: float | None = None) -> ca.Function:
-    """casadi.Function ``p -> y``: ``outputs`` (dotted names) on the output
-    grid, one row each, as functions of the parameters named in ``inputs``
-    (all free parameters if None, in ``dae.p_names`` order). Parameters not
-    among the inputs keep their defaults, or the values in ``params``."""
+    """A rig's simulation as a CasADi Function of its parameters, ``p -> y``,
+    which CasADi differentiates (forward sensitivities of SUNDIALS) and maps
+    over many points (``f.map``).
+
+    Parameters
+    ----------
+    model : Component or DAE
+        The rig, or its compiled DAE.
+    outputs : str or sequence of str
+        The variables (dotted names): the rows of ``y``, on the output grid.
+    t_end : float
+        End time of the run, s.
+    n_out : int
+        Number of output points, evenly spaced on [0, t_end]: the columns of ``y``.
+    t_out : array_like, optional
+        Output times, s, increasing from 0 (overrides ``t_end`` and ``n_out``).
+    inputs : str or sequence of str, optional
+        The parameters that are the Function's input ``p``, in that order
+        (default: every free parameter, in the DAE's order).
+    params : mapping of str to float, optional
+        Values, SI units, of parameters that are not among ``inputs``
+        (the others keep their defaults).
+    rtol, atol : float
+        Tolerances of the integrator (``atol`` None: as in ``simulate``).
+    method : {"auto", "adams", "bdf"}
+        The integration method, as in ``simulate`` (through CasADi).
+    max_step : float, optional
+        Largest internal step, s.
+
+    Returns
+    -------
+    casadi.Function
+        ``y = f(p)``: one row per output, one column per output time.
+        Called with numbers, it checks them as ``simulate`` does (one value
+        per input, each within its parameter's range).
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an output or parameter the rig does not have, before any work.
+
+    Examples
+    --------
+    >>> from pdbfs import trajectory_function
+    >>> from pdbfs.models import paper_rig
+    >>> f = trajectory_function(paper_rig(), "oil.pressure", 0.01, 11, inputs=["oil.k"])
+    >>> y = f(2.228e8)
+    >>> y.shape, f"{float(y[0, 5]) / 1e6:.3g} MPa at 5 ms"
+    ((1, 11), '82.2 MPa at 5 ms')
+    """
     sim = Simulator.of(model)
     dae = sim.dae
     grid = sim.grid(t_end, n_out, t_out)

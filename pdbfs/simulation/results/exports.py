@@ -64,19 +64,49 @@ class ResultExports:
         return table(*self._shown())
 
     def as_dict(self, names: str | Sequence[str] | None = None) -> dict[str, np.ndarray]:
-        """{"time": t, name: values, ...} for ``names`` (default: every variable)."""
+        """Time and variables as numpy arrays.
+
+        Parameters
+        ----------
+        names : str or sequence of str, optional
+            The variables (default: every one).
+
+        Returns
+        -------
+        dict
+            ``{"time": t, name: values, ...}``, SI units.
+        """
         names = self.names if names is None else name_list(names, "names", distinct=False)
         return {"time": self.t, **{n: self[n] for n in names}}
 
     def to_csv(self, path: str | os.PathLike, names: str | Sequence[str] | None = None,
                progress: Callable[[int, int], object] | None = None) -> str | os.PathLike:
-        """Write time and the variables (all by default) as CSV, SI units in
-        the header (``name [unit]``). Written CSV_ROWS rows at a time (the
-        outputs computed for those rows only, unless the Result holds them):
-        the memory it takes does not grow with the run. ``progress``: a
-        function called with (rows written, rows in all) after each block.
-        Returns ``path``; raises PdbfsError, writing nothing, for a value
-        that is NaN or infinite."""
+        """Write time and variables as CSV, SI units in the header
+        (``name [unit]``), written whole or not at all. Written a block of
+        rows at a time (the outputs computed for those rows only, unless the
+        Result holds them): the memory it takes does not grow with the run.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write.
+        names : str or sequence of str, optional
+            The variables (default: every one).
+        progress : callable, optional
+            Called with (rows written, rows in all) after each block.
+
+        Returns
+        -------
+        str or os.PathLike
+            ``path``.
+
+        Raises
+        ------
+        KeyError
+            For a name the rig does not have.
+        pdbfs.PdbfsError
+            For a value that is NaN or infinite; nothing is written.
+        """
         names = self.names if names is None else name_list(names, "names", distinct=False)
         for n in names:
             if n not in self:
@@ -102,7 +132,18 @@ class ResultExports:
         return path
 
     def to_pandas(self, names: str | Sequence[str] | None = None) -> pd.DataFrame:
-        """A pandas DataFrame indexed by time (needs pandas installed)."""
+        """The variables as a pandas DataFrame indexed by time (s).
+
+        Parameters
+        ----------
+        names : str or sequence of str, optional
+            The variables, the columns (default: every one).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One column per variable, SI units.
+        """
         try:
             import pandas as pd
         except ImportError:
@@ -113,7 +154,24 @@ class ResultExports:
 
     def plot(self, names: str | Sequence[str] | None = None, path: str | os.PathLike | None = None,
              title: str | None = None) -> Figure:
-        """Plot variables against time in ms (one panel per unit); save to
-        ``path`` if given. Returns the matplotlib Figure."""
+        """Plot variables against time in ms, one panel per unit.
+
+        Parameters
+        ----------
+        names : str or sequence of str, optional
+            The variables (default: the rig's pressure and contact force,
+            and its bodies' positions; else its states).
+        path : str or os.PathLike, optional
+            An image file to save the figure to (its format by its suffix:
+            .png, .pdf, .svg).
+        title : str, optional
+            The figure's title (default: the rig, the run's time and the
+            parameters set away from their defaults).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from .plotting import plot_result
         return plot_result(self, names, path, title)

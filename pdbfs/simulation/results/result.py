@@ -1,9 +1,5 @@
-"""Result of one simulation: time and every named variable as numpy arrays.
-
-Values between output points, peaks and level crossings are computed from
-the solution itself (a short integration from the nearest output point), so
-they do not depend on the output grid.
-"""
+"""Result of one simulation: time and every named variable as numpy arrays,
+with values, peaks and crossings located on the solution itself."""
 from __future__ import annotations
 
 import warnings
@@ -27,14 +23,11 @@ if TYPE_CHECKING:
 class Result(ResultExports):
     """One simulation of a rig: time and every variable as numpy arrays, SI units.
 
-    ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]``
-    is ``res.t``); ``"oil.pressure" in res`` says whether the rig has it.
-    Values between output points, peaks and crossings are located on the
-    solution itself (on the Hermite interpolant where it is trusted, else by
-    a short integration from the nearest output point), so they do not
-    depend on the output grid. Read it with ``summary()``, ``peak()``,
-    ``crossings()`` and ``value_at()``; export it with ``to_csv()``,
-    ``to_pandas()``, ``as_dict()`` and ``plot()``. Made by ``simulate``.
+    ``res["oil.pressure"]`` is a variable on the output grid (``res["time"]`` is
+    ``res.t``; an unknown name is a KeyError naming the closest). Values off the grid,
+    peaks and crossings are located on the solution itself: ``value_at()``, ``peak()``,
+    ``crossings()``, ``summary()``; exports: ``to_csv()``, ``to_pandas()``,
+    ``as_dict()``, ``plot()``. Made by ``simulate``.
 
     Attributes
     ----------
@@ -51,9 +44,16 @@ class Result(ResultExports):
     rig : str
         The rig's name.
     settings, stats : dict
-        The settings as used (rtol, atol, method, max_step, max_num_steps,
-        backend) and the solver's statistics (steps, rhs_evals, jac_evals,
-        root_events, method, wall_time in s, backend).
+        The settings as used (rtol, atol, method, ...) and the solver's statistics (steps, ...).
+
+    Examples
+    --------
+    >>> from pdbfs.models import paper_rig
+    >>> res = paper_rig().simulate(0.02)
+    >>> res["oil.pressure"].shape, res.units["oil.pressure"], "oil.pressure" in res
+    ((2001,), 'Pa', True)
+    >>> res.to_pandas(["oil.pressure", "hammer.v"]).shape
+    (2001, 2)
     """
 
     def __init__(self, sim: Simulator, t: np.ndarray, p: np.ndarray, X: np.ndarray | None, Z: np.ndarray,
@@ -92,18 +92,33 @@ class Result(ResultExports):
         self._initial = initial
 
     def detached(self) -> dict:
-        """This Result without its Simulator (and what it made of it), to be
-        sent to another process; ``Result.attach`` makes it a Result again there.
-        A compiled run's states are made now (its run is kept in this process's
-        library); the summary is made again where it is asked for."""
+        """This Result's own data, without its Simulator, to be sent to another
+        process (a sweep's worker's); ``Result.attach`` makes it a Result there.
+
+        Returns
+        -------
+        dict
+            The data (a compiled run's states made now, not the summary).
+        """
         self._X                 # (made once: kept on this Result)
         return {k: v for k, v in vars(self).items()
                 if k not in ("_sim", "_curves", "_summary", "_summary_warnings", "_make_states")}
 
     @classmethod
     def attach(cls, sim: Simulator, state: dict) -> "Result":
-        """The Result ``detached`` gave ``state`` of, on ``sim`` (a Simulator of
-        the same rig, e.g. the parent process's of a sweep's worker)."""
+        """A Result again, from what ``detached`` gave.
+
+        Parameters
+        ----------
+        sim : Simulator
+            A Simulator of the same rig (the parent process's, for a sweep's worker).
+        state : dict
+            What ``detached`` returned.
+
+        Returns
+        -------
+        Result
+        """
         res = cls.__new__(cls)
         res._restore(sim, state)
         return res
@@ -190,8 +205,13 @@ class Result(ResultExports):
         return self._rows[i]
 
     def prefetch(self, names: str | Sequence[str]) -> None:
-        """Compute the outputs ``names``, their rates and the event indicators
-        in one pass over the grid (a summary reads all of them)."""
+        """Compute some outputs, their rates and the event indicators in one pass.
+
+        Parameters
+        ----------
+        names : str or sequence of str
+            The variables (names the rig does not have are left out).
+        """
         names = [n for n in dict.fromkeys(names) if n in self._index]
         if not names or self._Y is not None:
             return
@@ -224,7 +244,27 @@ class Result(ResultExports):
                               s["method"], s["max_step"], backend=s.get("backend", "casadi"))
 
     def value_at(self, name: str, t: float) -> float:
-        """Variable ``name`` at time ``t``, exact to the solver tolerance."""
+        """A variable at any time of the run, exact to the solver tolerance.
+
+        Parameters
+        ----------
+        name : str
+            The variable's dotted name (``"oil.pressure"``).
+        t : float
+            The time, s, within the run.
+
+        Returns
+        -------
+        float
+            The value, in the variable's unit (``units[name]``).
+
+        Examples
+        --------
+        >>> from pdbfs.models import paper_rig
+        >>> res = paper_rig().simulate(0.02, n_out=21)
+        >>> f"{res.value_at('oil.pressure', 0.005) / 1e6:.3g} MPa"
+        '82.2 MPa'
+        """
         i = self._index[name]
         k = int(np.searchsorted(self.t, t))
         if k < len(self.t) and self.t[k] == t and (self._Y is not None or i in self._rows):
@@ -236,18 +276,40 @@ class Result(ResultExports):
 
     @property
     def curves(self) -> Curves:
-        """The Hermite interpolants of the variables (pdbfs.simulation.hermite)."""
+        """The cubic Hermite interpolants of the variables between output points."""
         if "_curves" not in self.__dict__:
             self._curves = Curves(self)
         return self._curves
 
     def peak(self, name: str, sign: float = 1.0, window: tuple[float, float] | None = None
              ) -> tuple[float, float]:
-        """(time, value) of the maximum (``sign=-1``: minimum) of ``name``,
-        over the run or between the times ``window = (a, b)``: the largest
-        sample, refined on the solution between its neighbours (on the
-        Hermite interpolant where it is trusted, else by minimising the
-        solution itself). The time is in s, the value in the variable's unit."""
+        """The largest (or smallest) value of a variable and when, located on
+        the solution: the largest sample, refined between its neighbours.
+
+        Parameters
+        ----------
+        name : str
+            The variable's dotted name.
+        sign : float
+            1: the maximum; -1: the minimum.
+        window : tuple of float, optional
+            ``(a, b)``, s: the peak between these times (default: the whole run).
+
+        Returns
+        -------
+        tuple of float
+            (time in s, value in the variable's unit).
+
+        Examples
+        --------
+        >>> from pdbfs.models import paper_rig
+        >>> res = paper_rig().simulate(0.02)
+        >>> t, x = res.peak("piston.s")
+        >>> f"{x * 1e3:.3g} mm at {t * 1e3:.3g} ms"
+        '9.47 mm at 5.57 ms'
+        >>> f"{res.peak('hammer.v', sign=-1)[1]:.3g} m/s"
+        '-2.52 m/s'
+        """
         y = sign * self[name]
         k0, k1 = 0, len(y) - 1
         if window is not None:
@@ -271,9 +333,27 @@ class Result(ResultExports):
         return float(self.t[k]), float(self[name][k])
 
     def crossings(self, name: str, level: float = 0.0) -> np.ndarray:
-        """Times, s, at which ``name`` crosses ``level`` (in its unit), on the
-        Hermite interpolant where it is trusted, else by root finding on the
-        solution."""
+        """The times at which a variable crosses a level, located on the solution.
+
+        Parameters
+        ----------
+        name : str
+            The variable's dotted name.
+        level : float
+            The level, in the variable's unit.
+
+        Returns
+        -------
+        numpy.ndarray
+            The crossing times, s, increasing (empty if it never crosses).
+
+        Examples
+        --------
+        >>> from pdbfs.models import paper_rig
+        >>> res = paper_rig().simulate(0.02)
+        >>> [f"{t * 1e3:.3g} ms" for t in res.crossings("hammer.v", 0.0)]
+        ['6.29 ms']
+        """
         y = self[name] - level
         s = np.sign(y)
         idx = np.flatnonzero(s[:-1] * s[1:] < 0)
@@ -288,13 +368,30 @@ class Result(ResultExports):
         return np.array(out)
 
     def summary(self) -> dict:
-        """Peak pressure, time of peak, pulse duration, ..., and whether the
-        pulse ended inside the run (``complete``): located on the summary's
-        own solution, the same whatever the output grid (see summary.py).
-        Warns (PulseIncompleteWarning) when the pulse outlasts the run, and
-        (ImplausibleResultWarning) where a figure lies outside its physical
-        range, naming the likely cause.
-        Computed once per Result."""
+        """The pulse's figures, located on the solution whatever the output
+        grid, computed once: peak pressure, time of peak, pulse duration,
+        peak contact force, maximum piston displacement, restitution, and
+        whether the pulse ended inside the run (``complete``): those the
+        rig's ``summary_signals`` give roles for (a rig whose hammer strikes
+        more than once also lists its blows: ``impact_count``, ...).
+
+        Returns
+        -------
+        dict
+            Figure name -> value, SI units (``SUMMARY_UNITS``); None where
+            the run cannot give it (the pulse not over: a PulseIncompleteWarning says so).
+            A figure outside its physical range (a restitution above 1) warns
+            (ImplausibleResultWarning), naming the likely cause.
+
+        Examples
+        --------
+        >>> from pdbfs.models import paper_rig
+        >>> s = paper_rig().simulate(0.02).summary()
+        >>> f"{s['peak_pressure'] / 1e6:.3g} MPa, {s['pulse_duration'] * 1e3:.3g} ms"
+        '92.1 MPa, 11.9 ms'
+        >>> s["complete"]
+        True
+        """
         if "_summary" not in self.__dict__ and self._fast is not None:
             d = summary_of(self._sim, self._fast)
             if d is not None:                  # the run's own: nothing integrated again

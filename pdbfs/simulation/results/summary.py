@@ -65,9 +65,23 @@ def keys_for(dae) -> list[str]:
 
 
 def summarize(res: Result, warn: bool = True) -> dict:
-    """The summary of the Result ``res`` (KEYS, units in UNITS), located on the
-    summary's own solution; with ``warn``, a PulseIncompleteWarning when the
-    pulse outlasts the run."""
+    """The summary of a run, located on the summary's own solution
+    (``Result.summary`` gives it, computed once).
+
+    Parameters
+    ----------
+    res : Result
+        The run.
+    warn : bool
+        Whether to warn (PulseIncompleteWarning) when the pulse outlasts the run.
+
+    Returns
+    -------
+    dict
+        Figure name (``SUMMARY_KEYS``, and the blows of a rig that strikes
+        more than once) -> value in its SI unit (``SUMMARY_UNITS``); None
+        for a figure the run cannot give.
+    """
     roles = getattr(res._sim.dae, "signals", {}) or {}
     run = summary_run(res)
     R = run.trajectory

@@ -103,6 +103,32 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
         A setting, parameter or start value that is refused, before any work.
     SolverError
         The integrator failed; the message says where and why.
+
+    Examples
+    --------
+    The paper's rig, then a harder blow (``hammer.v0`` in m/s):
+
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> rig = paper_rig()
+    >>> res = pdbfs.simulate(rig, 0.02)
+    >>> f"{res.summary()['peak_pressure'] / 1e6:.3g} MPa"
+    '92.1 MPa'
+    >>> res = pdbfs.simulate(rig, 0.02, params={"hammer.v0": 3.0})
+    >>> f"{res.summary()['peak_pressure'] / 1e6:.3g} MPa"
+    '101 MPa'
+
+    A rig's input (a valve's commanded opening) given as a trace of times
+    and values, joined by straight lines:
+
+    >>> from pdbfs.models import pulse_plant_rig
+    >>> plant = pulse_plant_rig()
+    >>> [u.name for u in plant.inputs()]
+    ['opening']
+    >>> opening = ([0, 0.004, 0.0045, 0.0065, 0.02], [0, 1, 1, 0, 0])
+    >>> res = pdbfs.simulate(plant, 0.02, inputs={"opening": opening})
+    >>> f"{res.summary()['peak_pressure'] / 1e6:.3g} MPa"
+    '91.2 MPa'
     """
     sim = Simulator.of(model)
     if inputs is not None:

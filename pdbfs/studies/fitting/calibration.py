@@ -5,8 +5,8 @@
     cal.params, cal.std, cal.rms_residual, cal.undetermined
 
 Least squares on the trace's own samples with exact gradients (CVODES
-sensitivities, studies/signal_model.py), bounded and scaled unknowns
-(studies/unknowns.py), several starts (studies/fitting.py). Parameters the
+sensitivities: signal_model), bounded and scaled unknowns (free_parameters),
+several starts (least_squares). Parameters the
 trace does not determine are named, held at their start values and left
 out of the fit: no made-up value is reported for them.
 """
@@ -43,9 +43,41 @@ if TYPE_CHECKING:
 
 @dataclass
 class Calibration:
-    """What a calibration found. ``params`` maps each free name to its fitted
-    value, or None where the trace does not determine it (``undetermined``
-    says why; ``held`` gives the value it was held at)."""
+    """What a calibration found. Made by ``calibrate``.
+
+    Attributes
+    ----------
+    rig, signal, unit : str
+        The rig's name, the variable fitted and its unit.
+    params : dict
+        Each free name -> its fitted value, SI units, or None where the
+        trace does not determine it (``undetermined`` says why; ``held``
+        gives the value it was held at). With ``fit_offset``, also
+        ``trace.shift`` (s) and ``trace.offset`` (the signal's unit).
+    std : dict
+        Free name -> the standard error of its value (None where undetermined).
+    corr : dict
+        ``{name: {name: correlation}}`` over the determined unknowns.
+    rms_residual, sigma : float
+        The RMS of trace minus fit, and the residuals' standard deviation
+        (degrees of freedom counted), in the signal's unit.
+    undetermined, held : dict
+        Name -> why the trace does not determine it, and the value it was
+        held at.
+    at_bounds : dict
+        Name -> the bound ("lower" / "upper") its value reached.
+    starts : list of dict
+        Each start's end: its cost, evaluations, status, and which optimum
+        it reached (0: the best; None: the start failed).
+    optima : int
+        How many distinct optima the starts reached.
+    t, y, fit : numpy.ndarray
+        The trace's times (s) and values, and the fitted model there.
+    evaluations : int
+        Simulations run.
+    units : dict
+        Name -> unit of each fitted value.
+    """
 
     rig: str
     signal: str
@@ -68,7 +100,7 @@ class Calibration:
 
     @property
     def residuals(self) -> np.ndarray:
-        """Trace minus fit at the trace's times, in the signal's unit."""
+        """Trace minus fit at the trace's times, in the signal's unit (a numpy array)."""
         return self.y - self.fit
 
     def _shown(self) -> tuple[str, list[tuple[str, str]]]:
@@ -105,12 +137,35 @@ class Calibration:
         return calibration_text(self)
 
     def plot(self, path: str | os.PathLike | None = None) -> Figure:
-        """Trace, fit and residuals against time; saved to ``path`` if given. Returns the Figure."""
+        """Trace, fit and residuals against time.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            An image file to save the figure to (its format by its suffix).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from .reports import plot_fit
         return plot_fit(self, path)
 
     def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
-        """Write time, trace, fit and residual as CSV (units in the header); returns ``path``."""
+        """Write time, trace, fit and residual as CSV (units in the header),
+        written whole or not at all.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write.
+
+        Returns
+        -------
+        str or os.PathLike
+            ``path``.
+        """
         from .reports import write_columns
         return write_columns(path, {"time [s]": self.t, f"trace [{self.unit}]": self.y,
                                     f"fit [{self.unit}]": self.fit,
@@ -125,23 +180,87 @@ def calibrate(rig: Component | DAE | str, trace: str | os.PathLike | Trace | tup
               starts: int = 3, seed: int = 0, rtol: float = 1e-8, atol: float | None = None,
               dt: float = DT, progress: Callable[[int], object] | None = None,
               inputs: Mapping[str, object] | None = None) -> Calibration:
-    """Fit the parameters ``free`` of ``rig`` so that its ``signal`` (default:
-    the rig's pressure) matches ``trace`` (a CSV path, a Trace or (t, y)).
+    """Fit a rig's unknown parameters to a measured trace: least squares on
+    the trace's own samples, with exact gradients (CVODES sensitivities),
+    bounded and scaled unknowns, and several starts.
 
-    fit_offset  also fit a trigger time shift ``trace.shift`` (s; the model
-                runs at t - shift) and a sensor offset ``trace.offset``
-    bounds      {name: (lo, hi)} (or "NAME=LO:HI" strings); default: a
-                factor 100 either side of the start for positive parameters
-    start       {name: value}: where the first start begins (default: the
-                rig's value); ``starts`` - 1 more begin on a Latin hypercube
-    params      {name: value} held fixed (not free)
-    t_end       simulated horizon (default: the trace's last time, plus the
-                shift's range); one that ends before the trace is refused
-    progress    a function called with the number of simulations run so far
-    inputs      the rig's inputs, as simulate takes them (a measured command:
-                {"command": (t, u)}), on the trace's clock: they must cover the
-                simulated horizon; not with fit_offset (the command and the
-                trace share their clock)
+    Parameters the trace does not determine are named, held at their start
+    values and left out of the fit: no made-up value is reported for them.
+
+    Parameters
+    ----------
+    rig : Component, DAE or str
+        The rig, its compiled DAE, or a name of ``pdbfs.models.RIGS``.
+    trace : str, os.PathLike, Trace or tuple of array_like
+        The measurement: a CSV file (time first; units in the header are
+        converted to SI), an NI TDMS or ASAM MDF file (the extra ``[lab]``),
+        a Trace, or ``(t, y)`` arrays in s and the signal's SI unit.
+    free : str or sequence of str
+        The parameters to fit, each once.
+    signal : str, optional
+        The rig variable the trace measures (default: the rig's pressure).
+    fit_offset : bool
+        Also fit a trigger time shift ``trace.shift`` (s; the model runs at
+        t - shift) and a sensor offset ``trace.offset``.
+    t_end : float, optional
+        The simulated horizon, s (default: the trace's last time, plus the
+        shift's range); one that ends before the trace is refused.
+    bounds : mapping of str to tuple, or sequence of str, optional
+        ``{name: (lo, hi)}`` (or ``"NAME=LO:HI"`` strings), SI units;
+        default: a factor 100 either side of the start for positive
+        parameters.
+    start : mapping of str to float, optional
+        Where the first start begins (default: the rig's values).
+    params : mapping of str to float, optional
+        Parameter values held fixed (not free), SI units.
+    starts : int
+        Starts of the fit: the first at ``start``, the others on a Latin
+        hypercube within the bounds.
+    seed : int
+        The seed of that hypercube.
+    rtol, atol : float
+        Tolerances of the simulations (``atol`` None: as in ``simulate``).
+    dt : float
+        The model's sampling step, s, during the pulse.
+    progress : callable, optional
+        Called with the number of simulations run so far.
+    inputs : mapping of str to trace, number or callable, optional
+        The rig's inputs, as ``simulate`` takes them (a measured command:
+        ``{"command": (t, u)}``), on the trace's clock: they must cover the
+        simulated horizon. Not with ``fit_offset`` (the command and the
+        trace share their clock).
+
+    Returns
+    -------
+    Calibration
+        The fitted values, their standard errors and correlations, the
+        residual, and what the trace does not determine.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown or repeated name, bad bounds or settings: before any
+        simulation.
+    pdbfs.DataError
+        For a trace that cannot be read, or whose units or times cannot be
+        the signal's.
+
+    Examples
+    --------
+    The example trace shipped with pdbfs (a measured-like pulse of the paper
+    rig), three rig parameters and the recorder's trigger delay and offset
+    fitted from one start (the default, three, guards against a start that
+    stalls):
+
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> trace = pdbfs.example_data("kistler_synthetic.csv")
+    >>> cal = pdbfs.calibrate(paper_rig(), trace, free=["oil.k", "seal.c", "hammer.v0"],
+    ...                       fit_offset=True, starts=1)
+    >>> {k: f"{cal.params[k]:.3g}" for k in ("oil.k", "seal.c", "hammer.v0", "trace.shift")}
+    {'oil.k': '3.1e+08', 'seal.c': '6.01e+04', 'hammer.v0': '3.2', 'trace.shift': '0.0012'}
+    >>> f"{cal.rms_residual / 1e6:.2f} MPa", cal.undetermined
+    ('0.49 MPa', {})
     """
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
                                         starts=starts, t_end=t_end, seed=seed, signal=signal)

@@ -7,7 +7,7 @@
 To a target curve: least squares on the curve's own samples (the same
 engine as calibration). To target features (peak pressure, pulse duration
 as the summary defines it, time of peak): their exact gradients
-(studies/features.py) drive a bounded least-squares solve; where no setting
+(features) drive a bounded least-squares solve; where no setting
 within the bounds reaches the targets, the nearest reachable point is
 returned with what stops it (a bound, or the features moving together).
 """
@@ -50,16 +50,21 @@ ALIASES = {"peak": "peak_pressure", "duration": "pulse_duration", "peak_time": "
 
 @dataclass
 class Design:
-    """What a design found: the free parameters' values that give the target pulse.
+    """What a design found: the free parameters' values that give the target
+    pulse. Made by ``design``.
 
     Attributes
     ----------
+    rig, signal, unit : str
+        The rig's name, the variable designed for and its unit.
     params : dict
         Free name -> designed value (SI units; a drop height in m).
     implied : dict
         Rig parameters set through another (``hammer.v0`` from a drop height).
     reachable : bool
-        Whether the target is met; ``limit`` says why not.
+        Whether the target is met.
+    limit : str
+        Why not, when it is not: which bound or which feature stands in the way.
     targets, features : dict
         Feature targets asked for and the designed pulse's features.
     rms_error, worst_deviation, worst_time : float or None
@@ -67,9 +72,13 @@ class Design:
         where the largest is (s).
     at_bounds : dict
         Free name -> the bound it ended at.
+    units : dict
+        Free name -> unit.
     t, y, fit : numpy.ndarray
         Times (s), the target curve (None for feature targets) and the
         designed pulse there.
+    evaluations : int
+        Simulations run.
     """
 
     rig: str
@@ -130,12 +139,35 @@ class Design:
         return design_text(self)
 
     def plot(self, path: str | os.PathLike | None = None) -> Figure:
-        """The designed pulse (and the target curve); saved to ``path`` if given. Returns the Figure."""
+        """The designed pulse, and the target curve if there is one.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            An image file to save the figure to (its format by its suffix).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from .reports import plot_design
         return plot_design(self, path)
 
     def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
-        """Write time, target (if a curve) and designed pulse as CSV; returns ``path``."""
+        """Write time, target (if a curve) and designed pulse as CSV (units
+        in the header), written whole or not at all.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write.
+
+        Returns
+        -------
+        str or os.PathLike
+            ``path``.
+        """
         from .reports import write_columns
         cols = {"time [s]": self.t}
         if self.y is not None:
@@ -153,15 +185,74 @@ def design(rig: Component | DAE | str,
            rtol: float = 1e-8,
            atol: float | None = None, dt: float = DT,
            progress: Callable[[int], object] | None = None) -> Design:
-    """Settings of ``free`` that make ``rig``'s ``signal`` (default: its
-    pressure) match ``target``: a curve (CSV path, Trace, (t, y)) or a dict of
-    features {peak_pressure (Pa), pulse_duration (s), time_of_peak (s)}.
-    ``free`` may name a drop height ``X.h`` for a rig whose hammer has an
-    impact speed ``X.v0``. Bounds default to a factor 10 either side of the
-    rig's values. More ``starts`` (Latin hypercube) are tried for features
-    when the first does not reach them. ``t_end``: the simulated horizon (for
-    a curve at least its last time). ``progress``: a function called with
-    the number of simulations run so far."""
+    """Inverse design: the settings of a rig that give a target pulse, a
+    curve to follow or pulse features to reach (least squares with exact
+    gradients, as ``calibrate``).
+
+    Parameters
+    ----------
+    rig : Component, DAE or str
+        The rig, its compiled DAE, or a name of ``pdbfs.models.RIGS``.
+    target : str, os.PathLike, Trace, tuple of array_like, or mapping of str to float
+        A target curve (a CSV file, a Trace, or ``(t, y)`` in s and the
+        signal's unit), or features: ``{"peak_pressure": Pa,
+        "pulse_duration": s, "time_of_peak": s}`` (any of them; ``peak``,
+        ``duration`` and ``peak_time`` also name them).
+    free : str or sequence of str
+        The settings to design, each once; a drop height ``X.h`` (m) stands
+        for the impact speed ``X.v0`` of a rig whose hammer has one.
+    bounds : mapping of str to tuple, or sequence of str, optional
+        ``{name: (lo, hi)}`` (or ``"NAME=LO:HI"`` strings), SI units;
+        default: a factor 10 either side of the rig's values.
+    start : mapping of str to float, optional
+        Where the first start begins (default: the rig's values).
+    params : mapping of str to float, optional
+        Parameter values held fixed, SI units.
+    signal : str, optional
+        The variable designed for (default: the rig's pressure).
+    t_end : float, optional
+        The simulated horizon, s (for a curve at least its last time).
+    starts : int
+        For features, more starts (a Latin hypercube) tried when the first
+        does not reach them; for a curve, the starts of the fit.
+    seed : int
+        The seed of that hypercube.
+    rtol, atol : float
+        Tolerances of the simulations (``atol`` None: as in ``simulate``).
+    dt : float
+        The model's sampling step, s, during the pulse.
+    progress : callable, optional
+        Called with the number of simulations run so far.
+
+    Returns
+    -------
+    Design
+        The designed values, the values they imply (an impact speed), the
+        features reached, and whether the target was reached (if not, why).
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown target or name, a target that is not a positive
+        number, bad bounds, or features no pulse can have together (a peak
+        after the pulse's end): before any design run.
+    pdbfs.DataError
+        For a target curve that cannot be read.
+
+    Examples
+    --------
+    The drop height and seal friction of the paper's rig for a 120 MPa pulse
+    of 12 ms:
+
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> d = pdbfs.design(paper_rig(), {"peak_pressure": 120e6, "pulse_duration": 0.012},
+    ...                  free=["hammer.h", "seal.c"])
+    >>> d.reachable, f"{d.params['hammer.h']:.3g} m", f"{d.implied['hammer.v0']:.3g} m/s"
+    (True, '0.637 m', '3.53 m/s')
+    >>> f"{d.features['peak_pressure'] / 1e6:.4g} MPa"
+    '120 MPa'
+    """
     start, params = check_fit_arguments(free=free, bounds=bounds, start=start, params=params,
                                         starts=starts, t_end=t_end, seed=seed, signal=signal)
     if isinstance(target, dict):     # features; a curve: as_trace says what is wrong with it

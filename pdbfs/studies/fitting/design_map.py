@@ -40,9 +40,12 @@ MAPPED = ("peak_pressure", "pulse_duration", "time_of_peak")
 @dataclass
 class DesignMap:
     """Pulse features over a grid of two parameters: what a design can reach.
+    Made by ``design_map``.
 
     Attributes
     ----------
+    rig : str
+        The rig's name.
     x_name, y_name : str
         The two parameters (``hammer.h`` is a drop height, m).
     x, y : numpy.ndarray
@@ -53,6 +56,8 @@ class DesignMap:
         no complete pulse.
     failed, no_pulse : int
         Points whose run failed, and points without a complete pulse.
+    x_unit, y_unit : str
+        The axes' units.
     """
 
     rig: str
@@ -68,7 +73,18 @@ class DesignMap:
 
     def plot(self, path: str | os.PathLike | None = None) -> Figure:
         """Peak pressure (colour) and pulse duration (contours) over the two
-        parameters; saved to ``path`` if given. Returns the Figure."""
+        parameters (log axes where the values are spaced so).
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            An image file to save the figure to (its format by its suffix).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         import matplotlib
         matplotlib.use("Agg", force=False)
         import matplotlib.pyplot as plt
@@ -97,7 +113,19 @@ class DesignMap:
         return fig
 
     def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
-        """Write one row per grid point (both parameters and each feature); returns ``path``."""
+        """Write one row per grid point (both parameters and each feature) as
+        CSV, written whole or not at all.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write.
+
+        Returns
+        -------
+        str or os.PathLike
+            ``path``.
+        """
         X, Y = np.meshgrid(self.x, self.y)
         cols = {self.x_name: X.ravel(), self.y_name: Y.ravel()}
         cols.update({k: v.ravel() for k, v in self.values.items()})
@@ -137,9 +165,55 @@ def design_map(rig: Component | DAE | str, x: tuple[str, float, float] | str,
                y: tuple[str, float, float] | str, *, n: int = 21, params: Mapping[str, float] | None = None, t_end: float = 0.03,
                log: bool | None = None, backend: str = "auto",
                progress: bool | Callable[[int, int], object] | None = None) -> DesignMap:
-    """Peak pressure, pulse duration and time of peak over the grid of
-    ``x`` and ``y`` ((name, lo, hi) or "NAME=LO:HI"; a drop height X.h stands
-    for the impact speed X.v0), ``n`` points per axis, all in one sweep."""
+    """A design map: peak pressure, pulse duration and time of peak over a
+    grid of two settings of a rig, computed by one sweep (the chart to see
+    which settings give which pulse).
+
+    Parameters
+    ----------
+    rig : Component, DAE or str
+        The rig, its compiled DAE, or a name of ``pdbfs.models.RIGS``.
+    x, y : tuple or str
+        The axes: ``(name, lo, hi)`` or ``"NAME=LO:HI"``, SI units; a drop
+        height ``X.h`` (m) stands for the impact speed ``X.v0``.
+    n : int
+        Points per axis (>= 2).
+    params : mapping of str to float, optional
+        Parameter values held fixed, SI units.
+    t_end : float
+        End time of each run, s.
+    log : bool, optional
+        Log spacing of both axes (None: an axis whose hi/lo is 10 or more).
+    backend : {"auto", "c", "casadi"}
+        As in ``simulate``.
+    progress : bool or callable, optional
+        As in ``sweep``.
+
+    Returns
+    -------
+    DesignMap
+        Each feature as an array over the grid (rows: y, columns: x), NaN
+        where a point failed or gave no complete pulse (a warning says how
+        many).
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For a bad axis, the same setting on both axes, or a grid too big for
+        the memory: before any run.
+    pdbfs.PdbfsError
+        When no point of the grid gives a pulse.
+
+    Examples
+    --------
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> m = pdbfs.design_map(paper_rig(), ("hammer.h", 0.1, 1.5), ("oil.k", 1e8, 1e9), n=5)
+    >>> m.values["peak_pressure"].shape, m.failed
+    ((5, 5), 0)
+    >>> f"{m.values['peak_pressure'][-1, -1] / 1e6:.3g} MPa at h = {m.x[-1]} m, k = {m.y[-1]:g} N/m"
+    '367 MPa at h = 1.5 m, k = 1e+09 N/m'
+    """
     check_t_end(t_end)
     params = mapping(params, "params")
     rig = _rig(rig)

@@ -33,7 +33,25 @@ _UNIT_IN_NAME = re.compile(r"^\s*(?P<name>.*?)\s*[\[(](?P<unit>[^\])]*)[\])]\s*$
 
 @dataclass(frozen=True)
 class Trace:
-    """Samples ``y`` (in the signal's SI unit) at strictly increasing times ``t`` (s)."""
+    """A measured signal: samples ``y`` (in the signal's SI unit) at strictly
+    increasing times ``t`` (s), as ``read_trace`` makes it; ``calibrate``
+    and ``design`` take one (or ``(t, y)`` arrays) as their trace or target.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        The sample times, s, strictly increasing.
+    y : numpy.ndarray
+        The samples, in the signal's SI unit.
+    source : str
+        Where it came from, as messages name it (a file).
+    name : str
+        The signal column's name (its unit stripped), if read from a file.
+    unit : str
+        The signal's SI unit, if the file's header gave one.
+    time_unit : str
+        The unit the file's header gave the time in ("" if none).
+    """
 
     t: np.ndarray
     y: np.ndarray
@@ -70,15 +88,45 @@ def to_si(unit, where, column) -> tuple[float, str]:
 
 
 def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None = None) -> Trace:
-    """Read a CSV trace of a time column and a signal column (read_table's
-    file: delimiter sniffed, ``#`` comment lines skipped, .gz/.bz2/.xz/.zip
-    read as they are). With a header, the time column is the one named
-    ``time`` or ``t`` (``time [ms]``, ``time_s``), wherever it stands;
-    without one, the first. Units in the header (``time [ms]``,
-    ``oil.pressure [kPa]``) are converted to SI, an unknown unit is
-    refused. With more than one other column, ``signal`` names the one to
-    use (pdbfs's own results.csv works: its header is ``name [unit]``).
-    DataError, naming the file, for anything else."""
+    """Read a measured trace from a CSV file of a time column and a signal
+    column (delimiter sniffed, ``#`` comment lines skipped, .gz, .bz2, .xz
+    and .zip read as they are).
+
+    With a header, the time column is the one named ``time`` or ``t``
+    (``time [ms]``, ``time_s``), wherever it stands; without one, the
+    first. Units in the header (``time [ms]``, ``oil.pressure [kPa]``) are
+    converted to SI; an unknown unit is refused. The results CSV of
+    ``pdbfs simulate`` (header ``name [unit]``) is a trace.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file.
+    what : str
+        What the file is, as messages name it ("trace", "target").
+    signal : str, optional
+        The column to use where there is more than one besides the time.
+
+    Returns
+    -------
+    Trace
+        The samples, SI units.
+
+    Raises
+    ------
+    pdbfs.DataError
+        Naming the file: missing, empty, unreadable, an unknown unit, times
+        that do not increase, values that are not finite numbers, or more
+        than one signal column and no ``signal``.
+
+    Examples
+    --------
+    >>> import pdbfs
+    >>> from pdbfs.studies import read_trace
+    >>> tr = read_trace(pdbfs.example_data("kistler_synthetic.csv"))
+    >>> len(tr), tr.name, f"{tr.span * 1e3:.3g} ms"
+    (2150, 'pressure_Pa', '21.5 ms')
+    """
     p = Path(path)
     where = f"{what} file {str(path)!r}"
     if not p.is_file():

@@ -2,7 +2,7 @@
 
 Cho & Cha (2010), Figs. 4-9, with the paper's axes, ranges and legends, from
 the rig in ``pdbfs.models.paper`` (Table 1 values, the oil column read as a
-linear spring and Table 1's D: see docs/explanation/paper-rig.md), plus the
+linear spring and Table 1's D, as the documentation's page on it explains), plus the
 figures of the variant rigs: the force front through a split piston, the
 contact under each damping law, and the drop-height rig's repeated blows.
 

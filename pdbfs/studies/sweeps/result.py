@@ -6,7 +6,6 @@ made on demand, for sweeps small enough to look at point by point.
 """
 from __future__ import annotations
 
-import csv
 import json
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -14,19 +13,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pdbfs.errors import PdbfsError
-from pdbfs.files import save_figure, whole
-from pdbfs.simulation import SUMMARY_UNITS as UNITS
 from pdbfs.simulation.results.reprs import table
 
+from .exports import SweepExports
 from .runner import LIST_KEYS
 
 if TYPE_CHECKING:
     import os
 
     import pandas as pd
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
 
     from .store import Store
 
@@ -34,8 +29,22 @@ if TYPE_CHECKING:
 @dataclass
 class SweepPoint:
     """One point of a sweep: its parameters, and either its summary or the
-    reason it failed. ``result`` is the full pdbfs Result when trajectories
-    were requested."""
+    reason it failed. ``point["peak_pressure"]`` reads a summary value,
+    ``point["hammer.v0"]`` a parameter.
+
+    Attributes
+    ----------
+    index : int
+        The point's number in the sweep, from 0.
+    params : dict
+        Its swept parameters' values, SI units.
+    summary : dict or None
+        Its summary (as ``Result.summary``), None if it failed.
+    error, error_type : str or None
+        Why it failed, and the kind of error (``"SolverError"``); None if it ran.
+    result : Result or None
+        The point's full Result, when the sweep kept trajectories.
+    """
 
     index: int
     params: dict
@@ -57,9 +66,46 @@ class SweepPoint:
         return self.summary[key]
 
 
-class SweepResult:
-    """The points of a sweep, in input order. ``frame`` is the table (pandas);
-    ``store`` the folder it came from, if any."""
+class SweepResult(SweepExports):
+    """The points of a sweep, in input order: a table with one row per point
+    (its parameters, its summary, or why it failed), held in memory, or read
+    from the sweep's folder when the sweep streamed its chunks to disk.
+    ``res[i]`` and iteration give the points as SweepPoints; ``len(res)``
+    their number. Made by ``sweep`` (or ``SweepResult.load``).
+
+    Attributes
+    ----------
+    rig : str
+        The rig's name.
+    names : list of str
+        The swept parameters (and inputs).
+    keys : list of str
+        The summary keys the table holds.
+    frame : pandas.DataFrame
+        The table (read from the folder when first asked for).
+    store : Store or None
+        The folder the sweep was written to, if any.
+    elapsed : float
+        The sweep's wall time, s.
+    workers : int
+        The threads or processes it ran on.
+    where : str
+        Where it ran ("this process", a number of threads or processes, a
+        Dask cluster).
+    computed : int or None
+        The points this run computed (the others were resumed from the folder).
+
+    Examples
+    --------
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]})
+    >>> len(res), res.names, res.n_failed
+    (2, ['hammer.v0'], 0)
+    >>> point = res[1]
+    >>> point["hammer.v0"], f"{point['peak_pressure'] / 1e6:.3g} MPa"
+    (3.5, '118 MPa')
+    """
 
     def __init__(self, rig: str, names: Sequence[str], keys: Sequence[str],
                  frame: pd.DataFrame | None = None, store: Store | None = None,
@@ -74,7 +120,36 @@ class SweepResult:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> SweepResult:
-        """The sweep written to the folder ``path`` (as far as it got)."""
+        """A sweep from the folder it was written to (``sweep(..., out=path)``),
+        as far as it got; its table is read when first asked for.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The sweep's folder.
+
+        Returns
+        -------
+        SweepResult
+            The sweep.
+
+        Raises
+        ------
+        pdbfs.ParameterError
+            For a folder that holds no sweep, or whose manifest cannot be read.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> from pdbfs.studies import SweepResult
+        >>> folder = Path(tempfile.mkdtemp()) / "v0-sweep"
+        >>> _ = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]}, out=folder)
+        >>> [f"{p / 1e6:.3g} MPa" for p in SweepResult.load(folder).values("peak_pressure")]
+        ['67.8 MPa', '118 MPa']
+        """
         from .store import Store
         store = Store.open(path)
         spec = store.spec
@@ -119,13 +194,53 @@ class SweepResult:
         return len(self.frame)
 
     def to_pandas(self) -> pd.DataFrame:
-        """The table as a pandas DataFrame: one row per point (point number,
-        parameters, summary keys, error; undefined values are NaN)."""
+        """The table as a pandas DataFrame (a copy).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per point: its number (``point``), parameters, summary
+            keys (SI units; undefined values NaN) and ``error`` ("" where it ran).
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> df = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]}).to_pandas()
+        >>> list(df.columns[:3]), len(df)
+        (['point', 'hammer.v0', 'peak_pressure'], 2)
+        """
         return self.frame.copy()
 
     def values(self, key: str) -> np.ndarray:
-        """A parameter or summary value of every point (NaN where a point
-        failed or the value is undefined)."""
+        """A parameter or summary value of every point, in input order.
+
+        Parameters
+        ----------
+        key : str
+            A swept parameter (``"hammer.v0"``) or a summary key
+            (``"peak_pressure"``).
+
+        Returns
+        -------
+        numpy.ndarray
+            One float per point, SI units; NaN where a point failed or the
+            value is undefined (and for the per-blow lists, such as
+            ``impact_times``, which ``rows()`` gives).
+
+        Raises
+        ------
+        KeyError
+            For a key that is neither swept nor in the summary.
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> res = pdbfs.sweep(paper_rig(), {"oil.k": [2e8, 3e8]})
+        >>> [f"{d * 1e3:.3g} ms" for d in res.values("pulse_duration")]
+        ['13 ms', '10.9 ms']
+        """
         if key not in self.names and key not in self.keys:
             raise KeyError(f"{key!r} is neither a swept parameter ({', '.join(self.names)}) "
                            f"nor a summary key ({', '.join(self.keys)})")
@@ -140,7 +255,17 @@ class SweepResult:
     # -- points -------------------------------------------------------------------
     @property
     def points(self) -> list[SweepPoint]:
-        """Every point as a SweepPoint, in input order."""
+        """Every point as a SweepPoint, in input order (made when first asked
+        for: a sweep of millions of points is better read as a table).
+
+        Examples
+        --------
+        >>> import pdbfs
+        >>> from pdbfs.models import paper_rig
+        >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5]})
+        >>> [(p.index, p.params, p.ok) for p in res.points]
+        [(0, {'hammer.v0': 2.0}, True), (1, {'hammer.v0': 3.5}, True)]
+        """
         if self._points is None:
             self._points = self._make_points(self.frame)
         return self._points
@@ -203,79 +328,6 @@ class SweepResult:
             out.append(row)
         return out
 
-    # -- output -------------------------------------------------------------------
-    def to_csv(self, path: str | os.PathLike) -> str | os.PathLike:
-        """One row per point: swept parameters, every summary key (SI units in
-        the header; an undefined value is an empty cell), and the error."""
-        head = self.names + [f"{k} [{UNITS.get(k, '')}]".replace(" []", "") for k in self.keys]
-        with whole(path) as part, open(part, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(head + ["error"])
-            for row in self.frame[self.names + self.keys + ["error"]].itertuples(index=False):
-                w.writerow([_cell(v) for v in row])
-        return path
-
-    def plot(self, name: str | None = None, path: str | os.PathLike | None = None,
-             title: str | None = None, labels: Sequence[str] | None = None,
-             scale: float | None = None, ax: Axes | None = None) -> Figure:
-        """Overlay ``name`` (by default the rig's pressure) of every point
-        against time in ms. Needs trajectories=True."""
-        import matplotlib.pyplot as plt
-        pts = [p for p in self.points if p.ok]
-        if not pts or pts[0].result is None:
-            raise PdbfsError("plot() needs the trajectories: run sweep(..., trajectories=True)")
-        res0 = pts[0].result
-        if name is None:
-            name = (getattr(res0._sim.dae, "signals", {}) or {}).get("pressure")
-            if name is None:
-                raise PdbfsError(f"rig {self.rig} names no pressure signal; pass name=")
-        unit = res0.units.get(name, "")
-        if scale is None:
-            scale, unit = (1e-6, "MPa") if unit == "Pa" else (1.0, unit)
-        own = ax is None
-        if own:
-            fig, ax = plt.subplots(figsize=(7, 4.5))
-        varying = [n for n in self.names
-                   if len({repr(q.params[n]) for q in self.points}) > 1] or self.names
-        for i, p in enumerate(pts):
-            lab = labels[i] if labels else ", ".join(f"{k}={_fmt(p.params[k])}" for k in varying)
-            ax.plot(p.result.t * 1e3, p.result[name] * scale, label=lab)
-        ax.set_xlabel("Time (ms)")
-        ax.set_ylabel(f"{name} ({unit})")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-        if title:
-            ax.set_title(title)
-        fig = ax.figure
-        if own:
-            fig.tight_layout()
-        if path is not None:
-            save_figure(fig, path, dpi=130)
-        return fig
-
-    def table(self, limit: int | None = 200) -> str:
-        """A plain-text table of the points (for the command line; the first
-        ``limit`` points)."""
-        keys = [k for k in self.keys if k not in ("impact_times",)]
-        head = self.names + [f"{k} [{UNITS.get(k, '')}]" for k in keys]
-        lines = ["  ".join(f"{h:>14}" for h in head)]
-        if limit is None or len(self) <= limit:
-            pts = self.points
-        else:                    # a sweep on disk: its first chunks only
-            pts = self._make_points(self.frame.head(limit) if self._frame is not None or
-                                    self.store is None else self.store.head(limit))
-        for p in pts:
-            cells = [_fmt(p.params[n]) for n in self.names]
-            if p.ok:
-                cells += [_fmt(p.summary.get(k)) for k in keys]
-                lines.append("  ".join(f"{c:>14}" for c in cells))
-            else:
-                lines.append("  ".join(f"{c:>14}" for c in cells) + f"  FAILED {p.error_type}: {p.error}")
-        if len(pts) < len(self):
-            lines.append(f"... {len(self) - len(pts)} more points (the whole table: to_csv or "
-                         "the sweep's folder)")
-        return "\n".join(lines)
-
 
 def _value(key, v):
     """A table cell as a summary value: None for undefined, lists from JSON."""
@@ -289,23 +341,3 @@ def _value(key, v):
     if key == "complete":
         return bool(v)
     return int(v) if key == "impact_count" else v
-
-
-def _cell(v):
-    if v is None or (isinstance(v, (float, np.floating)) and np.isnan(v)):
-        return ""
-    if isinstance(v, (float, np.floating)):
-        return repr(float(v))
-    if isinstance(v, np.integer):
-        return int(v)
-    return v
-
-
-def _fmt(v):
-    if v is None:
-        return "-"
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_fmt(x) for x in v) + "]"
-    if isinstance(v, (int, float, np.floating)):
-        return f"{v:.6g}"
-    return str(v)

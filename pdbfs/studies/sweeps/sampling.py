@@ -44,7 +44,18 @@ class PointSet:
     n: int
 
     def block(self, i0: int, i1: int) -> np.ndarray:
-        """The points i0 .. i1 - 1 as rows of parameter values (SI units)."""
+        """A block of the points, as rows of parameter values.
+
+        Parameters
+        ----------
+        i0, i1 : int
+            The first point and one past the last, 0 <= i0 <= i1 <= n.
+
+        Returns
+        -------
+        numpy.ndarray
+            The points i0 .. i1 - 1: i1 - i0 rows of len(names) values, SI units.
+        """
         raise NotImplementedError
 
     @property
@@ -58,8 +69,23 @@ class PointSet:
 
 
 class Grid(PointSet):
-    """Every combination of the value lists (``zip=False``) or the lists read
-    as columns of equal length (``zip=True``)."""
+    """The points of value lists: every combination (the last name varying
+    fastest), or the lists read as columns of equal length. A million-point
+    grid is indexed, not listed.
+
+    Parameters
+    ----------
+    values : dict
+        ``{parameter name: list of values}``, SI units.
+    zip : bool
+        False: every combination; True: the lists as columns.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an empty dict or list, a value that is not a number, or (zipped)
+        lists of different lengths.
+    """
 
     def __init__(self, values: dict, zip: bool = False):
         if not isinstance(values, dict) or not values:
@@ -115,11 +141,42 @@ def _is_number(v) -> bool:
 
 
 class Sample(PointSet):
-    """``n`` points: a Latin hypercube (``lhs``) or scrambled Sobol' sequence
-    (``sobol``) over ``ranges`` {name: (lo, hi) or (lo, hi, "log")}, or
-    Monte Carlo draws (``mc``) from ``dists`` {name: ("normal", mean, sd) |
-    ("uniform", lo, hi) | ("lognormal", median, sigma_ln)} and uniform
-    ranges; reproducible from ``seed``."""
+    """A sample of ``n`` points over parameter ranges or distributions,
+    reproducible from its seed. Sobol' and Monte Carlo points are drawn
+    block by block (the same points as drawn whole), so their number is
+    bounded by time, not memory; a Latin hypercube is drawn whole.
+
+    Parameters
+    ----------
+    kind : str
+        "lhs": a Latin hypercube; "sobol": a scrambled Sobol' sequence (best
+        with ``n`` a power of 2; a warning says so otherwise); "mc": Monte
+        Carlo draws.
+    n : int
+        The number of points (> 0).
+    ranges : mapping of str to tuple, optional
+        ``{name: (lo, hi)}`` or ``(lo, hi, "log")`` (uniform in the
+        logarithm), SI units.
+    dists : mapping of str to tuple, optional
+        For ``"mc"`` only: ``{name: ("normal", mean, sd) | ("uniform", lo,
+        hi) | ("lognormal", median, sigma_ln)}``.
+    seed : int
+        The seed of the draws.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown kind, a size that is not a whole number > 0, a bad
+        range or distribution, a name given both, none at all, or a Latin
+        hypercube too big for the memory.
+
+    Examples
+    --------
+    >>> from pdbfs.studies import Sample
+    >>> s = Sample("sobol", 16, ranges={"hammer.v0": (2.0, 3.5), "oil.k": (1e8, 1e9, "log")})
+    >>> s.names, s.all().shape
+    (['hammer.v0', 'oil.k'], (16, 2))
+    """
 
     def __init__(self, kind: str, n: int, ranges: Mapping[str, tuple] | None = None,
                  dists: Mapping[str, tuple] | None = None, seed: int = 0):
@@ -292,7 +349,18 @@ def parse_sample(text: str):
 
 
 class Points(PointSet):
-    """Points given as an array (rows) over ``names``; ``spec`` identifies them."""
+    """Points given as an array.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The parameters, the columns.
+    array : array_like
+        The points, one row each, SI units.
+    spec : dict
+        What identifies the points (JSON-ready; a resumed sweep checks it),
+        e.g. the file they were read from.
+    """
 
     def __init__(self, names: Sequence[str], array: ArrayLike, spec: dict):
         self.names, self.array = list(names), np.atleast_2d(np.asarray(array, dtype=float))

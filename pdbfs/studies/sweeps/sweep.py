@@ -5,12 +5,12 @@
                       out="lhs-sweep")                       # streamed to disk, resumable
     res = pdbfs.sweep(rig, values, client=dask.distributed.Client(...))   # on a cluster
 
-The points come in chunks (sampling.py); a chunk is evaluated by a Runner
-(sweep_runner.py): with the compiled backend one call of the C summary
-driver per chunk, run in threads (ctypes releases the GIL); with the CasADi
-backend point by point in forked processes; on a Dask cluster as one task
-per chunk, the rig built once per worker. Chunks go to memory, or to the
-files of a Store (sweep_store.py) as they finish, so a sweep of any size
+The points come in chunks (sampling); a chunk is evaluated by a Runner
+(runner): with the compiled backend one call of the C summary driver per
+chunk, run in threads (ctypes releases the GIL); with the CasADi backend
+point by point in forked processes; on a Dask cluster as one task per
+chunk, the rig built once per worker (executors). Chunks go to memory, or
+to the files of a Store (store) as they finish, so a sweep of any size
 runs in bounded memory and resumes after an interruption.
 """
 from __future__ import annotations
@@ -22,7 +22,6 @@ import os
 import sys
 import time
 from collections.abc import Callable, Mapping
-from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
@@ -38,7 +37,8 @@ from pdbfs.simulation.setup.settings import default_atol, default_rtol, mapping
 from .inputs import split_inputs
 from .sampling import Grid, PointSet
 from .result import SweepResult
-from .runner import Runner, Settings, payload, run_remote
+from .executors import execute
+from .runner import Runner, Settings
 from .store import Store, chunk_columns
 
 if TYPE_CHECKING:
@@ -56,8 +56,27 @@ MAX_CHUNKS = 100_000
 
 
 def points_of(values: dict, grid: bool = True) -> list[dict]:
-    """The parameter points of a small sweep as dicts: the Cartesian product
-    of the lists (``grid=True``) or the lists read as columns."""
+    """The parameter points of a small sweep as dicts.
+
+    Parameters
+    ----------
+    values : dict
+        ``{parameter name: list of values}``.
+    grid : bool
+        The Cartesian product of the lists (True), or the lists read as
+        columns of equal length (False).
+
+    Returns
+    -------
+    list of dict
+        One ``{name: value}`` per point, in the sweep's order.
+
+    Examples
+    --------
+    >>> from pdbfs.studies import points_of
+    >>> points_of({"hammer.v0": [2.0, 3.0], "oil.k": [2e8, 3e8]}, grid=False)
+    [{'hammer.v0': 2.0, 'oil.k': 200000000.0}, {'hammer.v0': 3.0, 'oil.k': 300000000.0}]
+    """
     g = Grid(values, zip=not grid)
     return [dict(zip(g.names, row.tolist())) for row in g.all()]
 
@@ -71,33 +90,104 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
           out: str | os.PathLike | None = None, format: str | None = None,
           chunk_size: int | None = None, overwrite: bool = False,
           inputs: Mapping[str, object] | None = None) -> SweepResult:
-    """Simulate ``rig`` at every point of ``values`` and summarise each.
-
-    rig           a Component, its compiled DAE, or a name from pdbfs.models.RIGS
-    values        {parameter name: list of values}, or a PointSet (sampling.py:
-                  Sample("lhs" | "sobol" | "mc", n, ranges=..., dists=...)); an
-                  input of the rig may be a dimension too: {input name: list of
-                  traces (t, u), numbers or functions}, its column the trace's
-                  number in the list (inputs.py)
-    inputs        {input name: trace, number or function}: the rig's inputs at
-                  every point, as in pdbfs.simulate
-    grid          dict values: every combination (True) or columns (False)
-    trajectories  keep each point's full Result (``point.result``; small sweeps)
-    params        parameters fixed for every point
-    t_end, n_out, start, rtol, atol, method, max_step, backend: as in pdbfs.simulate
-    workers       threads or processes on this machine (None: automatic)
-    client        a dask.distributed.Client: one task per chunk on its cluster
-    out           a folder: chunks are written there as they finish (``format``
-                  "parquet" or "csv"; None: Parquet where pyarrow, the extra
-                  pdbfs[parquet], is installed, else CSV) and a rerun of the same
-                  sweep resumes; a folder holding another sweep is refused unless
-                  ``overwrite``
-    progress      a progress bar on stderr (None: once the sweep takes a while), or a
-                  function called with (points done, points in all) after each chunk
+    """Simulate a rig at every point of a set of parameter values and
+    summarise each run, on one compiled rig, locally or on a Dask cluster.
 
     A point that fails (a bad value, a solver failure) is returned with its
     parameters and the reason; the others still run. An unknown parameter
-    name fails the whole sweep at once.
+    name fails the whole sweep at once, before any point runs.
+
+    Parameters
+    ----------
+    rig : Component, DAE or str
+        The rig, its compiled DAE, or a name of ``pdbfs.models.RIGS``
+        (``"paper"``).
+    values : mapping of str to array_like, or Sample, Grid or Points
+        ``{parameter name: list of values}`` (SI units), combined as
+        ``grid`` says; or a point set: ``Sample("lhs" | "sobol" | "mc", n,
+        ranges=..., dists=...)``, ``Grid`` or ``Points``. An input of the
+        rig may be a dimension too: ``{input name: list of traces (t, u),
+        numbers or functions}``, its column in the table the trace's number
+        in the list.
+    grid : bool
+        For a mapping of values: every combination of the lists (True), or
+        the lists read as columns of equal length (False).
+    trajectories : bool
+        Keep each point's full Result (``point.result``): for small sweeps
+        held in memory (not with ``client`` or ``out``).
+    t_end : float
+        End time of each run, s.
+    n_out : int
+        Output points of each run (what ``trajectories`` keeps).
+    params : dict, optional
+        Parameter values, SI units, fixed for every point (none of them swept).
+    start : dict, optional
+        Start values by state name, as in ``simulate``.
+    rtol, atol : float, optional
+        Tolerances, as in ``simulate``.
+    method : {"auto", "adams", "bdf", "erk"}
+        As in ``simulate``; "auto" picks one method for the whole sweep, at
+        the fixed point.
+    max_step : float, optional
+        Largest internal step, s.
+    backend : {"auto", "c", "casadi"}
+        As in ``simulate``: "c" runs a chunk in one call of the compiled
+        summary driver, in threads.
+    workers : int, optional
+        Threads or processes on this machine (None: one per core for a
+        sweep of 8 points or more, else one). Not with ``client``.
+    progress : bool or callable, optional
+        A progress bar on stderr (None: once the sweep has run 2 s), or a
+        function called with (points done, points in all) after each chunk.
+    client : dask.distributed.Client, optional
+        Run on its cluster, one task per chunk (pdbfs's extra ``[dask]``).
+    out : str or os.PathLike, optional
+        A folder the chunks are written to as they finish: the sweep runs in
+        bounded memory, and a rerun of the same sweep resumes; a folder
+        holding another sweep is refused unless ``overwrite``.
+    format : {None, "parquet", "csv"}
+        The chunk files' format (only with ``out``; None: Parquet where
+        pyarrow, the extra ``[parquet]``, is installed, else CSV).
+    chunk_size : int, optional
+        Points per chunk (default: up to 512 with the compiled backend, 32
+        through CasADi, fewer for a small sweep).
+    overwrite : bool
+        Replace a folder ``out`` that holds another sweep.
+    inputs : mapping of str to trace, number or callable, optional
+        The rig's inputs at every point, as in ``simulate``.
+
+    Returns
+    -------
+    SweepResult
+        The points in input order, each with its parameters and summary or
+        the reason it failed.
+
+    Raises
+    ------
+    pdbfs.ParameterError
+        For an unknown name, a value refused for every point, settings that
+        contradict each other, or a sweep too big to hold in memory without
+        ``out``: before any point runs.
+
+    Examples
+    --------
+    Three impact speeds (m/s) of the paper's rig:
+
+    >>> import pdbfs
+    >>> from pdbfs.models import paper_rig
+    >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 2.73, 3.5]})
+    >>> [f"{p / 1e6:.3g} MPa" for p in res.values("peak_pressure")]
+    ['67.8 MPa', '92.1 MPa', '118 MPa']
+
+    Every combination of two parameters, and a Latin hypercube of 8 points:
+
+    >>> res = pdbfs.sweep(paper_rig(), {"hammer.v0": [2.0, 3.5], "oil.k": [2e8, 3e8]})
+    >>> len(res.points), res.n_failed
+    (4, 0)
+    >>> from pdbfs.studies import Sample
+    >>> lhs = Sample("lhs", 8, ranges={"hammer.v0": (2.0, 3.5), "seal.c": (1e4, 4e4)})
+    >>> pdbfs.sweep(paper_rig(), lhs).values("pulse_duration").shape
+    (8,)
     """
     if out is None and (format is not None or overwrite):
         raise ParameterError("sweep: " + ("format=" if format is not None else "overwrite=")
@@ -186,7 +276,7 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
             if stop:                # Ctrl-C: once this chunk is saved, not inside a solver
                 raise KeyboardInterrupt
         try:
-            where, workers = _execute(client, sim, points, fixed, settings, chunks, finish,
+            where, workers = execute(client, sim, points, fixed, settings, chunks, finish,
                                       runner, workers)
         finally:
             bar.close()
@@ -210,23 +300,6 @@ def _frame(kept):
     order = np.argsort(cols["point"], kind="stable")
     return pd.DataFrame({k: v[order] if isinstance(v, np.ndarray) else [v[i] for i in order]
                          for k, v in cols.items()})
-
-
-def _execute(client, sim, points, fixed, settings, chunks, finish, runner, workers):
-    """Every chunk through ``finish``: on Dask, threads, forked processes or here."""
-    if client is not None:
-        return _run_dask(client, sim, points, fixed, settings, chunks, finish,
-                         runner.inputs), workers
-    if workers > 1 and runner.fast is not None:
-        with ThreadPoolExecutor(workers) as pool:
-            submit = lambda cid, a, b: pool.submit(runner.run, np.arange(a, b), points.block(a, b))  # noqa: E731
-            _windowed(chunks, submit, lambda f: f.result(), 4 * workers, finish)
-        return f"{workers} threads", workers
-    if workers > 1 and _can_fork():
-        return _run_forked(runner, points, chunks, workers, finish), workers
-    for cid, a, b in chunks:
-        finish(cid, runner.run(np.arange(a, b), points.block(a, b)))
-    return "this process", 1
 
 
 @contextmanager
@@ -263,91 +336,11 @@ def _dae_key(sim) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _can_fork() -> bool:
-    import multiprocessing as mp
-    return "fork" in mp.get_all_start_methods()
-
-
-_FORKED = None   # (runner, points) of this worker process, set by its pool's initializer
-
-
-def _forked_init(runner, points):
-    global _FORKED
-    signal.signal(signal.SIGINT, signal.SIG_IGN)      # the parent stops the pool
-    _FORKED = (runner, points)
-
-
-def _forked_chunk(job):
-    cid, a, b = job
-    runner, points = _FORKED
-    chunk = runner.run(np.arange(a, b), points.block(a, b))
-    # Results travel without their Simulator; the parent gives them its own
-    chunk.results = [None if r is None else r.detached() for r in chunk.results]
-    return cid, chunk
-
-
-def _run_forked(runner, points, chunks, workers, finish) -> str:
-    """Chunks in forked worker processes; each pool hands its workers its own
-    job through the initializer (inherited by fork, never pickled), so two
-    sweeps at once cannot swap jobs."""
-    import multiprocessing as mp
-    with mp.get_context("fork").Pool(workers, initializer=_forked_init,
-                                      initargs=(runner, points)) as pool:
-        for cid, chunk in pool.imap_unordered(_forked_chunk, chunks):
-            finish(cid, chunk)
-    return f"{workers} processes"
-
-
 def _rebuild(sim, state):
     if isinstance(state, Result):
         return state
     drive = state.get("_drive")          # a run with inputs reads through them (driven.py)
     return Result.attach(sim if drive is None else Driven(sim, drive), state)
-
-
-def _windowed(chunks, submit, result, window, finish):
-    """Keep at most ``window`` chunks in flight (points are made as chunks are
-    submitted, so memory stays bounded), finishing them as they complete."""
-    from concurrent.futures import FIRST_COMPLETED, wait
-    todo, running = iter(chunks), {}
-    for cid, a, b in todo:
-        running[submit(cid, a, b)] = cid
-        if len(running) >= window:
-            break
-    while running:
-        done, _ = wait(list(running), return_when=FIRST_COMPLETED)
-        for f in done:
-            finish(running.pop(f), result(f))
-            nxt = next(todo, None)
-            if nxt is not None:
-                running[submit(*nxt)] = nxt[0]
-
-
-def _run_dask(client, sim, points, fixed, settings, chunks, finish, inputs=None) -> str:
-    """One task per chunk, a few per worker in flight; the rig travels once
-    to every worker (scattered) and is built there once
-    (sweep_runner.run_remote keeps it). Tasks of a lost worker are run again
-    by Dask on the others."""
-    from distributed import as_completed
-    key, data = payload(sim, points.names, fixed, settings, inputs)
-    shipped = client.scatter(data, broadcast=True)
-    n_workers = max(len(client.scheduler_info().get("workers", {})), 1)
-    todo, ids = iter(chunks), {}
-
-    def submit(cid, a, b):
-        f = client.submit(run_remote, key, shipped, np.arange(a, b), points.block(a, b),
-                          key=f"pdbfs-sweep-{key}-{cid}", pure=False)
-        ids[f.key] = cid
-        return f
-
-    first = [submit(*c) for _, c in zip(range(4 * n_workers), todo)]
-    pending = as_completed(first)
-    for fut in pending:
-        finish(ids.pop(fut.key), fut.result())
-        nxt = next(todo, None)
-        if nxt is not None:
-            pending.add(submit(*nxt))
-    return f"Dask, {len(client.scheduler_info().get('workers', {}))} worker(s)"
 
 
 class _Report:
