@@ -21,14 +21,11 @@ from pathlib import Path
 import numpy as np
 
 from pdbfs.errors import ExportError, ParameterError, PdbfsError
-from pdbfs.native.sundials import SundialsNotFound
 
 from ..results.c_summary import SUMMARY_KEYS
 from ..setup import memory
 from ..state import state_of
-from . import compiled_build as build_lib
 from .block import Block
-from .compiled_build import ABI, ROLES
 from .kept import KeptRun
 
 METHOD_CODES = {"adams": 0, "bdf": 1, "erk": 2}
@@ -109,6 +106,10 @@ class CompiledODE:
         """``cvode``: True: with CVODE (its sources fetched if need be); None:
         with CVODE where it is at hand without the network, else the explicit
         method alone; False: the explicit method alone."""
+        # the build (code generation, the compiler, CVODE): imported with the first library
+        from pdbfs.native.sundials import SundialsNotFound
+
+        from . import compiled_build as build_lib
         if not dae.is_ode:
             raise ParameterError(
                 f"backend='c' integrates ODE rigs only; rig {dae.name} keeps {dae.z.numel()} "
@@ -123,7 +124,7 @@ class CompiledODE:
         self.nc = len(getattr(dae, "conditions", None) or [])
         self._blocks = threading.local()     # run_summary's buffers, one per thread
         signals = getattr(dae, "signals", {}) or {}
-        self.roles = [r for r in ROLES if signals.get(r) in dae.y_names]
+        self.roles = [r for r in build_lib.ROLES if signals.get(r) in dae.y_names]
         #: 1 where the rig has a contact force: ``run`` then also integrates its impulse
         self.nq = 1 if "contact_force" in self.roles else 0
         #: the summary keys the summary driver gives for this rig
@@ -152,6 +153,7 @@ class CompiledODE:
                              f"{err}") from err
 
     def _build(self, dae) -> Path:
+        from . import compiled_build as build_lib
         return build_lib.build(dae, self._sd)
 
     def _check_method(self, method):
@@ -162,6 +164,7 @@ class CompiledODE:
                              f"(the explicit method alone); method {method!r} needs it")
 
     def _load(self, path: Path):
+        from .compiled_build import ABI
         lib = ctypes.CDLL(str(path))
         lib.pdbfs_batch_abi.restype = ctypes.c_int
         lib.pdbfs_batch_abi.argtypes = []

@@ -9,12 +9,14 @@ compiled.py), in two parts compiled by ``zig cc`` (pdbfs.native.toolchain;
   summaries, with ``pdbfs_record.c`` and ``pdbfs_pulse.c``), the explicit
   method and the CVODE loop shared with the FMU (native/c/shared/). They
   read a rig's sizes at run time (``pdbfs_rig``, ``pdbfs_batch_model.h``);
-* per rig, only its own C: the CasADi-generated model functions, its sizes
-  (``pdbfs_batch_model.c``) and the explicit method's step arithmetic
-  specialised to its state count (``pdbfs_erk_sized.c``), compiled and
-  linked with the drivers' objects and the static CVODE of
-  pdbfs.native.sundials into the library (calls between the parts are
-  calls between files, as they were when one command compiled them all).
+* the explicit method's step arithmetic specialised to a state count
+  (``pdbfs_erk_sized.c``), compiled once per machine and state count into
+  the same folder (:func:`erk_sized`);
+* per rig, only its own C: the CasADi-generated model functions and its
+  sizes (``pdbfs_batch_model.c``), compiled and linked with those objects
+  and the static CVODE of pdbfs.native.sundials into the library (calls
+  between the parts are calls between files, as they were when one command
+  compiled them all).
 
 Without CVODE at hand the library is built for the explicit method alone
 (``pdbfs_cvode_none.c`` in place of the CVODE loop, no SUNDIALS at all):
@@ -55,8 +57,8 @@ DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_r
 #: the CVODE loop's stand-in in a library without CVODE (the explicit method alone)
 NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
     (C_DIR / "pdbfs_cvode_none.c",)
-#: the C files of the lists above compiled with each rig's model (the others: drivers())
-RIG_C = ("pdbfs_erk_sized.c",)
+#: the C file of the lists above compiled for each state count (the others: drivers())
+SIZED_C = "pdbfs_erk_sized.c"
 #: the rig's sizes, generated (pdbfs_batch_model.h declares them)
 RIG_SIZES = "pdbfs_batch_model.c"
 ABI = 10
@@ -198,23 +200,21 @@ def _build(dae, sd: Sundials | None) -> Path:
     force = signals.get("contact_force")
     funcs = model_functions(dae, FUNCTIONS, roles=roles_of(dae),
                             quad=[force] if force in dae.y_names else [])
-    objects = drivers(sd)
+    objects = [*drivers(sd), erk_sized(sd, dae.x.numel())]
     with tempfile.TemporaryDirectory(prefix="pdbfs-batch-") as tmp:
         src = Path(tmp)
         work = generate(funcs, src, straight=STRAIGHT)
         (src / RIG_SIZES).write_text(rig_sizes(dae, work))
-        (src / ERK_SIZE_HEADER).write_text(erk_size_header(dae.x.numel()))   # nx is in the key
         host = toolchain.host_target()
-        files = {f.name: f.read_text() for f in _sources(sd) if f.suffix == ".h" or f.name in RIG_C}
-        c_files = [*RIG_C, RIG_SIZES, f"{FUNCS}.c"]
+        files = {f.name: f.read_text() for f in _sources(sd) if f.suffix == ".h"}
+        c_files = [RIG_SIZES, f"{FUNCS}.c"]
         # the command with placeholders for the temporary paths: part of the key
         cmd_key = _command([*(Path(f"@SRC@/{n}") for n in c_files),
                             *(Path("@DRIVERS@") / o.name for o in objects)],
                            Path("@OUT@"), [Path("@SRC@")], sd, host)
         h = hashlib.sha256()
         for part in (f"abi {ABI}", host, objects[0].parent.name, *files.values(),
-                     *((src / n).read_text() for n in (RIG_SIZES, ERK_SIZE_HEADER, f"{FUNCS}.c",
-                                                       f"{FUNCS}.h")),
+                     *((src / n).read_text() for n in (RIG_SIZES, f"{FUNCS}.c", f"{FUNCS}.h")),
                      "\0".join(cmd_key), _archives_stamp(sd)):
             h.update(part.encode())
             h.update(b"\0")
@@ -250,15 +250,8 @@ def drivers(sd: Sundials | None) -> list[Path]:
     part of one; another process waits for the one building them."""
     global DRIVER_BUILDS
     host = toolchain.host_target()
-    sources = [f for f in _sources(sd) if f.suffix == ".c" and f.name not in RIG_C]
-    h = hashlib.sha256()
-    for part in (f"abi {ABI}", host, ca.__version__, *(f.read_text() for f in _sources(sd)),
-                 "\0".join(_object_command(Path("@SRC@/x.c"), Path("@OUT@"), Path("@SRC@"), sd,
-                                           host)),
-                 _archives_stamp(sd)):
-        h.update(part.encode())
-        h.update(b"\0")
-    folder = drivers_dir() / h.hexdigest()[:24]
+    folder = _drivers_folder(sd, host)
+    sources = [f for f in _sources(sd) if f.suffix == ".c" and f.name != SIZED_C]
     objects = [folder / f"{f.stem}.o" for f in sources]
     if all(o.is_file() for o in objects):
         return objects
@@ -268,9 +261,7 @@ def drivers(sd: Sundials | None) -> list[Path]:
         shutil.rmtree(folder, ignore_errors=True)      # a folder left incomplete by hand
         build = Path(tempfile.mkdtemp(prefix=f".{folder.name}-", dir=folder.parent))
         try:
-            for f in _sources(sd):
-                shutil.copyfile(f, build / f.name)
-            _declarations(build)
+            _write_sources(build, sd)
             for f in sources:
                 run_compiler(_object_command(build / f.name, build / f"{f.stem}.o", build, sd, host),
                              f"the compiled backend's {f.name}")
@@ -282,6 +273,44 @@ def drivers(sd: Sundials | None) -> list[Path]:
             shutil.rmtree(build, ignore_errors=True)
         DRIVER_BUILDS += 1
     return objects
+
+
+def erk_sized(sd: Sundials | None, nx: int) -> Path:
+    """The object of pdbfs_erk_sized.c for ``nx`` states (a second to compile,
+    more for many states), compiled once per machine and state count into
+    the drivers' folder (:func:`drivers`; written whole: concurrent
+    processes write the same bytes)."""
+    host = toolchain.host_target()
+    obj = _drivers_folder(sd, host) / f"{Path(SIZED_C).stem}-{int(nx)}.o"
+    if obj.is_file():
+        return obj
+    drivers(sd)                                        # the folder
+    with tempfile.TemporaryDirectory(prefix=f".{obj.stem}-", dir=obj.parent) as tmp:
+        build = Path(tmp)
+        _write_sources(build, sd)
+        (build / ERK_SIZE_HEADER).write_text(erk_size_header(nx))
+        run_compiler(_object_command(build / SIZED_C, build / obj.name, build, sd, host),
+                     f"the explicit method for {nx} states")
+        os.replace(build / obj.name, obj)
+    return obj
+
+
+def _drivers_folder(sd, host) -> Path:
+    h = hashlib.sha256()
+    for part in (f"abi {ABI}", host, ca.__version__, *(f.read_text() for f in _sources(sd)),
+                 "\0".join(_object_command(Path("@SRC@/x.c"), Path("@OUT@"), Path("@SRC@"), sd,
+                                           host)),
+                 _archives_stamp(sd)):
+        h.update(part.encode())
+        h.update(b"\0")
+    return drivers_dir() / h.hexdigest()[:24]
+
+
+def _write_sources(folder: Path, sd) -> None:
+    """The drivers' C and headers into ``folder``, with their declarations of the model functions."""
+    for f in _sources(sd):
+        shutil.copyfile(f, folder / f.name)
+    _declarations(folder)
 
 
 def _declarations(folder: Path) -> None:
