@@ -36,6 +36,7 @@ import os
 import re
 import shutil
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import casadi as ca
@@ -194,17 +195,23 @@ def build(dae, sd: Sundials | None | str = AT_HAND) -> Path:
     return target
 
 
-def _build(dae, sd: Sundials | None) -> Path:
-    global BUILDS
+def write_rig_sources(dae, folder: Path) -> None:
+    """The rig's own C into ``folder``: its model functions (pdbfs_model_funcs.c
+    and .h: CasADi's, and the straight-line ones) and its sizes (pdbfs_batch_model.c)."""
     signals = getattr(dae, "signals", {}) or {}
     force = signals.get("contact_force")
     funcs = model_functions(dae, FUNCTIONS, roles=roles_of(dae),
                             quad=[force] if force in dae.y_names else [])
+    work = generate(funcs, folder, straight=STRAIGHT)
+    (folder / RIG_SIZES).write_text(rig_sizes(dae, work))
+
+
+def _build(dae, sd: Sundials | None) -> Path:
+    global BUILDS
     objects = [*drivers(sd), erk_sized(sd, dae.x.numel())]
     with tempfile.TemporaryDirectory(prefix="pdbfs-batch-") as tmp:
         src = Path(tmp)
-        work = generate(funcs, src, straight=STRAIGHT)
-        (src / RIG_SIZES).write_text(rig_sizes(dae, work))
+        write_rig_sources(dae, src)
         host = toolchain.host_target()
         files = {f.name: f.read_text() for f in _sources(sd) if f.suffix == ".h"}
         c_files = [RIG_SIZES, f"{FUNCS}.c"]
@@ -262,9 +269,10 @@ def drivers(sd: Sundials | None) -> list[Path]:
         build = Path(tempfile.mkdtemp(prefix=f".{folder.name}-", dir=folder.parent))
         try:
             _write_sources(build, sd)
-            for f in sources:
-                run_compiler(_object_command(build / f.name, build / f"{f.stem}.o", build, sd, host),
-                             f"the compiled backend's {f.name}")
+            with ThreadPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as pool:
+                list(pool.map(lambda f: run_compiler(
+                    _object_command(build / f.name, build / f"{f.stem}.o", build, sd, host),
+                    f"the compiled backend's {f.name}"), sources))
             for f in [*build.iterdir()]:
                 if f.suffix != ".o":
                     f.unlink()
