@@ -106,9 +106,7 @@ class CompiledODE:
         """``cvode``: True: with CVODE (its sources fetched if need be); None:
         with CVODE where it is at hand without the network, else the explicit
         method alone; False: the explicit method alone."""
-        # the build (code generation, the compiler, CVODE): imported with the first library
-        from pdbfs.native.sundials import SundialsNotFound
-
+        from pdbfs.native.sundials import SundialsNotFound     # the build: with a first library
         from . import compiled_build as build_lib
         if not dae.is_ode:
             raise ParameterError(
@@ -287,7 +285,6 @@ class CompiledODE:
                            int(info[4]), msg.value.decode(errors="replace").strip(),
                            _stats(info[1], info[3], info[5], info[2], info[6], wall))
         return X, status
-
 
     def run_summary(self, t, x0, p, rtol, atol, method="erk", max_step=None,
                     max_num_steps=500000, checked=False, keep=False, t_addr=None):
