@@ -91,8 +91,8 @@ pdbfs_cvode.c/h       CVODE through the rig's non-smooth points (restart at ever
 pdbfs_eval.c          the model interface both integrators use
 pdbfs_erk.c/h         explicit Runge-Kutta 8(5,3) with dense output, restarted at
 pdbfs_erk_table.h     every root of the event indicators (its coefficients)
-pdbfs_erk_rk.c, _la.h its step arithmetic, unrolled for the state count of
-pdbfs_erk_size.h      (generated) the rig
+pdbfs_erk_rk.c/h, _la.h its step arithmetic, unrolled (pdbfs_erk_sized.c) for
+pdbfs_erk_size.h      the state count of the rig (generated)
 pdbfs_erk_screen.c    where a step may hold a root, from its ends alone
 fmu_instance.h        the instance these files share (no FMI header: any version)
 pdbfs_model.h         generated: sizes, value references, parameter table, GUID

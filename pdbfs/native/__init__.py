@@ -27,7 +27,8 @@ pdbfs's C, a folder per binary it goes into (codegen.py names the files):
       pdbfs_cvode.[ch]  the CVODE driver
       pdbfs_eval.c      the model interface both drivers use (with CVODE or without)
       pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same
-                        interface; its step arithmetic (pdbfs_erk_rk.c, _la.h, _table.h)
+                        interface; its step arithmetic (pdbfs_erk_rk.[ch], _la.h, _table.h;
+                        pdbfs_erk_sized.c: specialised to a rig's state count)
                         and its screens for roots from a step's ends (pdbfs_erk_screen.c)
       pdbfs_modes.[ch]  the modes at a state (method "auto")
     c/library/          the compiled backend's library only (pdbfs.simulation builds

@@ -43,7 +43,7 @@ from pathlib import Path
 from pdbfs.errors import ExportError
 from pdbfs.files import cache_folder
 
-from . import pipindex, toolchain
+from . import toolchain
 from .sundials_config import CONFIG_H, EXPORT_H
 
 VERSION = "7.1.1"
@@ -215,6 +215,7 @@ def _download() -> bytes:
     kept = sdist_path()
     if kept.is_file():
         return kept.read_bytes()
+    from . import pipindex       # urllib and its kin: only where the network is asked
     settings = pipindex.pip_settings()
     key = settings.key()
     failed = _remembered(key) if _TRUST_MEMO.get() else None
@@ -275,8 +276,9 @@ def _extract(data: bytes, dest: Path) -> None:
         shutil.rmtree(part, ignore_errors=True)
 
 
-def _lock(path: Path):
-    """A FileLock beside ``path``."""
+def cache_lock(path: Path):
+    """A FileLock beside ``path`` (a file or folder of the cache), for the
+    process that builds it: another one waits, then finds it built."""
     from filelock import FileLock
     path.parent.mkdir(parents=True, exist_ok=True)
     return FileLock(str(path.parent / f".{path.name}.lock"))
@@ -311,7 +313,7 @@ def find_sundials_sources(fetch: bool = True) -> SundialsSources:
     if not ready():
         if not fetch:
             raise SundialsNotFound(f"no SUNDIALS sources in {dest}")
-        with _lock(dest):
+        with cache_lock(dest):
             if not ready():
                 _extract(_download(), dest)
     return SundialsSources(dest, (dest / "ORIGIN").read_text().strip())
@@ -352,7 +354,7 @@ def find_sundials(fetch: bool = True, target: str | None = None) -> Sundials:
     if not lib.is_file():
         if not fetch:
             raise SundialsNotFound(f"no CVODE built for {target} in {dest}")
-        with _lock(dest):
+        with cache_lock(dest):
             if not lib.is_file():
                 _say(f"compiling CVODE for {target} once ({len(SUNDIALS_C)} files, about a minute)")
                 dest.mkdir(parents=True, exist_ok=True)

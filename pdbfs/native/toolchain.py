@@ -181,7 +181,11 @@ def shared_flags(target: str, cmd: list[str], name: str | None = None) -> tuple[
         return ["-shared", *strip], ["-lm", *([f"-Wl,-install_name,@rpath/{name}"] if name else [])]
     # zig's CVODE is compiled hidden already; another compiler's archive may not be
     extra = [] if is_zig(cmd) else ["-Wl,--exclude-libs,ALL", "-static-libgcc"]
-    return ["-shared", *strip], ["-lm", "-Wl,-z,defs", *extra]
+    # none of pdbfs's C calls into compiler_rt on x86-64 Linux (the binary is the same byte
+    # for byte without it; -z defs would refuse one that did), and zig takes 5 s of CPU to
+    # build it into a new machine's cache
+    runtime = ["-rtlib=none"] if is_zig(cmd) and target == "x86_64-linux" else []
+    return ["-shared", *strip, *runtime], ["-lm", "-Wl,-z,defs", *extra]
 
 
 def first_error(stderr: str) -> str:

@@ -4,8 +4,6 @@ by the same few functions for Rig, Result, SweepResult, Calibration and
 Design. Numbers are printed to six significant digits with their units."""
 from __future__ import annotations
 
-import html
-
 
 def number(value, unit: str = "") -> str:
     """``value`` as a person reads it: 6 significant digits, then the unit."""
@@ -28,6 +26,7 @@ def values(params: dict, units: dict | None = None) -> str:
 
 def table(title: str, rows: list[tuple[str, str]]) -> str:
     """An HTML table of (label, text) rows under a bold title."""
+    import html          # (notebooks only: not on every import of pdbfs)
     body = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
                    f"<td style='text-align:left'>{html.escape(v)}</td></tr>" for k, v in rows)
     return f"<div><b>{html.escape(title)}</b><table>{body}</table></div>"

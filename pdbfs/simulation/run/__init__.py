@@ -9,7 +9,8 @@
                    CVODE or the explicit Runge-Kutta 8(5,3) (native/c/shared/) in
                    one shared library, ctypes; a run's states on the grid made
                    when first read
-    compiled_build.py  the compiled library built (zig cc) and cached on disk
+    compiled_build.py  the compiled library built (zig cc) and cached on disk: the drivers
+                   once per machine, a rig's own C linked with them
     backends.py    "auto" and a CVODE method without CVODE at hand: CasADi, with a warning
     driven.py      a run with the rig's inputs, segment by segment (the compiled
                    driver's in one call: native/c/library/pdbfs_segments.c), and the

@@ -8,7 +8,6 @@ from __future__ import annotations
 import warnings
 
 from pdbfs.errors import BackendFallbackWarning, ParameterError, PdbfsError
-from pdbfs.native.sundials import SundialsNotFound, remembered_failures
 
 from .compiled import CVODE_METHODS
 
@@ -20,6 +19,7 @@ def backend_for_method(sim, asked: str, backend: str, method: str) -> str:
     once per DAE; an explicit backend="c" gets the error instead)."""
     if asked != "auto" or backend != "c" or method not in CVODE_METHODS:
         return backend
+    from pdbfs.native.sundials import SundialsNotFound, remembered_failures
     chosen = sim._cache.get("cvode backend")
     if chosen is None:
         chosen = "c"

@@ -29,7 +29,6 @@ starts there).
 """
 from __future__ import annotations
 
-import difflib
 import numbers
 
 import numpy as np
@@ -62,6 +61,7 @@ def drive_of(dae, inputs, grid):
             if not names:
                 raise ParameterError(f"inputs: rig {dae.name} has no inputs (an Input component "
                                      f"declares one), so {plain(name)} cannot be given")
+            import difflib
             close = difflib.get_close_matches(str(name), names, n=3)
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise ParameterError(f"inputs: {plain(name)} is not an input of rig {dae.name} "

@@ -6,7 +6,6 @@ copied for each run (the default parameter and start vectors, the grid of a
 Python; anything given is checked every time."""
 from __future__ import annotations
 
-import difflib
 import math
 
 import casadi as ca
@@ -64,6 +63,7 @@ class RunInputs:
                                              f"{quantity(float(expr), info.unit)} and cannot be set")
                     raise ParameterError(f"{name} is computed from other parameters "
                                          "and cannot be set; set those instead")
+                import difflib
                 close = difflib.get_close_matches(name, dae.p_names, n=3)
                 hint = f"; did you mean {', '.join(close)}?" if close else \
                     "; `pdbfs params` lists them"

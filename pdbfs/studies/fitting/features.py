@@ -12,7 +12,6 @@ moves by -(dy/dp - dL/dp) / ydot(t_c).
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
 from pdbfs.errors import PdbfsError
 from pdbfs.simulation.results.summary import PULSE_LEVEL
@@ -23,6 +22,7 @@ UNITS = {"peak_pressure": "Pa", "time_of_peak": "s", "pulse_duration": "s"}
 
 def _refine_peak(s, k):
     """Time of the interpolant's maximum next to sample k (where its slope is 0)."""
+    from scipy.optimize import brentq
     t = s.t
     slope = lambda tt: float(s.spline(tt, 1)[0])   # noqa: E731
     for a, b in ((t[max(k - 1, 0)], t[k]), (t[k], t[min(k + 1, len(t) - 1)])):
@@ -75,6 +75,7 @@ def pulse_features(s, want=FEATURES) -> tuple[dict, dict]:
 
 def _crossings(s, level) -> list[float]:
     """Times where y crosses ``level``, in order, located on the interpolant."""
+    from scipy.optimize import brentq
     y = s.y - level
     idx = np.flatnonzero((np.sign(y[:-1]) * np.sign(y[1:]) < 0) | ((y[1:] == 0) & (y[:-1] != 0)))
     f = lambda tt: float(s.spline(tt)[0]) - level   # noqa: E731

@@ -9,8 +9,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
-from scipy.stats import qmc
 
 from pdbfs.errors import PdbfsError
 
@@ -59,6 +57,9 @@ def solve(fun, z0, lo, hi, *, starts: int = 1, seed: int = 0, xtol=1e-10, ftol=1
             cache[key] = fun(np.asarray(z, float))
         return cache[key]
 
+    # scipy's optimizers and statistics: imported by a fit, not by ``import pdbfs.studies``
+    from scipy.optimize import least_squares
+    from scipy.stats import qmc
     points = [np.clip(np.asarray(z0, float), lo, hi)]
     if starts > 1:
         sample = qmc.LatinHypercube(d=len(lo), seed=seed).random(starts - 1)

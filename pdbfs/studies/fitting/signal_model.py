@@ -18,7 +18,6 @@ from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline
 
 from pdbfs.errors import ParameterError, SolverError
 from pdbfs.simulation import Simulator
@@ -58,6 +57,7 @@ class Samples:
     dydot: np.ndarray
 
     def __post_init__(self):
+        from scipy.interpolate import CubicHermiteSpline
         stack = np.column_stack([self.y, self.dy])
         slope = np.column_stack([self.ydot, self.dydot])
         self.spline = CubicHermiteSpline(self.t, stack, slope, axis=0)

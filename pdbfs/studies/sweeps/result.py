@@ -69,7 +69,9 @@ class SweepPoint:
 class SweepResult(SweepExports):
     """The points of a sweep, in input order: a table with one row per point
     (its parameters, its summary, or why it failed), held in memory, or read
-    from the sweep's folder when the sweep streamed its chunks to disk.
+    from the sweep's folder when the sweep streamed its chunks to disk (a
+    sweep in memory keeps its columns and makes the pandas frame when first
+    asked for it: pandas is imported only then).
     ``res[i]`` and iteration give the points as SweepPoints; ``len(res)``
     their number. Made by ``sweep`` (or ``SweepResult.load``).
 
@@ -110,9 +112,9 @@ class SweepResult(SweepExports):
     def __init__(self, rig: str, names: Sequence[str], keys: Sequence[str],
                  frame: pd.DataFrame | None = None, store: Store | None = None,
                  results: dict | None = None, elapsed: float = 0.0, workers: int = 1,
-                 where: str = "this process"):
+                 where: str = "this process", columns: dict | None = None):
         self.rig, self.names, self.keys = rig, list(names), list(keys)
-        self._frame, self.store = frame, store
+        self._frame, self.store, self._columns = frame, store, columns
         self._results = results or {}
         self.elapsed, self.workers, self.where = elapsed, workers, where
         self.computed = None      # points computed by this run (the rest: resumed from disk)
@@ -164,14 +166,25 @@ class SweepResult(SweepExports):
     # -- the table --------------------------------------------------------------
     @property
     def frame(self) -> pd.DataFrame:
-        """The table (pandas), read from the store when first asked for; ``to_pandas()`` copies it."""
+        """The table (pandas), made (or read from the store) when first asked
+        for; ``to_pandas()`` copies it."""
         if self._frame is None:
-            self._frame = self.store.read()
+            if self._columns is not None:
+                import pandas as pd
+                self._frame = pd.DataFrame(self._columns)
+            else:
+                self._frame = self.store.read()
         return self._frame
+
+    def _table(self):
+        """The table's columns ({name: values}): as held, else the frame's."""
+        if self._columns is not None:
+            return self._columns
+        return {c: self.frame[c] for c in self.frame.columns}
 
     def _shown(self) -> tuple[str, list[tuple[str, str]]]:
         rows = [("points", f"{len(self)}"
-                 + (f", {self.n_failed} failed" if self._frame is not None or self.store is None
+                 + (f", {self.n_failed} failed" if self.store is None or self._frame is not None
                     else " (in the folder, not read yet)")),
                 ("swept", ", ".join(self.names) or "none"),
                 ("summary keys", ", ".join(self.keys) or "none")]
@@ -191,7 +204,7 @@ class SweepResult(SweepExports):
     def __len__(self):
         if self._frame is None and self.store is not None:
             return self.store.spec["n_points"]
-        return len(self.frame)
+        return len(next(iter(self._table().values()), ()))
 
     def to_pandas(self) -> pd.DataFrame:
         """The table as a pandas DataFrame (a copy).
@@ -246,7 +259,9 @@ class SweepResult(SweepExports):
                            f"nor a summary key ({', '.join(self.keys)})")
         if key in LIST_KEYS:
             return np.full(len(self), np.nan)
-        return self.frame[key].to_numpy(dtype=float, na_value=np.nan)
+        col = self._table()[key]
+        return np.array(col, dtype=float) if isinstance(col, np.ndarray) else \
+            self.frame[key].to_numpy(dtype=float, na_value=np.nan)
 
     def summary_keys(self) -> list[str]:
         """The summary keys the table holds."""
@@ -267,14 +282,15 @@ class SweepResult(SweepExports):
         [(0, {'hammer.v0': 2.0}, True), (1, {'hammer.v0': 3.5}, True)]
         """
         if self._points is None:
-            self._points = self._make_points(self.frame)
+            self._points = self._make_points(self._table())
         return self._points
 
-    def _make_points(self, frame) -> list[SweepPoint]:
-        """The rows of ``frame`` as SweepPoints, read a column at a time (a
-        pandas row per point cost ten times the points' own making)."""
-        n = len(frame)
-        cols = {c: frame[c].tolist() for c in frame.columns}
+    def _make_points(self, table) -> list[SweepPoint]:
+        """The rows of ``table`` (a frame, or columns) as SweepPoints, read a
+        column at a time (a pandas row per point cost ten times the points'
+        own making)."""
+        cols = {c: list(v) if isinstance(v, list) else v.tolist() for c, v in table.items()}
+        n = len(next(iter(cols.values()), ()))
         index = cols.get("point", range(n))
         errors = cols.get("error", [""] * n)
         params = [cols[name] for name in self.names]
@@ -314,7 +330,7 @@ class SweepResult(SweepExports):
         """How many points failed (counted without reading the whole table)."""
         if self._frame is None and self.store is not None:    # not read whole for a count
             return self.store.failures()
-        return int((self.frame["error"] != "").sum()) if len(self) else 0
+        return sum(1 for e in self._table()["error"] if e != "") if len(self) else 0
 
     def rows(self) -> list[dict]:
         """One flat dict per point: parameters, summary keys (lists as JSON), error."""

@@ -19,8 +19,6 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy import stats
-from scipy.stats import qmc
 
 from pdbfs.errors import ParameterError, PdbfsWarning, plain
 from pdbfs.simulation.setup.memory import require
@@ -212,6 +210,7 @@ class Sample(PointSet):
             require(LHS_BYTES * self.n * d, f"sample lhs:{self.n} over {d} parameter(s)",
                     "a Latin hypercube is drawn whole; ask for fewer points, or use sobol:N or "
                     "mc:N (drawn in blocks)")
+            from scipy.stats import qmc          # (a grid, the sweeps' usual points, needs no scipy)
             self._u = qmc.LatinHypercube(d=d, seed=self.seed).random(self.n)
 
     def _unit(self, i0, i1) -> np.ndarray:
@@ -227,6 +226,7 @@ class Sample(PointSet):
                 # sweep asks them) go on from the last one, at no cost
                 engine = self._sobol
                 if engine is None or engine.num_generated > i0:
+                    from scipy.stats import qmc
                     engine = self._sobol = qmc.Sobol(d=d, scramble=True, seed=self.seed)
                 if i0 > engine.num_generated:
                     engine.fast_forward(i0 - engine.num_generated)
@@ -294,6 +294,7 @@ def _check_dist(name, v):
 
 
 def _ppf(dist, u):
+    from scipy import stats
     kind, a, b = dist
     if kind == "normal":
         return stats.norm.ppf(u, loc=a, scale=b)

@@ -280,26 +280,25 @@ def sweep(rig: Component | DAE | str, values: Mapping[str, ArrayLike] | PointSet
                                       runner, workers)
         finally:
             bar.close()
-    frame = _frame(kept) if store is None else None
-    res = SweepResult(sim.dae.name, points.names, runner.keys, frame=frame, store=store,
+    columns = _columns(kept) if store is None else None
+    res = SweepResult(sim.dae.name, points.names, runner.keys, columns=columns, store=store,
                       results=results, elapsed=time.perf_counter() - t0, workers=workers,
                       where=where)
     res.computed = sum(b - a for _, a, b in chunks)   # the others were on disk already
     return res
 
 
-def _frame(kept):
-    """The chunks' columns as one DataFrame in point order: the columns joined
-    first, one frame made (a frame per chunk cost a tenth of a fast sweep)."""
-    import pandas as pd
+def _columns(kept) -> dict:
+    """The chunks' columns joined, in point order (one table: a frame per
+    chunk cost a tenth of a fast sweep)."""
     cols = {}
     for name in kept[0]:
         parts = [c[name] for c in kept]
         cols[name] = np.concatenate(parts) if isinstance(parts[0], np.ndarray) else \
             [v for part in parts for v in part]
     order = np.argsort(cols["point"], kind="stable")
-    return pd.DataFrame({k: v[order] if isinstance(v, np.ndarray) else [v[i] for i in order]
-                         for k, v in cols.items()})
+    return {k: v[order] if isinstance(v, np.ndarray) else [v[i] for i in order]
+            for k, v in cols.items()}
 
 
 @contextmanager
@@ -360,7 +359,8 @@ class _Report:
 def _bar(total, initial, progress, label):
     if callable(progress):
         return _Report(progress, total, initial)
+    if progress is False or (progress is None and not sys.stderr.isatty()):
+        return _Report(lambda done, total: None, total, initial)     # no bar: no tqdm either
     from tqdm import tqdm
-    disable = progress is False or (progress is None and not sys.stderr.isatty())
     return tqdm(total=total, initial=initial, desc=f"sweep {label}", unit="pt", file=sys.stderr,
-                leave=False, disable=disable, delay=0 if progress else PROGRESS_AFTER)
+                leave=False, delay=0 if progress else PROGRESS_AFTER)

@@ -2,10 +2,10 @@
  * pdbfs generic batch driver: one whole simulation over an output grid in
  * one call, for pdbfs.simulate(..., backend="c").
  *
- * This file is the same for every rig.  Everything model-specific comes from
- * two generated files:
- *   pdbfs_batch_model.h  sizes (states, parameters, event indicators, CasADi
- *                        work arrays)
+ * This file is the same for every rig (compiled once per machine).
+ * Everything model-specific comes from two generated files, linked in:
+ *   pdbfs_batch_model.c  pdbfs_rig: sizes (states, parameters, event
+ *                        indicators, CasADi work arrays; pdbfs_batch_model.h)
  *   pdbfs_model_funcs.c  CasADi-generated C of pdbfs_ode, pdbfs_jac and
  *                        pdbfs_events
  * The integration itself (CVODE through the non-smooth points, dense output)

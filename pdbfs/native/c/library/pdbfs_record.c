@@ -81,8 +81,7 @@ int pdbfs_record_step(void *env, double t, const double *x) {
     if (NR > 0 && !roles_done) pdbfs_eval_txp(h->ev, pdbfs_roles, t, x, h->r + h->n * NRX);
     for (j = 0; j < NR; j++)
         if (!isfinite(R(h, h->n, j))) h->bad = 1;
-#if PDBFS_NL > 0
-    if (!h->bad && !h->limit) {   /* a variable out of its declared range: the run stops */
+    if (PDBFS_NL > 0 && !h->bad && !h->limit) {   /* a variable out of its declared range: the run stops */
         double g[NLX];
         pdbfs_eval_txp(h->ev, pdbfs_limits, t, x, g);
         for (j = 0; j < PDBFS_NL && !h->limit; j++)
@@ -91,7 +90,6 @@ int pdbfs_record_step(void *env, double t, const double *x) {
                 h->limit_k = h->n;
             }
     }
-#endif
     h->n++;
     return h->bad || h->limit;
 }
@@ -160,13 +158,11 @@ typedef struct {
 static int target_fn(void *env, double t, const double *x, double *g) {
     Target *q = (Target *)env;
     double r[NRX > NLX ? NRX : NLX];
-#if PDBFS_NL > 0
-    if (q->limit) {
+    if (q->limit) {          /* (only where the rig has limits) */
         pdbfs_eval_txp(q->ev, pdbfs_limits, t, x, r);
         *g = r[q->limit - 1];
         return 0;
     }
-#endif
     pdbfs_eval_txp(q->ev, q->slope ? pdbfs_roles_dot : pdbfs_roles, t, x, r);
     *g = r[q->role] - (q->slope ? 0.0 : q->level);
     return 0;
@@ -348,8 +344,8 @@ int pdbfs_crossings(History *H, int j, double level, Crossings *c) {
 }
 
 int pdbfs_limit_message(History *H, int code, char *msg, size_t len) {
-#if PDBFS_NL > 0
     long k = H->n - 1;
+    if (PDBFS_NL == 0) return code;
     if (H->limit) {
         Target q;
         double t = H->t[H->limit_k];
@@ -364,17 +360,14 @@ int pdbfs_limit_message(History *H, int code, char *msg, size_t len) {
     if (!code || H->oom || H->bad || k < 1) return code;
     if (pdbfs_limit_near(H->ev, H->t[0], H->x, H->t[k], H->x + k * NXQ, msg, len))
         return RC_LIMIT;
-#else
-    (void)H; (void)msg; (void)len;
-#endif
     return code;
 }
 
 int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const double *x,
                      char *msg, size_t len) {
-#if PDBFS_NL > 0
     double g0[NLX], g[NLX];
     int j;
+    if (PDBFS_NL == 0) return 0;
     pdbfs_eval_txp(ev, pdbfs_limits, t0, x0, g0);
     pdbfs_eval_txp(ev, pdbfs_limits, t, x, g);
     for (j = 0; j < PDBFS_NL; j++)
@@ -382,8 +375,5 @@ int pdbfs_limit_near(PdbfsEval *ev, double t0, const double *x0, double t, const
             if (msg && len) snprintf(msg, len, "limit %d near at t = %.17g value %.17g", j, t, g[j]);
             return 1;
         }
-#else
-    (void)ev; (void)t0; (void)x0; (void)t; (void)x; (void)msg; (void)len;
-#endif
     return 0;
 }

@@ -3,7 +3,7 @@
  * with CVODE (native/c/pdbfs_cvode.c) and reduced to its summary, for
  * sweeps at the speed of compiled CVODE (pdbfs.simulation.compiled).
  *
- * The same for every rig: the generated pdbfs_batch_model.h says which
+ * The same for every rig: the rig's pdbfs_rig (pdbfs_batch_model.h) says which
  * outputs play which summary role (pressure, contact force, piston
  * displacement, striker velocity; -1 where the rig has none), and
  * CasADi-generated functions give those outputs (pdbfs_roles), their time
@@ -57,9 +57,9 @@ enum { ST_STEPS, ST_RHS, ST_JAC, ST_ROOTS, ST_METHOD, ST_WALL, NSTAT };
 #define RC_BAD_CROSSINGS 6   /* the pulse's crossings do not alternate or are not resolved */
 #define RC_FOLLOW 7          /* a pulse cut off at t_end could not be followed past it */
 
-#if PDBFS_ROLE_FORCE >= 0
 /* Guo & Batzer's impulse ratio, as summary.py's restitution; NaN where it is
- * undefined or the run ends before the rebound's impulse is all in */
+ * undefined or the run ends before the rebound's impulse is all in (a rig
+ * with a contact force only) */
 static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m) {
     const int f = PDBFS_ROLE_FORCE, iq = PDBFS_NX;   /* the impulse state */
     long last = H->n - 1;
@@ -95,7 +95,6 @@ static double restitution(History *H, double *x_pk, int ended, int *oom, Note *m
     }
     return before > 0 ? after / before : NAN;
 }
-#endif
 
 /* the summary of one point into out; 0, or a failure code with its reason in m
  * (also pdbfs_run_summary.c's, on the record of a run over an output grid) */
@@ -154,14 +153,12 @@ int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
         oom |= pdbfs_peak(H, PDBFS_ROLE_DISP, 0, H->n, &t, &out[S_DISP], NULL);
         if (horizon && t >= t_end * (1 - 1e-9)) out[S_DISP] = NAN;
     }
-#if PDBFS_ROLE_FORCE >= 0
-    {
+    if (PDBFS_ROLE_FORCE >= 0) {
         double t;
         oom |= pdbfs_peak(H, PDBFS_ROLE_FORCE, 0, H->n, &t, &out[S_FORCE], NULL);
         if (out[S_FORCE] > 0) out[S_RESTITUTION] = restitution(H, x_pk, ended, &oom, m);
         if (horizon && out[S_FORCE] > 0 && t >= t_end * (1 - 1e-9)) out[S_FORCE] = NAN;
     }                                                /* no contact: restitution undefined */
-#endif
     if (oom & 1) {
         pdbfs_note(m, "out of memory");
         return RC_NO_MEMORY;
@@ -181,12 +178,13 @@ int pdbfs_summarise(History *H, double *out, double *x_pk, Note *m) {
  */
 static int follow(History *H, PdbfsErk *rk, PdbfsEval *ev, double t_end, double *out,
                   long max_steps, double *x, Note *m) {
-#if PDBFS_ROLE_PRESSURE >= 0
-    const double h = PDBFS_SUMMARY_STEP, base = R(H, 0, PDBFS_ROLE_PRESSURE);
+    const double h = PDBFS_SUMMARY_STEP;
     const double limit = t_end + fmin(PDBFS_FOLLOW_HORIZONS * t_end,
                                       PDBFS_FOLLOW_WINDOWS * PDBFS_FOLLOW_WINDOW * h);
-    double r[NRX], highest = out[S_PEAK], after = -INFINITY, t_last = t_end;
+    double r[NRX], base, highest = out[S_PEAK], after = -INFINITY, t_last = t_end;
     int busy = 1;
+    if (PDBFS_ROLE_PRESSURE < 0) return 0;           /* no pulse to follow */
+    base = R(H, 0, PDBFS_ROLE_PRESSURE);
     rk->t_stop = limit;
     rk->dense_ready = 0;     /* its dense output may be a refinement's (pdbfs_step_dense) */
     while (busy && t_last < limit) {
@@ -198,15 +196,13 @@ static int follow(History *H, PdbfsErk *rk, PdbfsEval *ev, double t_end, double 
             if (t_last >= limit - 1e-6 * h) t_last = limit;
             code = pdbfs_erk_advance(rk, t_last, max_steps, x);
             if (code) return code;
-#if PDBFS_NL > 0
-            {   /* past a variable's declared range: nothing to tell from here */
+            if (PDBFS_NL > 0) {   /* past a variable's declared range: nothing to tell from here */
                 double g[NLX];
                 int i;
                 pdbfs_eval_txp(ev, pdbfs_limits, t_last, x, g);
                 for (i = 0; i < PDBFS_NL; i++)
                     if (g[i] < 0) return RC_LIMIT;
             }
-#endif
             pdbfs_eval_txp(ev, pdbfs_roles, t_last, x, r);
             if (!isfinite(r[PDBFS_ROLE_PRESSURE])) return RC_NOT_FINITE;
             after = fmax(after, r[PDBFS_ROLE_PRESSURE]);
@@ -214,18 +210,13 @@ static int follow(History *H, PdbfsErk *rk, PdbfsEval *ev, double t_end, double 
         }
         highest = fmax(highest, after);
         busy = r[PDBFS_ROLE_PRESSURE] >= base + PULSE_LEVEL * (highest - base);
-#if PDBFS_ROLE_FORCE >= 0
-        busy = busy || r[PDBFS_ROLE_FORCE] > 0;
-#endif
+        if (PDBFS_ROLE_FORCE >= 0) busy = busy || r[PDBFS_ROLE_FORCE] > 0;
     }
     if (after > out[S_PEAK]) {
         pdbfs_note(m, "its highest pressure so far, %.4g Pa, is not its peak: it rises to %.4g Pa "
                    "after t_end", out[S_PEAK], after);
         out[S_PEAK] = out[S_TPEAK] = NAN;
     }
-#else
-    (void)H; (void)rk; (void)ev; (void)t_end; (void)out; (void)max_steps; (void)x; (void)m;
-#endif
     return 0;
 }
 

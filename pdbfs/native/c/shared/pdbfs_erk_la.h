@@ -1,30 +1,32 @@
 /*
  * The arithmetic of pdbfs_erk.c's steps (stages, error, dense output),
  * written once for any number of states n and inlined where it is called
- * with the rig's own state counts as constants (pdbfs_erk_size.h: the
- * states, and the states with the impulse of the summary drivers), so that
- * the compiler keeps the sums of a few states in registers and unrolls them:
- * these loops were half of a run's time, more than the model's right-hand
- * side.  The sums run over the stages in their order, as the textbook's
- * (a stage's last term added last, to the state: pdbfs_erk_rk.c).
- * Also what pdbfs_erk.c calls of pdbfs_erk_rk.c (internal: the library
- * exports neither).
+ * with the rig's own state counts as constants (pdbfs_erk_sized.c with
+ * pdbfs_erk_size.h: the states, and the states with the impulse of the
+ * summary drivers), so that the compiler keeps the sums of a few states in
+ * registers and unrolls them: these loops were half of a run's time, more
+ * than the model's right-hand side.  The sums run over the stages in their
+ * order, as the textbook's (a stage's last term added last, to the state:
+ * pdbfs_erk_rk.h).  Also what pdbfs_erk.c calls of pdbfs_erk_sized.c
+ * (internal: the library exports neither).
  */
 #ifndef PDBFS_ERK_LA_H
 #define PDBFS_ERK_LA_H
 
 #include <math.h>
 
-#include "pdbfs_erk_size.h"       /* PDBFS_ERK_NX: the rig's state count */
 #include "pdbfs_erk.h"
 
 #define NSTAGE 12                  /* stages of a step; the 13th is f at its end */
 #define NK 16                      /* with the dense output's three */
 
+/* forced inline (a file may say otherwise: pdbfs_erk_rk.c) */
+#ifndef ERK_INLINE
 #if defined(__GNUC__) || defined(__clang__)
 #define ERK_INLINE static inline __attribute__((always_inline))
 #else
 #define ERK_INLINE static inline
+#endif
 #endif
 
 /* the sums' operands do not overlap: the compiler may vectorise them over the
@@ -72,14 +74,6 @@ ERK_INLINE void erk_poly_n(const int n, const double *ERK_RESTRICT y_old,
     }
 }
 
-/* call f(n, m) with n the states of s and m those the stages need (n less
- * its quadratures), constants where they are the rig's counts: its states,
- * or with the summary drivers' impulse as a quadrature */
-#define ERK_BY_SIZE(s, call)                                                    \
-    ((s)->nx == PDBFS_ERK_NX + 1 && (s)->nq == 1 ? call(PDBFS_ERK_NX + 1, PDBFS_ERK_NX)   \
-     : (s)->nx == PDBFS_ERK_NX && (s)->nq == 0 ? call(PDBFS_ERK_NX, PDBFS_ERK_NX)         \
-     : call((s)->nx, (s)->nx - (s)->nq))
-
 /* f(t, x) into out, counted; 1 when it fails or is not finite */
 ERK_INLINE int erk_rhs(PdbfsErk *s, double t, const double *x, double *out) {
     int i;
@@ -116,7 +110,7 @@ double pdbfs_erk_kink_in_attempt(PdbfsErk *s, double h);
 int pdbfs_erk_near_a_root(PdbfsErk *s, double h);
 
 /* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
- * INFINITY when a stage is not finite (pdbfs_erk_rk.c) */
+ * INFINITY when a stage is not finite (pdbfs_erk_sized.c) */
 double pdbfs_erk_attempt(PdbfsErk *s, double h);
 
 /* an attempt as pdbfs_erk_attempt whose error, where the embedded estimate

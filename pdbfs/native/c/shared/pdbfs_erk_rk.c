@@ -1,61 +1,25 @@
-/* pdbfs_erk_rk: the Runge-Kutta arithmetic of pdbfs_erk.c (an attempted
- * step and its check by two half steps, its dense output, the dense
- * output's polynomial); see
- * pdbfs_erk_la.h.  Never aborts, never prints. */
+/* pdbfs_erk_rk: the Runge-Kutta arithmetic of pdbfs_erk.c for any number of
+ * states (the rig's own counts take pdbfs_erk_sized.c's, compiled for them),
+ * and the dense output's rows and values; the same for every rig (compiled
+ * once per machine into the compiled backend's drivers).  Never aborts,
+ * never prints. */
+/* the arithmetic's helpers not forced inline here: any size is the rare
+ * case, the numbers are the same, and the compilation takes a third */
+#define ERK_INLINE static inline
+
 #include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "pdbfs_erk.h"
-#include "pdbfs_erk_la.h"
-#include "pdbfs_erk_table.h"
+#include "pdbfs_erk_rk.h"
 
-/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
- * INFINITY when a stage is not finite.  The stages' states and the error
- * are of the first m states only: the others are integrals (quadratures)
- * that the right-hand side does not read and the error test leaves out */
-ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
-    double local[2 * ERK_LOCAL], *k = s->k, e3 = 0.0, e5 = 0.0;
-    double *acc = n <= ERK_LOCAL ? local : s->acc, *acc3 = n <= ERK_LOCAL ? local + ERK_LOCAL : s->tmp;
-    int i;
-    memcpy(k, s->f, sizeof(double) * (size_t)n);
-    /* the stages written out (ERK_STAGE): each sum's coefficients are then
-     * constants, its zero terms dropped by the compiler (a tenth of a run).
-     * The stage before's term is added last, to a state made of the others
-     * meanwhile: after the right-hand side a stage waits for one product and
-     * one sum, not four operations (2 % of a run) */
-#define ERK_STAGE(st)                                                              \
-    erk_combine(m, n, (st) - 1, RK_A + (st) * NK, k, acc);                         \
-    {                                                                              \
-        const double hc = h * RK_A[(st) * NK + (st) - 1], *kl = k + ((st) - 1) * n;  \
-        for (i = 0; i < m; i++) s->tmp[i] = (s->y[i] + h * acc[i]) + hc * kl[i];     \
-    }                                                                              \
-    if (erk_rhs(s, s->t + RK_C[st] * h, s->tmp, k + (st) * n)) return INFINITY;
-    ERK_STAGE(1) ERK_STAGE(2) ERK_STAGE(3) ERK_STAGE(4) ERK_STAGE(5) ERK_STAGE(6)
-    ERK_STAGE(7) ERK_STAGE(8) ERK_STAGE(9) ERK_STAGE(10) ERK_STAGE(11)
-#undef ERK_STAGE
-    erk_combine(n, n, NSTAGE, RK_B, k, acc);
-    for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
-    if (erk_rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
-    /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
-     * free: acc3 may be it); the RMS over the m states the error test sees
-     * (a quadrature changes no step: a run with one is the run without) */
-    erk_combine(m, n, NSTAGE + 1, RK_E5, k, acc);
-    erk_combine(m, n, NSTAGE + 1, RK_E3, k, acc3);
-    for (i = 0; i < m; i++) {
-        double sc = s->atol[i] + s->rtol * fmax(fabs(s->y[i]), fabs(s->ynew[i]));
-        double a5 = acc[i] / sc, a3 = acc3[i] / sc;
-        e5 += a5 * a5;
-        e3 += a3 * a3;
-    }
-    if (e5 == 0.0 && e3 == 0.0) return 0.0;
-    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * m);
+double pdbfs_erk_attempt_any(PdbfsErk *s, double h) {
+    return attempt_n(s, h, s->nx, s->nx - s->nq);
 }
 
-double pdbfs_erk_attempt(PdbfsErk *s, double h) {
-#define ERK_ATTEMPT(N, M) attempt_n(s, h, N, M)
-    return ERK_BY_SIZE(s, ERK_ATTEMPT);
-#undef ERK_ATTEMPT
+int pdbfs_erk_make_dense_any(PdbfsErk *s) {
+    return make_dense_n(s, s->nx, s->nx - s->nq);
 }
 
 /* the first step after a kink is checked by two half steps: the difference of
@@ -132,37 +96,8 @@ double pdbfs_erk_stiffness(PdbfsErk *s, double h) {
     return den * h * h > STIFF_ROUNDOFF * STIFF_ROUNDOFF * size ? sqrt(num / den) : 0.0;
 }
 
-/* the dense output of the step just accepted (y_old, k of the step, h_old):
- * three more stages */
-ERK_INLINE int make_dense_n(PdbfsErk *s, const int n, const int m) {
-    const double h = s->h_old, *k = s->k;
-    double local[ERK_LOCAL], *acc = n <= ERK_LOCAL ? local : s->acc, *r = s->dense;
-    int i;
-#define ERK_STAGE(st)                                                              \
-    erk_combine(m, n, st, RK_A + (st) * NK, k, acc);                               \
-    for (i = 0; i < m; i++) s->tmp[i] = s->y_old[i] + h * acc[i];                  \
-    if (erk_rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + (st) * n)) return 1;
-    ERK_STAGE(NSTAGE + 1) ERK_STAGE(NSTAGE + 2) ERK_STAGE(NSTAGE + 3)
-#undef ERK_STAGE
-    for (i = 0; i < n; i++) {
-        double dy = s->ynew[i] - s->y_old[i];
-        r[i] = dy;
-        r[n + i] = h * k[i] - dy;
-        r[2 * n + i] = 2.0 * dy - h * (k[i] + k[NSTAGE * n + i]);
-    }
-#define ERK_ROW(st)                                                                \
-    erk_combine(n, n, NK, RK_D + (st) * NK, k, acc);                               \
-    for (i = 0; i < n; i++) r[(3 + (st)) * n + i] = h * acc[i];
-    ERK_ROW(0) ERK_ROW(1) ERK_ROW(2) ERK_ROW(3)
-#undef ERK_ROW
-    s->dense_ready = 1;
-    return 0;
-}
-
-int pdbfs_erk_make_dense(PdbfsErk *s) {
-#define ERK_DENSE(N, M) make_dense_n(s, N, M)
-    return ERK_BY_SIZE(s, ERK_DENSE);
-#undef ERK_DENSE
+void pdbfs_erk_poly_any(const double *y_old, const double *r, int n, double th, double *out) {
+    erk_poly_n(n, y_old, r, th, out);
 }
 
 int pdbfs_erk_rows(PdbfsErk *s, double t_old, double h, const double *y_old,
@@ -176,14 +111,6 @@ int pdbfs_erk_rows(PdbfsErk *s, double t_old, double h, const double *y_old,
     if (pdbfs_erk_make_dense(s)) return 1;
     memcpy(rows, s->dense, sizeof(double) * n * 7);
     return 0;
-}
-
-void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
-#define ERK_POLY(N) erk_poly_n(N, y_old, r, th, out)
-    if (n == PDBFS_ERK_NX + 1) ERK_POLY(PDBFS_ERK_NX + 1);
-    else if (n == PDBFS_ERK_NX) ERK_POLY(PDBFS_ERK_NX);
-    else ERK_POLY(n);
-#undef ERK_POLY
 }
 
 void pdbfs_erk_dense(const PdbfsErk *s, double t, double *out) {

@@ -1,0 +1,91 @@
+/* pdbfs_erk_rk.h: the Runge-Kutta arithmetic of pdbfs_erk.c (an attempted
+ * step, its dense output) for n states of which the first m are integrated,
+ * inlined where it is called: with the rig's own state counts as constants
+ * (pdbfs_erk_sized.c, compiled with each rig's model) and with any counts
+ * (pdbfs_erk_rk.c, the same for every rig).  Internal to those two. */
+#ifndef PDBFS_ERK_RK_H
+#define PDBFS_ERK_RK_H
+
+#include <math.h>
+#include <string.h>
+
+#include "pdbfs_erk.h"
+#include "pdbfs_erk_la.h"
+#include "pdbfs_erk_table.h"
+
+/* one attempt from (t, y, f) over h: ynew, k[0..12]; the weighted error, or
+ * INFINITY when a stage is not finite.  The stages' states and the error
+ * are of the first m states only: the others are integrals (quadratures)
+ * that the right-hand side does not read and the error test leaves out */
+ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
+    double local[2 * ERK_LOCAL], *k = s->k, e3 = 0.0, e5 = 0.0;
+    double *acc = n <= ERK_LOCAL ? local : s->acc, *acc3 = n <= ERK_LOCAL ? local + ERK_LOCAL : s->tmp;
+    int i;
+    memcpy(k, s->f, sizeof(double) * (size_t)n);
+    /* the stages written out (ERK_STAGE): each sum's coefficients are then
+     * constants, its zero terms dropped by the compiler (a tenth of a run).
+     * The stage before's term is added last, to a state made of the others
+     * meanwhile: after the right-hand side a stage waits for one product and
+     * one sum, not four operations (2 % of a run) */
+#define ERK_STAGE(st)                                                              \
+    erk_combine(m, n, (st) - 1, RK_A + (st) * NK, k, acc);                         \
+    {                                                                              \
+        const double hc = h * RK_A[(st) * NK + (st) - 1], *kl = k + ((st) - 1) * n;  \
+        for (i = 0; i < m; i++) s->tmp[i] = (s->y[i] + h * acc[i]) + hc * kl[i];     \
+    }                                                                              \
+    if (erk_rhs(s, s->t + RK_C[st] * h, s->tmp, k + (st) * n)) return INFINITY;
+    ERK_STAGE(1) ERK_STAGE(2) ERK_STAGE(3) ERK_STAGE(4) ERK_STAGE(5) ERK_STAGE(6)
+    ERK_STAGE(7) ERK_STAGE(8) ERK_STAGE(9) ERK_STAGE(10) ERK_STAGE(11)
+#undef ERK_STAGE
+    erk_combine(n, n, NSTAGE, RK_B, k, acc);
+    for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
+    if (erk_rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
+    /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
+     * free: acc3 may be it); the RMS over the m states the error test sees
+     * (a quadrature changes no step: a run with one is the run without) */
+    erk_combine(m, n, NSTAGE + 1, RK_E5, k, acc);
+    erk_combine(m, n, NSTAGE + 1, RK_E3, k, acc3);
+    for (i = 0; i < m; i++) {
+        double sc = s->atol[i] + s->rtol * fmax(fabs(s->y[i]), fabs(s->ynew[i]));
+        double a5 = acc[i] / sc, a3 = acc3[i] / sc;
+        e5 += a5 * a5;
+        e3 += a3 * a3;
+    }
+    if (e5 == 0.0 && e3 == 0.0) return 0.0;
+    return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * m);
+}
+
+/* the dense output of the step just accepted (y_old, k of the step, h_old):
+ * three more stages */
+ERK_INLINE int make_dense_n(PdbfsErk *s, const int n, const int m) {
+    const double h = s->h_old, *k = s->k;
+    double local[ERK_LOCAL], *acc = n <= ERK_LOCAL ? local : s->acc, *r = s->dense;
+    int i;
+#define ERK_STAGE(st)                                                              \
+    erk_combine(m, n, st, RK_A + (st) * NK, k, acc);                               \
+    for (i = 0; i < m; i++) s->tmp[i] = s->y_old[i] + h * acc[i];                  \
+    if (erk_rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + (st) * n)) return 1;
+    ERK_STAGE(NSTAGE + 1) ERK_STAGE(NSTAGE + 2) ERK_STAGE(NSTAGE + 3)
+#undef ERK_STAGE
+    for (i = 0; i < n; i++) {
+        double dy = s->ynew[i] - s->y_old[i];
+        r[i] = dy;
+        r[n + i] = h * k[i] - dy;
+        r[2 * n + i] = 2.0 * dy - h * (k[i] + k[NSTAGE * n + i]);
+    }
+#define ERK_ROW(st)                                                                \
+    erk_combine(n, n, NK, RK_D + (st) * NK, k, acc);                               \
+    for (i = 0; i < n; i++) r[(3 + (st)) * n + i] = h * acc[i];
+    ERK_ROW(0) ERK_ROW(1) ERK_ROW(2) ERK_ROW(3)
+#undef ERK_ROW
+    s->dense_ready = 1;
+    return 0;
+}
+
+/* pdbfs_erk_rk.c's, for any number of states: what pdbfs_erk_sized.c does
+ * for sizes other than the rig's */
+double pdbfs_erk_attempt_any(PdbfsErk *s, double h);
+int pdbfs_erk_make_dense_any(PdbfsErk *s);
+void pdbfs_erk_poly_any(const double *y_old, const double *r, int n, double th, double *out);
+
+#endif
