@@ -319,3 +319,19 @@ def test_no_module_writes_into_another_objects_dict(path):
     ``cached``, and a Result ``detached`` and ``attach``)."""
     bad = writes_into_others(path.read_text())
     assert not bad, f"writes into another object's __dict__ at lines {bad}"
+
+
+def test_every_package_folder_is_in_the_wheel():
+    """pyproject lists the packages by hand (three live outside pdbfs/): a
+    folder left off installs as a wheel whose imports fail."""
+    import tomllib
+    conf = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    dirs = conf["package-dir"]
+    listed = set(conf["packages"])
+    found = set()
+    for top, name in [("pdbfs", "pdbfs")] + [(d, n) for n, d in dirs.items() if n != "pdbfs"]:
+        for init in (ROOT / top).rglob("__init__.py"):
+            rel = init.parent.relative_to(ROOT / top).parts
+            found.add(".".join((name, *rel)))
+    assert found - listed == set(), f"package folders missing from pyproject's packages: {sorted(found - listed)}"
+    assert listed - found == set(), f"pyproject lists packages with no folder: {sorted(listed - found)}"

@@ -38,7 +38,7 @@ class DeadZoned(pdbfs.Rig):
     def declare(self):
         self.frame, self.spring, self.damper = Fixed(), Spring(k=K), Damper(c=C)
         self.body, self.push = Mass(m=M), SignalForce()
-        self.src, self.dz = self._source, B.DeadZone(uMax=1.0, uMin=-1.0)
+        self.src, self.dz = self._source, B.DeadZone(uMax=1.0, uMin=-1.0, unit="N")
         self.connect(self.frame.flange, self.spring.flange_a, self.damper.flange_a)
         self.connect(self.spring.flange_b, self.damper.flange_b, self.body.flange_a)
         self.connect(self.body.flange_b, self.push.flange)
@@ -52,7 +52,7 @@ def _cases():
         out.append((f"step@{ts}", lambda ts=ts: Pushed(B.Step(unit="N", height=10.0, start_time=ts)),
                     lambda t, ts=ts: v_step(t, 10.0, ts)))
         out.append((f"pulse-deadzone@{ts}", lambda ts=ts: DeadZoned(
-            B.Pulse(amplitude=5.0, width=0.037, period=0.1, start_time=ts, periods=3)),
+            B.Pulse(unit="N", amplitude=5.0, width=0.037, period=0.1, start_time=ts, periods=3)),
             lambda t, ts=ts: sum(v_step(t, 4.0, ts + 0.1 * k) - v_step(t, 4.0, ts + 0.1 * k + 0.037)
                                  for k in range(3))))
         times = [0.0, ts - 0.05, ts, ts + 0.0777]

@@ -98,11 +98,11 @@ class Result(ResultExports):
         Returns
         -------
         dict
-            The data (a compiled run's states made now, not the summary).
+            The data (a compiled run's states made now; no summary).
         """
         self._X                 # (made once: kept on this Result)
         return {k: v for k, v in vars(self).items()
-                if k not in ("_sim", "_curves", "_summary", "_summary_warnings", "_make_states")}
+                if k not in ("_sim", "curves", "_summary", "_summary_warnings", "_make_states")}
 
     @classmethod
     def attach(cls, sim: Simulator, state: dict) -> "Result":
@@ -120,12 +120,9 @@ class Result(ResultExports):
         Result
         """
         res = cls.__new__(cls)
-        res._restore(sim, state)
+        for name, value in {**state, "_sim": sim}.items():
+            setattr(res, name, value)
         return res
-
-    def _restore(self, sim, state):
-        self.__dict__.update(state)
-        self._sim = sim
 
     @property
     def _X(self) -> np.ndarray:
@@ -167,8 +164,7 @@ class Result(ResultExports):
     @property
     def initial(self) -> InitialState:
         """The start the run began from (initialize.InitialState): each state's
-        value, and what initialization solved (nothing where the rig starts as
-        declared)."""
+        value, and what initialization solved (nothing for a declared start)."""
         if isinstance(self._initial, np.ndarray):
             self._initial = InitialState(dict(zip(self._names[5], self._initial.tolist())))
         return self._initial
@@ -234,8 +230,7 @@ class Result(ResultExports):
 
     # -- values off the grid ----------------------------------------------------
     def _state_at(self, t: float):
-        k = int(np.searchsorted(self.t, t, side="right") - 1)
-        k = min(max(k, 0), len(self.t) - 1)
+        k = min(max(int(np.searchsorted(self.t, t, side="right") - 1), 0), len(self.t) - 1)
         t0 = self.t[k]
         if t - t0 <= 0:
             return self._X[:, k], self._Z[:, k]
@@ -274,12 +269,10 @@ class Result(ResultExports):
         at = getattr(self._sim, "p_at", None)        # a run with inputs: theirs at t
         return float(out(t, x, z, self.p if at is None else at(self.p, t))[i])
 
-    @property
+    @cached_property
     def curves(self) -> Curves:
         """The cubic Hermite interpolants of the variables between output points."""
-        if "_curves" not in self.__dict__:
-            self._curves = Curves(self)
-        return self._curves
+        return Curves(self)
 
     def peak(self, name: str, sign: float = 1.0, window: tuple[float, float] | None = None
              ) -> tuple[float, float]:
@@ -325,8 +318,7 @@ class Result(ResultExports):
         a, b = self.t[max(k - 1, 0)], self.t[min(k + 1, len(self.t) - 1)]
         if b <= a:
             return float(self.t[k]), float(self[name][k])
-        f = lambda tt: -sign * self.value_at(name, tt)
-        r = minimize_scalar(f, bounds=(a, b), method="bounded",
+        r = minimize_scalar(lambda tt: -sign * self.value_at(name, tt), bounds=(a, b), method="bounded",
                             options={"xatol": 1e-12 * max(1.0, self.t[-1])})
         if -r.fun >= y[k]:
             return float(r.x), float(-r.fun * sign)

@@ -226,13 +226,16 @@ static int step(PdbfsErk *s, double t_out) {
      * steps stay where it is damped */
     {
         /* (an estimate that two steps in a row agree on: a dominant fast mode,
-         * not the noise of oscillations in several; none at all, where the
-         * state barely changes: the one before holds) */
-        double lam = pdbfs_erk_stiffness(s, h) / h, prev = s->stiff_z;
-        if (lam == 0.0) lam = prev;
-        s->stiff_z = lam;
-        if (fabs(lam - prev) <= STIFF_AGREE * fmax(lam, prev) && fmin(lam, prev) * h * fac > STIFF_DAMPED)
-            fac = STIFF_DAMPED / (fmin(lam, prev) * h);
+         * not the noise of oscillations in several; where the states barely
+         * change, the one before holds; where f did not change at all, no
+         * step is held back, and the one before is kept to compare the next
+         * estimate with) */
+        double z = pdbfs_erk_stiffness(s, h), prev = s->stiff_z, lam = z < 0.0 ? prev : z / h;
+        if (z != 0.0) {
+            s->stiff_z = lam;
+            if (fabs(lam - prev) <= STIFF_AGREE * fmax(lam, prev) && fmin(lam, prev) * h * fac > STIFF_DAMPED)
+                fac = STIFF_DAMPED / (fmin(lam, prev) * h);
+        }
     }
     s->t_old = s->t;
     s->h_old = h;

@@ -118,7 +118,8 @@ double pdbfs_erk_attempt(PdbfsErk *s, double h);
  * where the halves show a law of low order (pdbfs_erk_rk.c) */
 double pdbfs_erk_attempt_halves(PdbfsErk *s, double h, int *low);
 
-/* h |lambda| for the fastest mode the attempt just made over h saw (pdbfs_erk_rk.c) */
+/* h |lambda| for the fastest mode the attempt just made over h saw; 0: f did
+ * not change, -1: no state changed by more than roundoff (pdbfs_erk_rk.c) */
 double pdbfs_erk_stiffness(PdbfsErk *s, double h);
 
 /* the dense output of the step just accepted (y_old, ynew, k of the step,
