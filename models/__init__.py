@@ -1,7 +1,7 @@
 """Rigs built from the component library. ``RIGS`` maps the names the
 command line accepts (``--rig NAME``) to functions that build them;
 ``rig_from`` builds one of them, or a user's own rig named as
-``FILE.py:NAME`` or ``MODULE:NAME`` (loading.py).
+``FILE.py:NAME`` or ``MODULE:NAME``.
 
 May import: pdbfs.errors, pdbfs.modelling, pdbfs.components and pdbfs.rig.
 """
@@ -145,6 +145,11 @@ def rig_description(name: str, rig: Rig | None = None) -> str:
         The rig's name in :data:`RIGS`, or a user's rig as :func:`rig_from` takes it.
     rig : Rig, optional
         The rig (built here when not given and needed).
+
+    Returns
+    -------
+    str
+        The description, one line.
     """
     if name in DESCRIPTIONS:
         return DESCRIPTIONS[name]

@@ -149,3 +149,39 @@ def test_a_start_that_cannot_be_solved_says_so_in_a_short_line(rig):
             assert "is not determined" in msg and " free (" in msg, msg
     else:
         assert rig not in ("paper", "bar-piston", "hydraulic-pulse", "hydraulic-pulse-line")
+
+
+@pytest.mark.parametrize("command,option", [(["linearize"], "--out"),
+                                            (["export-ssp", "--example", "pulse-pid"], "-o")],
+                         ids=lambda c: c[0] if isinstance(c, list) else c)
+def test_an_empty_file_name_is_named_empty_not_a_folder(command, option, tmp_path):
+    line = one_line(cli(*command, option, "", cwd=tmp_path), f"{option} ''", "empty")
+    assert "folder" not in line
+    assert list(tmp_path.iterdir()) == []
+
+
+# -- --max-step ----------------------------------------------------------------------------
+@pytest.mark.parametrize("command", [["simulate"], ["sweep", "--set", "hammer.v0=2,3", "--quiet"]],
+                         ids=lambda c: c[0])
+@pytest.mark.parametrize("value", ["0", "-1e-3", "nan"])
+def test_a_max_step_that_is_no_step_is_refused_naming_the_option(command, value, tmp_path):
+    one_line(cli(*command, "--max-step", value, cwd=tmp_path), "--max-step", "positive")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_max_step_reaches_the_run_and_changes_no_figure(tmp_path):
+    """The longest step bounds the steps (the run over 0.02 s takes at least
+    0.02 / max_step of them), and the pulse is the one without it."""
+    import json
+    free = json.loads(cli("simulate", "--json", cwd=tmp_path).stdout)
+    held = json.loads(cli("simulate", "--json", "--max-step", "2e-6", cwd=tmp_path).stdout)
+    assert held["stats"]["steps"] >= 0.02 / 2e-6 > 3 * free["stats"]["steps"]
+    assert held["peak_pressure"] == pytest.approx(free["peak_pressure"], rel=1e-6)
+
+
+@pytest.mark.parametrize("option,words", [("--atol", "positive"), ("--rtol", "must be in"),
+                                          ("--t-end", "positive")])
+def test_a_negative_number_in_scientific_notation_is_a_value_not_an_option(option, words, tmp_path):
+    """argparse read -1e-3 as an option: a usage text and 'expected one argument'."""
+    line = one_line(cli("simulate", option, "-1e-3", cwd=tmp_path), option, words)
+    assert "expected one argument" not in line

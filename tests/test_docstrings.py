@@ -227,7 +227,7 @@ API_PAGES = Path(__file__).resolve().parents[1] / "docs" / "reference" / "api"
 #: what they hold, in place of a Parameters section of their constructor
 RESULTS = {"Result", "SweepResult", "SweepPoint", "Calibration", "Design", "DesignMap",
            "Sensitivity", "Linearization", "HeightSearch", "CoSimulation", "DAE", "ParamInfo",
-           "VarInfo"}
+           "VarInfo", "CampaignResult", "HeatNetwork", "Schedule"}
 #: what pdbfs.fmu exports for Rig.export_fmu and the command line to check before a
 #: rig is compiled, not for users (the API pages do not show them), as the Simulator
 CHECKS_FOR_THE_LAYERS_ABOVE = {"check_fmi_version", "check_fmu_name", "check_rights",

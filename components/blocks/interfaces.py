@@ -35,6 +35,8 @@ class Block(Component):
         For a unit that is not a unit's text.
     """
 
+    pressure_bound = {}      # signals carry no energy (modelling.pressure_bound)
+
     def __init__(self, unit: str = "1", **params):
         if not isinstance(unit, str) or not unit.strip():
             raise ParameterError(f"{type(self).__name__}: unit = {unit!r} must be a unit's "

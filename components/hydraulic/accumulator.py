@@ -34,6 +34,8 @@ class Accumulator(PartialOnePort):
         them), SI units.
     """
 
+    pressure_bound = {"stores": ("p",)}    # its start pressure (modelling.pressure_bound)
+
     closable = True
     V0 = Parameter(1e-3, "m3", "Gas volume at precharge (the accumulator's size)",
                    positive=True, tunable=False)

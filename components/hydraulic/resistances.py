@@ -23,6 +23,8 @@ class PartialDissipativeTwoPort(PartialConditionalHeatPort, PartialTwoPort):
         them), SI units.
     """
 
+    pressure_bound = {}      # it only dissipates (modelling.pressure_bound)
+
     def dissipated_power(self):
         return self.dp * self.q
 

@@ -10,6 +10,8 @@ class PressureSensor(PartialOnePort):
     """Pressure at ``port``, output ``p`` (Pa), also as ``y``: ``p = port.p``,
     ``port.q = 0``."""
 
+    pressure_bound = {}
+
     def declare(self):
         super().declare()
         self.p = SignalOutput("Pa", "Measured pressure (absolute)")
@@ -23,6 +25,8 @@ class PressureSensor(PartialOnePort):
 class FlowSensor(Component):
     """Flow from ``port_a`` to ``port_b`` (no pressure drop), output ``q``
     (m3/s), also as ``y``: ``q = port_a.q = -port_b.q``, ``port_a.p = port_b.p``."""
+
+    pressure_bound = {}
 
     def declare(self):
         self.port_a = HydraulicPort()

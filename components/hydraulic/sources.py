@@ -68,6 +68,8 @@ class PressureSource(PartialSource):
         Values of its declared parameters, SI units.
     """
 
+    pressure_bound = {"sources": ("port.p",)}    # (modelling.pressure_bound)
+
     closable = True
     p = Parameter(10e6, "Pa", "Pressure (absolute)", min=0.0)
 
@@ -132,6 +134,8 @@ class SignalPressure(PartialOnePort):
     """A pressure at ``port`` given by the signal input ``u`` (Pa,
     absolute), as PressureSource prescribes its own, ``port.p = u``;
     ``q_out = -port.q`` is the flow it delivers."""
+
+    pressure_bound = {"sources": ("port.p",)}    # (modelling.pressure_bound)
 
     closable = True
 

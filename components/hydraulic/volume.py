@@ -80,6 +80,8 @@ class Volume(PartialOnePort):
         For an unknown law, or a parameter of another law.
     """
 
+    pressure_bound = {"stores": ("p",)}    # its start pressure (modelling.pressure_bound)
+
     closable = True
     V = Parameter(1e-3, "m3", "Chamber volume (at the start, if pistons sweep it)",
                   positive=True, tunable=False)

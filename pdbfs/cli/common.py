@@ -4,6 +4,7 @@ folders checked before any work, printing a summary."""
 from __future__ import annotations
 
 import argparse
+import re
 import tempfile
 from pathlib import Path
 
@@ -34,17 +35,20 @@ class Once(argparse._StoreAction):
 
 class Parser(argparse.ArgumentParser):
     """An ArgumentParser (and its commands' parsers) whose options of one
-    value take it once (:class:`Once`)."""
+    value take it once (:class:`Once`), and that reads a negative number in
+    scientific notation (``--atol -1e-3``) as a value, as it reads ``-0.001``
+    (not as an option: its own message is then the value's)."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self.register("action", None, Once)
         self.register("action", "store", Once)
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 #: the API's names of settings in its messages (``t_end = ...``) and the options that give them
 OPTIONS = {"t_end": "--t-end", "n_out": "--n-out", "rtol": "--rtol", "atol": "--atol",
-           "starts": "--starts"}
+           "max_step": "--max-step", "starts": "--starts"}
 
 
 def in_option_words(message: str, args) -> str:
@@ -76,8 +80,10 @@ def add_rig_options(s, sets=True, set_help=None):
                        "(repeatable)")
 
 
-def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rtol=True):
-    """How a rig is simulated: horizon, output points, tolerance, method, back end."""
+def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rtol=True,
+                    max_step=False):
+    """How a rig is simulated: horizon, output points, tolerance, method, back end (and the
+    longest step, where ``max_step``)."""
     default = f"default {t_end}" if t_end is not None else "default: the rig's own, 0.02 for " \
         "the paper rig, 1.5 for the drop rig"
     s.add_argument("--t-end", type=float, default=t_end, help=f"simulated time, s ({default})")
@@ -90,6 +96,10 @@ def add_run_options(s, t_end=None, n_out=True, backend="auto", method="auto", rt
         s.add_argument("--atol", type=float, default=None,
                        help="absolute tolerance, in each state's unit (default 1e-10, and "
                        "1e-2 x rtol below rtol 1e-8: a tighter rtol converges on small signals)")
+    if max_step:
+        s.add_argument("--max-step", type=float, default=None, metavar="S",
+                       help="the longest step the integrator may take, s (default: no limit; "
+                       "a short one makes sure a brief feature of an input is seen)")
     if method:
         s.add_argument("--method", default=method, choices=["auto", "adams", "bdf", "erk"],
                        help="integration method: CVODE's adams or bdf, or erk (explicit "
@@ -141,6 +151,8 @@ def prepare_out(path, option="--out") -> Path | None:
 def check_output_file(path, option="-o") -> Path:
     """A file about to be written: not a folder, in a writable folder."""
     p = Path(path)
+    if not str(path).strip():
+        raise ParameterError(f"{option} '{path}': an empty name; name the file to write")
     if p.is_dir():
         raise ParameterError(f"{option} {path}: is a folder; name the file to write")
     parent = p.parent if str(p.parent) else Path(".")

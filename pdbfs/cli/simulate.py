@@ -22,7 +22,7 @@ def cmd_simulate(args):
     check_room(out, n_out, rig.compile())
     extra = {"inputs": inputs} if inputs else {}
     res = rig.simulate(t_end, n_out=n_out, params=params, initial=initial,
-                       rtol=args.rtol, atol=args.atol, method=args.method,
+                       rtol=args.rtol, atol=args.atol, method=args.method, max_step=args.max_step,
                        backend=args.backend, **extra)
     summary = res.summary()
     if out is not None:                  # files only where --out says
@@ -114,7 +114,7 @@ def add_parsers(sub):
     s = sub.add_parser("simulate", help="simulate a rig and print its summary; with --out, "
                        "write results.csv and a plot")
     add_rig_options(s)
-    add_run_options(s)
+    add_run_options(s, max_step=True)
     add_initial_option(s)
     add_input_option(s)
     add_output_options(s, json_help="print the summary, the solver statistics and (if it "

@@ -102,6 +102,7 @@ def cmd_sweep(args):
     try:
         res = sweep(rig, points, trajectories=plot, t_end=t_end, n_out=n_out,
                     params=fixed, rtol=args.rtol, atol=args.atol, method=args.method,
+                    max_step=args.max_step,
                     backend=args.backend, workers=args.workers, client=client,
                     out=None if plot or out is None else out,
                     format=None if plot else args.format, chunk_size=args.chunk,
@@ -179,7 +180,7 @@ def add_parsers(sub):
                    "uniform:LO:HI or lognormal:MEDIAN:SIGMA (with --sample mc:N)")
     s.add_argument("--seed", type=int, default=None, help="seed of the sample (default 0)")
     add_input_option(s)
-    add_run_options(s)
+    add_run_options(s, max_step=True)
     s.add_argument("--workers", type=int, default=None,
                    help="threads or processes on this machine (default: one per core)")
     s.add_argument("--dask", metavar="ADDRESS",

@@ -16,6 +16,7 @@ analysis, and the one CasADi DAE every back end consumes.
       smoothness.py  signals it differentiates must not jump where they switch
     dae.py         the DAE (x, z, p, ode, alg, outputs, events) and its infos
     dae_cache.py   compiled DAEs kept on disk, keyed by the rig's declaration and sources
+    pressure_bound.py  the pressures an oil circuit's sources bound (a run's check)
 
 May import: pdbfs.errors only. Nothing here knows about solvers, C code,
 FMUs or studies.

@@ -69,6 +69,10 @@ class Component:
         number within the declaration's bounds.
     """
 
+    #: how the component bounds an oil circuit's pressures (modelling.pressure_bound):
+    #: None, it may raise one above every source's
+    pressure_bound: dict | None = None
+
     def __init__(self, **values: float | ca.SX):
         set_ = object.__setattr__
         set_(self, "_name", "")
@@ -337,9 +341,11 @@ class Component:
             if dae is None:
                 # flattening and structural analysis (scipy.sparse): imported when needed
                 from .flatten import flatten
+                from .pressure_bound import pressure_bound
                 from .structure import simplify
                 dae = simplify(flatten(self), name=self.rig_name())
                 dae.signals = dict(getattr(self, "summary_signals", {}) or {})
+                dae.pressure_bound = pressure_bound(self)
                 dae.description = _first_sentence(type(self).__doc__)
                 if key is not None:
                     dae_cache.store(key, dae)

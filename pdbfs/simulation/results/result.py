@@ -372,8 +372,9 @@ class Result(ResultExports):
         dict
             Figure name -> value, SI units (``SUMMARY_UNITS``); None where
             the run cannot give it (the pulse not over: a PulseIncompleteWarning says so).
-            A figure outside its physical range (a restitution above 1) warns
-            (ImplausibleResultWarning), naming the likely cause.
+            A figure outside its physical range (a restitution above 1, a
+            pressure above every source's) warns (ImplausibleResultWarning),
+            naming the likely cause.
 
         Examples
         --------
@@ -387,9 +388,7 @@ class Result(ResultExports):
         if "_summary" not in self.__dict__ and self._fast is not None:
             d = summary_of(self._sim, self._fast)
             if d is not None:                  # the run's own: nothing integrated again
-                self._summary = d          # (implausible() only for a figure out of range)
-                self._summary_warnings = implausible(self, d) \
-                    if (d.get("restitution_coefficient") or 0.0) > 1.0 else []
+                self._summary, self._summary_warnings = d, implausible(self, d)
         if "_summary" not in self.__dict__:    # its warnings are kept and given again each call
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")

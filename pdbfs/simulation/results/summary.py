@@ -194,13 +194,15 @@ def time_above(R, name, level, window) -> float:
 
 def implausible(res: Result, out: dict) -> list:
     """The warnings (recorded, as ``warnings.catch_warnings(record=True)``
-    gives them) of the summary ``out`` of the Result ``res`` where a figure
+    gives them) of the run ``res`` and its summary ``out`` where a figure
     lies outside its physical range, each naming the likely cause: a
     restitution coefficient above 1 (the blow gives back more energy than
     it took) comes from bodies that start interpenetrating (the contact
     force is already up at t = 0) or else from tolerances too loose for the
-    blow. Empty where every figure is plausible (the usual case costs one
-    comparison).
+    blow; a pressure of an oil circuit fed by pressure sources alone above
+    every source's and start pressure (modelling.pressure_bound) from
+    tolerances too loose for the circuit. Empty where every figure is
+    plausible.
 
     Parameters
     ----------
@@ -214,24 +216,41 @@ def implausible(res: Result, out: dict) -> list:
     list of warnings.WarningMessage
         ImplausibleResultWarning records, to be given with the summary.
     """
-    e = out.get("restitution_coefficient")
-    if e is None or not e > 1.0:
+    dae, s = res._sim.dae, res.settings
+    e, bound = out.get("restitution_coefficient"), getattr(dae, "pressure_bound", None)
+    if not (e is not None and e > 1.0) and not bound:
         return []
-    dae = res._sim.dae
-    force = (getattr(dae, "signals", {}) or {}).get("contact_force")
-    f0 = float(res[force][0]) if force else 0.0
-    s = res.settings
-    cause = (f"the contact force is already {f0:.4g} N at t = 0: the bodies start "
-             "interpenetrating (a negative gap?), and the blow releases the energy stored "
-             "in the contact" if f0 > 0 else
-             f"the solution is not accurate enough: rtol = {s['rtol']:g}, atol = "
-             f"{s['atol']:g} are too loose for this blow (try the defaults)")
+    loose = (f"the solution is not accurate enough: rtol = {s['rtol']:g}, atol = {s['atol']:g} "
+             "are too loose for this run (try the defaults, or a tighter rtol)")
+    found = []
+    if e is not None and e > 1.0:
+        force = (getattr(dae, "signals", {}) or {}).get("contact_force")
+        f0 = float(res[force][0]) if force else 0.0
+        cause = (f"the contact force is already {f0:.4g} N at t = 0: the bodies start "
+                 "interpenetrating (a negative gap?), and the blow releases the energy stored "
+                 "in the contact" if f0 > 0 else loose)
+        found.append(f"rig {dae.name}: the restitution coefficient {e:.6g} is above 1 (the "
+                     f"blow would give back more energy than it took): {cause}")
+    if bound:
+        found += _above_sources(res, bound, s, loose)
+    if not found:                 # (the usual case: no warnings machinery)
+        return []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        warnings.warn(f"rig {dae.name}: the restitution coefficient {e:.6g} is above 1 (the "
-                      f"blow would give back more energy than it took): {cause}",
-                      ImplausibleResultWarning, stacklevel=2)
+        for text in found:
+            warnings.warn(text, ImplausibleResultWarning, stacklevel=2)
     return caught
+
+
+def _above_sources(res, bound, s, loose) -> list:
+    """The warning of a circuit's pressure above every bound of it (or none):
+    beyond ten tolerances' share of the bound, which an accurate run stays within."""
+    top = max([res.peak(n)[1] for n in bound["sources"]] + [float(res[n][0]) for n in bound["stores"]])
+    peak, where = max((res.peak(n)[1], n) for n in bound["stores"]) if bound["stores"] else (-np.inf, "")
+    if not peak > top + 10.0 * (s["rtol"] * abs(top) + s["atol"]):
+        return []
+    return [f"rig {res._sim.dae.name}: {where} reaches {peak:.10g} Pa, above every source's and "
+            f"start pressure of its circuit (at most {top:.10g} Pa): {loose}"]
 
 
 def restitution(R, force, striker_velocity=None, window=None, impulse=None) -> float | None:

@@ -36,7 +36,8 @@ BINARY = {
 def vectorize(f: ca.Function):
     """A function of numpy arrays (one row per input entry, one column per
     point, or a single column to broadcast) returning one (n_out, N) array
-    per output, or None if ``f`` uses an operation not supported here."""
+    per output (a row per entry, structural zeros included), or None if
+    ``f`` uses an operation not supported here."""
     if not f.is_a("SXFunction"):
         return None
     program = []
@@ -46,7 +47,7 @@ def vectorize(f: ca.Function):
         if op == ca.OP_INPUT:
             program.append(("in", outs[0], ins[0], ins[1]))
         elif op == ca.OP_OUTPUT:
-            program.append(("out", ins[0], outs[0], outs[1]))
+            program.append(("out", ins[0], outs[0], outs[1]))     # (output, its nonzero)
         elif op == ca.OP_CONST:
             program.append(("const", outs[0], f.instruction_constant(k)))
         elif op in UNARY:
@@ -55,7 +56,10 @@ def vectorize(f: ca.Function):
             program.append(("f2", outs[0], BINARY[op], ins[0], ins[1]))
         else:
             return None
-    sizes = [f.nnz_out(i) for i in range(f.n_out())]
+    # an output's rows are its dense entries: a structural zero (the rate of a
+    # constant) is a row of zeros, not left out (the rows after it would move up)
+    sizes = [f.numel_out(i) for i in range(f.n_out())]
+    where = [f.sparsity_out(i).find() for i in range(f.n_out())]
 
     def run(*args):
         args = [np.atleast_2d(np.asarray(a, dtype=float)) for a in args]
@@ -74,7 +78,7 @@ def vectorize(f: ca.Function):
                 elif kind == "const":
                     w[ins[1]] = ins[2]
                 else:
-                    res[ins[2]][ins[3]] = w[ins[1]]
+                    res[ins[2]][where[ins[2]][ins[3]]] = w[ins[1]]
         return res
 
     return run

@@ -72,6 +72,17 @@ class HeatNetwork:
         """The network of ``rig`` at its parameter values ``params`` (every
         rig parameter by name), or None for a rig without heat capacitors.
 
+        Parameters
+        ----------
+        rig : Rig
+            The rig.
+        params : mapping of str to float
+            Every rig parameter's value by name, SI units.
+
+        Returns
+        -------
+        HeatNetwork or None
+
         Raises
         ------
         pdbfs.ModelError
@@ -121,7 +132,19 @@ class HeatNetwork:
         return cls(states, C, A, b, g, h, list(dae.p_names))
 
     def pause(self, tau: float) -> "Pause":
-        """The closed form of a pause of ``tau`` seconds (tau >= 0)."""
+        """The closed form of a pause.
+
+        Parameters
+        ----------
+        tau : float
+            The pause, s (at least 0).
+
+        Returns
+        -------
+        Pause
+            The temperatures after it as a linear map of those before, and the
+            heat lost through the boundaries over it.
+        """
         from scipy.linalg import expm
         n = len(self.states)
         M = np.zeros((2 * (n + 1), 2 * (n + 1)))
@@ -133,11 +156,33 @@ class HeatNetwork:
         return Pause(float(tau), step[:n], lost)
 
     def stored(self, T: np.ndarray) -> float:
-        """The heat stored at the temperatures ``T`` above 0 K, J (differences matter)."""
+        """The heat stored above 0 K (differences matter).
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            The capacitors' temperatures, K (``states``' order).
+
+        Returns
+        -------
+        float
+            J.
+        """
         return float(self.capacities @ T)
 
     def lost_rate(self, T: np.ndarray) -> float:
-        """The heat flow leaving through the boundaries at the temperatures ``T``, W."""
+        """The heat flow leaving through the boundaries.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            The capacitors' temperatures, K (``states``' order).
+
+        Returns
+        -------
+        float
+            W.
+        """
         return float(self.g @ T + self.h)
 
 

@@ -106,7 +106,16 @@ class HoldPeak:
         return {self.parameter: float(last[self.parameter] * (target / peak) ** (1 / exponent))}
 
     def bound(self, dae: DAE) -> HoldPeak:
-        """This rule with its parameter and exponent given for the rig ``dae``.
+        """This rule with its parameter and exponent given for a rig.
+
+        Parameters
+        ----------
+        dae : DAE
+            The rig's DAE.
+
+        Returns
+        -------
+        HoldPeak
 
         Raises
         ------
@@ -204,6 +213,10 @@ class Schedule:
         refused : mapping of str to str
             Parameters a schedule may not set, with the reason.
 
+        Returns
+        -------
+        Schedule or None
+
         Raises
         ------
         pdbfs.ParameterError
@@ -247,7 +260,18 @@ class Schedule:
         return cls(out)
 
     def row(self, i: int) -> dict[str, float]:
-        """The settings of blow ``i`` (from 0)."""
+        """The settings of one blow.
+
+        Parameters
+        ----------
+        i : int
+            The blow, from 0.
+
+        Returns
+        -------
+        dict of str to float
+            Parameter name -> value, SI units.
+        """
         return {k: float(v[i]) for k, v in self.columns.items()}
 
     def key(self) -> str:

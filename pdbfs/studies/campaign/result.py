@@ -213,8 +213,18 @@ class CampaignResult:
         return fig
 
     def text(self, rows: int = 12) -> str:
-        """A plain-text report: the totals and ``rows`` of the blows (spread
-        over the campaign), for the command line."""
+        """A plain-text report for the command line.
+
+        Parameters
+        ----------
+        rows : int
+            How many blows the table shows, spread over the campaign.
+
+        Returns
+        -------
+        str
+            The totals and the table.
+        """
         t = self.table
         pick = np.unique(np.linspace(0, len(t) - 1, min(rows, len(t))).round().astype(int))
         cols = ["blow", "time", *self.settings, "peak_pressure", "pulse_duration",

@@ -118,6 +118,12 @@ def campaign(rig: Rig | str, blows: int, period: float, *,
         time (``format`` "parquet" or "csv"; default Parquet where pyarrow
         is installed); the same campaign run again resumes from it. A folder
         holding another campaign is refused unless ``overwrite``.
+    format : str, optional
+        The chunks' file format in ``out``: "parquet" or "csv".
+    chunk_size : int
+        Blows per chunk file in ``out``.
+    overwrite : bool
+        Replace a folder that holds another campaign.
     progress : callable, optional
         Called with (blows done, blows in all) as the campaign goes.
 
