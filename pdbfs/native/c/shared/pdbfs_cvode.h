@@ -201,12 +201,14 @@ void pdbfs_cvode_free(PdbfsCvode *s);
  * pattern; the pattern's nlead, ml and mu into s; the linear solver for the
  * settings' choice (band or dense LU); CVODE's Jacobian callback; the band
  * solver of s->A (the tail after nlead solved after the band LU) */
+#ifndef PDBFS_NO_CVODE
 casadi_int pdbfs_pattern_nnz(const casadi_int *sp, int nx);
 void pdbfs_cvode_bandwidths(PdbfsCvode *s);
 int pdbfs_cvode_choose_linsol(const PdbfsCvode *s, int asked);
 int pdbfs_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
                     N_Vector t1, N_Vector t2, N_Vector t3);
 SUNLinearSolver pdbfs_cvode_band_solver(PdbfsCvode *s);
+#endif
 
 /* Call a generated function of (t, x, v, p) (v: z, or a rate); of (t, x, z, p) with z empty. */
 int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
