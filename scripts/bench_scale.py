@@ -20,6 +20,16 @@ same process), and fitted as c * N^k over N >= 10: k is the exponent.
 
     python scripts/bench_scale.py [--n 1,10,100,1000,2000] [--c] [--fmu] [--repeat 2]
 
+``--solvers`` (N = 8, 16, 32, 64 unless ``--n`` is given): the compiled
+backend's run of each method ("auto", the default; "erk"; "adams"; "bdf"),
+CPU time per run (best of ``--repeat``), steps, right-hand-side and Jacobian
+evaluations, the process's peak RSS; Adams and BDF also with dense LU forced
+(the same process), and the cost exponent k of each over all N. Exit
+status 1 when, at the largest N, band LU takes more than ``--target`` (0.6)
+of dense LU's time for Adams or BDF.
+
+    python scripts/bench_scale.py --solvers [--n 8,16,32,64] [--repeat 3] [--target 0.6]
+
 Expect the simulate exponent above 1 at a fixed tolerance: the chain's
 highest mode (2 c N / L) is excited by the impact and carries more than
 the tolerance, so CVODE's steps grow with N (about N^0.6) on top of the
@@ -28,6 +38,8 @@ cost of a step (linear in N: sparse or band LU).
 from __future__ import annotations
 
 import argparse
+import resource
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -36,7 +48,7 @@ import numpy as np
 
 from pdbfs.models import split_piston_rig
 from pdbfs.simulation import Simulator
-from pdbfs.simulation.run import compiled_build
+from pdbfs.simulation.run import compiled as batch, compiled_build
 
 
 def timed(f):
@@ -94,6 +106,60 @@ def measure(n, args, tmp):
     return row
 
 
+#: the driver's code of Newton with dense LU (pdbfs_cvode.h: nls << 4, linsol << 8)
+NEWTON_DENSE = 2 << 4 | 1 << 8
+
+
+def cpu_run(rig, method, repeat):
+    """(CPU seconds of one compiled run, best of ``repeat``; its stats)."""
+    rig.simulate(backend="c", method=method)
+    best, res = float("inf"), None
+    for _ in range(repeat):
+        t = time.process_time()
+        res = rig.simulate(backend="c", method=method)
+        best = min(best, time.process_time() - t)
+    return best, res.stats
+
+
+def dense_run(rig, method, repeat):
+    """As cpu_run with dense LU forced (checked in the stats)."""
+    code = batch.METHOD_CODES[method]
+    batch.METHOD_CODES[method] = code | NEWTON_DENSE
+    try:
+        t, stats = cpu_run(rig, method, repeat)
+    finally:
+        batch.METHOD_CODES[method] = code
+    assert stats["method"].endswith("newton-dense"), stats["method"]
+    return t, stats
+
+
+def solvers(ns, args):
+    """The --solvers table; returns the exit status."""
+    rows = {}
+    print(f"{'N':>4} {'method':>7} {'solver':>18} {'ms/run':>9} {'steps':>7} {'rhs':>7} "
+          f"{'jac':>5} {'RSS MB':>7}")
+    for n in ns:
+        rig = split_piston_rig(n)
+        for m in ("auto", "erk", "adams", "bdf", "adams dense", "bdf dense"):
+            t, st = (dense_run if m.endswith("dense") else cpu_run)(rig, m.split()[0], args.repeat)
+            rows[n, m] = t
+            rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+            print(f"{n:>4} {m:>7} {st['method']:>18} {t * 1e3:>9.2f} {st['steps']:>7} "
+                  f"{st['rhs_evals']:>7} {st['jac_evals']:>5} {rss:>7.0f}", flush=True)
+    print("\ncost exponent k of c*N^k over N = " + ", ".join(map(str, ns)))
+    methods = ("auto", "erk", "adams", "bdf", "adams dense", "bdf dense")
+    print("  " + ", ".join(f"{m} {np.polyfit(np.log(ns), np.log([rows[n, m] for n in ns]), 1)[0]:.2f}"
+                           for m in methods))
+    big = ns[-1]
+    best = min(("erk", "adams", "bdf"), key=lambda m: rows[big, m])
+    print(f"N = {big}: default (auto) {rows[big, 'auto'] * 1e3:.1f} ms, best ({best}) "
+          f"{rows[big, best] * 1e3:.1f} ms")
+    ratios = {m: rows[big, m] / rows[big, f"{m} dense"] for m in ("adams", "bdf")}
+    print(f"N = {big}, band LU / dense LU (same process): " +
+          ", ".join(f"{m} {r:.2f}" for m, r in ratios.items()) + f" (target <= {args.target})")
+    return 0 if max(ratios.values()) <= args.target else 1
+
+
 def shown(column, v):
     if column.endswith("steps"):
         return f"{v:d}"
@@ -106,7 +172,14 @@ def main(argv=None):
     ap.add_argument("--c", action="store_true", help="also the compiled backend")
     ap.add_argument("--fmu", action="store_true", help="also FMU export")
     ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--solvers", action="store_true",
+                    help="each method's compiled run, band against dense LU")
+    ap.add_argument("--target", type=float, default=0.6,
+                    help="--solvers: the largest band/dense time ratio passed")
     args = ap.parse_args(argv)
+    if args.solvers:
+        return solvers([int(v) for v in (args.n if "--n" in (argv or sys.argv) else
+                                         "8,16,32,64").split(",")], args)
     ns = [int(v) for v in args.n.split(",")]
     if args.c:   # a fresh cache of compiled rigs: compilation is measured, not looked up
         fresh = Path(tempfile.mkdtemp(prefix="pdbfs-bench-compiled-"))
@@ -127,4 +200,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

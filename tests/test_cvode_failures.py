@@ -51,6 +51,7 @@ def harness(tmp_path_factory):
                  "-o", str(tmp / "pdbfs_cvode.o")],
                 [*cc, "-std=gnu99", "-O1", "-g", *inc, str(HARNESS), str(tmp / "pdbfs_cvode.o"),
                  str(CVODE_DRIVER[0].with_name("pdbfs_eval.c")),
+                 str(CVODE_DRIVER[0].with_name("pdbfs_cvode_ls.c")),
                  str(tmp / "pdbfs_model_funcs.c"), "-o", str(exe), *sd.link_args(), "-lm"]):
         r = subprocess.run(cmd, capture_output=True, text=True)
         assert r.returncode == 0, r.stderr[-3000:]

@@ -188,3 +188,35 @@ def test_simulate_warns_when_the_bar_segments_are_coarser_than_the_output():
         # a longer bar (params=) has slower segments: warned again
         with pytest.raises(BarResolutionWarning, match="piston"):
             RIGS["bar-piston"]().simulate(0.012, n_out=1201, params={"piston.L": 3.0})
+
+
+@pytest.mark.parametrize("method", ["bdf", "adams"])
+def test_the_summary_run_of_a_long_chain_takes_the_band_solver_and_agrees_with_dense(
+        method, monkeypatch):
+    """The run a simulate makes (the states and the contact's impulse, whose
+    row is far from the diagonal): band LU for the chain at N = 64, with the
+    same states and pulse as dense LU to the tolerance; dense for the paper rig."""
+    rig = split_piston_rig(64)
+    sim = Simulator.of(rig)
+    p = sim.param_vector()
+    x0 = sim.start_vector(p)
+    c = sim.compiled(method)
+    grid = np.linspace(0.0, 0.02, 401)
+    out = {}
+    for name, linsol in (("auto", 0), ("dense", DENSE)):
+        monkeypatch.setitem(batch.METHOD_CODES, method, batch.METHOD_CODES[method] | NEWTON | linsol)
+        X, st, values, code, _, _ = c.run_summary(grid, x0, p, 1e-8, 1e-10, method)
+        assert st.ok and code == 0
+        out[name] = (X, st.stats["method"], dict(zip(batch.SUMMARY_KEYS, values)))
+    assert out["auto"][1] == f"{method}/newton-band" and out["dense"][1] == f"{method}/newton-dense"
+    i = rig.compile().x_names.index("breech.s")
+    scale = np.abs(out["dense"][0][i]).max()
+    assert np.abs(out["auto"][0][i] - out["dense"][0][i]).max() < 1e-5 * scale
+    for key in ("peak_pressure", "pulse_duration", "peak_contact_force"):
+        assert out["auto"][2][key] == pytest.approx(out["dense"][2][key], rel=1e-5), key
+    paper = Simulator.of(paper_rig())
+    pp = paper.param_vector()
+    monkeypatch.setitem(batch.METHOD_CODES, method, batch.METHOD_CODES[method] & 15 | NEWTON)
+    _, st, *_ = paper.compiled(method).run_summary(grid, paper.start_vector(pp), pp, 1e-8, 1e-10,
+                                                   method)
+    assert st.ok and st.stats["method"] == f"{method}/newton-dense"

@@ -24,7 +24,8 @@ compiled once per target by ``zig cc``).
 pdbfs's C, a folder per binary it goes into (codegen.py names the files):
 
     c/shared/           in every binary, the compiled backend's library and every FMU:
-      pdbfs_cvode.[ch]  the CVODE driver
+      pdbfs_cvode.[ch]  the CVODE driver; its linear algebra (pdbfs_cvode_ls.c: dense or
+                        band LU, chosen from the Jacobian's pattern)
       pdbfs_eval.c      the model interface both drivers use (with CVODE or without)
       pdbfs_erk.[ch]    the explicit Runge-Kutta 8(5,3) driver (method "erk"), same
                         interface; its step arithmetic (pdbfs_erk_rk.[ch], _la.h, _table.h;

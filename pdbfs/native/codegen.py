@@ -42,6 +42,7 @@ NATIVE_C = Path(__file__).with_name("c")
 SHARED_C, LIBRARY_C, FMU_C = NATIVE_C / "shared", NATIVE_C / "library", NATIVE_C / "fmu"
 #: the C shared by every generated binary: CVODE through the events
 CVODE_DRIVER = (SHARED_C / "pdbfs_cvode.c", SHARED_C / "pdbfs_cvode.h",
+                SHARED_C / "pdbfs_cvode_ls.c",      # its linear algebra: dense or band LU
                 # the model interface both integrators use
                 SHARED_C / "pdbfs_eval.c",
                 # ... and the modes at a state, for method "auto"

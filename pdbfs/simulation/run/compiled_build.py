@@ -57,7 +57,7 @@ DRIVERS = tuple(C_DIR / n for n in ("pdbfs_batch.c", "pdbfs_summary.c", "pdbfs_r
                                      "pdbfs_run_summary.c", "pdbfs_run_trajectory.c",
                                      "pdbfs_segments.c", "pdbfs_batch_model.h")) + ERK_DRIVER
 #: the CVODE loop's stand-in in a library without CVODE (the explicit method alone)
-NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name != "pdbfs_cvode.c") + \
+NO_CVODE = tuple(f for f in CVODE_DRIVER if f.name not in ("pdbfs_cvode.c", "pdbfs_cvode_ls.c")) + \
     (C_DIR / "pdbfs_cvode_none.c",)
 #: the C file of the lists above compiled for each state count (the others: drivers())
 SIZED_C = "pdbfs_erk_sized.c"

@@ -46,43 +46,6 @@ static int cv_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *ud) {
     return all_finite(yd, s->nx) ? 0 : 1;   /* recoverable: CVODE retries with a smaller step */
 }
 
-/* CasADi writes a dense pattern compressed, {nrow, ncol, 1}, where a sparse
- * one starts its column offsets with 0: the nonzeros then run column by column */
-static int dense_pattern(const casadi_int *sp) { return sp[2] == 1; }
-
-static casadi_int pattern_nnz(const casadi_int *sp, int nx) {
-    return dense_pattern(sp) ? (casadi_int)nx * nx : sp[2 + nx];
-}
-
-/* row of the k-th nonzero, which lies in column j */
-static casadi_int pattern_row(const casadi_int *sp, int nx, casadi_int j, casadi_int k) {
-    return dense_pattern(sp) ? k - j * nx : sp[3 + nx + k];
-}
-
-static casadi_int pattern_col_start(const casadi_int *sp, int nx, casadi_int j) {
-    return dense_pattern(sp) ? j * nx : sp[2 + j];
-}
-
-static int cv_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
-                  N_Vector t1, N_Vector t2, N_Vector t3) {
-    PdbfsCvode *s = (PdbfsCvode *)ud;
-    const casadi_int *sp = s->jac_sp;
-    casadi_int j, k, nnz = pattern_nnz(sp, s->nx);
-    int band = SUNMatGetID(J) == SUNMATRIX_BAND;
-    (void)fy; (void)t1; (void)t2; (void)t3;
-    s->jac_evals++;
-    if (pdbfs_eval_txp(s->ev, s->jac, t, N_VGetArrayPointer(y), s->jac_nz)) return -1;
-    if (!all_finite(s->jac_nz, (long)nnz)) return 1;
-    SUNMatZero(J);
-    for (j = 0; j < s->nx; j++)
-        for (k = pattern_col_start(sp, s->nx, j); k < pattern_col_start(sp, s->nx, j + 1); k++) {
-            casadi_int r = pattern_row(sp, s->nx, j, k);
-            if (band) SM_ELEMENT_B(J, r, j) = s->jac_nz[k];
-            else SM_ELEMENT_D(J, r, j) = s->jac_nz[k];
-        }
-    return 0;
-}
-
 static int cv_root(sunrealtype t, N_Vector y, sunrealtype *g, void *ud) {
     PdbfsCvode *s = (PdbfsCvode *)ud;
     return pdbfs_eval_txp(s->ev, pdbfs_events, t, N_VGetArrayPointer(y), g) ? -1 : 0;
@@ -121,26 +84,6 @@ void pdbfs_cvode_free(PdbfsCvode *s) {
     s->y = NULL; s->tmp = NULL; s->atol = NULL; s->ctx = NULL;
 }
 
-/* the Jacobian's bandwidths, from its pattern */
-static void bandwidths(PdbfsCvode *s) {
-    const casadi_int *sp = s->jac_sp;
-    casadi_int j, k;
-    s->ml = s->mu = 0;
-    for (j = 0; j < s->nx; j++)
-        for (k = pattern_col_start(sp, s->nx, j); k < pattern_col_start(sp, s->nx, j + 1); k++) {
-            casadi_int r = pattern_row(sp, s->nx, j, k);
-            if (r - j > s->ml) s->ml = (int)(r - j);
-            if (j - r > s->mu) s->mu = (int)(j - r);
-        }
-}
-
-/* band LU costs about nx*ml*(ml+mu) against nx^3/3 dense, and stores
- * nx*(2*ml+mu+1) numbers against nx^2: band when it stores under half */
-static int choose_linsol(PdbfsCvode *s, int asked) {
-    if (asked == PDBFS_LS_DENSE || asked == PDBFS_LS_BAND) return asked;
-    return 2 * (2 * s->ml + s->mu + 1) < s->nx ? PDBFS_LS_BAND : PDBFS_LS_DENSE;
-}
-
 static int choose_nls(const PdbfsCvodeSettings *set, int nx) {
     if (set->method == PDBFS_BDF) return PDBFS_NLS_NEWTON;
     if (set->nls == PDBFS_NLS_FIXED_POINT || set->nls == PDBFS_NLS_NEWTON) return set->nls;
@@ -162,21 +105,21 @@ static int create(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0) {
         if (!s->NLS) return NO_MEMORY;
         flag = CVodeSetNonlinearSolver(s->cv, s->NLS);
     } else if (flag == CV_SUCCESS) {
-        bandwidths(s);
-        s->linsol = choose_linsol(s, set->linsol);
+        pdbfs_cvode_bandwidths(s);
+        s->linsol = pdbfs_cvode_choose_linsol(s, set->linsol);
         free(s->jac_nz);
-        s->jac_nz = malloc(sizeof(double) * (size_t)(pattern_nnz(s->jac_sp, s->nx) + 1));
+        s->jac_nz = malloc(sizeof(double) * (size_t)(pdbfs_pattern_nnz(s->jac_sp, s->nx) + 1));
         if (!s->jac_nz) return NO_MEMORY;
         if (s->linsol == PDBFS_LS_BAND) {
             s->A = SUNBandMatrix(s->nx, s->mu, s->ml, s->ctx);
-            s->LS = s->A ? SUNLinSol_Band(s->y, s->A, s->ctx) : NULL;
+            s->LS = s->A ? pdbfs_cvode_band_solver(s) : NULL;
         } else {
             s->A = SUNDenseMatrix(s->nx, s->nx, s->ctx);
             s->LS = s->A ? SUNLinSol_Dense(s->y, s->A, s->ctx) : NULL;
         }
         if (!s->LS) return NO_MEMORY;
         flag = CVodeSetLinearSolver(s->cv, s->LS, s->A);
-        if (flag == CV_SUCCESS) flag = CVodeSetJacFn(s->cv, cv_jac);
+        if (flag == CV_SUCCESS) flag = CVodeSetJacFn(s->cv, pdbfs_cvode_jac);
     }
     if (flag == CV_SUCCESS && s->ne > 0) {
         flag = CVodeRootInit(s->cv, s->ne, cv_root);

@@ -124,7 +124,8 @@ typedef struct {
     SUNNonlinearSolver NLS;
     double *jac_nz;       /* the Jacobian's nonzeros */
     int method, nls, linsol;  /* of the CVODE memory in cv (linsol: the one chosen) */
-    int ml, mu;           /* the Jacobian's lower and upper bandwidths */
+    int ml, mu;           /* the Jacobian's lower and upper bandwidths (of its first nlead states) */
+    int nlead;            /* the states before a tail that feeds nothing (nx: none) */
     double t_stop;        /* of the settings it was started with */
     /* where the integration is */
     double tn;            /* time CVODE has integrated to */
@@ -195,6 +196,19 @@ int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
 
 /* Free CVODE's memory; ``s`` may be started again. */
 void pdbfs_cvode_free(PdbfsCvode *s);
+
+/* Newton's linear algebra (pdbfs_cvode_ls.c): the nonzeros of a CasADi
+ * pattern; the pattern's nlead, ml and mu into s; the linear solver for the
+ * settings' choice (band or dense LU); CVODE's Jacobian callback; the band
+ * solver of s->A (the tail after nlead solved after the band LU) */
+#ifndef PDBFS_NO_CVODE
+casadi_int pdbfs_pattern_nnz(const casadi_int *sp, int nx);
+void pdbfs_cvode_bandwidths(PdbfsCvode *s);
+int pdbfs_cvode_choose_linsol(const PdbfsCvode *s, int asked);
+int pdbfs_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *ud,
+                    N_Vector t1, N_Vector t2, N_Vector t3);
+SUNLinearSolver pdbfs_cvode_band_solver(PdbfsCvode *s);
+#endif
 
 /* Call a generated function of (t, x, v, p) (v: z, or a rate); of (t, x, z, p) with z empty. */
 int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
