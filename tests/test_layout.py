@@ -161,13 +161,12 @@ def module_targets(path: pathlib.Path):
     """The project's modules that importing ``path`` runs, function-level
     imports included: the module named, or the modules named in a
     ``from ... import``, and the package imported from unless it is one of
-    the module's own (already running when the module is)."""
+    the module's own (already running when the module is); those named for
+    annotations only (``if TYPE_CHECKING:``) too: a reader needs them to read
+    the module."""
     me, pkg = dotted(path), package_of(path)
     tree = ast.parse(path.read_text())
-    typing_only = _typing_only(tree)
     for node in ast.walk(tree):
-        if id(node) in typing_only:
-            continue
         if isinstance(node, ast.Import):
             yield from (a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom):
@@ -219,7 +218,8 @@ def cycles(graph: dict) -> list:
 
 def test_no_module_imports_itself_through_others():
     """No import circle between the project's modules, function-level imports
-    counted: a circle means neither module can be read (or moved) without the other."""
+    and those for annotations only counted: a circle means neither module can
+    be read (or moved) without the other."""
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]   # the finder
     assert "pdbfs.native.straight" in import_graph()["pdbfs.native.codegen"]
     found = cycles(import_graph())
@@ -245,7 +245,7 @@ def simulation_part(name: str):
                          ids=lambda p: p.relative_to(SIM).as_posix())
 def test_the_simulation_folders_import_one_way(path):
     """setup <- results <- run <- analysis: a result never imports the run that
-    makes it, a run never an analysis of runs."""
+    makes it, a run never an analysis of runs, not even for annotations."""
     part = simulation_part(dotted(path))
     if part == "state":
         allowed = {part}

@@ -333,13 +333,15 @@ class CompiledODE:
                                  float(max_step or 0.0), int(max_num_steps), a[2], a[3], MSG_LEN,
                                  a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7] if keep else None)
         wall = time.perf_counter() - wall
-        i = b.info.tolist()
+        i = b.unpack(b.bytes)  # info, the summary's values, its code, the note's first byte, handle
         status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
                            _text(b.msg), _stats(i[1], i[3], i[5], i[2], i[6], wall))
-        handle = int(b.handle[0]) if keep else 0
+        handle = i[-1] if keep else 0
         kept = KeptRun(self, handle, t, status.steps) if handle else None
         memory.interrupted()     # a Ctrl-C the record's probe kept, with the record released
-        return X, status, b.out.tolist(), int(b.code[0]), _text(b.note, strip=False), kept
+        n = INFO_N + len(SUMMARY_KEYS)
+        return (X, status, list(i[INFO_N:n]), i[n], _text(b.note, strip=False) if i[n + 1] else "",
+                kept)
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):
