@@ -11,8 +11,8 @@ medians of batches):
   each time: the values checked at every run, the start and the choice of
   method="auto" found again;
 * the same with a new ``v`` each time (a unit in the last place further):
-  a new start, and "auto" decides again only where its estimate reads the
-  value (not here: the striker's speed is in the start alone).
+  a new start, and method="auto" decides again (its estimate reads the
+  hammer's speed).
 
 Every run takes the same path; the targets (printed with the ratios, exit
 status 1 when one is missed): the rig's own run within ``--own`` (default

@@ -51,33 +51,32 @@ def test_a_default_run_and_its_summary_do_the_rig_s_work_once(rig):
         assert once not in calls, once
 
 
-def test_a_loop_over_new_parameters_costs_about_what_the_rig_s_own_run_costs(rig):
-    """One path for every run: a run with a new hammer velocity each time
-    (nothing of the run before can be reused but what the rig alone
-    decides) takes at most 1.2 times the CPU time of the rig's own run
-    (medians of interleaved batches; measured 1.10-1.13 on a loaded 2-core
-    machine, 1.35-1.41 when the rig's own run took a path of its own and a
-    new start made "auto" decide again)."""
+def test_a_loop_over_parameters_costs_about_what_the_rig_s_own_run_costs(rig):
+    """One path for every run: a run with the same params= each time, and
+    one with a new hammer velocity each time (nothing of the run before can
+    be reused but what the rig alone decides), each take at most 1.25 times
+    the CPU time of the rig's own run (medians of interleaved batches; the
+    targets and figures are bench_run_overhead's)."""
     v = [2.0]
 
     def new_params():
         v[0] = float(np.nextafter(v[0], 3.0))
         return rig.simulate(params={"hammer.v0": v[0]}).summary()
-
-    def own():
-        return rig.simulate().summary()
-    runs = {"own": own, "new": new_params}
+    runs = {"own": lambda: rig.simulate().summary(),
+            "same": lambda: rig.simulate(params={"hammer.v0": 2.0}).summary(),
+            "new": new_params}
     times = {k: [] for k in runs}
     for f in runs.values():
         f()
     for r in range(60):
-        for k in (("own", "new") if r % 2 else ("new", "own")):
+        for k in list(runs)[r % 3:] + list(runs)[:r % 3]:
             t = time.process_time()
             for _ in range(5):
                 runs[k]()
             times[k].append(time.process_time() - t)
-    ratio = np.median(times["new"]) / np.median(times["own"])
-    assert ratio < 1.2, f"a params= run takes {ratio:.2f}x the rig's own run"
+    for k in ("same", "new"):
+        ratio = np.median(times[k]) / np.median(times["own"])
+        assert ratio < 1.25, f"a run with {k} params= takes {ratio:.2f}x the rig's own run"
 
 
 def test_a_run_never_sees_what_an_earlier_one_was_given_or_changed(rig):
