@@ -95,6 +95,19 @@ def test_a_run_never_sees_what_an_earlier_one_was_given_or_changed(rig):
     assert again.summary()["peak_pressure"] == rig.simulate().summary()["peak_pressure"]
 
 
+def test_a_grid_given_stays_the_caller_s(rig):
+    """A run on a t_out of the caller's keeps its own copy: the caller's
+    array stays writable, and changing it changes neither the Result's times
+    nor its values off the grid."""
+    t = np.linspace(0.0, 0.02, 401)
+    res = rig.simulate(t_out=t)
+    assert t.flags.writeable
+    t[:] = 7.0
+    assert res.t[0] == 0.0 and res.t[-1] == 0.02
+    again = rig.simulate(t_out=np.linspace(0.0, 0.02, 401))
+    assert res.value_at("piston.s", 0.01005) == again.value_at("piston.s", 0.01005)
+
+
 def test_a_strided_grid_gives_the_states_of_the_same_grid_made_contiguous(rig):
     # a kept grid goes to C by its address; any other grid is made
     # contiguous first (a strided t_out read as it lies would be other times)

@@ -18,14 +18,15 @@ class RunSource(Protocol):
     """The rig and the evaluations and integrations a Result asks of the run
     that made it (values off the grid, the summary's own solution, a contact
     force's impulse). Arrays: ``grid`` (n,) in s, states ``X`` (nx, n),
-    algebraics ``Z`` (nz, n), parameters ``p`` (np,); settings as a Result's."""
+    algebraics ``Z`` (nz, n), parameters ``p`` (np,); settings as a Result's.
+
+    A run with inputs has three more, read where present: ``p_at(p, t)``
+    (the parameters with the inputs' values at t), ``by_segments`` (its
+    integration piece by piece between the inputs' breakpoints) and
+    ``known_until`` (s: the end of the inputs' traces)."""
 
     dae: DAE
     state: RigState
-
-    @property
-    def nx(self) -> int:
-        """The rig's number of states."""
 
     def outputs(self, grid: np.ndarray, X: np.ndarray, Z: np.ndarray, p: np.ndarray,
                 rows: list[int] | None = None) -> np.ndarray:

@@ -182,8 +182,8 @@ class RunInputs:
                 per_point = self._cache["bytes/point"] = run_bytes(self.dae, 1)
             require(per_point * n_points, f"rig {self.dae.name}: {n_points} output points",
                     "ask for fewer (n_out, --n-out)")
-        if t_out is not None:
-            grid = output_grid(t_end, n_out, t_out)
+        if t_out is not None:       # the run's own copy: the caller's array stays the caller's
+            grid = output_grid(t_end, n_out, t_out).copy()
             grid.flags.writeable = False
             return backend, grid, None
         found = (backend, *self.grid_kept(t_end, n_out))
