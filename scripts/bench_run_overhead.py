@@ -27,13 +27,16 @@ from __future__ import annotations
 import argparse
 import statistics
 import sys
-import time
+from pathlib import Path
 
 import numpy as np
 
 from pdbfs.models import paper_rig
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.run.compiled import INFO_N, METHOD_CODES, MSG_LEN, POINT_MSG_LEN, SUMMARY_KEYS
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_campaign import per_call  # noqa: E402
 
 
 def raw_call(rig):
@@ -69,14 +72,6 @@ def raw_call(rig):
     return call
 
 
-def batch(fn, n: int) -> float:
-    """CPU seconds per call of ``fn`` over ``n`` calls."""
-    t0 = time.process_time()
-    for _ in range(n):
-        fn()
-    return (time.process_time() - t0) / n
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=40)
@@ -106,7 +101,7 @@ def main(argv=None) -> int:
     names = list(loops)
     for r in range(args.rounds):
         for k in names[r % len(names):] + names[:r % len(names)]:    # each first in turn
-            times[k].append(batch(loops[k], args.batch))
+            times[k].append(per_call(loops[k], args.batch))
     m = {k: statistics.median(v) for k, v in times.items()}
     print(f"the paper rig, 0-20 ms, 2001 points; {args.rounds} rounds of {args.batch} calls, "
           "CPU time, medians")
