@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     import casadi as ca
     import numpy as np
 
-    from pdbfs.simulation import Result
+    import pdbfs
 
 #: Axial stiffness EA/L of the whole piston, N/m (steel, see module docstring).
 K_AXIAL = 3.5e9
@@ -199,7 +199,7 @@ class SplitPistonRig(Rig):
         """The number of pieces the piston and seal are split into."""
         return self._n
 
-    def force_chain(self, res: Result) -> list[tuple[str, np.ndarray]]:
+    def force_chain(self, res: pdbfs.Result) -> list[tuple[str, np.ndarray]]:
         """The compressive forces through the piston, top to bottom: the
         contact, the links 1 .. n-1 (springs report tension, so negated), the oil.
 
