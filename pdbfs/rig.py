@@ -11,7 +11,6 @@ import numpy as np
 
 from pdbfs.modelling import Component
 from pdbfs.simulation import MAX_NUM_STEPS, simulate
-from pdbfs.simulation.run.one_run import simulate_own
 
 if TYPE_CHECKING:
     import os
@@ -62,8 +61,7 @@ class Rig(Component):
 
         Components with a ``check_output(dt_out, params)`` method (an
         ElasticBar, whose segments may be too coarse for the output rate) are
-        asked first. A call without options runs again the rig's own plan,
-        made by its first such call (almost nothing is checked again).
+        asked first.
 
         Parameters
         ----------
@@ -120,16 +118,11 @@ class Rig(Component):
         >>> f"{res.peak('contact.fc')[1] / 1e6:.3g} MN"
         '4.14 MN'
         """
-        kwargs = {k: v for k, v in (("n_out", n_out), ("t_out", t_out), ("params", params),
-                                    ("start", start), ("rtol", rtol), ("atol", atol),
-                                    ("method", method), ("max_step", max_step),
-                                    ("max_num_steps", max_num_steps), ("backend", backend),
-                                    ("initial", initial), ("inputs", inputs))
-                  if v is not _DEFAULTS[k]}
-        dae = self._compiled or self.compile()       # (no call once compiled: the replay's path)
-        checks = (dae.companions.get(_OutputChecks) or self._find_output_checks(dae)).checks
-        if not kwargs and not checks:
-            return simulate_own(dae, t_end)      # the rig's own run (its plan replayed)
+        kwargs = {"n_out": n_out, "t_out": t_out, "params": params, "start": start,
+                  "rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
+                  "max_num_steps": max_num_steps, "backend": backend, "initial": initial,
+                  "inputs": inputs}
+        checks = self._output_checks()
         if checks:
             _check_output(checks, t_end, kwargs)
         return simulate(self, t_end, **kwargs)
@@ -343,6 +336,3 @@ def _check_output(checks, t_end, kwargs):
     for check in checks:
         check(dt, kwargs.get("params"))
 
-
-#: Rig.simulate's default objects: an option left at its default is not passed on
-_DEFAULTS = {**Rig.simulate.__kwdefaults__, "n_out": Rig.simulate.__defaults__[1]}

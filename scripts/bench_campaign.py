@@ -1,8 +1,7 @@
 """Benchmark: the cost of a campaign's blow against a simulate of the same
 rig, in one process, interleaved rounds (CPU time, medians):
 
-* ``rig.simulate(t_blow).summary()``: the rig's own run, its plan replayed
-  (the baseline);
+* ``rig.simulate(t_blow).summary()``: the rig's own run (the baseline);
 * the same with new parameters at each call (the striker speed moved by
   1e-9, as a blow of a campaign gets new start temperatures);
 * ``campaign(rig, n, period)``: a blow of a campaign (the full simulation

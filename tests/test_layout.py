@@ -157,14 +157,17 @@ def dotted(path: pathlib.Path) -> str:
 MODULE_FILES = {dotted(p): p for p in SOURCES}
 
 
-def module_targets(path: pathlib.Path):
+def module_targets(path: pathlib.Path, annotations: bool = False, source: str | None = None):
     """The project's modules that importing ``path`` runs, function-level
     imports included: the module named, or the modules named in a
     ``from ... import``, and the package imported from unless it is one of
-    the module's own (already running when the module is)."""
+    the module's own (already running when the module is); with
+    ``annotations``, those named for annotations only (``if TYPE_CHECKING:``)
+    too: a reader needs them to read the module (``source``: the text read
+    in place of the file's)."""
     me, pkg = dotted(path), package_of(path)
-    tree = ast.parse(path.read_text())
-    typing_only = _typing_only(tree)
+    tree = ast.parse(path.read_text() if source is None else source)
+    typing_only = set() if annotations else _typing_only(tree)
     for node in ast.walk(tree):
         if id(node) in typing_only:
             continue
@@ -245,15 +248,38 @@ def simulation_part(name: str):
                          ids=lambda p: p.relative_to(SIM).as_posix())
 def test_the_simulation_folders_import_one_way(path):
     """setup <- results <- run <- analysis: a result never imports the run that
-    makes it, a run never an analysis of runs."""
-    part = simulation_part(dotted(path))
+    makes it, a run never an analysis of runs, not even for annotations (a
+    Result names what it reads of its run by a protocol of its own folder)."""
+    part, bad = folder_breaches(path)
+    assert not bad, f"pdbfs.simulation.{part} may import {sorted(allowed_parts(part))}, " \
+        f"but imports {bad}"
+
+
+def allowed_parts(part: str) -> set:
+    """The parts of pdbfs.simulation that its part ``part`` may import."""
     if part == "state":
-        allowed = {part}
-    else:
-        allowed = set(SIM_FOLDERS[:SIM_FOLDERS.index(part)]) | {part, "state"}
-    bad = [t for t in module_targets(path)
-           if simulation_part(t) is not None and simulation_part(t) not in allowed]
-    assert not bad, f"pdbfs.simulation.{part} may import {sorted(allowed)}, but imports {bad}"
+        return {part}
+    return set(SIM_FOLDERS[:SIM_FOLDERS.index(part)]) | {part, "state"}
+
+
+def folder_breaches(path: pathlib.Path, source: str | None = None) -> tuple[str, list]:
+    """(the part of pdbfs.simulation ``path`` is in, the modules it imports
+    against the folders' order, annotations' imports included)."""
+    part = simulation_part(dotted(path))
+    allowed = allowed_parts(part)
+    return part, [t for t in module_targets(path, annotations=True, source=source)
+                  if simulation_part(t) is not None and simulation_part(t) not in allowed]
+
+
+def test_a_result_naming_its_simulator_for_annotations_breaks_the_order():
+    """The check reads ``if TYPE_CHECKING:`` imports too: a results module
+    that names the run's Simulator for its annotations (as Result once did)
+    is refused, and one that names its own folder's protocol is not."""
+    head = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from {} import {}\n"
+    path = SIM / "results" / "result.py"
+    assert folder_breaches(path, head.format("..run.simulator", "Simulator"))[1] == \
+        ["pdbfs.simulation.run.simulator"]
+    assert folder_breaches(path, head.format(".source", "RunSource"))[1] == []
 
 
 def test_every_simulation_module_is_in_a_folder_that_lists_it():

@@ -12,7 +12,7 @@ from pdbfs.simulation.state import RigState
 
 def test_a_changed_rig_starts_afresh_and_its_old_state_goes_with_its_old_dae():
     """What the simulation layer keeps of a rig (its RigState: the Simulator,
-    the compiled library, the plans of its own runs) and the rig layer's
+    the compiled library, what its runs' settings decided) and the rig layer's
     output checks are the compiled DAE's companions: a rig that changes
     compiles a new DAE, which starts with none, and the old state is freed
     with the old DAE (nothing outside holds it: no registry keyed by DAEs)."""
@@ -20,7 +20,7 @@ def test_a_changed_rig_starts_afresh_and_its_old_state_goes_with_its_old_dae():
     first = r.simulate().summary()
     old = r.compile()
     state = old.companions[RigState]
-    assert state.simulator is Simulator.of(r) and state.compiled is not None and state.own_plans
+    assert state.simulator is Simulator.of(r) and state.compiled is not None and state.runs
     gone = [weakref.ref(o) for o in (old, state.simulator, state.compiled)]
     del state
     r.hammer.check_output = lambda dt, params: None    # a new component method: seen once compiled again

@@ -6,16 +6,16 @@
                switch times, the rig's inputs of a run as piecewise-linear traces
     run/       one run: simulate(), the Simulator (CVODES/IDAS through CasADi),
                the compiled backend (one shared library per rig, ctypes), a
-               run replayed, a run with inputs segment by segment,
-               method="auto", what a failure means
+               run with inputs segment by segment, method="auto", what a
+               failure means
     results/   what a run gives: Result, its summary (the compiled run's own,
                or its own solution's), impulses and restitution, peaks and
                crossings on the solution, outputs on a grid, plots
     analysis/  beyond a run: linearization and modes, the simulation as a
                differentiable CasADi Function of parameters
     state      what the layer keeps of one compiled rig (RigState: its
-               Simulator, compiled library, plans), held by the DAE and gone
-               with it when the rig changes
+               Simulator, compiled library, what its runs' settings decided),
+               held by the DAE and gone with it when the rig changes
 
 Inside, imports go one way: setup <- results <- run <- analysis (each folder
 may import those before it, and state; its __init__ says so). The C the compiled

@@ -2,6 +2,7 @@
 
     result.py      Result: arrays by dotted name, values off the grid, peaks
                    and crossings located on the solution, CSV, pandas, plot
+    source.py      RunSource: what a Result asks of the run that made it
     summary.py     what a test engineer reads off a pulse (peak pressure,
                    duration, restitution, complete or not, each blow)
     summary_run.py the summary's own solution: a fixed grid, until the pulse is over
@@ -19,9 +20,9 @@
     reprs.py       one readable line and an HTML table for Result, Rig and the studies
 
 A Result integrates again (values off the grid, the summary's own solution)
-through the Simulator it was made by, never by importing it.
+through the run it was made by (a RunSource), never by importing it.
 
 May import: pdbfs.errors, pdbfs.files, pdbfs.modelling, pdbfs.native,
 pdbfs.simulation.state and pdbfs.simulation.setup; never run or analysis
-(run makes Results).
+(run makes Results), not even for annotations.
 """

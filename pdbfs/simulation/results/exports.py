@@ -38,7 +38,7 @@ class ResultExports:
         return self.__dict__.get("_summary")
 
     def _shown(self) -> tuple[str, list[tuple[str, str]]]:
-        t = self._shared[0] if "t" not in self.__dict__ and hasattr(self, "_shared") else self.t
+        t = self.__dict__.get("t", self._shared[0])
         st = self.stats
         rows = [("time", f"{t[0]:g} .. {t[-1]:g} s, {len(t)} points"),
                 ("solver", f"{st.get('method', '?')} ({st.get('backend', '?')}), "

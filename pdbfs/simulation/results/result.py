@@ -15,9 +15,8 @@ from .exports import ResultExports
 from .hermite import Curves
 from .summary import implausible, summarize
 
-
 if TYPE_CHECKING:
-    from ..run.simulator import Simulator
+    from .source import RunSource
 
 
 class Result(ResultExports):
@@ -56,20 +55,17 @@ class Result(ResultExports):
     (2001, 2)
     """
 
-    def __init__(self, sim: Simulator, t: np.ndarray, p: np.ndarray, X: np.ndarray | None, Z: np.ndarray,
+    def __init__(self, sim: RunSource, t: np.ndarray, p: np.ndarray, X: np.ndarray | None, Z: np.ndarray,
                  settings: dict, stats: dict | None = None, fast_summary: tuple | None = None,
                  initial: InitialState | np.ndarray | None = None, states: Callable | None = None,
-                 own_stats: bool = False, shared: bool = False, impulse: np.ndarray | None = None):
+                 own_stats: bool = False, impulse: np.ndarray | None = None):
         self._sim = sim
         self._fast = fast_summary   # the compiled run's own summary (c_summary.py), if any
         self._impulse = impulse     # the contact force's impulse on t, if integrated (summary)
         #: solver statistics of the run: steps, rhs_evals, jac_evals, root_events,
         #: method, wall_time (s), backend (``own_stats``: a dict made for this Result)
         self.stats = stats if own_stats else dict(stats or {})
-        if shared:    # a replay's t and p: its plan's, read-only, copied when first read
-            self._shared = (t, p)
-        else:
-            self.t, self.p = t, p
+        self._shared = (t, p)     # the run's (a kept grid: read-only), copied when first read
         self._Y = None        # all outputs, computed on first need
         self._rows = {}       # single outputs computed so far
         # the states on the grid; None: ``states()`` makes them when first read
@@ -77,8 +73,7 @@ class Result(ResultExports):
         self._states, self._make_states = X, states
         self._Z = Z
         self.settings = settings
-        dae = sim.dae
-        state = sim.state
+        dae, state = sim.dae, sim.state
         names = state.result_names     # the same for every Result of the rig
         if names is None:
             names = state.result_names = (
@@ -105,13 +100,13 @@ class Result(ResultExports):
                 if k not in ("_sim", "curves", "_summary", "_summary_warnings", "_make_states")}
 
     @classmethod
-    def attach(cls, sim: Simulator, state: dict) -> "Result":
+    def attach(cls, sim: RunSource, state: dict) -> "Result":
         """A Result again, from what ``detached`` gave.
 
         Parameters
         ----------
-        sim : Simulator
-            A Simulator of the same rig (the parent process's, for a sweep's worker).
+        sim : RunSource
+            The Simulator of the same rig (the parent process's, for a sweep's worker).
         state : dict
             What ``detached`` returned.
 

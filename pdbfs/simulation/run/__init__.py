@@ -1,7 +1,6 @@
 """One run of a rig: the Simulator, its two back ends and the method choice.
 
-    one_run.py     simulate(): one run of a rig, the function users call;
-                   simulate_own(): the rig's own run, replayed from the second on
+    one_run.py     simulate(): one run of a rig, the function users call
     simulator.py   Simulator: CVODES/IDAS through casadi.integrator,
                    integrators cached per setting, clear SolverErrors
     compiled.py    backend="c" (the default where it builds): the DAE's
@@ -17,11 +16,10 @@
                    Simulator its Result reads through (each point with its own inputs)
     block.py       one thread's buffer of the compiled calls' small arguments and answers
     kept.py        a compiled run kept in the library until its states are read
-    replay.py      a run again with everything of the run before: its plan,
-                   the compiled call and its Result in a few Python frames
     failures.py    what a failed integration most likely means (SolverError texts)
     stats.py       solver statistics under one set of names
-    stiffness.py   method="auto": the method that suits the rig's modes
+    stiffness.py   method="auto": the method that suits the rig's modes, chosen
+                   once per class of runs
 
 May import: pdbfs.errors, pdbfs.files, pdbfs.modelling, pdbfs.native,
 pdbfs.simulation.state, pdbfs.simulation.setup and pdbfs.simulation.results;

@@ -18,8 +18,8 @@ class Block:
 
     ``addr``: the addresses of (p, x0, info, msg, values, code, note, handle),
     in run_summary's order. ``unpack(bytes)``: (info..., values..., code, the
-    note's first byte, handle) in one call (replay.py: a Python call more is
-    a microsecond or two after other work)."""
+    note's first byte, handle) in one call (a Python call more is a
+    microsecond or two after other work)."""
 
     def __init__(self, n_p: int, nx: int, nc: int, n_info: int, n_sum: int, msg_len: int,
                  note_len: int):

@@ -297,8 +297,7 @@ class CompiledODE:
         ``keep`` with method "erk": the states on the grid are not computed
         now; X is None and ``kept`` (a KeptRun, None when the run failed) makes
         them when asked (native/c/library/pdbfs_run_trajectory.c); else ``kept`` is None.
-        ``t_addr``: the address of ``t``'s data, where the caller has it
-        (Simulator.run's plan: a read-only grid)."""
+        ``t_addr``: the address of ``t``'s data, a kept read-only grid's (grid_kept)."""
         if not checked:
             t = np.ascontiguousarray(t, dtype=float).ravel()
             x0 = np.ascontiguousarray(x0, dtype=float).ravel()
@@ -312,7 +311,7 @@ class CompiledODE:
         elif t_addr is None:
             t = np.ascontiguousarray(t, dtype=float)
         # checked or not: the sizes, what C would read past the end of (C checks the rest
-        # again); a grid with its address is the plan's, checked when the plan was made
+        # again); a grid with its address is a kept one, checked when it was made
         if len(x0) != self.nx or len(p) != self.np or method not in METHOD_CODES or \
                 t_addr is None and (t.size < 2 or t[0] != 0.0 or t.dtype != np.float64
                                     or not t.flags.c_contiguous):
@@ -333,13 +332,14 @@ class CompiledODE:
                                  float(max_step or 0.0), int(max_num_steps), a[2], a[3], MSG_LEN,
                                  a[4], a[5], a[6], POINT_MSG_LEN * 2, a[7] if keep else None)
         wall = time.perf_counter() - wall
-        i = b.info.tolist()
+        i = b.unpack(b.bytes)  # info, the summary's values, its code, the note's first byte, handle
         status = RunStatus(int(code), i[0], int(i[1]), int(i[2]), int(i[3]), int(i[4]),
                            _text(b.msg), _stats(i[1], i[3], i[5], i[2], i[6], wall))
-        handle = int(b.handle[0]) if keep else 0
-        kept = KeptRun(self, handle, t, status.steps) if handle else None
+        kept = KeptRun(self, i[-1], t, status.steps) if keep and i[-1] else None
         memory.interrupted()     # a Ctrl-C the record's probe kept, with the record released
-        return X, status, b.out.tolist(), int(b.code[0]), _text(b.note, strip=False), kept
+        n = INFO_N + len(SUMMARY_KEYS)
+        note = _text(b.note, strip=False) if i[n + 1] else ""   # (read where it has a first byte)
+        return X, status, list(i[INFO_N:n]), i[n], note, kept
 
     def summaries(self, P, t_end, rtol, atol, method="adams", max_step=None,
                   max_num_steps=500000, with_stats=False):

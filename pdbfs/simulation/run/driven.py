@@ -117,21 +117,18 @@ class Driven:
         self.base._last_stats = self._last_stats
         return X, Z, Q
 
-    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
-                    summary=False, c_grid=None):
-        """As Simulator.integrate_c (states only: no summary of its own)."""
+    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
+        """As Simulator.integrate_c."""
         grid = np.asarray(grid, float)
         seg = self.drive.segments(grid)
         if self.base.nx and seg.count > 1:        # every segment in one call of the driver
-            X = run_segments(self.base, seg, grid, x0, p, rtol, atol, method, max_step,
-                             max_num_steps)
-            return (X, None, None) if summary else X
+            return run_segments(self.base, seg, grid, x0, p, rtol, atol, method, max_step,
+                                max_num_steps)
 
         def run(sub, x, q):
             X = self.base.integrate_c(sub, x, q, rtol, atol, method, max_step, max_num_steps)
             return X, np.zeros((0, sub.size))
-        X = self._pieces(grid, x0, p, run)[0]
-        return (X, None, None) if summary else X
+        return self._pieces(grid, x0, p, run)[0]
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         """As Simulator.integrate (the CasADi back end): (X, Z)."""

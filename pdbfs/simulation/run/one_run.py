@@ -1,15 +1,11 @@
 """``simulate()``: one run of a rig from t = 0, the function users call
-(``Rig.simulate`` and ``pdbfs.simulate``); the work is the Simulator's.
-``simulate_own``: the rig's own run (``rig.simulate()`` with no options),
-replayed from its plan from the second call on."""
+(``Rig.simulate`` and ``pdbfs.simulate``); the work is the Simulator's."""
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from ..setup.settings import MAX_NUM_STEPS
-from ..state import RigState
-from . import replay
 from .simulator import Simulator
 
 if TYPE_CHECKING:
@@ -139,15 +135,3 @@ def simulate(model: Component | DAE, t_end: float = 0.02, n_out: int = 2001, *,
     return sim.run(t_end, n_out, t_out=t_out, params=params, start=start, rtol=rtol, atol=atol,
                    method=method, max_step=max_step, max_num_steps=max_num_steps,
                    backend=backend, initial=initial)
-
-
-def simulate_own(dae, t_end: float = 0.02):
-    """``simulate(dae, t_end)`` with every other setting its default (what
-    ``rig.simulate(t_end)`` with no options asks): the plan of a float
-    ``t_end`` is kept with the rig's state, and the next such call replays
-    it (run/replay.py), deciding and checking nothing again."""
-    state = dae.companions.get(RigState)      # (state_of's lookup: every replay comes this way)
-    own = state.own_plans.get(t_end) if state is not None and type(t_end) is float else None
-    if own is not None and own[1].params is dae.params:
-        return replay.run(*own)
-    return replay.own(Simulator.of(dae), t_end)

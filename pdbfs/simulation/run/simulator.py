@@ -25,11 +25,10 @@ from ..setup.initialize import solve_start
 from ..setup.inputs import RunInputs
 from ..state import state_of
 from . import compiled as C
-from . import replay
 from .backends import backend_for_method
 from .failures import compiled_failure, walk_failure
 from .stats import casadi_stats
-from .stiffness import auto_method
+from .stiffness import cached_method
 
 #: Adams with fixed-point iteration below so many states (pdbfs_cvode.h's PDBFS_NEWTON_FROM)
 NEWTON_FROM = 40
@@ -48,6 +47,7 @@ class Simulator(RunInputs, OnGrid):
         self._last_stats = {}
         self._checked = set()     # settings that passed check_settings (inputs.py)
         self._grids = {}          # output grids by (t_end, n_out)
+        self._starts = {}         # start vectors by parameter vector (inputs.py)
         self.found_events = {}    # the first state event from a start (setup/time_events.py)
         self.x_names = tuple(dae.x_names)
 
@@ -72,22 +72,15 @@ class Simulator(RunInputs, OnGrid):
 
     def resolve_method(self, method, p, x0, span, backend="casadi") -> str:
         """``method``, or for "auto" the one stiffness.auto_method picks
-        for this start and time span (cached: repeated runs pay nothing): in
-        the compiled backend the cheapest of "erk", "adams" and "bdf" by its
-        cost estimate (the modes from the compiled library), through CasADi
-        of "adams" and "bdf"."""
+        for this start and time span, once per class of runs
+        (stiffness.cached_method): in the compiled backend the cheapest of
+        "erk", "adams" and "bdf" by its cost estimate (the modes from the
+        compiled library), through CasADi of "adams" and "bdf"."""
         if method != "auto":
             return method
-        key = ("auto", backend == "c", np.asarray(p, float).tobytes(),
-               np.asarray(x0, float).tobytes(), float(span))
-        found = self._cache.get(key)
-        if found is None:
-            # (backend "c" here: run() has refused a DAE rig already)
-            lib = self.compiled() if backend == "c" and self.nx else None
-            found = auto_method(self.dae, p, x0, span, lib, backend)
-            if len(self._cache) < self.CACHE_MAX:   # a loop over new parameters: bounded
-                self._cache[key] = found
-        return found[0]
+        # (backend "c" here: run() has refused a DAE rig already)
+        return cached_method(self, np.asarray(p, float), np.asarray(x0, float), float(span),
+                             backend)
 
     def resolve_backend(self, backend: str) -> str:
         """``backend``; "auto": "c" where it can be built, else "casadi" (once per DAE)."""
@@ -191,68 +184,48 @@ class Simulator(RunInputs, OnGrid):
     def run(self, t_end=0.02, n_out=2001, *, t_out=None, params=None, start=None,
             rtol=None, atol=None, method="auto", max_step=None,
             max_num_steps=MAX_NUM_STEPS, backend="auto", initial=None):
-        """One run, as simulate(). From the rig's start (its parameters or new ones), what the
-        checks decide is kept as a plan for the next run with the same settings (and types)."""
-        dae = self.dae
-        key = plan = None
+        """One run, as simulate(). What depends on the rig alone is made once
+        and kept in its state: what the settings decide (run_settings), its
+        own start (own_start), the method "auto" picks for a class of runs;
+        what a caller gives is checked every time."""
         asked = backend
-        if t_out is None and start is None and initial is None:
-            try:
-                key = replay.key(t_end, n_out, rtol, atol, method, max_step, max_num_steps,
-                                 backend, params is not None)
-                plan = self._cache.get(key)
-            except TypeError:         # unhashable (a list where a number belongs): checked below
-                key = None
-            if plan is not None and plan.params is not dae.params:
-                plan = None
-            elif plan is not None and params is None:
-                return replay.run(self, plan)
-        if plan is None:
-            backend, grid, kept_grid = self.run_settings(t_end, n_out, t_out, rtol, atol, method,
-                                                         max_step, max_num_steps, backend, initial)
-        else:             # new parameters with the settings of a plan: checked for it
-            backend, grid, kept_grid = plan.settings["backend"], plan.grid, (plan.grid, plan.t_addr)
-        p = self.param_vector(params)
-        x0 = self.start_vector(p, start)
-        if initial is None and not self._needs_solving():
-            init = x0       # the start as declared: Result.initial makes its record on demand
+        backend, grid, t_addr = self.run_settings(t_end, n_out, t_out, rtol, atol, method,
+                                                  max_step, max_num_steps, backend, initial)
+        if params is None and start is None and initial is None:
+            p, x0, init = self.own_start(grid[0])
         else:
-            x0, init = solve_start(self, p, x0, initial, float(grid[0]))
+            p = self.param_vector(params)
+            x0 = init = self.start_vector(p, start)
+            if initial is not None or self._needs_solving():
+                x0, init = solve_start(self, p, x0, initial, float(grid[0]))
         if atol is not None:
             check_atol_scale(self.dae, x0, atol)
         method = self.resolve_method(method, p, x0, grid[-1] - grid[0], backend)
-        if plan is None:
-            backend = backend_for_method(self, asked, backend, method)
+        backend = backend_for_method(self, asked, backend, method)
         rtol = default_rtol(method, rtol)
         atol = default_atol(rtol, atol)
-        if plan is not None:
-            if plan.lib is not None and method == plan.settings["method"]:
-                return replay.run(self, plan, p, x0)      # its compiled call, these p and x0
-            grid = grid.copy()
-        elif key is not None and init is x0 and len(self._cache) < self.CACHE_MAX:
-            self._cache[key] = replay.make_plan(self, key, kept_grid, p, x0, rtol, atol, method,
-                                                max_step, max_num_steps, backend)
         return self._run(grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
-                         c_grid=kept_grid)
+                         t_addr)
 
     def _run(self, grid, p, x0, init, rtol, atol, method, max_step, max_num_steps, backend,
-             c_grid=None):
-        """One run on ``grid``; ``c_grid``: (the same times, read-only, their address)."""
+             t_addr=None):
+        """One run on ``grid`` (``t_addr``: its data's address where it is a kept,
+        read-only grid); the Result copies ``grid`` and ``p`` when first read."""
         wall = time.perf_counter()
-        fast = states = None
+        fast = states = impulse = None
         if backend == "c":
-            X, fast, states = self.integrate_c(grid, x0, p, rtol, atol, method, max_step,
-                                               max_num_steps, summary=True, c_grid=c_grid)
+            X, fast, states, stats = self._run_c(grid, x0, p, rtol, atol, method, max_step,
+                                                 max_num_steps, t_addr)
             Z = np.zeros((0, grid.size))
         else:
             X, Z = self.integrate(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
-        stats = dict(self._last_stats, wall_time=time.perf_counter() - wall, backend=backend)
+            stats, impulse = self._last_stats, self._last_impulse
+        stats = dict(stats, wall_time=time.perf_counter() - wall, backend=backend)
         settings = {"rtol": rtol, "atol": atol, "method": method, "max_step": max_step,
                     "max_num_steps": max_num_steps, "backend": backend}
         limits.check(self, grid, X, Z, p, settings)   # a variable out of its declared range
         return Result(self, grid, p, X, Z, settings, stats, fast_summary=fast, initial=init,
-                      states=states, own_stats=True,
-                      impulse=None if backend == "c" else self._last_impulse)
+                      states=states, own_stats=True, impulse=impulse)
 
     def integrate(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps=MAX_NUM_STEPS):
         """(X, Z): states and algebraic variables on ``grid`` through CasADi,
@@ -330,45 +303,47 @@ class Simulator(RunInputs, OnGrid):
         with CVODE when ``method`` needs it."""
         return C.compiled(self.dae, cvode=method in C.CVODE_METHODS)
 
-    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps,
-                    summary=False, c_grid=None):
-        """States on ``grid`` (nx x len(grid)) from the compiled driver; with
-        ``summary``, (states, the run's own summary (c_summary.py) or None,
-        None) or, with the explicit method, (None, its summary, a function
-        that makes the states when they are first read: a summary alone
-        needs no dense output) (called from run(), whose arguments are
-        checked already)."""
+    def integrate_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps):
+        """States on ``grid`` (nx x len(grid)) from the compiled driver, the
+        run's statistics in ``_last_stats`` (arguments checked by the caller)."""
         if self.nx == 0:
-            X = self.prescribed(grid, p)[0]
-            return (X, None, None) if summary else X
-        lib, fast, kept = self.compiled(method), None, None
-        if summary and grid[0] == 0.0 and c_summary.usable(self.dae, lib):
-            t, t_addr = c_grid or (grid, None)
-            X, st, values, code, note, kept = lib.run_summary(
-                t, x0, p, rtol, atol, method, max_step, max_num_steps, checked=True, keep=True,
-                t_addr=t_addr)
-            fast = (values, code, note)
-        else:
-            X, st = lib.run(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            return self.prescribed(grid, p)[0]
+        X, st = self.compiled(method).run(grid, x0, p, rtol, atol, method, max_step,
+                                          max_num_steps)
         if not st.ok:
             raise compiled_failure(self.dae, grid, st)
-        stats = st.stats or {"method": method}      # (the run's own dict, made for it)
+        stats = st.stats
         stats.pop("wall_time", None)
         self._last_stats = stats
-        if kept is not None:
-            X, states = self._kept_or_states(kept, grid)
-            return X, fast, states
         # the driver refuses a solution that is not finite (RC_NOT_FINITE), so
         # a sum (a NaN or infinity anywhere makes it one) is all it takes here
         if not np.isfinite(np.add.reduce(X, axis=None)):
             self._check_finite(grid, X)
-        return (X, fast, None) if summary else X
+        return X
 
-    def _kept_or_states(self, kept, grid):
-        """(None, a function making the states when first read) of a kept
-        run, whatever the size of its record: a summary alone never makes
-        them (the library bounds the records it keeps, kept.py)."""
-        return None, lambda: self._kept_states(kept, grid)
+    def _run_c(self, grid, x0, p, rtol, atol, method, max_step, max_num_steps, t_addr=None):
+        """A compiled run of the rig from t = 0 on ``grid``: (states, the run's
+        own summary (c_summary.py) or None, None, its statistics) or, with
+        the explicit method, (None, its summary, a function that makes the
+        states when they are first read: a summary alone needs no dense
+        output, its statistics)."""
+        lib = self.compiled(method) if self.nx else None
+        if lib is None or grid[0] != 0.0 or not c_summary.usable(self.dae, lib):
+            X = self.integrate_c(grid, x0, p, rtol, atol, method, max_step, max_num_steps)
+            return X, None, None, self._last_stats
+        X, st, values, code, note, kept = lib.run_summary(
+            grid, x0, p, rtol, atol, method, max_step, max_num_steps, checked=True, keep=True,
+            t_addr=t_addr)
+        if not st.ok:
+            raise compiled_failure(self.dae, grid, st)
+        stats = st.stats
+        stats.pop("wall_time", None)
+        fast = (values, code, note)
+        if kept is not None:
+            return None, fast, lambda: self._kept_states(kept, grid), stats
+        if not np.isfinite(np.add.reduce(X, axis=None)):
+            self._check_finite(grid, X)
+        return X, fast, None, stats
 
     def _kept_states(self, kept, grid):
         """The states of a kept run on its grid (integrate_c), checked as a run's."""

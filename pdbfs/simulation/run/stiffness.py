@@ -11,6 +11,12 @@ short steps but not BDF: that is where BDF is the cheaper method. A rig whose
 stiffness appears only later (a contact that closes) is judged by its start:
 pass ``method=`` to override. Through CasADi the choice is between Adams and
 BDF.
+
+A choice is made once per rig and class of runs (:func:`cached_method`): the
+estimate reads the Jacobian at the start, so runs whose states and
+parameters that Jacobian depends on are the same (a loop over a parameter
+it does not read) share one choice, found by those values; and runs whose
+modes come out the same share the cost model's verdict.
 """
 from __future__ import annotations
 
@@ -19,16 +25,57 @@ import numpy as np
 
 from pdbfs.native.stiffness import DENSE_UP_TO, ode_instructions, run_costs
 
+from ..state import state_of
+
 METHOD_NAMES = {"erk": "explicit Runge-Kutta 8(5,3)", "adams": "CVODE Adams", "bdf": "CVODE BDF"}
+#: choices kept per rig: a loop over new parameters makes them anew past this
+AUTO_MAX = 4096
 
 
 def jacobian_function(dae) -> ca.Function:
     """d(ode)/dx as a sparse CasADi Function of (t, x, p), made once per DAE."""
-    from ..state import state_of
     state = state_of(dae)
     if state.jac_x is None:
         state.jac_x = ca.Function("jac_x", [dae.t, dae.x, dae.p], [ca.jacobian(dae.ode, dae.x)])
     return state.jac_x
+
+
+def estimate_inputs(dae) -> tuple[np.ndarray, np.ndarray]:
+    """(the states, the parameters) whose values d(ode)/dx depends on, as
+    index arrays: all that method="auto"'s estimate reads of a run's start
+    (its Jacobian at t = 0: no rig's depends on time there). Made once per DAE
+    from the Jacobian's sparsity."""
+    state = state_of(dae)
+    if state.auto_inputs is None:
+        J = jacobian_function(dae)
+
+        def read(i):
+            return np.unique(np.asarray(J.jac_sparsity(0, i).get_col(), dtype=np.intp))
+        state.auto_inputs = (read(1), read(2))
+    return state.auto_inputs
+
+
+def cached_method(sim, p, x0, span: float, backend: str) -> str:
+    """method="auto" for a run of ``sim`` (a Simulator) of ``span`` s from
+    ``x0`` at parameters ``p``: auto_method's choice, made once per class of
+    runs. Found first by the values the estimate reads (estimate_inputs; a
+    new value of one of them is a new class), then by the modes they give
+    (runs with other values but the same modes: the same verdict)."""
+    state = sim.state
+    ix, ip = state.auto_inputs or estimate_inputs(sim.dae)
+    key = (backend == "c", span, x0[ix].tobytes(), p[ip].tobytes())
+    method = state.auto.get(key)
+    if method is None:
+        if len(state.auto) >= AUTO_MAX:
+            state.auto.clear()
+        lib = sim.compiled() if backend == "c" and sim.nx else None
+        rates, n = start_rates(sim.dae, p, x0, lib)
+        verdict = ("modes", backend == "c", span, rates, n)
+        method = state.auto.get(verdict)
+        if method is None:
+            method = state.auto[verdict] = _decide(sim.dae, rates, n, span, backend)[0]
+        state.auto[key] = method
+    return method
 
 
 def fast_modes(dae, p, x0, t0=0.0, k: int = 6) -> np.ndarray:
@@ -72,10 +119,7 @@ def decide(fastest: float, rate: float, osc: float, n: int, instructions: float,
     (t_end infinite: a run of unknown length, by the cost of each second)."""
     cost = run_costs(fastest, rate, osc, n, instructions, t_end)
     best = min(methods, key=cost.__getitem__)        # (a tie: the first)
-    # (no comprehension, lambda or generator: each is a Python call, counted as above)
-    priced = []
-    for m in methods:
-        priced.append(f"{m} {cost[m]:.3g}")
+    priced = [f"{m} {cost[m]:.3g}" for m in methods]
     unit = "ns a second" if t_end == float("inf") else "ns"
     why = (f"the cheapest by the estimate ({', '.join(priced)} {unit}): "
            f"the fastest mode ({fastest:.3g} rad/s), the fastest oscillating {osc:.3g} rad/s")
@@ -100,15 +144,23 @@ def auto_method(dae, p, x0, t_end: float, lib=None, backend: str = "c") -> tuple
     ``lib`` where given (pdbfs_modes.c, the FMU's C too: a few microseconds,
     where CasADi's Jacobian and LAPACK took longer than the run), else from
     fast_modes."""
-    # (a library is of an ODE with states; casadi's numel is a Python call, and a loop
-    # over new parameters decides at every run: tests/test_run_overhead.py counts them)
+    return _decide(dae, *start_rates(dae, p, x0, lib), t_end, backend)
+
+
+def start_rates(dae, p, x0, lib=None) -> tuple[tuple | None, int]:
+    """(the modes' rates at the start, the number of states): from the
+    compiled library ``lib`` where given and small enough, else from
+    fast_modes; (None, 0) for a DAE rig or one without states."""
     modes = lib.modes(x0, p) if lib is not None and lib.nx <= DENSE_UP_TO else None
     if modes is not None:
-        n = lib.nx
-    elif not dae.is_ode or dae.x.numel() == 0:
+        return modes, lib.nx
+    if not dae.is_ode or dae.x.numel() == 0:
+        return None, 0
+    return rates(fast_modes(dae, p, x0)), dae.x.numel()
+
+
+def _decide(dae, modes, n, t_end, backend) -> tuple[str, str]:
+    if modes is None:
         return "bdf", "a DAE rig (IDAS uses BDF)"
-    else:
-        n, modes = dae.x.numel(), rates(fast_modes(dae, p, x0))
     methods = ("erk", "adams", "bdf") if backend == "c" else ("adams", "bdf")
-    instructions = dae.__dict__.get("_ode_instructions") or ode_instructions(dae)
-    return decide(*modes, n, instructions, t_end, methods)
+    return decide(*modes, n, ode_instructions(dae), t_end, methods)

@@ -15,7 +15,7 @@ from pdbfs.errors import ParameterError
 from pdbfs.modelling import check_value, reduced_start
 from pdbfs.modelling import quantity
 
-from .initialize import check_initial, needs_solving
+from .initialize import check_initial, needs_solving, solve_start
 from .memory import require, run_bytes
 from .settings import MAX_NUM_STEPS, check_settings, default_rtol, mapping, output_grid
 from .vectorize import vectorize
@@ -28,13 +28,12 @@ REPLAY_UP_TO = 40
 
 class RunInputs:
     """Mixed into Simulator (which has ``dae``, ``state``, ``_cache``,
-    ``_checked``, ``_grids`` and ``x_names``)."""
+    ``_checked``, ``_grids``, ``_starts`` and ``x_names``)."""
 
     check_settings = staticmethod(check_settings)
-    #: entries ``_cache`` holds at most of what is kept per parameter vector
-    #: (starts, method choices, run plans): a loop over new parameters makes
-    #: the rest anew each time
-    CACHE_MAX = 10_000
+    #: start vectors kept by their parameter vector (``_starts``): a loop over new
+    #: parameters makes the rest anew each time
+    STARTS_MAX = 256
 
     def param_vector(self, params=None) -> np.ndarray:
         """The parameter vector: the defaults with ``params`` set, every value
@@ -83,15 +82,13 @@ class RunInputs:
 
     def start_vector(self, p, start=None) -> np.ndarray:
         """The start values at parameters ``p``, with ``start`` ({state: value}) put in, checked."""
-        key = ("x0", np.asarray(p, float).tobytes())     # the start of these parameters, once
-        known = self._cache.get(key)
+        key = np.asarray(p, float).tobytes()     # the start of these parameters, once
+        known = self._starts.get(key)
         if known is None:
-            if len(self._cache) > self.CACHE_MAX:        # sweeps: do not grow without bound
-                # every entry of a parameter vector at once (starts, method choices): a
-                # loop over new parameters pays for this once per CACHE_MAX / 2 runs
-                self._cache = {k: v for k, v in self._cache.items() if k[0] not in ("x0", "auto")}
+            if len(self._starts) >= self.STARTS_MAX:    # a loop over new parameters: a few kept
+                self._starts.clear()
             x0 = self.numeric("start", lambda: self.dae.function("start"))(p)
-            known = self._cache[key] = (x0, all(map(math.isfinite, x0.tolist())))
+            known = self._starts[key] = (x0, all(map(math.isfinite, x0.tolist())))
         if known[1] and (start is None or (type(start) is dict and not start)):
             return known[0].copy()                       # nothing to set, finite: as it is
         x0 = known[0].copy()
@@ -154,7 +151,22 @@ class RunInputs:
     def run_settings(self, t_end, n_out, t_out, rtol, atol, method, max_step, max_num_steps,
                      backend, initial):
         """Simulator.run's settings checked, before any work: (the backend
-        resolved, the output grid, the kept grid (grid_kept))."""
+        resolved, the output grid (read-only: the Result copies it when
+        first read), its address where it is a kept grid, else None). Made
+        once per settings (their values and types: 1 and 1.0 are not the
+        same request) and kept in the rig's state; a grid given as
+        ``t_out`` is checked at every run."""
+        key = None
+        if t_out is None and initial is None:
+            key = (type(t_end), t_end, type(n_out), n_out, type(rtol), rtol, type(atol), atol,
+                   type(method), method, type(max_step), max_step, type(max_num_steps),
+                   max_num_steps, type(backend), backend)
+            try:
+                found = self.state.runs.get(key)
+            except TypeError:        # unhashable (a list where a number belongs): checked below
+                found = key = None
+            if found is not None:
+                return found
         self.settings_ok(default_rtol(method, rtol), atol, method, max_step, max_num_steps,
                          backend)
         if initial is not None:
@@ -170,7 +182,30 @@ class RunInputs:
                 per_point = self._cache["bytes/point"] = run_bytes(self.dae, 1)
             require(per_point * n_points, f"rig {self.dae.name}: {n_points} output points",
                     "ask for fewer (n_out, --n-out)")
-        return (backend, *self.grid_kept(t_end, n_out, t_out))
+        if t_out is not None:       # the run's own copy: the caller's array stays the caller's
+            grid = output_grid(t_end, n_out, t_out).copy()
+            grid.flags.writeable = False
+            return backend, grid, None
+        found = (backend, *self.grid_kept(t_end, n_out))
+        if key is not None:
+            if len(self.state.runs) > 64:       # loops over settings: keep a few
+                self.state.runs.clear()
+            self.state.runs[key] = found
+        return found
+
+    def own_start(self, t0=0.0) -> tuple:
+        """(p, x0, the start's record) of the rig's own parameters and declared
+        start, p and x0 read-only: made once per parameter list (a start the
+        initial equations solve, at every run: its record is the Result's)."""
+        own = self.state.own_start
+        if own is None or own[0] is not self.dae.params:
+            p = self.param_vector(None)
+            x0 = self.start_vector(p)
+            p.flags.writeable = x0.flags.writeable = False
+            own = self.state.own_start = (self.dae.params, p, x0)
+        if self._needs_solving():
+            return (own[1], *solve_start(self, own[1].copy(), own[2].copy(), None, float(t0)))
+        return own[1], own[2], own[2]
 
     def _needs_solving(self) -> bool:
         """Whether the rig's declared start must be solved (free states, initial
@@ -189,30 +224,32 @@ class RunInputs:
         return n
 
     def grid(self, t_end, n_out, t_out=None) -> np.ndarray:
-        """The output grid (settings.output_grid); the grid of a (t_end, n_out)
-        is made and checked once, and copied for each run."""
-        return self.grid_kept(t_end, n_out, t_out)[0]
-
-    def grid_kept(self, t_end, n_out, t_out=None):
-        """(grid(), the kept grid read-only and its address for a compiled run,
-        or None for a grid given as t_out)."""
+        """The output grid (settings.output_grid): a new array, the grid of a
+        (t_end, n_out) made and checked once."""
         if t_out is not None:
-            return output_grid(t_end, n_out, t_out), None
+            return output_grid(t_end, n_out, t_out)
+        return self.grid_kept(t_end, n_out)[0].copy()
+
+    def grid_kept(self, t_end, n_out):
+        """(the grid of ``t_end`` and ``n_out``, read-only, its data's address),
+        made and checked once."""
         try:
             key = (type(t_end), t_end, type(n_out), n_out)
             kept = self._grids.get(key)
         except TypeError:
-            return output_grid(t_end, n_out, t_out), None
+            kept, key = None, None
         if kept is None:
             g = output_grid(t_end, n_out)
             if not (np.all(np.diff(g) > 0) and np.isfinite(g[-1])):   # a t_end under n_out ulps
                 raise ParameterError(f"t_end = {t_end}: too short for {n_out} distinct output "
                                      "times")
-            if len(self._grids) > 16:       # sweeps over t_end: keep a few
-                self._grids.clear()
             g.flags.writeable = False
-            kept = self._grids[key] = (g, g.ctypes.data)
-        return kept[0].copy(), kept
+            kept = (g, g.ctypes.data)
+            if key is not None:
+                if len(self._grids) > 16:       # sweeps over t_end: keep a few
+                    self._grids.clear()
+                self._grids[key] = kept
+        return kept
 
 
 class _Unbounded:

@@ -36,8 +36,7 @@ def headroom() -> float:
         return -1.0
 
 
-#: a Ctrl-C that landed in the probe, to be raised when the compiled call returns;
-#: the replayed run tests it before calling interrupted(): its path is counted
+#: a Ctrl-C that landed in the probe, to be raised when the compiled call returns
 kept_interrupt = []
 
 
