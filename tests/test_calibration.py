@@ -17,7 +17,7 @@ NOISE = 0.5e6   # Pa, about 0.4 % of the peak
 def noisy_trace(params, t, shift=0.0, offset=0.0, seed=1):
     """The rig's pressure at t - shift (at rest before 0), plus offset and noise."""
     rig = paper_rig()
-    tm = np.clip(t - shift, 0.0, None)
+    tm = np.round(np.clip(t - shift, 0.0, None), 12)     # no 1e-19 s steps from rounding
     grid = np.unique(np.concatenate([[0.0], tm[tm > 0]]))
     res = rig.simulate(t_out=grid, params=params, rtol=1e-10, atol=1e-12)
     y = np.interp(tm, grid, res["oil.pressure"])
