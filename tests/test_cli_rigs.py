@@ -88,7 +88,8 @@ def test_a_users_rig_runs_through_the_commands_to_its_closed_forms(rigs_folder):
 
 def _with_required(name: str) -> list[str]:
     return {"calibrate": ["--trace", "t.csv", "--free", "a"], "design": ["--free", "a"],
-            "design-map": ["--x", "a=1:2", "--y", "b=1:2"]}.get(name, [])
+            "design-map": ["--x", "a=1:2", "--y", "b=1:2"],
+            "campaign": ["--blows", "2", "--period", "1"]}.get(name, [])
 
 
 COMMANDS = [n for n, p in next(a for a in build_parser()._actions

@@ -34,7 +34,7 @@ class Pumped(pdbfs.Rig):
     """A volume filled by a flow source: its pressure has no bound of a source."""
 
     def declare(self):
-        self.pump = H.FlowSource(q=1e-5)
+        self.pump = H.FlowSource(Q=1e-5)
         self.vol = H.Volume()
         self.connect(self.pump.port, self.vol.port)
 

@@ -140,6 +140,12 @@ def read_trace(path: str | os.PathLike, what: str = "trace", signal: str | None 
     return Trace(trace.t, trace.y, where, y_name, y_si, t_unit or "")
 
 
+def _shown(text) -> str:
+    """A header as a message shows it: characters that do not print (a binary
+    file's) escaped, as Python writes them, so that a terminal and a page agree."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
 #: a time column's name, its unit in the name's end where the header gives none (time_ms)
 _TIME_NAME = re.compile(r"^(?:t|time)(?:[ _](?P<unit>s|ms|us|µs|μs))?$", re.IGNORECASE)
 
@@ -155,7 +161,7 @@ def table_columns(df, where: str, signal: str | None, option: str, kind: str = "
     import pandas as pd
     if df.shape[1] < 2:
         raise DataError(f"{where}: needs two columns, time (s) and the {kind}; found "
-                        f"{df.shape[1]} ({', '.join(map(str, df.columns)) or 'none'})")
+                        f"{df.shape[1]} ({', '.join(map(_shown, df.columns)) or 'none'})")
     if len(df) == 0:
         raise DataError(f"{where}: a header but no data rows")
     i, t_unit = time_column(df, where)
