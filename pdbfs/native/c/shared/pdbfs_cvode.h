@@ -82,6 +82,11 @@ typedef void *SUNNonlinearSolver;
 #define PDBFS_LOG_EVENT 2
 
 typedef int (*pdbfs_casadi_fn)(const casadi_real **, casadi_real **, casadi_int *, casadi_real *, int);
+/* the version of model function f made for the parameters p, the same
+ * numbers as f with them (the generated C's, native/codegen.py): the
+ * straight-line functions test p's usual values at every call, a driver asks
+ * once per run instead */
+pdbfs_casadi_fn pdbfs_for_params(pdbfs_casadi_fn f, const casadi_real *p);
 typedef void (*pdbfs_log_fn)(void *env, int kind, const char *text);
 typedef int (*pdbfs_step_fn)(void *env, double t, const double *x);
 typedef int (*pdbfs_root_fn)(void *env, double t, const double *x, double *g);
