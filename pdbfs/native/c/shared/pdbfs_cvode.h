@@ -201,9 +201,17 @@ int pdbfs_cvode_roots(PdbfsCvode *s, const PdbfsCvodeSettings *set, double t0, c
 /* Free CVODE's memory; ``s`` may be started again. */
 void pdbfs_cvode_free(PdbfsCvode *s);
 
-/* Call a generated function of (t, x, v, p) (v: z, or a rate); of (t, x, z, p) with z empty. */
-int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
-                    double *out);
+/* Call a generated function of (t, x, v, p) (v: z, or a rate); of (t, x, z, p) with z empty
+ * (inline: the explicit method calls it at every stage) */
+static inline int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x,
+                                  const double *v, double *out) {
+    ev->arg[0] = &t;
+    ev->arg[1] = x;
+    ev->arg[2] = v;
+    ev->arg[3] = ev->p;
+    ev->res[0] = out;
+    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
+}
 static inline int pdbfs_eval_txp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x,
                                  double *out) {
     return pdbfs_eval_txvp(ev, f, t, x, NULL, out);

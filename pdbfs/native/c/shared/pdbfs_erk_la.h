@@ -75,26 +75,13 @@ ERK_INLINE void erk_poly_n(const int n, const double *ERK_RESTRICT y_old,
     }
 }
 
-/* f (one of the model's functions) at (t, x, v), into out: pdbfs_eval_txvp
- * inlined (a call less per evaluation) */
-ERK_INLINE int erk_call(PdbfsErk *s, pdbfs_casadi_fn f, double t, const double *x,
-                        const double *v, double *out) {
-    PdbfsEval *ev = s->ev;
-    ev->arg[0] = &t;
-    ev->arg[1] = x;
-    ev->arg[2] = v;
-    ev->arg[3] = ev->p;
-    ev->res[0] = out;
-    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
-}
-
 /* f(t, x) of the n states into out, counted; 1 when it fails or is not
  * finite (every entry tested at once, no branch per entry: with n a
  * constant the test is unrolled, where a loop over s->nx was 8 % of a run) */
 ERK_INLINE int erk_rhs_n(PdbfsErk *s, const int n, double t, const double *x, double *out) {
     int i, finite = 1;
     s->rhs_evals++;
-    if (erk_call(s, s->rhs, t, x, NULL, out)) return 1;
+    if (pdbfs_eval_txp(s->ev, s->rhs, t, x, out)) return 1;
     for (i = 0; i < n; i++) finite &= fabs(out[i]) <= DBL_MAX;
     return !finite;
 }
@@ -103,13 +90,13 @@ ERK_INLINE int erk_rhs_n(PdbfsErk *s, const int n, double t, const double *x, do
 
 /* the event indicators at (t, x) into g */
 ERK_INLINE void erk_events(PdbfsErk *s, double t, const double *x, double *g) {
-    if (s->ne > 0) erk_call(s, s->events, t, x, NULL, g);
+    if (s->ne > 0) pdbfs_eval_txp(s->ev, s->events, t, x, g);
 }
 
 /* ... and their rates for the state's derivative f (dg/dx f + dg/dt) into
  * g[ne .. 2 ne - 1]: where a step begins and ends (pdbfs_erk_near_a_root) */
 ERK_INLINE void erk_events_both(PdbfsErk *s, double t, const double *x, const double *f, double *g) {
-    if (s->ne > 0) erk_call(s, s->events_both, t, x, f, g);
+    if (s->ne > 0) pdbfs_eval_txvp(s->ev, s->events_both, t, x, f, g);
 }
 
 /* the indicators are also looked at inside each step, at these many equal
