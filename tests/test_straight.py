@@ -84,3 +84,52 @@ def test_straight_c_is_casadis_c_to_the_bit(name, tmp_path):
                 assert same.all(), (name, f.name(), trial, u[~same], v[~same])
                 compared += u.size
     assert compared > 1000
+
+
+def test_the_version_for_the_parameters_is_the_functions_own_numbers(tmp_path):
+    """pdbfs_for_params(f, p), the version the explicit method calls for a
+    run's parameters (chosen once per start, not at every call), gives f's
+    own numbers with p (CasADi's C, to the bit), a version of its own where p
+    holds the usual values and another where it does not; f itself for a
+    function without versions."""
+    sim = Simulator.of(RIGS["paper"]())
+    dae = sim.dae
+    force = (getattr(dae, "signals", {}) or {}).get("contact_force")
+    funcs = model_functions(dae, WHICH + ("events_both",), roles=roles_of(dae),
+                            quad=[force] if force in dae.y_names else [])
+    ref, _ = _library(funcs, tmp_path / "casadi", ())
+    values = usual_values(dae)
+    own, _ = _library(funcs, tmp_path / "straight", STRAIGHT, values)
+    pick = own.pdbfs_for_params
+    pick.restype = ctypes.c_void_p
+    pick.argtypes = [ctypes.c_void_p, ctypes.c_void_p]
+    sig = ctypes.CFUNCTYPE(ctypes.c_int, *[ctypes.c_void_p] * 4, ctypes.c_int)
+    p0 = sim.param_vector(None)
+    off = p0.copy()
+    for k in values:                                      # every usual value changed
+        off[k] = p0[k] + 0.25 if p0[k] else 1e-3
+    x = sim.start_vector(p0, None) + 1e-4
+    versions = 0
+    for f in funcs:
+        address = ctypes.cast(getattr(own, f.name()), ctypes.c_void_p).value
+        chosen = {}
+        for name, p in (("usual", p0), ("off", off)):
+            chosen[name] = pick(address, p.ctypes.data)
+            fn = sig(chosen[name])
+            nx = f.nnz_in(1)
+            xx = np.r_[x, np.full(nx - x.size, 0.5)] if nx > x.size else x
+            args = [np.array([1e-3]), xx, np.linspace(-1, 1, f.nnz_in(2)), p]
+            ins = [np.ascontiguousarray(a, dtype=float) for a in args]
+            outs = [np.full(f.nnz_out(i), np.nan) for i in range(f.n_out())]
+            arg = (ctypes.c_void_p * max(f.sz_arg(), 4))(*[a.ctypes.data for a in ins])
+            res = (ctypes.c_void_p * max(f.sz_res(), 1))(*[o.ctypes.data for o in outs])
+            iw, w = np.zeros(f.sz_iw() + 1, dtype=np.int64), np.zeros(f.sz_w() + 1)
+            assert fn(ctypes.cast(arg, ctypes.c_void_p), ctypes.cast(res, ctypes.c_void_p),
+                      iw.ctypes.data, w.ctypes.data, 0) == 0
+            for u, v in zip(_call(ref, f, args), outs):
+                assert ((u == v) | (np.isnan(u) & np.isnan(v))).all(), (f.name(), name, u, v)
+        if f.name() == "pdbfs_events_both":                  # CasADi's: no versions
+            assert chosen["usual"] == chosen["off"] == address
+        elif chosen["usual"] != chosen["off"]:
+            versions += 1
+    assert versions >= 4, "no function chose a version of its own for the usual values"

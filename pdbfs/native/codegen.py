@@ -32,7 +32,7 @@ from pdbfs.modelling.initialization import needs_solving
 
 from . import toolchain
 from .initial import solved_start_function
-from .straight import HELPERS, PART_INSTRUCTIONS, straight_c, zeros_needed
+from .straight import HELPERS, MODEL_FN, PART_INSTRUCTIONS, for_params, straight_c, zeros_needed
 from .sundials import Sundials, find_sundials
 
 #: pdbfs's own C, a folder per binary it goes into: shared/ (every binary: the
@@ -169,7 +169,7 @@ def generate(funcs: list[ca.Function], directory: str | os.PathLike,
             cg.add(f)
     cg.generate(str(directory) + os.sep)
     c_file, h_file = Path(directory) / f"{name}.c", Path(directory) / f"{name}.h"
-    c_text = fast_pow(c_file.read_text())
+    c_text = fast_pow(c_file.read_text()) + "\n/* pdbfs (native/straight.py) */\n" + MODEL_FN
     if own:
         if "static double pdbfs_pow(" not in c_text:
             c_text = c_text.replace("#include <math.h>\n", "#include <math.h>\n" + POW_HELPER, 1) \
@@ -179,7 +179,7 @@ def generate(funcs: list[ca.Function], directory: str | os.PathLike,
         h_file.write_text(h_file.read_text() + "\n/* straight-line C (native/straight.py) */\n" + "".join(
             f"int {n}(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, "
             "int mem);\n" for n in own))
-    c_file.write_text(c_text)
+    c_file.write_text(c_text + "\n" + for_params(own))
     return work_sizes(parts)
 
 

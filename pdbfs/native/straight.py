@@ -258,12 +258,48 @@ def straight_c(f: ca.Function, name: str, values: dict[int, float] | None = None
     return "\n".join([
         _function(f, f"{name}_any", body, "static "),
         _function(f, f"{name}_fixed", special, "static "),
+        f"/* {f.name()}: its version for the parameters p (pdbfs_for_params: for_params) */",
+        f"static pdbfs_model_fn {name}{FOR}(const casadi_real *p) {{",
+        f"  return p && {guard} ? {name}_fixed : {name}_any;", "}",
         f"/* {f.name()}: the version for the usual values of its parameters where they hold */",
         f"int {name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, "
         "int mem) {",
         f"  const casadi_real *p = arg[{p}];",
         f"  if (p && {guard}) return {name}_fixed(arg, res, iw, w, mem);",
         f"  return {name}_any(arg, res, iw, w, mem);", "}", ""])
+
+
+#: the suffix of a straight function's choice of its version (straight_c, for_params)
+FOR = "_for"
+#: the model functions' type, for that choice (in the generated C before the straight functions)
+MODEL_FN = ("typedef int (*pdbfs_model_fn)(const casadi_real**, casadi_real**, casadi_int*, "
+            "casadi_real*, int);\n")
+
+
+def for_params(own: dict[str, str]) -> str:
+    """The C function ``pdbfs_for_params(f, p)`` (declared in pdbfs_cvode.h):
+    the version of model function ``f`` made for the parameters ``p``, the
+    ``_fixed`` or ``_any`` one of a straight function of ``own`` ({name:
+    straight_c's text}) made in two, else ``f`` itself. The same numbers as
+    ``f`` called with ``p``, without the test of p's usual values at every
+    call: a driver asks once per run (p does not change within one).
+
+    Parameters
+    ----------
+    own : dict of str to str
+        The straight-line functions of the generated C, by name.
+
+    Returns
+    -------
+    str
+        The function's C text (after ``own``'s)."""
+    picks = [f"  if (f == {n}) return {n}{FOR}(p);" for n, text in own.items()
+             if f"pdbfs_model_fn {n}{FOR}(" in text]
+    return "\n".join([
+        "/* pdbfs (native/straight.py): a model function's version for the parameters p */",
+        "pdbfs_model_fn pdbfs_for_params(pdbfs_model_fn f, const casadi_real *p);",
+        "pdbfs_model_fn pdbfs_for_params(pdbfs_model_fn f, const casadi_real *p) {",
+        *picks, "  (void)p;", "  return f;", "}", ""])
 
 
 def zeros_needed(funcs) -> int:

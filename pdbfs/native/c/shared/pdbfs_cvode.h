@@ -82,6 +82,11 @@ typedef void *SUNNonlinearSolver;
 #define PDBFS_LOG_EVENT 2
 
 typedef int (*pdbfs_casadi_fn)(const casadi_real **, casadi_real **, casadi_int *, casadi_real *, int);
+/* the version of model function f made for the parameters p, the same
+ * numbers as f with them (the generated C's, native/codegen.py): the
+ * straight-line functions test p's usual values at every call, a driver asks
+ * once per run instead */
+pdbfs_casadi_fn pdbfs_for_params(pdbfs_casadi_fn f, const casadi_real *p);
 typedef void (*pdbfs_log_fn)(void *env, int kind, const char *text);
 typedef int (*pdbfs_step_fn)(void *env, double t, const double *x);
 typedef int (*pdbfs_root_fn)(void *env, double t, const double *x, double *g);
@@ -210,9 +215,17 @@ int pdbfs_cvode_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *u
 SUNLinearSolver pdbfs_cvode_band_solver(PdbfsCvode *s);
 #endif
 
-/* Call a generated function of (t, x, v, p) (v: z, or a rate); of (t, x, z, p) with z empty. */
-int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
-                    double *out);
+/* Call a generated function of (t, x, v, p) (v: z, or a rate); of (t, x, z, p) with z empty
+ * (inline: the explicit method calls it at every stage) */
+static inline int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x,
+                                  const double *v, double *out) {
+    ev->arg[0] = &t;
+    ev->arg[1] = x;
+    ev->arg[2] = v;
+    ev->arg[3] = ev->p;
+    ev->res[0] = out;
+    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
+}
 static inline int pdbfs_eval_txp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x,
                                  double *out) {
     return pdbfs_eval_txvp(ev, f, t, x, NULL, out);

@@ -49,7 +49,9 @@ int pdbfs_erk_init(PdbfsErk *s, int nx, int ne, PdbfsEval *ev) {
     s->nx = nx;
     s->ne = ne;
     s->ev = ev;
-    s->ode = pdbfs_ode;
+    s->ode = s->rhs = pdbfs_ode;
+    s->events = pdbfs_events;
+    s->events_both = pdbfs_events_both;
     /* y, f, y_old, ynew, tmp, acc, dense (7), k (16), half (3 + 1 + 13) */
     s->y = malloc(sizeof(double) * (n * (6 + 7 + NK + 4 + NSTAGE + 1) + 7 * m));
     if (!s->y) return -100;
@@ -120,6 +122,9 @@ int pdbfs_erk_start(PdbfsErk *s, const PdbfsCvodeSettings *set, double t0, const
     s->stiff_z = 0.0;
     s->stiff_steps = 0;
     s->msg[0] = 0;
+    s->rhs = pdbfs_for_params(s->ode, s->ev->p);
+    s->events = pdbfs_for_params(pdbfs_events, s->ev->p);
+    s->events_both = pdbfs_for_params(pdbfs_events_both, s->ev->p);
     memcpy(s->y, x0, sizeof(double) * (size_t)s->nx);
     if (erk_rhs(s, t0, s->y, s->f)) {
         snprintf(s->msg, sizeof s->msg, "the right-hand side is not finite at t = %.10g", t0);

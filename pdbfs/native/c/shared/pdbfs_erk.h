@@ -42,6 +42,9 @@ typedef struct {
                                * test (their absolute tolerance must be huge) */
     PdbfsEval *ev;
     pdbfs_casadi_fn ode;      /* default pdbfs_ode */
+    /* ode, the indicators and their rates in their versions for the run's
+     * parameters (pdbfs_for_params): chosen at every start, not at every call */
+    pdbfs_casadi_fn rhs, events, events_both;
     double rtol;
     const double *atol;       /* nx absolute tolerances */
     double max_step, t_stop;  /* 0: no limit; never steps past t_stop if finite */

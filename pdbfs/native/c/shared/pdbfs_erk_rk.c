@@ -71,37 +71,8 @@ double pdbfs_erk_attempt_halves(PdbfsErk *s, double h, int *low) {
     return fmax(err, sum);
 }
 
-/* a state's difference below this (of its size) is roundoff */
-#define STIFF_ROUNDOFF (1e3 * DBL_EPSILON)
-
-/* h |lambda| of the step just attempted over h, for the fastest mode the
- * step saw: the change of f between the last stage and the step's end (both
- * at t + h) over the change of the state between them (Hairer's DOP853
- * estimate; y12 - ynew is h times the stages weighted by the differences of
- * the last stage's row and the weights).  Both in the error test's weights,
- * so that states of other units (a pressure in Pa beside a position in m)
- * do not make a stiffness of the scaling, and of the states whose
- * difference is more than roundoff only.  0 where f did not change at all
- * (nothing moves that a fast mode could amplify: a breech at rest on its
- * mount, an oil column in cavitation); -1 where f changed but no state by
- * more than roundoff (near an equilibrium: the estimate before holds) */
-double pdbfs_erk_stiffness(PdbfsErk *s, double h) {
-    const int n = s->nx, m = s->nx - s->nq;
-    const double *k = s->k;
-    double num = 0.0, den = 0.0, moved = 0.0;
-    int i, j;
-    for (i = 0; i < m; i++) {
-        double d = k[NSTAGE * n + i] - k[(NSTAGE - 1) * n + i], dy = 0.0, w;
-        w = 1.0 / (s->atol[i] + s->rtol * fabs(s->ynew[i]));
-        moved += fabs(d);
-        for (j = 0; j < NSTAGE; j++) dy += (RK_A[(NSTAGE - 1) * NK + j] - RK_B[j]) * k[j * n + i];
-        if (!(fabs(dy * h) > STIFF_ROUNDOFF * fabs(s->ynew[i]))) continue;
-        num += d * d * w * w;
-        den += dy * dy * w * w;
-    }
-    if (moved == 0.0) return 0.0;
-    /* (h cancels: dy is the difference over h) */
-    return den > 0.0 ? sqrt(num / den) : -1.0;
+double pdbfs_erk_stiffness_any(PdbfsErk *s, double h) {
+    return stiffness_n(s, h, s->nx, s->nx - s->nq);
 }
 
 void pdbfs_erk_poly_any(const double *y_old, const double *r, int n, double th, double *out) {

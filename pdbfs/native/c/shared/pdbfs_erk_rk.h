@@ -6,6 +6,7 @@
 #ifndef PDBFS_ERK_RK_H
 #define PDBFS_ERK_RK_H
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -33,13 +34,13 @@ ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
         const double hc = h * RK_A[(st) * NK + (st) - 1], *kl = k + ((st) - 1) * n;  \
         for (i = 0; i < m; i++) s->tmp[i] = (s->y[i] + h * acc[i]) + hc * kl[i];     \
     }                                                                              \
-    if (erk_rhs(s, s->t + RK_C[st] * h, s->tmp, k + (st) * n)) return INFINITY;
+    if (erk_rhs_n(s, n, s->t + RK_C[st] * h, s->tmp, k + (st) * n)) return INFINITY;
     ERK_STAGE(1) ERK_STAGE(2) ERK_STAGE(3) ERK_STAGE(4) ERK_STAGE(5) ERK_STAGE(6)
     ERK_STAGE(7) ERK_STAGE(8) ERK_STAGE(9) ERK_STAGE(10) ERK_STAGE(11)
 #undef ERK_STAGE
     erk_combine(n, n, NSTAGE, RK_B, k, acc);
     for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
-    if (erk_rhs(s, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
+    if (erk_rhs_n(s, n, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
     /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
      * free: acc3 may be it); the RMS over the m states the error test sees
      * (a quadrature changes no step: a run with one is the run without) */
@@ -64,7 +65,7 @@ ERK_INLINE int make_dense_n(PdbfsErk *s, const int n, const int m) {
 #define ERK_STAGE(st)                                                              \
     erk_combine(m, n, st, RK_A + (st) * NK, k, acc);                               \
     for (i = 0; i < m; i++) s->tmp[i] = s->y_old[i] + h * acc[i];                  \
-    if (erk_rhs(s, s->t_old + RK_C[st] * h, s->tmp, s->k + (st) * n)) return 1;
+    if (erk_rhs_n(s, n, s->t_old + RK_C[st] * h, s->tmp, s->k + (st) * n)) return 1;
     ERK_STAGE(NSTAGE + 1) ERK_STAGE(NSTAGE + 2) ERK_STAGE(NSTAGE + 3)
 #undef ERK_STAGE
     for (i = 0; i < n; i++) {
@@ -82,10 +83,47 @@ ERK_INLINE int make_dense_n(PdbfsErk *s, const int n, const int m) {
     return 0;
 }
 
+/* a state's difference below this (of its size) is roundoff */
+#define STIFF_ROUNDOFF (1e3 * DBL_EPSILON)
+
+/* h |lambda| of the step just attempted over h, for the fastest mode the
+ * step saw: the change of f between the last stage and the step's end (both
+ * at t + h) over the change of the state between them (Hairer's DOP853
+ * estimate; y12 - ynew is h times the stages weighted by the differences of
+ * the last stage's row and the weights).  Both in the error test's weights,
+ * so that states of other units (a pressure in Pa beside a position in m)
+ * do not make a stiffness of the scaling, and of the states whose
+ * difference is more than roundoff only.  0 where f did not change at all
+ * (nothing moves that a fast mode could amplify: a breech at rest on its
+ * mount, an oil column in cavitation); -1 where f changed but no state by
+ * more than roundoff (near an equilibrium: the estimate before holds) */
+ERK_INLINE double stiffness_n(PdbfsErk *s, double h, const int n, const int m) {
+    const double *k = s->k;
+    double local[ERK_LOCAL], *dy = n <= ERK_LOCAL ? local : s->acc, c[NSTAGE];
+    double num = 0.0, den = 0.0, moved = 0.0;
+    int i, j;
+    /* (the table's constants: the compiler folds them, and the sum over the
+     * stages is erk_combine's, vectorised over the states, in the same order) */
+    for (j = 0; j < NSTAGE; j++) c[j] = RK_A[(NSTAGE - 1) * NK + j] - RK_B[j];
+    erk_combine(m, n, NSTAGE, c, k, dy);
+    for (i = 0; i < m; i++) {
+        double d = k[NSTAGE * n + i] - k[(NSTAGE - 1) * n + i], w;
+        w = 1.0 / (s->atol[i] + s->rtol * fabs(s->ynew[i]));
+        moved += fabs(d);
+        if (!(fabs(dy[i] * h) > STIFF_ROUNDOFF * fabs(s->ynew[i]))) continue;
+        num += d * d * w * w;
+        den += dy[i] * dy[i] * w * w;
+    }
+    if (moved == 0.0) return 0.0;
+    /* (h cancels: dy is the difference over h) */
+    return den > 0.0 ? sqrt(num / den) : -1.0;
+}
+
 /* pdbfs_erk_rk.c's, for any number of states: what pdbfs_erk_sized.c does
  * for sizes other than the rig's */
 double pdbfs_erk_attempt_any(PdbfsErk *s, double h);
 int pdbfs_erk_make_dense_any(PdbfsErk *s);
+double pdbfs_erk_stiffness_any(PdbfsErk *s, double h);
 void pdbfs_erk_poly_any(const double *y_old, const double *r, int n, double th, double *out);
 
 #endif

@@ -28,6 +28,14 @@ int pdbfs_erk_make_dense(PdbfsErk *s) {
 #undef ERK_DENSE
 }
 
+double pdbfs_erk_stiffness(PdbfsErk *s, double h) {
+#define ERK_STIFFNESS(N, M) stiffness_n(s, h, N, M)
+#define ERK_STIFFNESS_ANY(s) pdbfs_erk_stiffness_any(s, h)
+    return ERK_BY_SIZE(s, ERK_STIFFNESS, ERK_STIFFNESS_ANY);
+#undef ERK_STIFFNESS
+#undef ERK_STIFFNESS_ANY
+}
+
 void pdbfs_erk_poly(const double *y_old, const double *r, int n, double th, double *out) {
 #define ERK_POLY(N) erk_poly_n(N, y_old, r, th, out)
     if (n == PDBFS_ERK_NX + 1) ERK_POLY(PDBFS_ERK_NX + 1);

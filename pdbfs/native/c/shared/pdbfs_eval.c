@@ -1,22 +1,11 @@
 /* pdbfs_eval: the model interface every binary shares, with CVODE or without
- * it (pdbfs_cvode.h): a CasADi function evaluated at (t, x, v, p), its work
- * arrays in one block, and the PdbfsCvode that the drivers hand to both
- * integrators (CVODE's pdbfs_cvode.c, the explicit method's pdbfs_erk.c). */
+ * it (pdbfs_cvode.h, where a CasADi function is evaluated at (t, x, v, p)):
+ * the work arrays in one block, and the PdbfsCvode that the drivers hand to
+ * both integrators (CVODE's pdbfs_cvode.c, the explicit method's pdbfs_erk.c). */
 #include <stdlib.h>
 #include <string.h>
 
 #include "pdbfs_cvode.h"
-
-int pdbfs_eval_txvp(PdbfsEval *ev, pdbfs_casadi_fn f, double t, const double *x, const double *v,
-                    double *out) {
-    double tt = t;
-    ev->arg[0] = &tt;
-    ev->arg[1] = x;
-    ev->arg[2] = v;
-    ev->arg[3] = ev->p;
-    ev->res[0] = out;
-    return f(ev->arg, ev->res, ev->iw, ev->w, 0);
-}
 
 void *pdbfs_eval_alloc(PdbfsEval *ev, long sz_arg, long sz_res, long sz_iw, long sz_w) {
     /* doubles first, then pointers, then integers: each part stays aligned */
