@@ -70,10 +70,10 @@ def test_a_record_that_fits_keeps_its_numbers(monkeypatch):
     rig = paper_rig()
     asked = []
     monkeypatch.setattr(memory, "headroom", lambda: asked.append(1) or 1e15)
-    a = rig.simulate(10.0, method="erk", backend="c")
-    assert asked and a.stats["steps"] > 65536      # a record past RECORD_ASK (64 MB)
+    a = rig.simulate(30.0, method="erk", backend="c")
+    assert asked and a.stats["steps"] > 131072     # a record past RECORD_ASK (64 MB)
     monkeypatch.setattr(memory, "headroom", lambda: -1.0)      # unknown: never stops
-    b = rig.simulate(10.0, method="erk", backend="c", params={"hammer.v0": 2.73})
+    b = rig.simulate(30.0, method="erk", backend="c", params={"hammer.v0": 2.73})
     assert np.array_equal(a["oil.pressure"], b["oil.pressure"])
     assert a.summary() == b.summary()
 

@@ -61,6 +61,8 @@ def cached_method(sim, p, x0, span: float, backend: str) -> str:
     runs. Found first by the values the estimate reads (estimate_inputs; a
     new value of one of them is a new class), then by the modes they give
     (runs with other values but the same modes: the same verdict)."""
+    if not sim.dae.is_ode or sim.dae.x.numel() == 0:      # (no modes: nothing to cache)
+        return _decide(sim.dae, None, 0, span, backend)[0]
     state = sim.state
     ix, ip = state.auto_inputs or estimate_inputs(sim.dae)
     key = (backend == "c", span, x0[ix].tobytes(), p[ip].tobytes())
