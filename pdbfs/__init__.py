@@ -19,24 +19,41 @@ and the libraries on top of the compiler: pdbfs.components (the component
 library: translational mechanics, and hydraulics in pdbfs.components.hydraulic)
 and pdbfs.models (rigs built from it).
 """
+from typing import TYPE_CHECKING
+
 from .errors import (ConnectError, DataError, ExportError, ModelError, ParameterError,
                      PdbfsError, SolverError)
 from .errors import PdbfsWarning, PulseIncompleteWarning, SampleTooSmallWarning
-from .modelling import (DAE, Component, Flange, HeatPort, HydraulicPort, Parameter, ParamInfo, SignalInput,
-                        SignalOutput, State, Variable, VarInfo, der, eq, time)
-from .files import example_data
-from .rig import Rig
-from .simulation import Result, simulate, trajectory_function
 
-#: imported on first use: the studies pull in scipy.stats, SALib, dask (a one-shot
-#: ``pdbfs simulate`` starts without them)
-_STUDIES = ("calibrate", "design", "design_map", "sensitivity", "sweep")
+#: the API's names by the module that holds them, each imported on first use:
+#: ``import pdbfs`` costs next to nothing (numpy and CasADi come with the
+#: first rig), and the command line answers ``--help`` or a bad option
+#: without them; the studies pull in scipy.stats, SALib, dask
+_LAZY = {
+    **dict.fromkeys(("DAE", "Component", "Flange", "HeatPort", "HydraulicPort", "Parameter",
+                     "ParamInfo", "SignalInput", "SignalOutput", "State", "Variable", "VarInfo",
+                     "der", "eq", "time"), "modelling"),
+    "example_data": "files", "Rig": "rig",
+    **dict.fromkeys(("Result", "simulate", "trajectory_function"), "simulation"),
+    **dict.fromkeys(("calibrate", "design", "design_map", "sensitivity", "sweep"), "studies"),
+}
+
+if TYPE_CHECKING:     # the same names for static readers (type checkers, the reference's pages)
+    from .files import example_data
+    from .modelling import (DAE, Component, Flange, HeatPort, HydraulicPort, Parameter, ParamInfo,
+                            SignalInput, SignalOutput, State, Variable, VarInfo, der, eq, time)
+    from .rig import Rig
+    from .simulation import Result, simulate, trajectory_function
+    from .studies import calibrate, design, design_map, sensitivity, sweep
 
 
 def __getattr__(name):
-    if name in _STUDIES:
-        from . import studies
-        return getattr(studies, name)
+    where = _LAZY.get(name)
+    if where is not None:
+        import importlib
+        value = getattr(importlib.import_module(f".{where}", __name__), name)
+        globals()[name] = value        # found once: later reads are plain attribute reads
+        return value
     if name == "__version__":          # the installed distribution's, read on first use
         from importlib.metadata import PackageNotFoundError, version
         try:
@@ -44,6 +61,10 @@ def __getattr__(name):
         except PackageNotFoundError:   # run from a source tree that was never installed
             return "unknown"
     raise AttributeError(f"module 'pdbfs' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted({*globals(), *_LAZY})
 
 __all__ = ["Component", "Rig", "Flange", "HeatPort", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",
            "SampleTooSmallWarning", "SignalInput", "SignalOutput", "DAE", "ParamInfo",

@@ -30,6 +30,16 @@ of dense LU's time for Adams or BDF.
 
     python scripts/bench_scale.py --solvers [--n 8,16,32,64] [--repeat 3] [--target 0.6]
 
+``--against REV`` (N = 64 unless ``--n`` gives one): the default run
+(``rig.simulate().summary()``) of this checkout against the same run of
+the revision REV (a git worktree of it made for the run and removed after),
+each in processes of its own taking turns, CPU time per run (median of
+``--repeat`` processes' medians), both peaks against a tight reference
+(rtol 1e-11); exit status 1 when this checkout takes more than
+``--target`` (0.6) of REV's time or is less accurate than REV at the peak.
+
+    python scripts/bench_scale.py --against 64bd46e [--n 64] [--repeat 5]
+
 Expect the simulate exponent above 1 at a fixed tolerance: the chain's
 highest mode (2 c N / L) is excited by the impact and carries more than
 the tolerance, so CVODE's steps grow with N (about N^0.6) on top of the
@@ -38,7 +48,11 @@ cost of a step (linear in N: sparse or band LU).
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import resource
+import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -160,6 +174,62 @@ def solvers(ns, args):
     return 0 if max(ratios.values()) <= args.target else 1
 
 
+#: one process's default runs of split_piston_rig(N): the median CPU time of RUNS, the peak
+CHILD = """
+import json, sys, time
+from pdbfs.models import split_piston_rig
+rig = split_piston_rig({n})
+rig.simulate().summary()
+times = []
+for _ in range({runs}):
+    t = time.process_time()
+    s = rig.simulate().summary()
+    times.append(time.process_time() - t)
+times.sort()
+print(json.dumps({{"cpu": times[len(times) // 2], "peak": s["peak_pressure"]}}))
+"""
+
+
+def _child(root, n, runs):
+    env = dict(os.environ, PYTHONPATH=str(root))
+    r = subprocess.run([sys.executable, "-c", CHILD.format(n=n, runs=runs)], env=env, cwd=root,
+                       capture_output=True, text=True)
+    if r.returncode:
+        raise SystemExit(f"bench_scale: a run of {root} failed:\n{r.stderr[-2000:]}")
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def against(rev, n, args):
+    """The --against table; returns the exit status."""
+    here = Path(__file__).resolve().parents[1]
+    ref = split_piston_rig(n).simulate(rtol=1e-11, method="erk").summary()["peak_pressure"]
+    with tempfile.TemporaryDirectory(prefix="pdbfs-against-") as tmp:
+        old = Path(tmp) / "rev"
+        subprocess.run(["git", "-C", str(here), "worktree", "add", "-q", "--detach", str(old), rev],
+                       check=True)
+        try:
+            _child(old, n, 1)                 # its library built (or found) before timing
+            runs = {"this checkout": [], rev: []}
+            for _ in range(args.repeat):
+                runs["this checkout"].append(_child(here, n, 20))
+                runs[rev].append(_child(old, n, 20))
+        finally:
+            subprocess.run(["git", "-C", str(here), "worktree", "remove", "--force", str(old)],
+                           check=False)
+    print(f"split_piston_rig({n}).simulate().summary(), default settings; {args.repeat} processes "
+          f"each, taking turns; tight peak {ref:.6f} Pa (rtol 1e-11)")
+    t, err = {}, {}
+    for who, rs in runs.items():
+        t[who] = statistics.median(r["cpu"] for r in rs)
+        err[who] = abs(rs[-1]["peak"] / ref - 1)
+        print(f"  {who:>14}: {t[who] * 1e3:8.2f} ms/run, peak error {err[who]:.1e}")
+    ratio = t["this checkout"] / t[rev]
+    ok = ratio <= args.target and err["this checkout"] <= max(2 * err[rev], 1e-9)
+    print(f"N = {n}: this checkout / {rev}: {ratio:.2f} (target <= {args.target}) at peak error "
+          f"{err['this checkout']:.1e} against {err[rev]:.1e}: {'ok' if ok else 'MISSED'}")
+    return 0 if ok else 1
+
+
 def shown(column, v):
     if column.endswith("steps"):
         return f"{v:d}"
@@ -175,8 +245,13 @@ def main(argv=None):
     ap.add_argument("--solvers", action="store_true",
                     help="each method's compiled run, band against dense LU")
     ap.add_argument("--target", type=float, default=0.6,
-                    help="--solvers: the largest band/dense time ratio passed")
+                    help="--solvers: the largest band/dense time ratio passed; --against: the "
+                         "largest time ratio to REV's")
+    ap.add_argument("--against", metavar="REV",
+                    help="the default run at N = 64 against the git revision REV's")
     args = ap.parse_args(argv)
+    if args.against:
+        return against(args.against, int(args.n) if "--n" in (argv or sys.argv) else 64, args)
     if args.solvers:
         return solvers([int(v) for v in (args.n if "--n" in (argv or sys.argv) else
                                          "8,16,32,64").split(",")], args)

@@ -16,9 +16,11 @@ import pdbfs
 from pdbfs.models import paper_rig
 
 #: modules a process that has only imported pdbfs has no use for yet
-NOT_ON_IMPORT = ("urllib.request", "scipy", "pandas", "matplotlib", "tqdm", "pdbfs.native.pipindex",
+NOT_ON_IMPORT = ("numpy", "casadi", "pdbfs.modelling", "pdbfs.simulation", "urllib.request", "scipy", "pandas", "matplotlib", "tqdm", "pdbfs.native.pipindex",
                  "pdbfs.native.sundials", "pdbfs.native.codegen", "pdbfs.simulation.run.compiled_build",
                  "pdbfs.studies")
+#: ... and one whose command line has shown its help or refused an unknown option
+NOT_BEFORE_OPTIONS = ("casadi", "pdbfs.modelling", "pdbfs.simulation", "pdbfs.rig", "scipy", "pandas")
 #: ... and one that has run a sweep in memory and read its values and points
 NOT_IN_A_SWEEP = ("scipy.optimize", "scipy.stats", "scipy.interpolate", "pandas", "tqdm",
                   "pdbfs.native.pipindex")
@@ -33,6 +35,23 @@ def _imported(code: str, names) -> list[str]:
 
 def test_import_pdbfs_leaves_out_the_build_the_index_and_the_studies():
     assert _imported("import pdbfs", NOT_ON_IMPORT) == []
+
+
+def test_import_pdbfs_imports_its_names_on_first_use():
+    code = ("import pdbfs\nassert 'casadi' not in __import__('sys').modules\n"
+            "from pdbfs import Rig, simulate, sweep, time\nimport pdbfs.rig, pdbfs.simulation, pdbfs.studies\n"
+            "assert Rig is pdbfs.rig.Rig and simulate is pdbfs.simulation.simulate\n"
+            "assert sweep is pdbfs.studies.sweep and {'Rig', 'sweep'} <= set(dir(pdbfs))")
+    assert _imported(code, ["casadi", "pdbfs.studies"]) == ["casadi", "pdbfs.studies"]
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["simulate", "--help"], ["sweep", "--bogus"]])
+def test_the_command_line_reads_its_options_before_the_modelling_layers(argv):
+    code = ("import contextlib, io, pdbfs.cli\nwith contextlib.redirect_stdout(io.StringIO()), "
+            "contextlib.redirect_stderr(io.StringIO()):\n    try:\n"
+            f"        pdbfs.cli.main({argv!r})\n    except SystemExit as e:\n"
+            "        assert e.code in (0, 2), e.code")
+    assert _imported(code, NOT_BEFORE_OPTIONS) == []
 
 
 def test_a_sweep_in_memory_imports_no_fit_statistics_pandas_or_bar():

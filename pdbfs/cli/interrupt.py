@@ -25,7 +25,6 @@ import threading
 from contextlib import contextmanager
 
 from pdbfs import files
-from pdbfs.simulation.setup import memory
 
 #: seconds the main thread has to stop by itself before the process is ended
 GRACE = 1.0
@@ -41,7 +40,9 @@ def _handler(signum, frame):
         return
     # at the entry of a compiled run's memory probe (a ctypes callback) a raise would be
     # printed as ignored and the run would go on: kept, raised when the call returns
-    if memory.kept_at_probe(frame):
+    # (not imported: no compiled run yet; a command's --help or bad option stays quick)
+    memory = sys.modules.get("pdbfs.simulation.setup.memory")
+    if memory is not None and memory.kept_at_probe(frame):
         return
     raise KeyboardInterrupt
 

@@ -6,8 +6,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
-
 from pdbfs.errors import ParameterError
 from pdbfs.files import whole
 
@@ -45,6 +43,7 @@ def write(path: Path, lin, rig_name):
         if path.suffix == ".json":
             part.write_text(json.dumps(data, allow_nan=False, indent=1) + "\n")
             return
+        import numpy as np
         arrays = {k: np.asarray(getattr(lin, k), float) for k in "ABCD"}
         names = {k: np.array(data[k], dtype=object if path.suffix == ".mat" else str)
                  for k in ("states", "inputs", "outputs")}
