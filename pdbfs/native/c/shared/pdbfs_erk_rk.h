@@ -29,17 +29,13 @@ ERK_INLINE double attempt_n(PdbfsErk *s, double h, const int n, const int m) {
      * meanwhile: after the right-hand side a stage waits for one product and
      * one sum, not four operations (2 % of a run) */
 #define ERK_STAGE(st)                                                              \
-    erk_combine(m, n, (st) - 1, RK_A + (st) * NK, k, acc);                         \
-    {                                                                              \
-        const double hc = h * RK_A[(st) * NK + (st) - 1], *kl = k + ((st) - 1) * n;  \
-        for (i = 0; i < m; i++) s->tmp[i] = (s->y[i] + h * acc[i]) + hc * kl[i];     \
-    }                                                                              \
+    erk_at_last(m, n, (st) - 1, RK_A + (st) * NK, h, h * RK_A[(st) * NK + (st) - 1], s->y, k,  \
+                acc, s->tmp);                                                      \
     if (erk_rhs_n(s, n, s->t + RK_C[st] * h, s->tmp, k + (st) * n)) return INFINITY;
     ERK_STAGE(1) ERK_STAGE(2) ERK_STAGE(3) ERK_STAGE(4) ERK_STAGE(5) ERK_STAGE(6)
     ERK_STAGE(7) ERK_STAGE(8) ERK_STAGE(9) ERK_STAGE(10) ERK_STAGE(11)
 #undef ERK_STAGE
-    erk_combine(n, n, NSTAGE, RK_B, k, acc);
-    for (i = 0; i < n; i++) s->ynew[i] = s->y[i] + h * acc[i];
+    erk_at(n, n, NSTAGE, RK_B, h, s->y, k, acc, s->ynew);
     if (erk_rhs_n(s, n, s->t + h, s->ynew, k + NSTAGE * n)) return INFINITY;
     /* the 5th- and 3rd-order estimates, blended as Hairer's DOP853 (tmp is
      * free: acc3 may be it); the RMS over the m states the error test sees
@@ -63,8 +59,7 @@ ERK_INLINE int make_dense_n(PdbfsErk *s, const int n, const int m) {
     double local[ERK_LOCAL], *acc = n <= ERK_LOCAL ? local : s->acc, *r = s->dense;
     int i;
 #define ERK_STAGE(st)                                                              \
-    erk_combine(m, n, st, RK_A + (st) * NK, k, acc);                               \
-    for (i = 0; i < m; i++) s->tmp[i] = s->y_old[i] + h * acc[i];                  \
+    erk_at(m, n, st, RK_A + (st) * NK, h, s->y_old, k, acc, s->tmp);               \
     if (erk_rhs_n(s, n, s->t_old + RK_C[st] * h, s->tmp, s->k + (st) * n)) return 1;
     ERK_STAGE(NSTAGE + 1) ERK_STAGE(NSTAGE + 2) ERK_STAGE(NSTAGE + 3)
 #undef ERK_STAGE
