@@ -66,10 +66,5 @@ def __getattr__(name):
 def __dir__():
     return sorted({*globals(), *_LAZY})
 
-__all__ = ["Component", "Rig", "Flange", "HeatPort", "HydraulicPort", "PdbfsWarning", "PulseIncompleteWarning",
-           "SampleTooSmallWarning", "SignalInput", "SignalOutput", "DAE", "ParamInfo",
-           "VarInfo", "PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError",
-           "DataError",
-           "SolverError", "Parameter", "State", "Variable", "der", "eq", "time", "simulate",
-           "Result", "sweep", "trajectory_function", "calibrate", "design", "design_map",
-           "sensitivity", "example_data"]
+__all__ = ["PdbfsError", "ParameterError", "ConnectError", "ModelError", "ExportError", "DataError",
+           "SolverError", "PdbfsWarning", "PulseIncompleteWarning", "SampleTooSmallWarning", *_LAZY]

@@ -16,7 +16,8 @@ import pdbfs
 from pdbfs.models import paper_rig
 
 #: modules a process that has only imported pdbfs has no use for yet
-NOT_ON_IMPORT = ("numpy", "casadi", "pdbfs.modelling", "pdbfs.simulation", "urllib.request", "scipy", "pandas", "matplotlib", "tqdm", "pdbfs.native.pipindex",
+NOT_ON_IMPORT = ("numpy", "casadi", "pdbfs.modelling", "pdbfs.simulation", "urllib.request", "scipy",
+                 "pandas", "matplotlib", "tqdm", "pdbfs.native.pipindex",
                  "pdbfs.native.sundials", "pdbfs.native.codegen", "pdbfs.simulation.run.compiled_build",
                  "pdbfs.studies")
 #: ... and one whose command line has shown its help or refused an unknown option

@@ -100,33 +100,29 @@ ERK_INLINE void erk_poly_n(const int n, const double *ERK_RESTRICT y_old,
     }
 }
 
-/* f(t, x) of the n states into out, counted; 1 when it fails or is not
- * finite (every entry tested at once, no branch per entry: with n a
- * constant the test is unrolled, where a loop over s->nx was 8 % of a run) */
-ERK_INLINE int erk_rhs_n(PdbfsErk *s, const int n, double t, const double *x, double *out) {
-    int i, finite = 1;
-    s->rhs_evals++;
-    if (pdbfs_eval_txp(s->ev, s->rhs, t, x, out)) return 1;
-    for (i = 0; i < n; i++) finite &= fabs(out[i]) <= DBL_MAX;
-    return !finite;
-}
-
-#define erk_rhs(s, t, x, out) erk_rhs_n(s, (s)->nx, t, x, out)
-
 /* f(t, x) into out, counted, its test for finite values left to the caller
- * (erk_finite, once for all the stages of an attempt: a test per stage was a
- * fifth of a stage's instructions); 1 when the function fails */
+ * (erk_finite: an attempt tests all its stages at once, where a test per
+ * stage was a fifth of a stage's instructions); 1 when the function fails */
 ERK_INLINE int erk_rhs_unchecked(PdbfsErk *s, double t, const double *x, double *out) {
     s->rhs_evals++;
     return pdbfs_eval_txp(s->ev, s->rhs, t, x, out);
 }
 
-/* whether the n values of v are all finite (no branch per entry) */
+/* whether the n values of v are all finite (every entry tested at once, no
+ * branch per entry: with n a constant the test is unrolled, where a loop
+ * over s->nx was 8 % of a run) */
 ERK_INLINE int erk_finite(const int n, const double *ERK_RESTRICT v) {
     int i, finite = 1;
     for (i = 0; i < n; i++) finite &= fabs(v[i]) <= DBL_MAX;
     return finite;
 }
+
+/* f(t, x) of the n states into out, counted; 1 when it fails or is not finite */
+ERK_INLINE int erk_rhs_n(PdbfsErk *s, const int n, double t, const double *x, double *out) {
+    return erk_rhs_unchecked(s, t, x, out) || !erk_finite(n, out);
+}
+
+#define erk_rhs(s, t, x, out) erk_rhs_n(s, (s)->nx, t, x, out)
 
 /* the event indicators at (t, x) into g */
 ERK_INLINE void erk_events(PdbfsErk *s, double t, const double *x, double *g) {
