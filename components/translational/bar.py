@@ -57,6 +57,15 @@ class ElasticBar(MassChain):
     the whole length 1.1*(L/c)*n^(-2/3); to keep a pulse of rise time t_r
     sharp after one transit, n >= (1.1*L/(c*t_r))^(3/2).
 
+    Material damping (Kelvin-Voigt, stress ``E*strain + eta*strain rate``):
+    a Damper ``damper{i}`` of ``c = n*eta*A/L`` beside each link. The damping
+    is proportional to the stiffness, so the chain keeps its mode shapes and
+    mode j has the damping ratio ``zeta_j = eta*omega_j/(2*E)``: the highest
+    mode most (``zeta_max = eta/(E*tau)``), the slow ones that carry a pulse
+    least. ``eta = zeta_max*E*tau`` damps the highest mode by ``zeta_max``;
+    a real steel's loss factor (about 1e-4 at the pulse's frequencies) gives
+    far less. ``eta = 0`` (the default) is the undamped bar.
+
     Connectors: ``flange_a`` (the struck end), ``flange_b``, and ``side1`` ..
     ``side{n}`` with ``sides=True``.
 
@@ -67,7 +76,8 @@ class ElasticBar(MassChain):
     sides : bool
         Give each segment a side flange.
     **params : float or casadi.SX
-        Values of its declared parameters (``L``, ``A``, ``E``, ``rho``), SI units.
+        Values of its declared parameters (``L``, ``A``, ``E``, ``rho``,
+        ``eta``), SI units.
 
     Raises
     ------
@@ -81,6 +91,8 @@ class ElasticBar(MassChain):
     E = Parameter(2.1e11, "Pa", "Young's modulus of the bar (steel: 2.1e11 Pa)", positive=True)
     rho = Parameter(7850.0, "kg/m3", "Density of the bar (steel: 7850 kg/m3)", positive=True,
                     tunable=False)
+    eta = Parameter(0.0, "Pa.s", "Viscosity of the material (Kelvin-Voigt: stress E*strain + "
+                    "eta*strain rate); 0: undamped", min=0.0)
 
     piece_prefix, body = "seg", "bar"
 
@@ -92,6 +104,9 @@ class ElasticBar(MassChain):
 
     def total_stiffness(self) -> ca.SX:
         return self.E * self.A / self.L
+
+    def total_damping(self) -> ca.SX:
+        return self.eta * self.A / self.L
 
     def segment(self, i: int) -> Mass:
         """One of the segments.

@@ -1,7 +1,8 @@
 """MassChain: the shared part of a body cut into a row of masses (a split
 piston, an elastic bar): n equal rigid pieces joined by n-1 linear springs,
-composed from Mass and Spring. A subclass says what the whole body weighs
-and how stiff it is; the chain does the rest."""
+composed from Mass and Spring (and a Damper beside each Spring for a body
+with material damping). A subclass says what the whole body weighs, how
+stiff it is and how it damps; the chain does the rest."""
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
@@ -9,7 +10,7 @@ from typing import TYPE_CHECKING
 from pdbfs.modelling import Component, Flange, Variable, eq
 
 from .mass import Mass
-from .springs import Spring
+from .springs import Damper, Spring
 
 if TYPE_CHECKING:
     import casadi as ca
@@ -19,12 +20,15 @@ class MassChain(Component):
     """``n`` pieces ``{piece_prefix}{i}`` (i = 1..n, 1 at ``flange_a``), each
     a Mass ``m = total_mass()/n``, joined by Springs ``link{i}`` of
     ``k = n*total_stiffness()`` (a body of axial stiffness EA/L cut into pieces
-    of length L/n, joined centre to centre). ``flange_b`` is on piece n;
+    of length L/n, joined centre to centre), each with a Damper ``damper{i}``
+    of ``c = n*total_damping()`` beside it where the body damps (Kelvin-Voigt:
+    the damping proportional to the stiffness). ``flange_b`` is on piece n;
     with ``sides`` a flange ``side{i}`` on each piece takes side forces
     (seal friction). ``s`` is the position of the centre of mass.
 
-    A base: a subclass says what the whole body weighs (``total_mass``) and
-    how stiff it is (``total_stiffness``).
+    A base: a subclass says what the whole body weighs (``total_mass``), how
+    stiff it is (``total_stiffness``) and, if it damps, how much
+    (``total_damping``).
 
     Connectors: ``flange_a`` (on piece 1), ``flange_b`` (on piece n), and
     ``side1`` .. ``side{n}`` with ``sides``.
@@ -61,6 +65,12 @@ class MassChain(Component):
         """Axial stiffness EA/L of the whole body, N/m."""
         raise NotImplementedError
 
+    def total_damping(self) -> ca.SX | None:
+        """Axial damping coefficient of the whole body (the viscous force per
+        unit rate of its stretch, N.s/m), or None for a body without material
+        damping (no dampers: the default)."""
+        return None
+
     def declare(self):
         n = self._n
         self.flange_a = Flange()
@@ -74,12 +84,21 @@ class MassChain(Component):
                 setattr(self, f"side{i}", Flange())
         for i in range(1, n):
             setattr(self, f"link{i}", Spring(k=self.total_stiffness() * n, n=1.0))
+        damping = self.total_damping() if n > 1 else None
+        for i in range(1, n if damping is not None else 1):
+            setattr(self, f"damper{i}", Damper(c=damping * n))
         for i in range(1, n + 1):
-            above = self.flange_a if i == 1 else self.link(i - 1).flange_b
+            above = [self.flange_a] if i == 1 else self._joint_ends(i - 1, "flange_b")
             sides = [getattr(self, f"side{i}")] if self._sides else []
-            self.connect(above, self.piece(i).flange_a, *sides)
-            below = self.flange_b if i == n else self.link(i).flange_a
-            self.connect(self.piece(i).flange_b, below)
+            self.connect(*above, self.piece(i).flange_a, *sides)
+            below = [self.flange_b] if i == n else self._joint_ends(i, "flange_a")
+            self.connect(self.piece(i).flange_b, *below)
+
+    def _joint_ends(self, i: int, end: str) -> list:
+        """The ``end`` flanges of the joint between pieces i and i + 1: its
+        spring's, and its damper's where the body damps."""
+        damper = self.damper(i)
+        return [getattr(self.link(i), end)] + ([getattr(damper, end)] if damper else [])
 
     def piece(self, i: int) -> Mass:
         """One of the pieces.
@@ -110,6 +129,21 @@ class MassChain(Component):
             The spring.
         """
         return getattr(self, f"link{i}")
+
+    def damper(self, i: int) -> Damper | None:
+        """One of the dampers beside the springs, where the body damps.
+
+        Parameters
+        ----------
+        i : int
+            Its number, 1 .. n - 1: the damper between pieces i and i + 1.
+
+        Returns
+        -------
+        Damper or None
+            The damper; None for a body without material damping.
+        """
+        return self.__dict__.get(f"damper{i}")
 
     def equations(self):
         n = self._n
