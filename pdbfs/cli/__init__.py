@@ -2,9 +2,12 @@
 sweep | sensitivity | reproduce | calibrate | design | design-map | fatigue | campaign | app |
 rigs | example-data | prepare-offline``.
 
-A thin layer over the Python API that mirrors it: each module here adds its
+A thin layer over the Python API that mirrors it: each command module adds its
 commands (``add_parsers``) and calls the API; errors print one line naming the
-culprit and exit with status 2.
+culprit and exit with status 2. The commands about one rig are in ``rig/``,
+those that study it over many runs in ``studies/``; beside them the workbench
+(``app``), the example data and the offline set-up, and the helpers they
+share (options, input traces, progress, Ctrl-C).
 
 May import anything in pdbfs; nothing imports from here.
 """
@@ -18,9 +21,10 @@ import warnings
 
 from pdbfs.errors import PdbfsError
 
-from . import (app, calibrate, campaign, design, examples, fatigue, interrupt, linearize, modes,
-               offline, reproduce, rigs, sensitivity, simulate, ssp, sweep)
+from . import app, examples, interrupt, offline
 from .common import Parser, in_option_words
+from .rig import linearize, modes, rigs, simulate, ssp
+from .studies import calibrate, campaign, design, fatigue, reproduce, sensitivity, sweep
 
 COMMANDS = (simulate, ssp, modes, linearize, sweep, sensitivity, reproduce, calibrate, design, fatigue,
             campaign, app, rigs, examples, offline)

@@ -7,10 +7,10 @@ import math
 
 from pdbfs.errors import ParameterError, require_extra
 
-from .common import (add_output_options, add_rig_options, add_run_options, parse_sets,
-                     prepare_out, rig_by_name, unique)
+from ..common import (add_output_options, add_rig_options, add_run_options, parse_sets,
+                      prepare_out, rig_by_name, unique)
+from ..progress import Progress
 from .fatigue import add_breech_options, breech_of
-from .progress import Progress
 
 
 def cmd_campaign(args):

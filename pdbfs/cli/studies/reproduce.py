@@ -1,7 +1,7 @@
 """pdbfs reproduce: the paper's figures."""
 from __future__ import annotations
 
-from .common import prepare_out
+from ..common import prepare_out
 
 
 def cmd_reproduce(args):

@@ -5,9 +5,9 @@ import json
 
 from pdbfs.errors import ParameterError, require_extra
 
-from .common import (add_output_options, add_rig_options, add_run_options, horizon,
-                     prepare_out, rig_by_name, unique)
-from .inputs import add_input_option, parse_inputs
+from ..common import (add_output_options, add_rig_options, add_run_options, horizon,
+                      prepare_out, rig_by_name, unique)
+from ..inputs import add_input_option, parse_inputs
 
 
 def parse_sweep_sets(items, required=True):

@@ -6,8 +6,8 @@ import json
 from pdbfs.errors import require_extra
 from pdbfs.files import write_text
 
-from .common import (add_output_options, add_rig_options, add_run_options, parse_sets,
-                     prepare_out, rig_by_name, unique)
+from ..common import (add_output_options, add_rig_options, add_run_options, parse_sets,
+                      prepare_out, rig_by_name, unique)
 
 
 def cmd_sensitivity(args):

@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import json
 
-from .common import (add_output_options, add_rig_options, add_run_options, check_output_file,
-                     horizon, parse_sets, prepare_out, print_summary, rig_by_name)
-from .inputs import add_input_option, parse_inputs
+from ..common import (add_output_options, add_rig_options, add_run_options, check_output_file,
+                      horizon, parse_sets, prepare_out, print_summary, rig_by_name)
+from ..inputs import add_input_option, parse_inputs
+from ..progress import Progress
 from .modes import add_initial_option, parse_initial, print_initial
-from .progress import Progress
 
 
 def cmd_simulate(args):

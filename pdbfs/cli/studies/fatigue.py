@@ -8,7 +8,7 @@ import math
 
 from pdbfs.errors import DataError, ParameterError
 
-from .common import add_rig_options, add_run_options, parse_sets, rig_by_name
+from ..common import add_rig_options, add_run_options, parse_sets, rig_by_name
 
 FIRING = "gun_firing.csv"
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from .common import rig_by_name
+from ..common import rig_by_name
 
 
 def rig_entry(name: str) -> dict:

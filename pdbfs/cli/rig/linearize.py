@@ -9,7 +9,7 @@ from pathlib import Path
 from pdbfs.errors import ParameterError
 from pdbfs.files import whole
 
-from .common import add_rig_options, check_output_file, parse_sets, rig_by_name
+from ..common import add_rig_options, check_output_file, parse_sets, rig_by_name
 from .modes import add_initial_option, parse_at, parse_initial
 
 FORMATS = (".json", ".npz", ".mat")

@@ -6,9 +6,9 @@ from pathlib import Path
 
 from pdbfs.errors import PdbfsError
 
+from ..common import add_rig_options, parse_sets, prepare_out, rig_by_name
+from ..progress import Progress
 from .calibrate import free_list, write_outputs
-from .common import add_rig_options, parse_sets, prepare_out, rig_by_name
-from .progress import Progress
 
 
 def cmd_design(args):

@@ -7,9 +7,9 @@ from pathlib import Path
 from pdbfs.errors import ParameterError
 from pdbfs.files import write_text
 
-from .common import add_rig_options, parse_sets, prepare_out, rig_by_name
-from .inputs import add_input_option, parse_inputs
-from .progress import Progress
+from ..common import add_rig_options, parse_sets, prepare_out, rig_by_name
+from ..inputs import add_input_option, parse_inputs
+from ..progress import Progress
 
 
 def free_list(text):

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from pdbfs.errors import ExportError
 
-from .common import check_output_file
+from ..common import check_output_file
 
 #: the systems --example writes: name -> what it is
 EXAMPLES = {"pulse-pid": "the closed-loop pulse rig: its plant (valve, chamber, pressure sensor) and its "

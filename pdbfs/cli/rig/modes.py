@@ -6,7 +6,7 @@ import json
 
 from pdbfs.errors import ParameterError
 
-from .common import add_rig_options, parse_sets, rig_by_name
+from ..common import add_rig_options, parse_sets, rig_by_name
 
 
 def add_initial_option(s):
