@@ -25,7 +25,7 @@ def _reduced_lines(d) -> list[str]:
     """The states index reduction made algebraic whose start is declared
     (pdbfs_reduced gives the declared starts): where each is in y, its name
     and unit, and the constraint that computes them, for the check at
-    initialisation (model.c, as pdbfs.modelling.reduced_start)."""
+    initialisation (model.c, as pdbfs.modelling.passes.reduced_start)."""
     rs = getattr(d, "reduced_starts", None) or []
     by = "; ".join(getattr(d, "reduced_by", None) or []) or "a constraint"
     strings = lambda seq: ", ".join([_c_string(s) for s in seq] + ['""'])  # noqa: E731

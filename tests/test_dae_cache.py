@@ -117,7 +117,7 @@ def test_the_dae_read_back_simulates_as_the_one_built(monkeypatch, tmp_path):
 def test_a_one_shot_simulate_of_a_known_rig_imports_no_structural_analysis(tmp_path):
     run = [sys.executable, "-c", "import sys, pdbfs.cli; s = pdbfs.cli.main(['simulate', "
            f"'--json', '--out', {str(tmp_path)!r}]); print(sorted(m for m in sys.modules "
-           "if m.startswith(('scipy', 'pdbfs.modelling.structure', 'pdbfs.modelling.blt', "
+           "if m.startswith(('scipy', 'pdbfs.modelling.structure', 'pdbfs.modelling.passes.blt', "
            "'pdbfs.studies', 'pandas')))); sys.exit(s)"]
     subprocess.run(run, check=True, capture_output=True)        # the caches filled
     out = subprocess.run(run, check=True, capture_output=True, text=True).stdout.splitlines()

@@ -8,7 +8,7 @@ analysis, and the one CasADi DAE every back end consumes.
                    flow through), signal connectors
     component.py   Component: declare(), equations(), connect(), compile()
     flatten.py     a component tree -> one flat list of symbols and equations
-    structure.py   flat equations -> DAE: parameter bindings, then
+    structure.py   flat equations -> DAE: parameter bindings, then its passes (passes/):
       aliases.py     alias elimination (derivatives included)
       blt.py         matching, BLT sorting, symbolic solution of linear blocks
       index.py       index reduction to any index (Pantelides, dummy derivatives)

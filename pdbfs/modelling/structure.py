@@ -18,17 +18,17 @@ import numpy as np
 
 from pdbfs.errors import ModelError, ParameterError
 
-from .aliases import Aliases
-from .blt import solve_blt
-from . import reduced_start
-from .index import overdetermined, reduce_index
-from .initialization import attach_initial
-from .dae import DAE, InputInfo, ParamInfo, VarInfo
-from .rig_inputs import T_REF
-from .smoothness import Jumps
-from .symbols import quantity
-from .flatten import FlatSystem
 from .casadi_helpers import subst as _subst
+from .dae import DAE, InputInfo, ParamInfo, VarInfo
+from .flatten import FlatSystem
+from .initialization import attach_initial
+from .passes import reduced_start
+from .passes.aliases import Aliases
+from .passes.blt import solve_blt
+from .passes.index import overdetermined, reduce_index
+from .passes.smoothness import Jumps
+from .rig_inputs import T_REF
+from .symbols import quantity
 
 
 def simplify(flat: FlatSystem, name: str) -> DAE:

@@ -12,7 +12,8 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError
-from pdbfs.modelling import check_value, reduced_start
+from pdbfs.modelling import check_value
+from pdbfs.modelling.passes import reduced_start
 from pdbfs.modelling import quantity
 
 from .initialize import check_initial, needs_solving, solve_start

@@ -18,7 +18,8 @@ import casadi as ca
 import numpy as np
 
 from pdbfs.errors import ParameterError, PdbfsError
-from pdbfs.modelling import check_value, reduced_start, within_limits
+from pdbfs.modelling import check_value, within_limits
+from pdbfs.modelling.passes import reduced_start
 from pdbfs.simulation import Simulator
 from pdbfs.simulation.run.driven import run_driven
 from pdbfs.simulation.results.summary import keys_for, summarize

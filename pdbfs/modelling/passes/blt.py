@@ -13,7 +13,7 @@ from scipy.sparse.csgraph import connected_components, maximum_bipartite_matchin
 
 from pdbfs.errors import ModelError
 
-from .casadi_helpers import subst as _subst
+from ..casadi_helpers import subst as _subst
 
 
 def solve_blt(eqs, unknowns, labels, pivots=None):

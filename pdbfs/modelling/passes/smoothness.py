@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import casadi as ca
 
-from .casadi_helpers import subst
+from ..casadi_helpers import subst
 
 #: how far either side of a switch the expression is looked at, relative to the switch time
 SIDE = 1e-7

@@ -27,8 +27,8 @@ from scipy.sparse import csr_matrix
 
 from pdbfs.errors import ModelError
 
-from .casadi_helpers import subst as _subst
-from .rig_inputs import refuse_second_derivative
+from ..casadi_helpers import subst as _subst
+from ..rig_inputs import refuse_second_derivative
 
 
 class Aliases:

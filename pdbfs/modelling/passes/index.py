@@ -33,7 +33,7 @@ from scipy.sparse.csgraph import maximum_bipartite_matching
 
 from pdbfs.errors import ModelError
 
-from .rig_inputs import refuse_second_derivative
+from ..rig_inputs import refuse_second_derivative
 
 ALIAS_DER = " by alias elimination"
 MAX_LEVEL = 8        # a structurally singular system would be differentiated for ever

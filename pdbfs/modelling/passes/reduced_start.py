@@ -16,7 +16,7 @@ import numpy as np
 
 from pdbfs.errors import ModelError, ParameterError
 
-from .symbols import quantity
+from ..symbols import quantity
 
 
 def record(dae, dropped, constraints):
