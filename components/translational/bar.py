@@ -62,9 +62,9 @@ class ElasticBar(MassChain):
     is proportional to the stiffness, so the chain keeps its mode shapes and
     mode j has the damping ratio ``zeta_j = eta*omega_j/(2*E)``: the highest
     mode most (``zeta_max = eta/(E*tau)``), the slow ones that carry a pulse
-    least. ``eta = zeta_max*E*tau`` damps the highest mode by ``zeta_max``;
-    a real steel's loss factor (about 1e-4 at the pulse's frequencies) gives
-    far less. ``eta = 0`` (the default) is the undamped bar.
+    least. ``eta = zeta_max*E*tau`` damps the highest mode by ``zeta_max``
+    (a numerical remedy for the chain's ringing: a metal's own internal
+    damping is much smaller). ``eta = 0`` (the default) is the undamped bar.
 
     Connectors: ``flange_a`` (the struck end), ``flange_b``, and ``side1`` ..
     ``side{n}`` with ``sides=True``.

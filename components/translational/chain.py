@@ -84,9 +84,10 @@ class MassChain(Component):
                 setattr(self, f"side{i}", Flange())
         for i in range(1, n):
             setattr(self, f"link{i}", Spring(k=self.total_stiffness() * n, n=1.0))
-        damping = self.total_damping() if n > 1 else None
-        for i in range(1, n if damping is not None else 1):
-            setattr(self, f"damper{i}", Damper(c=damping * n))
+        damping = self.total_damping()
+        if damping is not None:
+            for i in range(1, n):
+                setattr(self, f"damper{i}", Damper(c=damping * n))
         for i in range(1, n + 1):
             above = [self.flange_a] if i == 1 else self._joint_ends(i - 1, "flange_b")
             sides = [getattr(self, f"side{i}")] if self._sides else []
@@ -143,7 +144,7 @@ class MassChain(Component):
         Damper or None
             The damper; None for a body without material damping.
         """
-        return self.__dict__.get(f"damper{i}")
+        return getattr(self, f"damper{i}", None)
 
     def equations(self):
         n = self._n
